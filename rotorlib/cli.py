@@ -1,0 +1,66 @@
+"""Command line: ``python -m rotorlib <command> ...``.
+
+Each command lives in :mod:`rotorlib.commands` as a module with
+``register(subparsers)``, which adds its parser and sets ``func``. Errors in
+the input (``ValueError``) and in the arguments print one line on stderr and
+exit with status 2; there is never a traceback for bad input.
+"""
+from __future__ import annotations
+
+import argparse
+import importlib
+import json
+import sys
+
+#: Command modules, in help order. A module missing from the package is skipped.
+COMMANDS = ("trace", "bifurcations", "orbit")
+
+
+class _OneLineParser(argparse.ArgumentParser):
+    """argparse that reports usage errors on a single line."""
+
+    def error(self, message):
+        raise ValueError(f"{self.prog}: {message}")
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = _OneLineParser(prog="python -m rotorlib",
+                            description="The 3-rotor bifurcation cascade (Krishnaswami & Yadav 2023), recomputed.")
+    sub = parser.add_subparsers(dest="command", parser_class=_OneLineParser, metavar="COMMAND")
+    sub.required = True
+    for name in COMMANDS:
+        try:
+            mod = importlib.import_module(f"rotorlib.commands.{name}")
+        except ModuleNotFoundError as exc:
+            if exc.name == f"rotorlib.commands.{name}":
+                continue
+            raise
+        mod.register(sub)
+    return parser
+
+
+def emit(records, as_json: bool, columns) -> None:
+    """Print records as JSON (a list when several, one object when one) or as a table."""
+    if as_json:
+        out = records[0] if len(records) == 1 else records
+        print(json.dumps(out, indent=2))
+        return
+    widths = [max(len(c), *(len(str(r.get(c, ""))) for r in records)) for c in columns]
+    print("  ".join(c.ljust(w) for c, w in zip(columns, widths)))
+    for r in records:
+        print("  ".join(str(r.get(c, "")).ljust(w) for c, w in zip(columns, widths)))
+
+
+def main(argv=None) -> int:
+    """Entry point; returns the exit status."""
+    try:
+        parser = build_parser()
+        args = parser.parse_args(argv)
+        return args.func(args) or 0
+    except ValueError as exc:
+        msg = str(exc).splitlines()[0] if str(exc) else exc.__class__.__name__
+        print(f"rotorlib: error: {msg}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print("rotorlib: interrupted", file=sys.stderr)
+        return 130

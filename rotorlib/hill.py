@@ -1,0 +1,375 @@
+"""The symmetry-reduced transverse (Lamé/Hill) problem of pendula and breathers.
+
+Transverse perturbations obey a Hill equation ``y'' = -Q y`` whose
+coefficient is even about the base point and periodic (paper eqs. for
+``delta alpha_1`` and ``delta beta_2``). We write it in the elliptic argument
+``u`` of the closed-form orbit and let the orbit enter through its amplitude
+``theta = am(u | m)``, carried as ``psi = pi/2 - theta``::
+
+    psi' = -sqrt(m1 + m sin(psi)^2),    y'' = -Q(psi) y,     0 <= u <= K(m).
+
+The 1-D flow for ``psi`` *contracts* towards the saddle (psi -> 0), so
+``psi`` keeps its relative accuracy at any distance to the separatrix,
+unlike an integration of the pendulum itself, whose error grows like
+``1/sqrt(eps)``. The endpoint value ``psi(K)`` (exactly 0) is returned as a
+residual.
+
+With ``y1, y2`` the fundamental solutions at the half-period ``h`` of the
+coefficient, the coefficient-period map is ``S Phi(h)^-1 S Phi(h)``
+(``S = diag(1, -1)``), whose trace is ``Delta = 2 (y1 y2' + y1' y2)``. The
+orbit period is two coefficient periods for libration (pendulum, LG, LD) and
+one for rotation (pendulum, R). The rotational breather's coefficient is not
+symmetric about the quarter period, so its half period is integrated as two
+contracting pieces, ``[0, K]`` forward and ``[2K, K]`` backward.
+
+Precision: float64 ``Delta`` to ~1e-13 absolute for any ``m1`` down to 1e-300
+(heyoka Taylor, tol 2e-16; scipy DOP853, rtol 1e-13); real128 (~32 digits)
+and arbitrary precision with heyoka; mpmath's Taylor integrator as the slow
+independent reference. ``tests/test_monodromy.py`` measures each.
+"""
+from __future__ import annotations
+
+import functools
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+__all__ = ["HillProblem", "hill_problem", "solve_hill", "HillSolution", "heyoka_available", "precision_tier"]
+
+KINDS = ("pendulum-lib", "pendulum-rot", "breather-LG", "breather-LD", "breather-R")
+
+
+def heyoka_available() -> bool:
+    """True when heyoka imports (Linux wheels; optional)."""
+    try:
+        import heyoka  # noqa: F401
+    except Exception:
+        return False
+    return True
+
+
+def precision_tier(digits=None, backend=None) -> tuple:
+    """Resolve ``(digits, backend)`` to the tier that will be used.
+
+    Returns
+    -------
+    (str, str)
+        Backend (``heyoka``, ``scipy``, ``mpmath``) and precision label
+        (``float64``, ``real128``, ``mp<bits>`` or ``mpmath<dps>``).
+    """
+    if digits is not None and (not isinstance(digits, (int, np.integer)) or digits < 1 or digits > 1000):
+        raise ValueError(f"digits must be an integer from 1 to 1000, got {digits!r}")
+    hy = heyoka_available()
+    if backend not in (None, "heyoka", "scipy", "mpmath"):
+        raise ValueError(f"backend must be heyoka, scipy or mpmath, got {backend!r}")
+    if backend == "heyoka" and not hy:
+        raise ValueError("backend 'heyoka' requested but heyoka is not installed (Linux only)")
+    if digits is None or digits <= 15:
+        if backend == "mpmath":
+            return "mpmath", "mpmath20"
+        if backend is None:
+            backend = "heyoka" if hy else "scipy"
+        return backend, "float64"
+    if backend == "scipy":
+        raise ValueError(f"scipy integrates in float64 only; digits = {digits} needs heyoka or mpmath")
+    if backend is None:
+        backend = "heyoka" if hy else "mpmath"
+    if backend == "mpmath":
+        return "mpmath", f"mpmath{digits + 5}"
+    if digits <= 31:
+        return "heyoka", "real128"
+    return "heyoka", f"mp{int(math.ceil((digits + 8) * 3.33))}"
+
+
+@dataclass(frozen=True)
+class HillProblem:
+    """Coefficients of the reduced transverse problem of one orbit.
+
+    Attributes
+    ----------
+    kind : str
+        One of ``pendulum-lib``, ``pendulum-rot``, ``breather-LG``,
+        ``breather-LD``, ``breather-R``.
+    m, m1, K : float or mpmath.mpf
+        Elliptic parameter, its complement and K(m).
+    c3 : float or mpf
+        ``2m/3`` for pendula, ``3/nu^2`` for breathers (computed at the
+        working precision).
+    shape : float or mpf
+        ``A^2`` (LG), ``D^2`` (LD) or ``lam^2`` (R); unused for pendula.
+    repeats : int
+        Coefficient periods per orbit period (2 libration, 1 rotation).
+    du_dt : float
+        ``du/dt`` (to convert ``dy/du`` into a velocity).
+    momentum_scale : float
+        ``delta p = momentum_scale * delta q'`` (2 for ``p1``, 1/6 for ``q2``).
+    """
+
+    kind: str
+    m: object
+    m1: object
+    K: object
+    c3: object
+    shape: object
+    repeats: int
+    du_dt: float
+    momentum_scale: float
+
+
+def hill_problem(orbit, dps=None) -> HillProblem:
+    """The reduced transverse problem of a pendulum or breather orbit.
+
+    With ``dps`` the parameters are computed with mpmath at that many digits
+    from the decimal input of the energy (for extended precision).
+    """
+    fam = orbit.family
+    if fam == "pendulum":
+        en = orbit.energy
+        kind = "pendulum-" + en.phase
+        if dps is None:
+            m, m1, K = en.m, en.m1, orbit.K
+            c3 = 2.0 * m / 3.0
+        else:
+            import mpmath as mp
+
+            extra = int(max(0.0, -en.log_abs_dE / math.log(10))) + 10
+            with mp.workdps(dps + extra):
+                v = en.mp_values(dps + extra)
+                m, m1 = v["m"], v["m1"]
+                K = mp.ellipk(m)
+                c3 = 2 * m / 3
+        du_dt = math.sqrt(3.0) if en.phase == "lib" else math.sqrt(3.0 / float(m))
+        return HillProblem(kind, m, m1, K, c3, 0.0, 2 if en.phase == "lib" else 1, du_dt, 2.0)
+    fam = orbit.energy.family
+    p = orbit.params
+    if dps is None:
+        m, m1, nu, K = p["m"], p["m1"], p["nu"], orbit.K
+        shape = {"LG": lambda: p["A"] ** 2, "LD": lambda: p["D"] ** 2, "R": lambda: p["lam"] ** 2}[fam]()
+        c3 = 3.0 / nu ** 2
+    else:
+        import mpmath as mp
+
+        with mp.workdps(dps + 10):
+            E = mp.mpf(repr(orbit.energy.E))
+            if fam in ("LG", "LD"):
+                S = mp.sqrt(9 - 2 * E)
+                den = (1 + S) * (3 + S)
+                m, m1, nu = (1 - S) * (3 - S) / den, 8 * S / den, mp.sqrt(den / 2) / 2
+                shape = (3 - S) / (1 + S) if fam == "LG" else (1 - S) / (3 + S)
+            else:
+                Q = mp.sqrt(E * (E - 4))
+                m, m1 = (Q - E + 6) / (2 * Q), (Q + E - 6) / (2 * Q)
+                nu, shape = mp.sqrt(Q), mp.sqrt(E / (E - 4))
+            K = mp.ellipk(m)
+            c3 = 3 / nu ** 2
+    return HillProblem("breather-" + fam, m, m1, K, c3, shape, 1 if fam == "R" else 2, float(nu), 1.0 / 6.0)
+
+
+def _coefficient(kind, sp, cp, m, c3, shape, sign):
+    """Q as an expression in sin(psi), cos(psi); works for floats, mpf and heyoka expressions."""
+    # For pendula c3 = 2m/3 is passed in, computed at the working precision:
+    # a literal 2/3 (or heyoka's rewriting of x/3 as x*(1/3) in double) would
+    # leak a float64 rounding (~4e-17) into the real128 and multiprecision tiers.
+    if kind == "pendulum-lib":
+        return 1.0 - c3 * cp * cp
+    if kind == "pendulum-rot":
+        return m - c3 * cp * cp
+    if kind == "breather-LG":
+        w2 = shape * cp * cp
+        return c3 * (1.0 - w2) / (1.0 + w2)
+    if kind == "breather-LD":
+        v2 = shape * cp * cp
+        return c3 * (v2 - 1.0) / (v2 + 1.0)
+    ct = sign * sp                                   # cos(theta)
+    return c3 * ((1.0 + ct) - shape * (1.0 - ct)) / ((1.0 + ct) + shape * (1.0 - ct))
+
+
+@dataclass(frozen=True)
+class HillSolution:
+    """Result of :func:`solve_hill`.
+
+    Attributes
+    ----------
+    coefficient_map : ndarray (2, 2)
+        Map over one coefficient period in the ``(y, dy/du)`` basis, float64.
+    delta : float
+        Its trace ``Delta`` (float64 view).
+    delta_str : str
+        ``Delta`` as a decimal string with all computed digits.
+    psi_end : float
+        Residual ``|psi(K)|`` (0 exactly; measures the orbit's phase error).
+    backend, precision : str
+        What produced the result.
+    steps : int
+        Integrator steps taken.
+    """
+
+    coefficient_map: np.ndarray
+    delta: float
+    delta_str: str
+    psi_end: float
+    backend: str
+    precision: str
+    steps: int
+    delta_exact: object = None
+
+
+def _segment_scipy(prob, sign):
+    from scipy.integrate import solve_ivp
+
+    m, m1, c3, shape, kind = float(prob.m), float(prob.m1), float(prob.c3), float(prob.shape), prob.kind
+
+    def rhs(u, x):
+        sp, cp = math.sin(x[0]), math.cos(x[0])
+        q = _coefficient(kind, sp, cp, m, c3, shape, sign)
+        return [-math.sqrt(m1 + m * sp * sp), x[2], -q * x[1], x[4], -q * x[3]]
+
+    atol = [max(1e-300, 1e-17 * math.sqrt(m1)), 1e-16, 1e-16, 1e-16, 1e-16]
+    sol = solve_ivp(rhs, (0.0, float(prob.K)), [math.pi / 2, 1.0, 0.0, 0.0, 1.0], method="DOP853",
+                    rtol=1e-13, atol=atol)
+    if not sol.success:
+        raise RuntimeError(f"transverse integration failed: {sol.message}")
+    x = sol.y[:, -1]
+    return np.array([[x[1], x[3]], [x[2], x[4]]]), abs(x[0]), len(sol.t) - 1
+
+
+@functools.lru_cache(maxsize=None)
+def _heyoka_integrator(kind, precision):
+    import heyoka as hy
+
+    psi, y1, z1, y2, z2 = hy.make_vars("psi", "y1", "z1", "y2", "z2")
+    m, m1, c3, shape, sign = (hy.par[i] for i in range(5))
+    sp, cp = hy.sin(psi), hy.cos(psi)
+    q = _coefficient(kind, sp, cp, m, c3, shape, sign)
+    sys = [(psi, -hy.sqrt(m1 + m * sp * sp)), (y1, z1), (z1, -q * y1), (y2, z2), (z2, -q * y2)]
+    npar = _NPARS[kind]
+    if precision == "float64":
+        return hy.taylor_adaptive(sys, [0.0] * 5, pars=[0.0] * npar, compact_mode=False)
+    if precision == "real128":
+        z = np.zeros(5, dtype=hy.real128)
+        return hy.taylor_adaptive(sys, z, pars=np.zeros(npar, dtype=hy.real128), fp_type=hy.real128,
+                                  compact_mode=True)
+    bits = int(precision[2:])
+    z = np.array([hy.real(0, bits)] * 5)
+    return hy.taylor_adaptive(sys, z, pars=np.array([hy.real(0, bits)] * npar), fp_type=hy.real, prec=bits,
+                              compact_mode=True)
+
+
+#: heyoka parameters used by each kind: (m, m1[, c3, shape[, sign]]).
+_NPARS = {"pendulum-lib": 3, "pendulum-rot": 3, "breather-LG": 4, "breather-LD": 4, "breather-R": 5}
+
+
+def _segment_heyoka(prob, sign, precision):
+    import heyoka as hy
+    import mpmath as mp
+
+    ta = _heyoka_integrator(prob.kind, precision)
+    if precision == "float64":
+        conv = float
+    elif precision == "real128":
+        def conv(v):
+            return hy.real128(mp.nstr(mp.mpf(v), 40))
+    else:
+        bits = int(precision[2:])
+
+        def conv(v):
+            return hy.real(mp.nstr(mp.mpf(v), int(bits / 3.3) + 5), bits)
+    with mp.workdps(120):
+        pars = [conv(prob.m), conv(prob.m1), conv(prob.c3), conv(prob.shape), conv(sign)][:_NPARS[prob.kind]]
+        x0 = [conv(mp.pi / 2), conv(1), conv(0), conv(0), conv(1)]
+        K = conv(prob.K)
+    ta.time = conv(0)
+    ta.state[:] = np.array(x0, dtype=ta.state.dtype)
+    ta.pars[:] = np.array(pars, dtype=ta.pars.dtype)
+    res = ta.propagate_until(K)
+    if res[0] != hy.taylor_outcome.time_limit:
+        raise RuntimeError(f"transverse integration stopped early: {res[0]}")
+    x = ta.state.copy()
+    return np.array([[x[1], x[3]], [x[2], x[4]]], dtype=object if precision != "float64" else float), \
+        abs(float(x[0])), int(res[3])
+
+
+def _segment_mpmath(prob, sign, dps):
+    import mpmath as mp
+
+    with mp.workdps(dps):
+        m, m1, c3, shape = (mp.mpf(v) for v in (prob.m, prob.m1, prob.c3, prob.shape))
+
+        def F(u, x):
+            sp, cp = mp.sin(x[0]), mp.cos(x[0])
+            q = _coefficient(prob.kind, sp, cp, m, c3, shape, sign)
+            return [-mp.sqrt(m1 + m * sp * sp), x[2], -q * x[1], x[4], -q * x[3]]
+
+        f = mp.odefun(F, 0, [mp.pi / 2, 1, 0, 0, 1])
+        x = f(mp.mpf(prob.K))
+        return mp.matrix([[x[1], x[3]], [x[2], x[4]]]), abs(float(x[0])), 0
+
+
+def solve_hill(prob: HillProblem, backend: str, precision: str) -> HillSolution:
+    """Integrate the reduced transverse problem and return the coefficient-period map."""
+    import mpmath as mp
+
+    S = np.diag([1.0, -1.0])
+
+    def compose(P1, P2):
+        # P1: [0, K] forward; P2: [2K, K] backward in s = 2K - u, basis (y, dy/ds)
+        if P2 is None:
+            Ph = P1
+        else:
+            Ph = _inv2(_mat(S) * P2 * _mat(S)) * P1
+        return _mat(S) * _inv2(Ph) * _mat(S) * Ph
+
+    two = prob.kind == "breather-R"
+    if backend == "scipy":
+        P1, r1, n1 = _segment_scipy(prob, 1.0)
+        P2, r2, n2 = _segment_scipy(prob, -1.0) if two else (None, 0.0, 0)
+        _mat, _inv2 = (lambda a: _NP(a)), _np_inv2
+        C = compose(_NP(P1), None if P2 is None else _NP(P2)).a
+        d = float(np.trace(C))
+        dexact = d
+        dstr = repr(d)
+    elif backend == "heyoka":
+        P1, r1, n1 = _segment_heyoka(prob, 1.0, precision)
+        P2, r2, n2 = _segment_heyoka(prob, -1.0, precision) if two else (None, 0.0, 0)
+        if precision == "float64":
+            _mat, _inv2 = (lambda a: _NP(a)), _np_inv2
+            C = compose(_NP(P1), None if P2 is None else _NP(P2)).a
+            dexact = float(np.trace(C))
+            dstr = repr(dexact)
+        else:
+            dps = 36 if precision == "real128" else int(int(precision[2:]) / 3.33) + 2
+            with mp.workdps(dps + 5):
+                tomp = lambda A: mp.matrix([[mp.mpf(str(A[i][j])) for j in range(2)] for i in range(2)])
+                _mat, _inv2 = (lambda a: mp.matrix(a) if not isinstance(a, mp.matrix) else a), (lambda A: A ** -1)
+                Cm = compose(tomp(P1), None if P2 is None else tomp(P2))
+                dexact = Cm[0, 0] + Cm[1, 1]
+                C = np.array([[float(Cm[i, j]) for j in range(2)] for i in range(2)])
+                dstr = mp.nstr(dexact, dps - 2)
+    else:
+        dps = int(precision[6:])
+        with mp.workdps(dps):
+            P1, r1, n1 = _segment_mpmath(prob, 1.0, dps)
+            P2, r2, n2 = _segment_mpmath(prob, -1.0, dps) if two else (None, 0.0, 0)
+            _mat, _inv2 = (lambda a: mp.matrix(a) if not isinstance(a, mp.matrix) else a), (lambda A: A ** -1)
+            Cm = compose(P1, P2)
+            dexact = Cm[0, 0] + Cm[1, 1]
+            C = np.array([[float(Cm[i, j]) for j in range(2)] for i in range(2)])
+            dstr = mp.nstr(dexact, dps - 5)
+    return HillSolution(C, float(dexact), dstr, max(r1, r2), backend, precision, n1 + n2, dexact)
+
+
+class _NP:
+    """Tiny wrapper so that ``*`` is the matrix product for numpy 2x2 arrays."""
+
+    def __init__(self, a):
+        self.a = a.a if isinstance(a, _NP) else np.asarray(a, dtype=float)
+
+    def __mul__(self, other):
+        return _NP(self.a @ _NP(other).a)
+
+
+def _np_inv2(A):
+    a = A.a
+    det = a[0, 0] * a[1, 1] - a[0, 1] * a[1, 0]
+    return _NP(np.array([[a[1, 1], -a[0, 1]], [-a[1, 0], a[0, 0]]]) / det)

@@ -1,0 +1,321 @@
+"""Monodromy matrices of periodic orbits (paper §4, §5.3, §8).
+
+Two routes:
+
+* :func:`monodromy` for pendula and breathers: block-diagonal in the paper's
+  basis, with the *transverse* block from the symmetry-reduced Hill problem
+  (:mod:`rotorlib.hill`) and the *longitudinal* block in closed form,
+  ``[[1, -c E tau'(E)], [0, 1]]`` (``c = 3`` for pendula at G, ``4`` for
+  breathers at G; ``4 (E - 4)/E`` times that for LD at D), so that
+  ``tr M_parallel = 2`` exactly. Accurate at any distance to the separatrix.
+* :func:`variational_monodromy`: the textbook route for any orbit,
+  integrating the nonlinear flow and the 4x4 variational equations over one
+  period (scipy DOP853, or heyoka in float64, real128 or multiprecision). Near
+  E = 4 its error grows like 1/|E - 4| (``../shared/NUMERICS.md``): it is the
+  reference only when run at enough digits.
+
+Bases: pendulum blocks are ``(a1, p1 | a2, p2)`` = (transverse | longitudinal);
+breather blocks ``(b1, q1 | b2, q2)`` = (longitudinal | transverse), as in the
+paper. :meth:`Monodromy.in_alpha_state_order` gives the matrix in the state
+order ``[a1, a2, p1, p2]`` used everywhere else.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .hill import hill_problem, precision_tier, solve_hill
+from .orbits import BreatherOrbit, PendulumOrbit, breather, pendulum
+from .system import _A, _Ainv, _B, _Binv, jacobian_alpha, rhs_alpha
+
+__all__ = ["Monodromy", "monodromy", "trace_monodromy", "variational_monodromy", "VariationalResult",
+           "multipliers_from_trace"]
+
+
+def multipliers_from_trace(t: float):
+    """Eigenvalues ``(mu, 1/mu)`` of a 2x2 symplectic matrix with trace ``t``, stably.
+
+    Complex conjugate on the unit circle for ``|t| < 2`` (stable), real for ``|t| > 2``.
+    """
+    disc = t * t - 4.0
+    if disc >= 0:
+        r = math.sqrt(disc)
+        big = 0.5 * (t + math.copysign(r, t))
+        return np.array([big, 1.0 / big]) if big != 0 else np.array([0.0, 0.0])
+    r = math.sqrt(-disc)
+    return np.array([complex(0.5 * t, 0.5 * r), complex(0.5 * t, -0.5 * r)])
+
+
+@dataclass(frozen=True)
+class Monodromy:
+    """Monodromy matrix of a pendulum or breather at its base point.
+
+    Attributes
+    ----------
+    family : str
+        ``pendulum``, ``breather-LG``, ``breather-LD`` or ``breather-R``.
+    E : float
+        Energy (float64; see ``energy`` for the distance to the separatrix).
+    period : float
+        Period of the orbit.
+    matrix : ndarray (4, 4)
+        M in the paper's block basis ``basis``.
+    basis : tuple of str
+        Names of the four coordinates of ``matrix``.
+    transverse, longitudinal : ndarray (2, 2)
+        The blocks M_perp and M_parallel.
+    trace : float
+        ``tr M = tr M_perp + 2``.
+    trace_transverse : float
+        ``tr M_perp``.
+    trace_str : str
+        ``tr M`` as a decimal string with every digit the precision supports.
+    multipliers : ndarray (2,)
+        Eigenvalues of M_perp (M_parallel has 1, 1).
+    stable : bool
+        ``0 < tr M < 4``.
+    precision, backend : str
+        How the transverse block was computed.
+    residual : float
+        ``|psi(K)|`` of the reduced problem (0 in exact arithmetic).
+    energy : object
+        The :class:`~rotorlib.energy.PendulumEnergy` or ``BreatherEnergy``.
+    """
+
+    family: str
+    E: float
+    period: float
+    matrix: np.ndarray
+    basis: tuple
+    transverse: np.ndarray
+    longitudinal: np.ndarray
+    trace: float
+    trace_transverse: float
+    trace_str: str
+    multipliers: np.ndarray
+    stable: bool
+    precision: str
+    backend: str
+    residual: float
+    energy: object = field(repr=False, default=None)
+    period_str: str = ""
+
+    def in_alpha_state_order(self) -> np.ndarray:
+        """M in the state order ``[a1, a2, p1, p2]`` (pendulum variables)."""
+        if self.family == "pendulum":
+            P = np.zeros((4, 4))
+            for new, old in enumerate((0, 2, 1, 3)):   # a1, a2, p1, p2 <- (a1, p1, a2, p2)
+                P[new, old] = 1.0
+            return P @ self.matrix @ P.T
+        # breather basis (b1, q1, b2, q2) -> state order (b1, b2, q1, q2) -> alpha
+        P = np.zeros((4, 4))
+        for new, old in enumerate((0, 2, 1, 3)):
+            P[new, old] = 1.0
+        Mb = P @ self.matrix @ P.T
+        T = np.zeros((4, 4))
+        T[:2, :2] = _A @ _Binv
+        T[2:, 2:] = _Ainv.T @ _B.T
+        return T @ Mb @ np.linalg.inv(T)
+
+    def eigen(self):
+        """Eigenvalues and eigenvectors of the 4x4 matrix (numpy ``eig``; defective at transitions)."""
+        return np.linalg.eig(self.matrix)
+
+
+def _as_orbit(orbit=None, E=None, log_abs_dE=None, phase=None, family="pendulum"):
+    if orbit is not None:
+        return orbit
+    if family == "pendulum":
+        return pendulum(E=E, log_abs_dE=log_abs_dE, phase=phase)
+    fam = {"lib": "LG", "rot": "R"}.get(phase, None) if family == "breather" else family
+    return breather(E=E, family=fam, log_abs_dE=log_abs_dE)
+
+
+def monodromy(orbit=None, *, E=None, log_abs_dE=None, phase=None, family="pendulum", digits=None,
+              backend=None) -> Monodromy:
+    """Monodromy matrix of a pendulum or breather.
+
+    Parameters
+    ----------
+    orbit : PendulumOrbit or BreatherOrbit, optional
+        The orbit; or give ``E`` / ``log_abs_dE`` (+ ``phase``) and ``family``
+        (``pendulum``, ``breather`` or a breather family ``LG``, ``LD``, ``R``).
+    digits : int, optional
+        Requested significant digits. ``None`` or <= 15: float64; up to 31:
+        heyoka real128; more: heyoka multiprecision (or mpmath without heyoka).
+    backend : {'heyoka', 'scipy', 'mpmath'}, optional
+        Force an integrator (default: heyoka when installed, else scipy/mpmath).
+
+    Returns
+    -------
+    Monodromy
+        Float64 trace accurate to ~1e-13 absolute at any ``|E - 4|`` (see
+        :mod:`rotorlib.hill`); ``trace_str`` carries extended digits.
+    """
+    orbit = _as_orbit(orbit, E, log_abs_dE, phase, family)
+    be, prec = precision_tier(digits, backend)
+    dps = None if prec == "float64" else (digits or 20) + 15
+    prob = hill_problem(orbit, dps=dps)
+    sol = solve_hill(prob, be, prec)
+    C = sol.coefficient_map
+    Phi = C @ C if prob.repeats == 2 else C
+    D = np.diag([1.0, prob.momentum_scale * prob.du_dt])
+    Mperp = D @ Phi @ np.linalg.inv(D)
+    delta = sol.delta
+    tr_perp = delta * delta - 2.0 if prob.repeats == 2 else delta
+    if prec == "float64":
+        tr_str = repr(tr_perp + 2.0)
+        period_str = repr(orbit.period)
+    else:
+        import mpmath as mp
+
+        with mp.workdps(len(sol.delta_str) + 5):
+            dx = mp.mpf(sol.delta_exact) if not isinstance(sol.delta_exact, mp.mpf) else sol.delta_exact
+            t = dx * dx if prob.repeats == 2 else dx + 2
+            tr_str = mp.nstr(t, max(5, (digits or 20)))
+            K = mp.mpf(prob.K)
+            if isinstance(orbit, PendulumOrbit):
+                per = 4 * K / mp.sqrt(3) if prob.repeats == 2 else 2 * mp.sqrt(mp.mpf(prob.m)) * K / mp.sqrt(3)
+            else:
+                per = 4 * K * mp.sqrt(mp.mpf(prob.c3) / 3)      # 4K/nu with c3 = 3/nu^2
+            period_str = mp.nstr(per, max(5, (digits or 20)))
+    period = orbit.period
+    dT = orbit.dperiod_dE
+    if isinstance(orbit, PendulumOrbit):
+        c = -3.0 * orbit.E * dT
+        basis = ("a1", "p1", "a2", "p2")
+    else:
+        q1sq = orbit.E - 4.0 if orbit.energy.family == "LD" else orbit.E
+        c = -4.0 * q1sq * dT
+        basis = ("b1", "q1", "b2", "q2")
+    Mpar = np.array([[1.0, c], [0.0, 1.0]])
+    M = np.zeros((4, 4))
+    if isinstance(orbit, PendulumOrbit):
+        M[:2, :2], M[2:, 2:] = Mperp, Mpar
+    else:
+        M[:2, :2], M[2:, 2:] = Mpar, Mperp
+    tr = tr_perp + 2.0
+    return Monodromy(orbit.family, orbit.E, period, M, basis, Mperp, Mpar, tr, tr_perp, tr_str,
+                     multipliers_from_trace(tr_perp), bool(0.0 < tr < 4.0), prec, be, sol.psi_end,
+                     orbit.energy, period_str)
+
+
+def trace_monodromy(orbit=None, **kwargs) -> float:
+    """``tr M`` of a pendulum or breather (float64); see :func:`monodromy` for arguments."""
+    return monodromy(orbit, **kwargs).trace
+
+
+@dataclass(frozen=True)
+class VariationalResult:
+    """Result of :func:`variational_monodromy`.
+
+    Attributes
+    ----------
+    matrix : ndarray (4, 4)
+        Monodromy in state order ``[a1, a2, p1, p2]`` (float64 view).
+    trace : float
+    trace_str : str
+        Trace with every computed digit.
+    final_state : ndarray (4,)
+        State after one period.
+    closure : float
+        ``max |x(T) - x(0)|`` with 2 pi windings of a2 removed.
+    method, precision : str
+    """
+
+    matrix: np.ndarray
+    trace: float
+    trace_str: str
+    final_state: np.ndarray
+    closure: float
+    method: str
+    precision: str
+
+
+def _unwind(dx):
+    """Reduce a difference of states modulo the configuration lattice of (a1, a2),
+    generated by (0, 2 pi) and (pi, pi) (``../shared/NUMERICS.md``)."""
+    dx = np.array(dx, dtype=float)
+    n1 = np.round(dx[0] / np.pi)
+    dx[0] -= n1 * np.pi
+    dx[1] -= n1 * np.pi
+    dx[1] = np.mod(dx[1] + np.pi, 2 * np.pi) - np.pi
+    return dx
+
+
+def variational_monodromy(state0, period, *, method="scipy", rtol=1e-12, precision="float64") -> VariationalResult:
+    """The textbook monodromy: nonlinear flow + 4x4 variational equations over one period.
+
+    Parameters
+    ----------
+    state0 : array_like (4,) or sequence of decimal strings
+        Initial state ``[a1, a2, p1, p2]``. For extended precision pass decimal
+        strings or mpmath numbers so no digits are lost.
+    period : float, str or mpf
+        Integration time.
+    method : {'scipy', 'heyoka'}
+        scipy ``solve_ivp(DOP853, rtol)`` (the paper's and NUMERICS' baseline)
+        or heyoka's Taylor integrator.
+    precision : {'float64', 'real128', 'mp<bits>'}
+        heyoka only.
+
+    Notes
+    -----
+    For pendula near E = 4 the error grows like 1/|E - 4|; use
+    :func:`monodromy` there, or this with ``precision='mp<bits>'`` where the
+    bits exceed ``log2(1/|E - 4|)`` plus the digits wanted.
+    """
+    if method == "scipy":
+        from scipy.integrate import solve_ivp
+
+        x0 = np.asarray(state0, dtype=float)
+
+        def rhs(t, z):
+            x = z[:4]
+            Phi = z[4:].reshape(4, 4)
+            return np.concatenate([rhs_alpha(t, x), (jacobian_alpha(x) @ Phi).ravel()])
+
+        z0 = np.concatenate([x0, np.eye(4).ravel()])
+        sol = solve_ivp(rhs, (0.0, float(period)), z0, method="DOP853", rtol=rtol, atol=rtol * 1e-3)
+        z = sol.y[:, -1]
+        Mv = z[4:].reshape(4, 4)
+        tr = float(np.trace(Mv))
+        return VariationalResult(Mv, tr, repr(tr), z[:4], float(np.max(np.abs(_unwind(z[:4] - x0)))),
+                                 "scipy-DOP853", f"float64 rtol={rtol:g}")
+    if method != "heyoka":
+        raise ValueError(f"method must be 'scipy' or 'heyoka', got {method!r}")
+    import heyoka as hy
+    import mpmath as mp
+
+    a1, a2, p1, p2 = hy.make_vars("a1", "a2", "p1", "p2")
+    s_m, s_p = hy.sin(a2 - a1), hy.sin(a1 + a2)
+    sys = [(a1, 0.5 * p1), (a2, 1.5 * p2), (p1, -(2.0 * hy.sin(2.0 * a1) - s_m + s_p)), (p2, -(s_m + s_p))]
+    vsys = hy.var_ode_sys(sys, hy.var_args.vars, order=1)
+    if precision == "float64":
+        kw, conv, dps = {}, float, 17
+    elif precision == "real128":
+        kw, dps = {"fp_type": hy.real128}, 34
+        conv = lambda v: hy.real128(mp.nstr(mp.mpf(v), 40))   # noqa: E731
+    else:
+        bits = int(precision[2:])
+        dps = int(bits / 3.33)
+        kw = {"fp_type": hy.real, "prec": bits}
+        conv = lambda v: hy.real(mp.nstr(mp.mpf(v), dps + 5), bits)   # noqa: E731
+    with mp.workdps(dps + 10):
+        x0 = [conv(mp.mpf(v) if not isinstance(v, float) else mp.mpf(repr(v))) for v in state0]
+        T = conv(mp.mpf(period) if not isinstance(period, float) else mp.mpf(repr(period)))
+    dtype = object if precision.startswith("mp") else (hy.real128 if precision == "real128" else float)
+    ta = hy.taylor_adaptive(vsys, np.array(x0, dtype=dtype), compact_mode=precision != "float64", **kw)
+    ta.propagate_until(T)
+    st = ta.state
+    Mv_exact = [[st[4 + 4 * i + j] for j in range(4)] for i in range(4)]
+    with mp.workdps(dps + 5):
+        tr_exact = sum(mp.mpf(str(Mv_exact[i][i])) for i in range(4))
+        tr_str = mp.nstr(tr_exact, dps - 3)
+    Mv = np.array([[float(Mv_exact[i][j]) for j in range(4)] for i in range(4)])
+    xf = np.array([float(v) for v in st[:4]])
+    return VariationalResult(Mv, float(tr_exact), tr_str, xf,
+                             float(np.max(np.abs(_unwind(xf - np.array([float(v) for v in x0]))))),
+                             "heyoka-taylor", precision)

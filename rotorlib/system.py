@@ -1,0 +1,279 @@
+"""The 3-rotor system: potential, energy, equations of motion and coordinates.
+
+Units m = g = r = 1; time is the paper's dimensionless t~ = t sqrt(g / m r^2).
+
+Coordinates (paper §2, §4, §8):
+
+* rotor angles ``theta = (theta1, theta2, theta3)``, ``L = sum(theta_i'^2)/2 - V``;
+* centre of mass and relative angles ``phi0 = mean(theta)``,
+  ``phi1 = theta1 - theta2``, ``phi2 = theta2 - theta3``;
+* pendulum variables ``a1 = phi1/2``, ``a2 = phi1/2 + phi2`` with momenta
+  ``p1 = 2 a1'``, ``p2 = (2/3) a2'`` (the paper's alpha_1, alpha_2, pi~_1, pi~_2):
+  ``H = p1^2/4 + 3 p2^2/4 + 3 - cos 2a1 - cos(a2 - a1) - cos(a1 + a2)``;
+* breather variables ``b1 = phi1 + phi2``, ``b2 = phi1 - phi2`` with momenta
+  ``q1 = (P1 + P2)/2``, ``q2 = (P1 - P2)/2`` where ``P = (p~1, p~2)`` are the
+  momenta conjugate to ``(phi1, phi2)`` (the paper's beta_i, pi_i):
+  ``H = q1^2 + 3 q2^2 + 3 - cos((b1 + b2)/2) - cos((b1 - b2)/2) - cos b1``.
+
+A state in pendulum variables is ordered ``[a1, a2, p1, p2]`` throughout
+(the order of ``../shared/NUMERICS.md``); in breather variables
+``[b1, b2, q1, q2]``; in relative variables ``[phi1, phi2, P1, P2]``.
+All linear maps between them are exact (matrices with entries 0, ±1/2, ±1, 2),
+so they introduce no error beyond one rounding.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy import optimize
+
+__all__ = [
+    "potential_phi", "potential_alpha", "potential_beta", "potential_theta",
+    "energy_alpha", "energy_phi", "energy_beta", "rhs_alpha", "rhs_beta",
+    "rhs_phi", "jacobian_alpha", "alpha_to_phi", "phi_to_alpha", "phi_to_beta",
+    "beta_to_phi", "alpha_to_beta", "beta_to_alpha", "theta_to_phi",
+    "phi_to_theta", "CriticalPoint", "critical_points", "SEPARATRIX_ENERGY",
+    "BREATHER_SEPARATRIX_ENERGY",
+]
+
+# Coordinate matrices: alpha = A phi, beta = B phi; momenta transform with A^{-T}, B^{-T}.
+_A = np.array([[0.5, 0.0], [0.5, 1.0]])
+_Ainv = np.array([[2.0, 0.0], [-1.0, 1.0]])
+_B = np.array([[1.0, 1.0], [1.0, -1.0]])
+_Binv = 0.5 * _B
+
+
+def potential_phi(phi1, phi2):
+    """V(phi1, phi2) = 3 - cos phi1 - cos phi2 - cos(phi1 + phi2)."""
+    return 3.0 - np.cos(phi1) - np.cos(phi2) - np.cos(phi1 + phi2)
+
+
+def potential_theta(theta1, theta2, theta3):
+    """V in rotor angles: 3 - cos(t1 - t2) - cos(t2 - t3) - cos(t3 - t1)."""
+    return 3.0 - np.cos(theta1 - theta2) - np.cos(theta2 - theta3) - np.cos(theta3 - theta1)
+
+
+def potential_alpha(a1, a2):
+    """V(a1, a2) = 3 - cos 2a1 - cos(a2 - a1) - cos(a1 + a2)."""
+    return 3.0 - np.cos(2.0 * a1) - np.cos(a2 - a1) - np.cos(a1 + a2)
+
+
+def potential_beta(b1, b2):
+    """V(b1, b2) = 3 - cos((b1 + b2)/2) - cos((b1 - b2)/2) - cos b1."""
+    return 3.0 - np.cos(0.5 * (b1 + b2)) - np.cos(0.5 * (b1 - b2)) - np.cos(b1)
+
+
+def energy_alpha(state):
+    """Relative energy of a state ``[a1, a2, p1, p2]`` (last axis)."""
+    a1, a2, p1, p2 = np.moveaxis(np.asarray(state, dtype=float), -1, 0)
+    return 0.25 * p1 ** 2 + 0.75 * p2 ** 2 + potential_alpha(a1, a2)
+
+
+def energy_phi(state):
+    """Relative energy of ``[phi1, phi2, P1, P2]``.
+
+    The kinetic energy (phi1'^2 + phi2'^2 + phi1' phi2')/3 in momenta is P1^2 - P1 P2 + P2^2.
+    """
+    f1, f2, P1, P2 = np.moveaxis(np.asarray(state, dtype=float), -1, 0)
+    return P1 ** 2 - P1 * P2 + P2 ** 2 + potential_phi(f1, f2)
+
+
+def energy_beta(state):
+    """Relative energy of a state ``[b1, b2, q1, q2]``."""
+    b1, b2, q1, q2 = np.moveaxis(np.asarray(state, dtype=float), -1, 0)
+    return q1 ** 2 + 3.0 * q2 ** 2 + potential_beta(b1, b2)
+
+
+def rhs_alpha(t, state):
+    """Hamilton's equations in pendulum variables, ``d/dt [a1, a2, p1, p2]``."""
+    a1, a2, p1, p2 = state
+    s_m = np.sin(a2 - a1)
+    s_p = np.sin(a1 + a2)
+    return np.array([
+        0.5 * p1,
+        1.5 * p2,
+        -(2.0 * np.sin(2.0 * a1) - s_m + s_p),
+        -(s_m + s_p),
+    ])
+
+
+def jacobian_alpha(state):
+    """Jacobian of :func:`rhs_alpha` (the variational matrix), shape (4, 4)."""
+    a1, a2 = state[0], state[1]
+    c_m = np.cos(a2 - a1)
+    c_p = np.cos(a1 + a2)
+    v11 = 4.0 * np.cos(2.0 * a1) + c_m + c_p      # d2V/da1^2
+    v12 = -c_m + c_p                              # d2V/da1 da2
+    v22 = c_m + c_p                               # d2V/da2^2
+    return np.array([
+        [0.0, 0.0, 0.5, 0.0],
+        [0.0, 0.0, 0.0, 1.5],
+        [-v11, -v12, 0.0, 0.0],
+        [-v12, -v22, 0.0, 0.0],
+    ])
+
+
+def rhs_beta(t, state):
+    """Hamilton's equations in breather variables (paper §8)."""
+    b1, b2, q1, q2 = state
+    sp = np.sin(0.5 * (b1 + b2))
+    sm = np.sin(0.5 * (b1 - b2))
+    return np.array([2.0 * q1, 6.0 * q2, -0.5 * (sp + sm + 2.0 * np.sin(b1)), -0.5 * (sp - sm)])
+
+
+def rhs_phi(t, state):
+    """Hamilton's equations in relative variables ``[phi1, phi2, P1, P2]``."""
+    f1, f2, P1, P2 = state
+    s12 = np.sin(f1 + f2)
+    return np.array([
+        2.0 * P1 - P2,
+        2.0 * P2 - P1,
+        -(np.sin(f1) + s12),
+        -(np.sin(f2) + s12),
+    ])
+
+
+def _lin(state, Q, Pm):
+    s = np.asarray(state, dtype=float)
+    q = np.einsum("ij,...j->...i", Q, s[..., :2])
+    p = np.einsum("ij,...j->...i", Pm, s[..., 2:])
+    return np.concatenate([q, p], axis=-1)
+
+
+def phi_to_alpha(state):
+    """``[phi1, phi2, P1, P2] -> [a1, a2, p1, p2]``."""
+    return _lin(state, _A, _Ainv.T)
+
+
+def alpha_to_phi(state):
+    """``[a1, a2, p1, p2] -> [phi1, phi2, P1, P2]``."""
+    return _lin(state, _Ainv, _A.T)
+
+
+def phi_to_beta(state):
+    """``[phi1, phi2, P1, P2] -> [b1, b2, q1, q2]``."""
+    return _lin(state, _B, _Binv.T)
+
+
+def beta_to_phi(state):
+    """``[b1, b2, q1, q2] -> [phi1, phi2, P1, P2]``."""
+    return _lin(state, _Binv, _B.T)
+
+
+def alpha_to_beta(state):
+    """``[a1, a2, p1, p2] -> [b1, b2, q1, q2]``."""
+    return phi_to_beta(alpha_to_phi(state))
+
+
+def beta_to_alpha(state):
+    """``[b1, b2, q1, q2] -> [a1, a2, p1, p2]``."""
+    return phi_to_alpha(beta_to_phi(state))
+
+
+def theta_to_phi(theta, theta_dot):
+    """Rotor angles and velocities -> (``phi0``, ``phi0'``, ``[phi1, phi2, P1, P2]``)."""
+    t1, t2, t3 = np.moveaxis(np.asarray(theta, dtype=float), -1, 0)
+    w1, w2, w3 = np.moveaxis(np.asarray(theta_dot, dtype=float), -1, 0)
+    f1, f2 = t1 - t2, t2 - t3
+    d1, d2 = w1 - w2, w2 - w3
+    P1 = (2.0 * d1 + d2) / 3.0
+    P2 = (d1 + 2.0 * d2) / 3.0
+    return (t1 + t2 + t3) / 3.0, (w1 + w2 + w3) / 3.0, np.stack([f1, f2, P1, P2], axis=-1)
+
+
+def phi_to_theta(phi0, phi0_dot, state):
+    """Inverse of :func:`theta_to_phi`: returns ``(theta, theta_dot)``."""
+    f1, f2, P1, P2 = np.moveaxis(np.asarray(state, dtype=float), -1, 0)
+    d1, d2 = 2.0 * P1 - P2, 2.0 * P2 - P1
+    theta = np.stack([phi0 + (2 * f1 + f2) / 3.0, phi0 + (f2 - f1) / 3.0, phi0 - (f1 + 2 * f2) / 3.0], -1)
+    vel = np.stack([phi0_dot + (2 * d1 + d2) / 3.0, phi0_dot + (d2 - d1) / 3.0, phi0_dot - (d1 + 2 * d2) / 3.0], -1)
+    return theta, vel
+
+
+@dataclass(frozen=True)
+class CriticalPoint:
+    """A critical point of V on the (phi1, phi2) torus.
+
+    Attributes
+    ----------
+    name : str
+        ``G`` (minimum), ``T1``/``T2`` (maxima) or ``D1``/``D2``/``D3`` (saddles).
+    phi : tuple of float
+        Location (phi1, phi2) in [0, 2 pi)^2.
+    energy : float
+        V at the point.
+    hessian_eigenvalues : tuple of float
+        Eigenvalues of the Hessian of V in (phi1, phi2).
+    kind : str
+        ``minimum``, ``maximum`` or ``saddle``.
+    """
+
+    name: str
+    phi: tuple
+    energy: float
+    hessian_eigenvalues: tuple
+    kind: str
+
+
+def _grad_phi(x):
+    f1, f2 = x
+    s = np.sin(f1 + f2)
+    return np.array([np.sin(f1) + s, np.sin(f2) + s])
+
+
+def _hess_phi(x):
+    f1, f2 = x
+    c = np.cos(f1 + f2)
+    return np.array([[np.cos(f1) + c, c], [c, np.cos(f2) + c]])
+
+
+def critical_points(grid: int = 16):
+    """Locate and classify every critical point of V on the torus.
+
+    Newton's method from a ``grid x grid`` set of starting points; duplicates
+    are merged modulo 2 pi. Saddles are named D1 = (pi, pi), D2 = (pi, 0),
+    D3 = (0, pi) and maxima T1, T2 by increasing phi1, as in the paper.
+
+    Returns
+    -------
+    list of CriticalPoint
+        Sorted by energy, then name.
+    """
+    found = []
+    pts = np.linspace(0, 2 * np.pi, grid, endpoint=False) + 0.05
+    for x0 in pts:
+        for y0 in pts:
+            sol = optimize.root(_grad_phi, [x0, y0], jac=_hess_phi, method="lm", tol=1e-15)
+            if not sol.success or np.max(np.abs(_grad_phi(sol.x))) > 1e-12:
+                continue
+            x = np.mod(sol.x, 2 * np.pi)
+            x = np.where(np.abs(x - 2 * np.pi) < 1e-9, 0.0, x)
+            if not any(np.allclose(x, y, atol=1e-8) for y in found):
+                found.append(x)
+    out = []
+    for x in found:
+        ev = np.linalg.eigvalsh(_hess_phi(x))
+        kind = "minimum" if ev.min() > 0 else ("maximum" if ev.max() < 0 else "saddle")
+        out.append((x, float(potential_phi(*x)), tuple(float(e) for e in ev), kind))
+    names = []
+    for x, e, ev, kind in out:
+        near = lambda a, b: abs(np.mod(a - b + np.pi, 2 * np.pi) - np.pi) < 1e-8
+        if kind == "minimum":
+            names.append("G")
+        elif kind == "saddle":
+            names.append("D1" if near(x[0], np.pi) and near(x[1], np.pi) else
+                         "D2" if near(x[0], np.pi) else "D3")
+        else:
+            names.append("T")
+    tmax = sorted([i for i, n in enumerate(names) if n == "T"], key=lambda i: out[i][0][0])
+    for j, i in enumerate(tmax):
+        names[i] = f"T{j + 1}"
+    pts = [CriticalPoint(n, (float(x[0]), float(x[1])), e, ev, kind) for n, (x, e, ev, kind) in zip(names, out)]
+    return sorted(pts, key=lambda p: (p.energy, p.name))
+
+
+#: Energy of the saddles D (the pendulum separatrix), computed from V at (0, pi).
+SEPARATRIX_ENERGY = float(potential_phi(0.0, np.pi))
+#: Energy of the maxima T (the breather separatrix), computed from V at (2pi/3, 2pi/3).
+BREATHER_SEPARATRIX_ENERGY = float(potential_phi(2 * np.pi / 3, 2 * np.pi / 3))
