@@ -1,0 +1,1 @@
+"""Plotting helpers (matplotlib), one module per chapter; the numerical modules never import this package."""
