@@ -1,0 +1,88 @@
+"""The command line: JSON fields, cross-checks, and clean refusal of bad input."""
+import json
+import math
+import subprocess
+import sys
+
+import mpmath as mp
+import pytest
+
+from conftest import requires_heyoka, textbook_reference
+
+
+def run(*args):
+    p = subprocess.run([sys.executable, "-m", "rotorlib", *args], capture_output=True, text=True, timeout=300)
+    return p.returncode, p.stdout, p.stderr
+
+
+@requires_heyoka
+def test_trace_json_against_independent_reference():
+    """Issue 2 must-show: the CLI agrees with the multiprecision textbook reference to 1e-10."""
+    rc, out, err = run("trace", "pendulum", "--E", "1", "3.9", "5", "100", "--json")
+    assert rc == 0, err
+    recs = json.loads(out)
+    assert [r["family"] for r in recs] == ["pendulum"] * 4
+    for r, E in zip(recs, (1.0, 3.9, 5.0, 100.0)):
+        ref, _ = textbook_reference("pendulum-E", E, "")
+        assert abs(r["trace"] - float(ref)) < 1e-10 * max(1, abs(float(ref)))
+        assert isinstance(r["E"], str) and float(r["E"]) == E and r["period"] > 0
+    for ph in ("lib", "rot"):
+        rc, out, err = run("trace", "pendulum", "--log-dE", "-30", "-60", "-100", "--phase", ph, "--json")
+        assert rc == 0, err
+        for r, x in zip(json.loads(out), (-30.0, -60.0, -100.0)):
+            bits = max(256, int(math.ceil((2 * -x / math.log(10) + 40) * 3.33 / 64)) * 64)
+            ref, _ = textbook_reference("pendulum-log", x, ph, bits)
+            assert abs(r["trace"] - float(ref)) < 1e-10 * max(1, abs(float(ref)))
+            with mp.workdps(80):
+                assert abs(mp.mpf(r["E"]) - (4 + (1 if ph == "rot" else -1) * mp.exp(x))) < mp.exp(x) * 1e-15
+    rc, out, err = run("trace", "breather", "--E", "4.6", "9", "20", "--json")
+    assert rc == 0, err
+    for r, E in zip(json.loads(out), (4.6, 9.0, 20.0)):
+        ref, _ = textbook_reference("breather", E, "R")
+        assert r["breather_family"] == "R"
+        assert abs(r["trace"] - float(ref)) < 1e-10 * max(1, abs(float(ref)))
+
+
+@requires_heyoka
+def test_trace_digits_30_deep_rotation():
+    """Issue 7 target: --digits 30 at log(E-4) = -60 correct to 20 digits."""
+    rc, out, err = run("trace", "pendulum", "--phase", "rot", "--log-dE", "-60", "--digits", "30", "--json")
+    assert rc == 0, err
+    r = json.loads(out)
+    ref, _ = textbook_reference("pendulum-log", -60.0, "rot", 384)
+    with mp.workdps(40):
+        assert abs(mp.mpf(r["trace"]) - ref) < mp.mpf(10) ** -20
+    assert r["precision"] == "real128"
+
+
+def test_table_output():
+    rc, out, err = run("trace", "pendulum", "--E", "2")
+    assert rc == 0 and "trace" in out.splitlines()[0]
+
+
+@pytest.mark.parametrize("args", [
+    ("trace", "pendulum", "--E", "-1"),
+    ("trace", "pendulum", "--E", "4"),
+    ("trace", "pendulum", "--E", "nan"),
+    ("trace", "pendulum", "--E", "inf"),
+    ("trace", "pendulum", "--E", "abc"),
+    ("trace", "pendulum", "--log-dE", "-30"),
+    ("trace", "pendulum", "--log-dE", "2", "--phase", "lib"),
+    ("trace", "pendulum", "--log-dE", "-900", "--phase", "rot"),
+    ("trace", "pendulum", "--E", "3", "--phase", "rot"),
+    ("trace", "breather", "--E", "4.5"),
+    ("trace", "breather", "--E", "4.3", "--phase", "rot"),
+    ("trace", "breather", "--E", "4.3", "--family", "R"),
+    ("trace", "breather", "--E", "3.5", "--family", "LD"),
+    ("trace", "comet", "--E", "1"),
+    ("trace", "pendulum"),
+    ("trace", "pendulum", "--E", "1", "--digits", "0"),
+    ("nosuchcommand",),
+    (),
+])
+def test_bad_input_one_line_nonzero(args):
+    rc, out, err = run(*args)
+    assert rc != 0
+    lines = [ln for ln in err.strip().splitlines() if ln.strip()]
+    assert len(lines) == 1 and "Traceback" not in err, err
+    assert lines[0].startswith("rotorlib: error:")

@@ -1,0 +1,74 @@
+"""rotorlib's float64 path works without heyoka (scipy fallback): heyoka is hidden in a subprocess."""
+import json
+import subprocess
+import sys
+import textwrap
+
+import pytest
+
+import rotorlib
+
+HIDE = textwrap.dedent("""
+    import sys, importlib.abc
+    class _Block(importlib.abc.MetaPathFinder):
+        def find_spec(self, name, path=None, target=None):
+            if name == "heyoka" or name.startswith("heyoka."):
+                raise ImportError("heyoka hidden for this test")
+    sys.meta_path.insert(0, _Block())
+""")
+
+
+def run_hidden(code):
+    p = subprocess.run([sys.executable, "-c", HIDE + textwrap.dedent(code)], capture_output=True, text=True,
+                       timeout=300)
+    assert p.returncode == 0, p.stderr
+    return json.loads(p.stdout)
+
+
+def test_scipy_fallback_matches():
+    out = run_hidden("""
+        import json, rotorlib
+        assert not rotorlib.heyoka_available()
+        res = []
+        for kw in (dict(E=1.0), dict(E=5.0), dict(log_abs_dE=-30.0, phase="lib"), dict(log_abs_dE=-100.0, phase="rot")):
+            M = rotorlib.monodromy(rotorlib.pendulum(**kw))
+            res.append([M.trace, M.backend, M.precision])
+        M = rotorlib.monodromy(rotorlib.breather(9.0, "R"))
+        res.append([M.trace, M.backend, M.precision])
+        print(json.dumps(res))
+    """)
+    refs = [rotorlib.trace_monodromy(rotorlib.pendulum(**kw)) for kw in
+            (dict(E=1.0), dict(E=5.0), dict(log_abs_dE=-30.0, phase="lib"), dict(log_abs_dE=-100.0, phase="rot"))]
+    refs.append(rotorlib.trace_monodromy(rotorlib.breather(9.0, "R")))
+    for (t, backend, prec), ref in zip(out, refs):
+        assert backend == "scipy" and prec == "float64"
+        assert abs(t - ref) < 1e-11 * max(1.0, abs(ref))
+
+
+def test_cli_without_heyoka():
+    p = subprocess.run([sys.executable, "-c", HIDE + "import sys, runpy; sys.argv=['rotorlib','trace','pendulum',"
+                        "'--E','2','--json']; runpy.run_module('rotorlib', run_name='__main__')"],
+                       capture_output=True, text=True, timeout=300)
+    assert p.returncode == 0, p.stderr
+    assert json.loads(p.stdout)["backend"] == "scipy"
+
+
+def test_extended_precision_without_heyoka_uses_mpmath():
+    out = run_hidden("""
+        import json, rotorlib
+        print(json.dumps(list(rotorlib.precision_tier(25))))
+    """)
+    assert out == ["mpmath", "mpmath30"]
+
+
+@pytest.mark.skipif(not rotorlib.heyoka_available(), reason="needs heyoka for the comparison")
+def test_heyoka_request_fails_cleanly_when_hidden():
+    out = run_hidden("""
+        import json, rotorlib
+        try:
+            rotorlib.monodromy(rotorlib.pendulum(1.0), backend="heyoka")
+            print(json.dumps("no error"))
+        except ValueError as e:
+            print(json.dumps(str(e)))
+    """)
+    assert "not installed" in out
