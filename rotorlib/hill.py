@@ -29,8 +29,8 @@ independent reference. ``tests/test_monodromy.py`` measures each.
 """
 from __future__ import annotations
 
-import functools
 import math
+import threading
 from dataclasses import dataclass
 
 import numpy as np
@@ -215,7 +215,7 @@ class HillSolution:
     delta_exact: object = None
 
 
-def _segment_scipy(prob, sign):
+def _segment_scipy(prob, sign, rtol=None):
     from scipy.integrate import solve_ivp
 
     m, m1, c3, shape, kind = float(prob.m), float(prob.m1), float(prob.c3), float(prob.shape), prob.kind
@@ -225,17 +225,33 @@ def _segment_scipy(prob, sign):
         q = _coefficient(kind, sp, cp, m, c3, shape, sign)
         return [-math.sqrt(m1 + m * sp * sp), x[2], -q * x[1], x[4], -q * x[3]]
 
-    atol = [max(1e-300, 1e-17 * math.sqrt(m1)), 1e-16, 1e-16, 1e-16, 1e-16]
+    # rtol=None is the verified default 1e-13; a looser rtol (work-precision
+    # studies) scales the absolute tolerances by the same factor.
+    scale = 1.0 if rtol is None else rtol / 1e-13
+    atol = [scale * max(1e-300, 1e-17 * math.sqrt(m1)), scale * 1e-16, scale * 1e-16, scale * 1e-16, scale * 1e-16]
     sol = solve_ivp(rhs, (0.0, float(prob.K)), [math.pi / 2, 1.0, 0.0, 0.0, 1.0], method="DOP853",
-                    rtol=1e-13, atol=atol)
+                    rtol=1e-13 if rtol is None else rtol, atol=atol)
     if not sol.success:
         raise RuntimeError(f"transverse integration failed: {sol.message}")
     x = sol.y[:, -1]
     return np.array([[x[1], x[3]], [x[2], x[4]]]), abs(x[0]), len(sol.t) - 1
 
 
-@functools.lru_cache(maxsize=None)
-def _heyoka_integrator(kind, precision):
+#: Per-thread cache of compiled integrators: an integrator holds mutable state (time, state,
+#: pars), so threads (ThreadPoolExecutor sweeps) must not share one. heyoka caches the
+#: compiled code itself, so a new thread rebuilds its integrators in milliseconds.
+_THREAD_LOCAL = threading.local()
+
+
+def _heyoka_integrator(kind, precision, tol=None):
+    cache = _THREAD_LOCAL.__dict__.setdefault("integrators", {})
+    key = (kind, precision, tol)
+    if key not in cache:
+        cache[key] = _build_heyoka_integrator(kind, precision, tol)
+    return cache[key]
+
+
+def _build_heyoka_integrator(kind, precision, tol=None):
     import heyoka as hy
 
     psi, y1, z1, y2, z2 = hy.make_vars("psi", "y1", "z1", "y2", "z2")
@@ -244,27 +260,31 @@ def _heyoka_integrator(kind, precision):
     q = _coefficient(kind, sp, cp, m, c3, shape, sign)
     sys = [(psi, -hy.sqrt(m1 + m * sp * sp)), (y1, z1), (z1, -q * y1), (y2, z2), (z2, -q * y2)]
     npar = _NPARS[kind]
+    # tol=None: heyoka's default, the machine epsilon of the precision (verified tiers).
     if precision == "float64":
-        return hy.taylor_adaptive(sys, [0.0] * 5, pars=[0.0] * npar, compact_mode=False)
+        kw = {} if tol is None else {"tol": float(tol)}
+        return hy.taylor_adaptive(sys, [0.0] * 5, pars=[0.0] * npar, compact_mode=False, **kw)
     if precision == "real128":
+        kw = {} if tol is None else {"tol": hy.real128(repr(float(tol)))}
         z = np.zeros(5, dtype=hy.real128)
         return hy.taylor_adaptive(sys, z, pars=np.zeros(npar, dtype=hy.real128), fp_type=hy.real128,
-                                  compact_mode=True)
+                                  compact_mode=True, **kw)
     bits = int(precision[2:])
+    kw = {} if tol is None else {"tol": hy.real(repr(float(tol)), bits)}
     z = np.array([hy.real(0, bits)] * 5)
     return hy.taylor_adaptive(sys, z, pars=np.array([hy.real(0, bits)] * npar), fp_type=hy.real, prec=bits,
-                              compact_mode=True)
+                              compact_mode=True, **kw)
 
 
 #: heyoka parameters used by each kind: (m, m1[, c3, shape[, sign]]).
 _NPARS = {"pendulum-lib": 3, "pendulum-rot": 3, "breather-LG": 4, "breather-LD": 4, "breather-R": 5}
 
 
-def _segment_heyoka(prob, sign, precision):
+def _segment_heyoka(prob, sign, precision, tol=None):
     import heyoka as hy
     import mpmath as mp
 
-    ta = _heyoka_integrator(prob.kind, precision)
+    ta = _heyoka_integrator(prob.kind, precision, tol)
     if precision == "float64":
         conv = float
     elif precision == "real128":
@@ -306,8 +326,15 @@ def _segment_mpmath(prob, sign, dps):
         return mp.matrix([[x[1], x[3]], [x[2], x[4]]]), abs(float(x[0])), 0
 
 
-def solve_hill(prob: HillProblem, backend: str, precision: str) -> HillSolution:
-    """Integrate the reduced transverse problem and return the coefficient-period map."""
+def solve_hill(prob: HillProblem, backend: str, precision: str, tol=None) -> HillSolution:
+    """Integrate the reduced transverse problem and return the coefficient-period map.
+
+    ``tol`` (optional) loosens or tightens the integrator: scipy's ``rtol``
+    (default 1e-13, absolute tolerances scaled alike) or heyoka's ``tol``
+    (default: the machine epsilon of ``precision``). The defaults are the
+    verified tiers; other values serve work-precision studies
+    (``benchmarks/bench_precision.py``). Ignored by the mpmath backend.
+    """
     import mpmath as mp
 
     S = np.diag([1.0, -1.0])
@@ -322,16 +349,16 @@ def solve_hill(prob: HillProblem, backend: str, precision: str) -> HillSolution:
 
     two = prob.kind == "breather-R"
     if backend == "scipy":
-        P1, r1, n1 = _segment_scipy(prob, 1.0)
-        P2, r2, n2 = _segment_scipy(prob, -1.0) if two else (None, 0.0, 0)
+        P1, r1, n1 = _segment_scipy(prob, 1.0, tol)
+        P2, r2, n2 = _segment_scipy(prob, -1.0, tol) if two else (None, 0.0, 0)
         _mat, _inv2 = (lambda a: _NP(a)), _np_inv2
         C = compose(_NP(P1), None if P2 is None else _NP(P2)).a
         d = float(np.trace(C))
         dexact = d
         dstr = repr(d)
     elif backend == "heyoka":
-        P1, r1, n1 = _segment_heyoka(prob, 1.0, precision)
-        P2, r2, n2 = _segment_heyoka(prob, -1.0, precision) if two else (None, 0.0, 0)
+        P1, r1, n1 = _segment_heyoka(prob, 1.0, precision, tol)
+        P2, r2, n2 = _segment_heyoka(prob, -1.0, precision, tol) if two else (None, 0.0, 0)
         if precision == "float64":
             _mat, _inv2 = (lambda a: _NP(a)), _np_inv2
             C = compose(_NP(P1), None if P2 is None else _NP(P2)).a

@@ -134,7 +134,7 @@ def _as_orbit(orbit=None, E=None, log_abs_dE=None, phase=None, family="pendulum"
 
 
 def monodromy(orbit=None, *, E=None, log_abs_dE=None, phase=None, family="pendulum", digits=None,
-              backend=None) -> Monodromy:
+              backend=None, tol=None) -> Monodromy:
     """Monodromy matrix of a pendulum or breather.
 
     Parameters
@@ -147,6 +147,10 @@ def monodromy(orbit=None, *, E=None, log_abs_dE=None, phase=None, family="pendul
         heyoka real128; more: heyoka multiprecision (or mpmath without heyoka).
     backend : {'heyoka', 'scipy', 'mpmath'}, optional
         Force an integrator (default: heyoka when installed, else scipy/mpmath).
+    tol : float, optional
+        Integrator tolerance passed to :func:`rotorlib.hill.solve_hill` (scipy
+        ``rtol``, heyoka ``tol``); the default is the verified tier. Only for
+        work-precision studies: ``precision`` does not record it.
 
     Returns
     -------
@@ -158,7 +162,7 @@ def monodromy(orbit=None, *, E=None, log_abs_dE=None, phase=None, family="pendul
     be, prec = precision_tier(digits, backend)
     dps = None if prec == "float64" else (digits or 20) + 15
     prob = hill_problem(orbit, dps=dps)
-    sol = solve_hill(prob, be, prec)
+    sol = solve_hill(prob, be, prec, tol=tol)
     C = sol.coefficient_map
     Phi = C @ C if prob.repeats == 2 else C
     D = np.diag([1.0, prob.momentum_scale * prob.du_dt])
@@ -223,6 +227,8 @@ class VariationalResult:
     closure : float
         ``max |x(T) - x(0)|`` with 2 pi windings of a2 removed.
     method, precision : str
+    steps : int
+        Integrator steps taken (for work-precision studies).
     """
 
     matrix: np.ndarray
@@ -232,6 +238,7 @@ class VariationalResult:
     closure: float
     method: str
     precision: str
+    steps: int = 0
 
 
 def _unwind(dx):
@@ -283,7 +290,7 @@ def variational_monodromy(state0, period, *, method="scipy", rtol=1e-12, precisi
         Mv = z[4:].reshape(4, 4)
         tr = float(np.trace(Mv))
         return VariationalResult(Mv, tr, repr(tr), z[:4], float(np.max(np.abs(_unwind(z[:4] - x0)))),
-                                 "scipy-DOP853", f"float64 rtol={rtol:g}")
+                                 "scipy-DOP853", f"float64 rtol={rtol:g}", len(sol.t) - 1)
     if method != "heyoka":
         raise ValueError(f"method must be 'scipy' or 'heyoka', got {method!r}")
     import heyoka as hy
@@ -304,11 +311,12 @@ def variational_monodromy(state0, period, *, method="scipy", rtol=1e-12, precisi
         kw = {"fp_type": hy.real, "prec": bits}
         conv = lambda v: hy.real(mp.nstr(mp.mpf(v), dps + 5), bits)   # noqa: E731
     with mp.workdps(dps + 10):
-        x0 = [conv(mp.mpf(v) if not isinstance(v, float) else mp.mpf(repr(v))) for v in state0]
-        T = conv(mp.mpf(period) if not isinstance(period, float) else mp.mpf(repr(period)))
+        # float(v): numpy float64 is a float whose repr is 'np.float64(...)' under numpy 2
+        x0 = [conv(mp.mpf(v) if not isinstance(v, float) else mp.mpf(repr(float(v)))) for v in state0]
+        T = conv(mp.mpf(period) if not isinstance(period, float) else mp.mpf(repr(float(period))))
     dtype = object if precision.startswith("mp") else (hy.real128 if precision == "real128" else float)
     ta = hy.taylor_adaptive(vsys, np.array(x0, dtype=dtype), compact_mode=precision != "float64", **kw)
-    ta.propagate_until(T)
+    res = ta.propagate_until(T)
     st = ta.state
     Mv_exact = [[st[4 + 4 * i + j] for j in range(4)] for i in range(4)]
     with mp.workdps(dps + 5):
@@ -318,4 +326,4 @@ def variational_monodromy(state0, period, *, method="scipy", rtol=1e-12, precisi
     xf = np.array([float(v) for v in st[:4]])
     return VariationalResult(Mv, float(tr_exact), tr_str, xf,
                              float(np.max(np.abs(_unwind(xf - np.array([float(v) for v in x0]))))),
-                             "heyoka-taylor", precision)
+                             "heyoka-taylor", precision, int(res[3]))

@@ -1,0 +1,99 @@
+"""Figures and tables for the breather chapter (paper §8, Fig. 10) and the appendices.
+
+Units m = g = r = 1. Every function returns the matplotlib ``Figure`` it drew (or
+a string for tables); all numbers are computed by the caller with :mod:`rotorlib`.
+"""
+from __future__ import annotations
+
+import math
+
+import matplotlib.pyplot as plt
+import numpy as np
+
+__all__ = ["verdict", "comparison_table", "plot_fig10ab", "plot_fig10c", "plot_fig10d"]
+
+
+def verdict(diff, tol) -> str:
+    """``'agrees'`` when ``|diff| <= tol`` (both finite), else ``'DIFFERS'``."""
+    ok = math.isfinite(diff) and math.isfinite(tol) and abs(diff) <= tol
+    return "agrees" if ok else "DIFFERS"
+
+
+def comparison_table(rows) -> tuple:
+    """``rows``: ``(quantity, paper, ours, tolerance)`` with numbers (ours may be a string of digits).
+
+    Returns ``(text, verdicts)``: a plain-text table with columns
+    quantity / paper / ours / difference / tolerance / verdict, and the list of verdicts.
+    """
+    header = ["quantity", "paper", "ours", "difference", "tolerance", "verdict"]
+    cells, verdicts = [header], []
+    for q, paper, ours, tol in rows:
+        d = float(ours) - float(paper)
+        v = verdict(d, tol)
+        verdicts.append(v)
+        cells.append([q, f"{paper}", f"{ours}", f"{d:+.2e}", f"{tol:.0e}", v])
+    widths = [max(len(r[j]) for r in cells) for j in range(len(header))]
+    line = lambda r: "  ".join(c.ljust(w) for c, w in zip(r, widths)).rstrip()   # noqa: E731
+    text = "\n".join([line(cells[0]), "  ".join("-" * w for w in widths)] + [line(r) for r in cells[1:]])
+    return text, verdicts
+
+
+def plot_fig10ab(E_LG, tr_LG, E_LD, tr_LD, E_R, tr_R, E_PD):
+    """Paper Fig. 10(a): tr M of LG and LD; Fig. 10(b): tr M of R (log energy axis)."""
+    fig, (a, b) = plt.subplots(1, 2, figsize=(10, 3.6))
+    a.semilogy(E_LG, tr_LG, label="LG")
+    a.semilogy(E_LD, tr_LD, "--", label="LD")
+    a.axhline(4.0, color="k", lw=0.6, ls=":")
+    a.set_xlabel(r"energy $E$ ($g$, with $m = g = r = 1$)")
+    a.set_ylabel(r"$\mathrm{tr}\,M$")
+    a.set_title("(a) librational breathers")
+    a.legend()
+    b.semilogx(E_R, tr_R, label="R")
+    for y in (0.0, 4.0):
+        b.axhline(y, color="k", lw=0.6, ls=":")
+    b.axvline(E_PD, color="C3", lw=0.8, ls="--", label=fr"$E_{{PD}} = {E_PD:.4f}$")
+    b.set_ylim(-6, 5)
+    b.set_xlabel(r"energy $E$ ($g$)")
+    b.set_ylabel(r"$\mathrm{tr}\,M$")
+    b.set_title("(b) rotational breather R")
+    b.legend(loc="lower right")
+    fig.tight_layout()
+    return fig
+
+
+def plot_fig10c(E, trace, period, E_PD, parent_E=None, parent_trace=None):
+    """Paper Fig. 10(c): tr M and period of the daughter family against E (with the parent's tr M)."""
+    fig, ax = plt.subplots(figsize=(6.5, 3.8))
+    ax.plot(E, trace, "C0", label=r"daughter $\mathrm{tr}\,M$")
+    if parent_E is not None:
+        ax.plot(parent_E, parent_trace, "C2--", label=r"parent R $\mathrm{tr}\,M$")
+    for y in (0.0, 4.0):
+        ax.axhline(y, color="k", lw=0.6, ls=":")
+    ax.axvline(E_PD, color="C3", lw=0.8, ls="--")
+    ax.set_ylim(-1, 8)
+    ax.set_xlabel(r"energy $E$ ($g$)")
+    ax.set_ylabel(r"$\mathrm{tr}\,M$")
+    ax2 = ax.twinx()
+    ax2.plot(E, period, "C1", label="daughter period")
+    ax2.set_ylabel(r"period $\tau$ (units $\sqrt{m r^2/g}$)", color="C1")
+    h1, l1 = ax.get_legend_handles_labels()
+    h2, l2 = ax2.get_legend_handles_labels()
+    ax.legend(h1 + h2, l1 + l2, loc="upper center", fontsize=8)
+    fig.tight_layout()
+    return fig
+
+
+def plot_fig10d(trajectories):
+    """Paper Fig. 10(d): daughter orbits in the beta1-beta2 plane.
+
+    ``trajectories``: ``{label: states [b1, b2, q1, q2]}``.
+    """
+    fig, ax = plt.subplots(figsize=(7, 3.2))
+    for lab, x in trajectories.items():
+        ax.plot(x[:, 0] / np.pi, x[:, 1], label=lab)
+    ax.axhline(0.0, color="k", lw=1.5, label="breather R ($\\beta_2 = 0$)")
+    ax.set_xlabel(r"$\beta_1/\pi$ (rad$/\pi$)")
+    ax.set_ylabel(r"$\beta_2$ (rad)")
+    ax.legend(fontsize=8, loc="lower center", ncol=4, bbox_to_anchor=(0.5, 1.0))
+    fig.tight_layout()
+    return fig

@@ -1,0 +1,83 @@
+"""Figures for the chapter on the band of global chaos (paper §9).
+
+Units m = g = r = 1. Each function returns the ``Figure`` it drew; the numbers are
+computed by the caller with :mod:`rotorlib`.
+"""
+from __future__ import annotations
+
+import matplotlib.pyplot as plt
+import numpy as np
+
+__all__ = ["plot_band_traces", "plot_sections", "plot_fraction", "plot_ftle_histograms"]
+
+BAND = (5.33, 5.6)
+
+
+def _band(ax):
+    ax.axvspan(*BAND, color="0.85", zorder=0, label="band 5.33-5.6")
+
+
+def plot_band_traces(curves):
+    """``curves``: ``{label: (E, trM)}``; tr M on a symmetric-log axis (linear for |tr M| < 5) with the
+    stable window ``0 < tr M < 4`` shaded green and the band grey."""
+    fig, ax = plt.subplots(figsize=(7, 4))
+    _band(ax)
+    ax.axhspan(0.0, 4.0, color="C2", alpha=0.15, zorder=0, label=r"stable window $0 < \mathrm{tr}\,M < 4$")
+    for lab, (E, tr) in curves.items():
+        ax.plot(E, tr, label=lab)
+    ax.set_yscale("symlog", linthresh=5.0, linscale=3.0)
+    ticks = [-1e4, -1e2, 0, 4, 1e2, 1e4, 1e6, 1e8]
+    ax.set_yticks(ticks, ["$-10^4$", "$-10^2$", "0", "4", "$10^2$", "$10^4$", "$10^6$", "$10^8$"])
+    ax.set_xlabel(r"energy $E$ ($g$, with $m = g = r = 1$)")
+    ax.set_ylabel(r"$\mathrm{tr}\,M$ (symmetric log scale)")
+    ax.legend(fontsize=8, loc="center right")
+    fig.tight_layout()
+    return fig
+
+
+def plot_sections(sections, ncols=3):
+    """Poincaré sections (``rotorlib.chaos.PoincareSection``), one panel each."""
+    n = len(sections)
+    nrows = (n + ncols - 1) // ncols
+    fig, axes = plt.subplots(nrows, ncols, figsize=(4 * ncols, 3.4 * nrows), squeeze=False, dpi=80)
+    for ax, s in zip(axes.ravel(), sections):
+        for k, (x, y) in enumerate(zip(s.phi2, s.P2)):
+            ax.plot(x, y, ",", color=plt.cm.tab10(k % 10), antialiased=False)
+        ax.set_title(f"E = {s.E:g}" + ("  (band)" if BAND[0] <= s.E <= BAND[1] else ""))
+        ax.set_xlabel(r"$\varphi_2$ (rad)")
+        ax.set_ylabel(r"$\tilde p_2$")
+        ax.set_xlim(0, 2 * np.pi)
+    for ax in axes.ravel()[n:]:
+        ax.axis("off")
+    fig.tight_layout()
+    return fig
+
+
+def plot_fraction(cf):
+    """Chaotic fraction ``f(E)`` with binomial error bars (``rotorlib.chaos.ChaoticFraction``)."""
+    fig, ax = plt.subplots(figsize=(7, 3.6))
+    _band(ax)
+    ax.errorbar(cf.E, cf.fraction, yerr=cf.stderr, fmt="o-", ms=3, capsize=2,
+                label=fr"FTLE $> {cf.threshold:g}$ (N = {cf.N}, T = {cf.T:g})")
+    ax.axvline(4.0, color="C3", lw=0.6, ls="--", label="E = 4 (pendulum separatrix)")
+    ax.set_ylim(-0.03, 1.03)
+    ax.set_xlabel(r"energy $E$ ($g$)")
+    ax.set_ylabel("fraction of the energy shell")
+    ax.legend(fontsize=8, loc="lower right")
+    fig.tight_layout()
+    return fig
+
+
+def plot_ftle_histograms(cf, energies, threshold=None):
+    """Histograms of the FTLEs at a few energies of ``cf``."""
+    fig, ax = plt.subplots(figsize=(7, 3.4))
+    bins = np.linspace(0, max(0.8, max(np.max(x) for x in cf.ftles)), 60)
+    for E in energies:
+        k = int(np.argmin(np.abs(cf.E - E)))
+        ax.hist(cf.ftles[k], bins=bins, histtype="step", label=f"E = {cf.E[k]:g}")
+    ax.axvline(threshold if threshold is not None else cf.threshold, color="k", ls=":", label="threshold")
+    ax.set_xlabel(r"finite-time Lyapunov exponent $\lambda_T$ (units $\sqrt{g/m r^2}$)")
+    ax.set_ylabel("count")
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    return fig

@@ -1,0 +1,137 @@
+"""Figures and tables for the chapter "Speed against accuracy" (work-precision diagrams).
+
+The numbers are measured by the caller (``benchmarks/bench_precision.py``);
+these functions only draw them. Work-precision diagrams put the error on the
+vertical axis and the time per evaluation on the horizontal one, both
+logarithmic, with one curve per method (its points are the tolerance
+settings); lower left is better.
+"""
+from __future__ import annotations
+
+import math
+
+import matplotlib.pyplot as plt
+import numpy as np
+
+__all__ = ["plot_work_precision", "plot_locate", "table", "order_of_magnitude"]
+
+_STYLE = {
+    "textbook scipy": dict(color="tab:red", marker="x", ls="-"),
+    "textbook heyoka": dict(color="tab:pink", marker="X", ls="none", ms=9),
+    "Hill reduction, scipy": dict(color="tab:orange", marker="s", ls="-"),
+    "Hill reduction, heyoka float64": dict(color="tab:blue", marker="o", ls="-"),
+    "Hill reduction, heyoka real128": dict(color="tab:green", marker="^", ls="-"),
+    "Hill reduction, heyoka multiprecision": dict(color="tab:purple", marker="D", ls="-"),
+    "Hill reduction, mpmath": dict(color="tab:brown", marker="*", ls="none", ms=11),
+}
+
+
+def _style(name):
+    for key, st in _STYLE.items():
+        if name.startswith(key):
+            return st
+    return dict(marker="o", ls="-")
+
+
+def order_of_magnitude(x: float) -> int:
+    """``floor(log10(x))`` (``x > 0``); used to state conclusions that do not depend on exact timings."""
+    if not x > 0:
+        raise ValueError(f"order_of_magnitude needs a positive number, got {x!r}")
+    return int(math.floor(math.log10(x)))
+
+
+def plot_work_precision(rows, ax=None, title=None, floor=1e-70, xlabel=None, ylabel=None, target=1e-11):
+    """Error against time per energy (log-log), one curve per method.
+
+    Parameters
+    ----------
+    rows : list of dict
+        Rows of ``bench_precision.work_precision`` (keys ``method``, ``setting``,
+        ``time`` in seconds, ``error``).
+    ax : matplotlib Axes, optional
+    title : str, optional
+    floor : float
+        Errors below it (an exact zero) are drawn at ``floor``.
+    xlabel, ylabel : str, optional
+        Axis labels (defaults: time per energy, error of tr M).
+    target : float or None
+        Draw a dotted line at this error (default 1e-11, the float64 target).
+
+    Rows with a ``label`` key get that text written next to their point.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    if ax is None:
+        fig, ax = plt.subplots(figsize=(7.5, 5.0))
+    else:
+        fig = ax.figure
+    methods = list(dict.fromkeys(r["method"] for r in rows))
+    for name in methods:
+        pts = sorted((r["time"], max(r["error"], floor)) for r in rows if r["method"] == name
+                     and np.isfinite(r["error"]))
+        if not pts:
+            continue
+        t, e = zip(*pts)
+        ax.loglog(t, e, label=name, **_style(name))
+    for r in rows:
+        if r.get("label") and np.isfinite(r["error"]):
+            ax.annotate(r["label"], (r["time"], max(r["error"], floor)), textcoords="offset points",
+                        xytext=(6, 4), fontsize=8)
+    ax.set_xlabel(xlabel or "time per energy (s), minimum over repeats")
+    ax.set_ylabel(ylabel or r"error $|\mathrm{tr}\,M - \mathrm{tr}\,M_{\rm ref}|$ (max over energies)")
+    if target is not None:
+        ax.axhline(target, color="0.5", lw=0.8, ls=":")
+        ax.text(ax.get_xlim()[0] * 1.3, target * 2, f"target {target:g}", color="0.4", fontsize=8)
+    ax.grid(True, which="major", alpha=0.3)
+    if title:
+        ax.set_title(title)
+    ax.legend(fontsize=7, loc="best")
+    return fig
+
+
+def plot_locate(rows, ax=None, title=None, floor=1e-70):
+    """Error of a located transition (in ``log|E - 4|``) against the time to locate it, one point per tier.
+
+    Methods that fail to bracket the root (``error`` is None) are listed in the legend as failed.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    if ax is None:
+        fig, ax = plt.subplots(figsize=(7.5, 4.5))
+    else:
+        fig = ax.figure
+    markers = "osD^v*p"
+    for i, r in enumerate(rows):
+        if r["error"] is None:
+            ax.plot([], [], "x", color="tab:red", label=f"{r['method']}: no sign change (fails)")
+            continue
+        ax.loglog([r["time"]], [max(r["error"], floor)], markers[i % len(markers)], ms=8,
+                  label=f"{r['method']} ({r['evaluations']} evaluations)")
+    ax.set_xlabel("time to locate the transition (s)")
+    ax.set_ylabel(r"error in $\log|E - 4|$")
+    ax.grid(True, which="major", alpha=0.3)
+    if title:
+        ax.set_title(title)
+    ax.legend(fontsize=7, loc="best")
+    return fig
+
+
+def table(rows, columns, formats=None) -> str:
+    """A plain-text table of ``rows`` (dicts) with the given columns; ``formats`` maps a column to a format."""
+    formats = formats or {}
+
+    def cell(r, c):
+        v = r.get(c)
+        if v is None:
+            return "-"
+        if c in formats:
+            return format(v, formats[c])
+        return f"{v:.3g}" if isinstance(v, float) else str(v)
+
+    cells = [list(columns)] + [[cell(r, c) for c in columns] for r in rows]
+    w = [max(len(row[j]) for row in cells) for j in range(len(columns))]
+    return "\n".join("  ".join(x.ljust(w[j]) for j, x in enumerate(row)).rstrip() for row in cells)

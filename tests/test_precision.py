@@ -1,0 +1,202 @@
+"""Precision tiers: labels, the --digits control, and accuracy against independent computations.
+
+Timing is never asserted here (see ``benchmarks/bench_precision.py``).
+"""
+import json
+import math
+import subprocess
+import sys
+
+import mpmath as mp
+import numpy as np
+import pytest
+
+import rotorlib as rl
+from rotorlib.hill import hill_problem, precision_tier, solve_hill
+
+HEYOKA = rl.heyoka_available()
+needs_heyoka = pytest.mark.skipif(not HEYOKA, reason="heyoka not installed")
+
+
+def textbook_reference(x, phase, bits=512):
+    """tr M from the 4x4 variational equations over one period in ``bits``-bit arithmetic.
+
+    Independent of the Hill reduction and of rotorlib's closed-form orbits:
+    E = 4 -+ exp(x), p2 = sqrt(4E/3) at G and the period (4K(E/4)/sqrt3 or
+    2 kappa K(kappa^2)/sqrt3, kappa^2 = 4/E) are computed in mpmath.
+    """
+    with mp.workdps(int(bits / 3.33) + 20):
+        eps = mp.exp(mp.mpf(repr(float(x))))
+        E = 4 + eps if phase == "rot" else 4 - eps
+        p2 = mp.sqrt(4 * E / 3)
+        if phase == "rot":
+            k2 = 4 / E
+            per = 2 * mp.sqrt(k2) * mp.ellipk(k2) / mp.sqrt(3)
+        else:
+            per = 4 * mp.ellipk(E / 4) / mp.sqrt(3)
+        return rl.variational_monodromy([mp.mpf(0), mp.mpf(0), mp.mpf(0), p2], per, method="heyoka",
+                                        precision=f"mp{bits}")
+
+
+def agreeing_digits(a, b):
+    with mp.workdps(200):
+        a, b = mp.mpf(a), mp.mpf(b)
+        d = abs(a - b)
+        return math.inf if d == 0 else float(-mp.log10(d / abs(b)))
+
+
+# --------------------------------------------------------------------------- the tier map
+
+@pytest.mark.parametrize("digits,expected", [(None, "float64"), (1, "float64"), (15, "float64"),
+                                             (16, "real128"), (31, "real128"), (32, "mp")])
+def test_precision_tier_map(digits, expected):
+    be, prec = precision_tier(digits)
+    if HEYOKA:
+        assert be == "heyoka"
+        assert prec.startswith(expected)
+    else:
+        assert prec == "float64" if expected == "float64" else prec.startswith("mpmath")
+
+
+def test_precision_tier_bits_cover_digits():
+    for d in (32, 40, 60, 100):
+        _, prec = precision_tier(d, "heyoka" if HEYOKA else None)
+        if prec.startswith("mp") and not prec.startswith("mpmath"):
+            assert int(prec[2:]) * math.log10(2) >= d + 5
+
+
+@pytest.mark.parametrize("digits,backend", [(0, None), (1001, None), (2.5, None), ("30", None),
+                                            (20, "scipy"), (None, "fortran")])
+def test_precision_tier_refuses(digits, backend):
+    with pytest.raises(ValueError):
+        precision_tier(digits, backend)
+
+
+def test_mpmath_tier_label():
+    assert precision_tier(None, "mpmath") == ("mpmath", "mpmath20")
+    assert precision_tier(40, "mpmath") == ("mpmath", "mpmath45")
+
+
+# --------------------------------------------------------------------------- results say which precision
+
+@needs_heyoka
+@pytest.mark.parametrize("digits,label", [(None, "float64"), (20, "real128"), (40, "mp")])
+def test_monodromy_reports_precision(digits, label):
+    M = rl.monodromy(rl.pendulum(log_abs_dE=-21.0012, phase="lib"), digits=digits)
+    assert M.precision.startswith(label)
+    assert M.backend == "heyoka"
+    if digits:
+        # trace_str carries the digits asked for (leading "4." then digits-1 more)
+        assert len(M.trace_str.replace(".", "").lstrip("-0")) >= digits - 1
+
+
+def test_scipy_backend_reports_float64():
+    M = rl.monodromy(rl.pendulum(E=3.9), backend="scipy")
+    assert (M.backend, M.precision) == ("scipy", "float64")
+
+
+def test_variational_reports_precision():
+    o = rl.pendulum(E=1.0)
+    V = rl.variational_monodromy(o.state0, o.period, rtol=1e-10)
+    assert V.precision == "float64 rtol=1e-10" and V.method == "scipy-DOP853" and V.steps > 0
+
+
+def test_hill_solution_reports_precision():
+    sol = solve_hill(hill_problem(rl.pendulum(E=3.0)), "scipy", "float64")
+    assert (sol.backend, sol.precision) == ("scipy", "float64") and sol.steps > 0
+
+
+def _cli(*args):
+    return subprocess.run([sys.executable, "-m", "rotorlib", "trace", *args], capture_output=True, text=True)
+
+
+def test_cli_reports_precision_in_table_and_json():
+    r = _cli("pendulum", "--E", "3.9", "--backend", "scipy")
+    assert r.returncode == 0 and "precision" in r.stdout and "float64" in r.stdout
+    r = _cli("pendulum", "--E", "3.9", "5", "--json", "--backend", "scipy")
+    recs = json.loads(r.stdout)
+    assert [(x["precision"], x["backend"]) for x in recs] == [("float64", "scipy")] * 2
+
+
+def test_cli_refuses_scipy_with_digits():
+    r = _cli("pendulum", "--E", "3.9", "--backend", "scipy", "--digits", "30")
+    assert r.returncode == 2 and "scipy" in r.stderr
+
+
+# --------------------------------------------------------------------------- accuracy of the tiers
+
+@needs_heyoka
+def test_trace_digits30_at_minus60_against_textbook_512bit():
+    """Target of issue 7: ``trace pendulum --phase rot --log-dE -60 --digits 30`` correct to 20 digits."""
+    r = _cli("pendulum", "--phase", "rot", "--log-dE", "-60", "--digits", "30", "--json")
+    rec = json.loads(r.stdout)
+    assert rec["precision"] == "real128" and rec["backend"] == "heyoka"
+    ref = textbook_reference(-60.0, "rot", bits=512)
+    assert agreeing_digits(rec["trace"], ref.trace_str) >= 20
+    # the closure of the 512-bit textbook orbit itself is tiny (its period and state are right)
+    assert ref.closure < 1e-60
+
+
+@needs_heyoka
+def test_real128_and_mp_tiers_agree_deep_lib():
+    o = rl.pendulum(log_abs_dE=-21.0012, phase="lib")
+    a = rl.monodromy(o, digits=30).trace_str
+    b = rl.monodromy(o, digits=50).trace_str
+    assert agreeing_digits(a, b) >= 29
+
+
+@needs_heyoka
+def test_mpmath_tier_agrees_with_heyoka_mp():
+    """mpmath's Taylor integrator (independent of heyoka) against heyoka multiprecision."""
+    o = rl.pendulum(log_abs_dE=-10.0, phase="rot")
+    a = rl.monodromy(o, digits=16, backend="mpmath")
+    assert a.precision == "mpmath21" and a.backend == "mpmath"
+    b = rl.monodromy(o, digits=40)
+    assert agreeing_digits(a.trace_str, b.trace_str) >= 15
+
+
+@pytest.mark.parametrize("x,phase", [(-21.0012, "lib"), (-21.5, "rot"), (-22.0, "lib"), (-27.5529, "rot")])
+def test_float64_within_1e11_deep_in_cascade(x, phase):
+    """Target of issue 7 (accuracy part): float64 tr M within 1e-11 for log|E-4| in [-22, -21] and beyond."""
+    o = rl.pendulum(log_abs_dE=x, phase=phase)
+    ref = rl.monodromy(o, digits=30).trace_str if HEYOKA else rl.monodromy(o, digits=20).trace_str
+    for backend in (("heyoka", "scipy") if HEYOKA else ("scipy",)):
+        with mp.workdps(40):
+            assert abs(rl.monodromy(o, backend=backend).trace - mp.mpf(ref)) < 1e-11
+
+
+def test_textbook_float64_is_wrong_deep_in_cascade():
+    """The trap the reduction avoids: the textbook scipy route is off by > 1e3 at log(4 - E) = -21."""
+    o = rl.pendulum(log_abs_dE=-21.0012, phase="lib")
+    V = rl.variational_monodromy(o.state0, o.period, rtol=1e-12)
+    assert abs(V.trace - rl.monodromy(o).trace) > 1e3
+
+
+# --------------------------------------------------------------------------- the tolerance knob
+
+def test_default_tol_is_unchanged():
+    o = rl.pendulum(log_abs_dE=-21.5, phase="rot")
+    for be in (("heyoka", "scipy") if HEYOKA else ("scipy",)):
+        assert rl.monodromy(o, backend=be).trace == rl.monodromy(o, backend=be, tol=None).trace
+
+
+@pytest.mark.parametrize("backend", ["scipy", pytest.param("heyoka", marks=needs_heyoka)])
+def test_looser_tol_is_less_accurate_and_cheaper(backend):
+    o = rl.pendulum(log_abs_dE=-21.5, phase="rot")
+    prob = hill_problem(o)
+    ref = rl.monodromy(o, digits=30).trace if HEYOKA else rl.monodromy(o).trace
+    loose = solve_hill(prob, backend, "float64", tol=1e-6)
+    tight = solve_hill(prob, backend, "float64")
+    err = lambda s: abs(2.0 + s.delta - ref)   # noqa: E731  (rotation: tr M = 2 + Delta)
+    assert err(tight) < 1e-12 < err(loose) < 1e-4
+    if backend == "scipy":
+        assert loose.steps < tight.steps
+
+
+@needs_heyoka
+def test_real128_tol_knob():
+    o = rl.pendulum(log_abs_dE=-21.5, phase="rot")
+    ref = rl.monodromy(o, digits=50).trace_str
+    loose = rl.monodromy(o, digits=30, tol=1e-20).trace_str
+    assert 15 < agreeing_digits(loose, ref) < 27
+    assert np.isfinite(float(loose))
