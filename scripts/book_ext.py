@@ -1,0 +1,92 @@
+"""Local Sphinx extension of the book (``sphinx.local_extensions`` in ``_config.yml``).
+
+1. Offline HTML. Jupyter Book always loads ``sphinx_thebe``, which writes an
+   inline ``THEBE_JS_URL = "https://unpkg.com/thebe@..."`` script into every
+   page (used only by the "Live code" launch button, which this book does not
+   enable: the Binder/Colab launch buttons are plain links). Its
+   ``env-before-read-docs`` and ``doctree-resolved`` handlers are disconnected,
+   which removes that script and the thebe configuration block. MathJax is
+   served from ``_static/mathjax`` by ``sphinx-mathjax-offline``.
+
+2. rotorlib docstrings in the API page (autodoc + numpydoc). They are written
+   for ``help()`` as much as for Sphinx, so before numpydoc sees them:
+
+   * ``|E - 4|``-style absolute values (reST would read substitution
+     references) get their bars escaped, outside inline literals and tables;
+   * section titles inside *module* docstrings ("Precision\\n---------") become
+     rubrics, so they neither collide between modules nor enter the page's TOC.
+
+   And cross-references by short name (``:class:`PeriodicOrbit```) resolve when
+   exactly one documented rotorlib object has that name.
+"""
+from __future__ import annotations
+
+import re
+
+from sphinx.application import Sphinx
+from sphinx.util.nodes import make_refnode
+
+_THEBE_HANDLERS = {"init_thebe_core", "update_thebe_context"}
+_LITERAL = re.compile(r"(``.+?``|`[^`]+`)")
+_UNDERLINE = re.compile(r"^\s*([-=~^\"'`#*+])\1{2,}\s*$")
+_TABLE_LINE = re.compile(r"^\s*[|+]")
+
+
+def _disconnect_thebe(app: Sphinx) -> None:
+    for listeners in app.events.listeners.values():
+        for listener in list(listeners):
+            handler = listener.handler
+            if (getattr(handler, "__module__", "") == "sphinx_thebe"
+                    and getattr(handler, "__name__", "") in _THEBE_HANDLERS):
+                app.disconnect(listener.id)
+
+
+def _escape_bars(line: str) -> str:
+    if _TABLE_LINE.match(line) or "|" not in line:
+        return line
+    parts = _LITERAL.split(line)
+    for i in range(0, len(parts), 2):          # even = outside literals
+        parts[i] = re.sub(r"(?<!\\)\|", r"\\|", parts[i])
+    return "".join(parts)
+
+
+def _process_docstring(app, what, name, obj, options, lines: list[str]) -> None:
+    if not name.startswith("rotorlib"):
+        return
+    out: list[str] = []
+    i = 0
+    while i < len(lines):
+        line = lines[i]
+        nxt = lines[i + 1] if i + 1 < len(lines) else ""
+        if (what == "module" and line.strip() and _UNDERLINE.match(nxt)
+                and len(nxt.strip()) >= len(line.strip()) and not _UNDERLINE.match(line)):
+            indent = line[: len(line) - len(line.lstrip())]
+            out += [f"{indent}.. rubric:: {_escape_bars(line.strip())}", ""]
+            i += 2
+            continue
+        out.append(_escape_bars(line))
+        i += 1
+    lines[:] = out
+
+
+def _resolve_short_names(app, env, node, contnode):
+    if node.get("refdomain") != "py" or node.get("reftype") not in {
+            "class", "func", "meth", "attr", "obj", "data", "exc", "mod", "const"}:
+        return None
+    target = node.get("reftarget", "").lstrip("~.")
+    if not target:
+        return None
+    objects = env.get_domain("py").objects
+    hits = [full for full in objects
+            if full.startswith("rotorlib") and (full == target or full.endswith("." + target))]
+    if len(hits) != 1:
+        return None
+    entry = objects[hits[0]]
+    return make_refnode(app.builder, node["refdoc"], entry.docname, entry.node_id, contnode, hits[0])
+
+
+def setup(app: Sphinx) -> dict:
+    _disconnect_thebe(app)
+    app.connect("autodoc-process-docstring", _process_docstring, priority=400)  # before numpydoc (500)
+    app.connect("missing-reference", _resolve_short_names)
+    return {"parallel_read_safe": True, "parallel_write_safe": True}
