@@ -1,0 +1,65 @@
+"""``python -m rotorlib bifurcations``: stability transitions of pendula (paper §5, Tables I and II).
+
+Examples
+--------
+``python -m rotorlib bifurcations --phase both --n-max 20 --json``
+``python -m rotorlib bifurcations --phase lib --kind PD --n-max 6``
+``python -m rotorlib bifurcations --family breather --json``
+"""
+from __future__ import annotations
+
+import json
+
+from ..cli import emit
+
+#: Largest --n-max accepted on the command line (float64 reaches n ~ 125 in every sequence).
+N_MAX_LIMIT = 200
+
+
+def register(sub):
+    p = sub.add_parser("bifurcations", help="stability transitions (IS/PD bifurcations) of pendula or breathers",
+                       description="Energies and periods of the stability transitions of librational and "
+                                   "rotational pendula (roots of the transverse discriminant), or of the "
+                                   "isosceles breathers (--family breather).")
+    p.add_argument("--phase", default="both", help="lib, rot or both (default both)")
+    p.add_argument("--n-max", dest="n_max", type=int, default=6,
+                   help=f"largest index n in each sequence (1..{N_MAX_LIMIT}; default 6)")
+    p.add_argument("--kind", default=None, help="IS or PD (default both)")
+    p.add_argument("--family", default="pendulum", choices=["pendulum", "breather"])
+    p.add_argument("--json", action="store_true", help="print a JSON list of records")
+    p.set_defaults(func=run)
+
+
+def run(args):
+    if args.family == "breather":
+        try:
+            from ..breathers import breather_transitions
+        except ModuleNotFoundError as exc:
+            if exc.name in ("rotorlib.breathers",):
+                raise ValueError("breather transitions are not available yet") from None
+            raise
+        records = [t.to_record() for t in breather_transitions()]
+        if args.json:
+            print(json.dumps(records, indent=2))
+        else:
+            emit(records, False, ["kind", "E", "period", "transition"])
+        return 0
+    from ..bifurcations import transitions
+
+    if args.phase not in ("lib", "rot", "both"):
+        raise ValueError(f"--phase must be lib, rot or both, got {args.phase!r}")
+    if not 1 <= args.n_max <= N_MAX_LIMIT:
+        raise ValueError(f"--n-max must be between 1 and {N_MAX_LIMIT}, got {args.n_max}")
+    if args.kind is None:
+        kinds = ("IS", "PD")
+    elif args.kind.upper() in ("IS", "PD"):
+        kinds = (args.kind.upper(),)
+    else:
+        raise ValueError(f"--kind must be IS or PD, got {args.kind!r}")
+    trs = transitions(phase=args.phase, n_max=args.n_max, kinds=kinds)
+    records = [t.to_record() for t in trs]
+    if args.json:
+        print(json.dumps(records, indent=2))          # always a list, even for one record
+    else:
+        emit(records, False, ["label", "log_abs_dE", "E", "period", "transition"])
+    return 0

@@ -1,0 +1,90 @@
+"""Figures for the chapter on pendulum stability transitions (paper §5, Figs. 2 and 3).
+
+Units m = g = r = 1. The caller computes every number with :mod:`rotorlib.bifurcations`;
+these functions only draw. Each returns the matplotlib ``Figure``.
+"""
+from __future__ import annotations
+
+import matplotlib.pyplot as plt
+import numpy as np
+
+__all__ = ["plot_fig2", "plot_fig3"]
+
+_COLORS = {"IS": "tab:red", "PD": "tab:blue"}
+
+
+def _band(ax):
+    ax.axhspan(0.0, 4.0, color="0.93", zorder=0, lw=0)
+    ax.axhline(0.0, color="0.5", lw=0.6)
+    ax.axhline(4.0, color="0.5", lw=0.6)
+
+
+def plot_fig2(curves, trs, label_n_max=6, ylim=(-1.5, 6.0)):
+    """tr M against the period tau, (a) libration and (b) rotation, transitions marked and labelled.
+
+    Parameters
+    ----------
+    curves : dict
+        ``{'lib': (tau, trM), 'rot': (tau, trM)}``.
+    trs : sequence of Transition
+        Marked at ``(period, 4 or 0)``; labelled when ``n <= label_n_max``.
+    """
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4.2), constrained_layout=True)
+    for ax, phase, tag in zip(axes, ("lib", "rot"), ("(a) libration, E < 4", "(b) rotation, E > 4")):
+        tau, tr = curves[phase]
+        _band(ax)
+        ax.plot(tau, tr, color="k", lw=0.9)
+        for t in trs:
+            if t.phase != phase or t.period > tau.max():
+                continue
+            y = 4.0 if t.kind == "IS" else 0.0
+            ax.plot(t.period, y, "o", ms=4, color=_COLORS[t.kind], zorder=3)
+            if t.n <= label_n_max:
+                k = t.kind
+                dy = 0.35 if k == "IS" else -0.55
+                if k == "IS" and t.n % 2 == 0:
+                    dy = 0.95
+                ax.annotate(_tex(t.label), (t.period, y), xytext=(t.period, y + dy), fontsize=8, ha="center",
+                            color=_COLORS[k])
+        ax.set_ylim(*ylim)
+        ax.set_xlim(0, tau.max())
+        ax.set_xlabel(r"period $\tau$ (units $\sqrt{mr^2/g}$, $m = g = r = 1$)")
+        ax.set_ylabel(r"$\mathrm{tr}\,M$")
+        ax.set_title(tag, fontsize=10)
+    return fig
+
+
+def plot_fig3(panels):
+    """Self-similarity of tr M(E) under magnification (five panels a-e).
+
+    Parameters
+    ----------
+    panels : list of dict
+        Each with ``dE`` (``E - 4``, array), ``trace`` (array), ``title`` (str),
+        ``marks`` (list of ``(E - 4, y, label)``).
+    """
+    fig, axes = plt.subplots(2, 3, figsize=(13, 7.2), constrained_layout=True)
+    axes = axes.ravel()
+    for ax, p in zip(axes, panels):
+        _band(ax)
+        ax.plot(p["dE"], p["trace"], color="k", lw=0.9)
+        for x, y, lab in p.get("marks", []):
+            ax.plot(x, y, "o", ms=4, color=_COLORS[lab[:2]], zorder=3)
+            ax.annotate(_tex(lab), (x, y), xytext=(3, 6 if y > 2 else -12), textcoords="offset points",
+                        fontsize=8, color=_COLORS[lab[:2]])
+        ax.set_xlim(min(p["dE"]), max(p["dE"]))
+        ax.set_ylim(*p.get("ylim", (-1.0, 7.0)))
+        ax.ticklabel_format(axis="x", style="sci", scilimits=(-2, 2), useMathText=True)
+        ax.set_xlabel(r"$E - 4$ (units $mgr$, $m = g = r = 1$)")
+        ax.set_ylabel(r"$\mathrm{tr}\,M$")
+        ax.set_title(p["title"], fontsize=10)
+    for ax in axes[len(panels):]:
+        ax.axis("off")
+    return fig
+
+
+def _tex(label):
+    kind, rest = label.split("^")
+    ph, n = rest.split("_")
+    ph = r"\ell" if ph == "l" else ph
+    return f"${kind}^{{{ph}}}_{{{n}}}$"
