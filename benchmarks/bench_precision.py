@@ -286,18 +286,7 @@ def textbook_reference(x, phase, bits=512):
     ``p2 = sqrt(4E/3)``, period ``4K(E/4)/sqrt3`` or ``2 kappa K(kappa^2)/sqrt3``
     with ``kappa^2 = 4/E``); no Hill reduction and no closed-form orbit involved.
     """
-    dps = int(bits / 3.33) + 20
-    with mp.workdps(dps):
-        eps = mp.exp(mp.mpf(repr(float(x))))
-        E = 4 + eps if phase == "rot" else 4 - eps
-        p2 = mp.sqrt(4 * E / 3)
-        if phase == "rot":
-            k2 = 4 / E
-            per = 2 * mp.sqrt(k2) * mp.ellipk(k2) / mp.sqrt(3)
-        else:
-            per = 4 * mp.ellipk(E / 4) / mp.sqrt(3)
-        s0 = [mp.mpf(0), mp.mpf(0), mp.mpf(0), p2]
-        return rl.variational_monodromy(s0, per, method="heyoka", precision=f"mp{bits}")
+    return rl.textbook_monodromy(rl.pendulum(log_abs_dE=float(x), phase=phase), bits)
 
 
 def _fmt_rows(rows, cols):

@@ -25,23 +25,12 @@ def textbook_reference(kind: str, value: float, phase_or_family: str, bits: int 
 
     kind: 'pendulum-E', 'pendulum-log' or 'breather'.
     """
-    dps = int(bits / 3.33) + 10
-    with mp.workdps(dps):
-        if kind.startswith("pendulum"):
-            en = (rotorlib.pendulum_energy(E=value) if kind == "pendulum-E"
-                  else rotorlib.pendulum_energy(log_abs_dE=value, phase=phase_or_family))
-            v = en.mp_values(dps)
-            E, m = v["E"], v["m"]
-            period = (4 * mp.ellipk(m) / mp.sqrt(3) if en.phase == "lib"
-                      else 2 * mp.sqrt(m) * mp.ellipk(m) / mp.sqrt(3))
-            state0 = [mp.mpf(0), mp.mpf(0), mp.mpf(0), mp.sqrt(4 * E / 3)]
-        else:
-            E = mp.mpf(repr(value))
-            assert phase_or_family == "R"
-            Q = mp.sqrt(E * (E - 4))
-            m = (Q - E + 6) / (2 * Q)
-            period = 4 * mp.ellipk(m) / mp.sqrt(Q)
-            p = mp.sqrt(E)                       # phi' at G; a1 = phi/2, a2 = 3phi/2, p1 = p2 = phi'
-            state0 = [mp.mpf(0), mp.mpf(0), p, p]
-        res = rotorlib.variational_monodromy(state0, period, method="heyoka", precision=f"mp{bits}")
+    if kind == "pendulum-E":
+        orbit = rotorlib.pendulum(E=value)
+    elif kind == "pendulum-log":
+        orbit = rotorlib.pendulum(log_abs_dE=value, phase=phase_or_family)
+    else:
+        orbit = rotorlib.breather(value, phase_or_family)
+    res = rotorlib.textbook_monodromy(orbit, bits)
+    with mp.workdps(int(bits / 3.33)):
         return mp.mpf(res.trace_str), res.closure

@@ -86,3 +86,18 @@ def test_bad_input_one_line_nonzero(args):
     lines = [ln for ln in err.strip().splitlines() if ln.strip()]
     assert len(lines) == 1 and "Traceback" not in err, err
     assert lines[0].startswith("rotorlib: error:")
+
+
+@requires_heyoka
+def test_bifurcations_digits_uses_extended_precision():
+    """One precision control: --digits 30 re-locates the roots in real128; float64 agrees to 1e-12."""
+    rc, out, err = run("bifurcations", "--phase", "rot", "--kind", "PD", "--n-max", "3", "--digits", "30", "--json")
+    assert rc == 0, err
+    ext = json.loads(out)
+    rc, out, err = run("bifurcations", "--phase", "rot", "--kind", "PD", "--n-max", "3", "--json")
+    f64 = json.loads(out)
+    assert [r["label"] for r in ext] == ["PD^r_1", "PD^r_2", "PD^r_3"]
+    for a, b in zip(ext, f64):
+        assert a["precision"] == "real128" and b["precision"] == "float64"
+        assert len(a["log_abs_dE"].lstrip("-").replace(".", "")) >= 25
+        assert abs(float(a["log_abs_dE"]) - float(b["log_abs_dE"])) < 1e-12 * max(1, abs(float(b["log_abs_dE"])))

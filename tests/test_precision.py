@@ -25,17 +25,7 @@ def textbook_reference(x, phase, bits=512):
     E = 4 -+ exp(x), p2 = sqrt(4E/3) at G and the period (4K(E/4)/sqrt3 or
     2 kappa K(kappa^2)/sqrt3, kappa^2 = 4/E) are computed in mpmath.
     """
-    with mp.workdps(int(bits / 3.33) + 20):
-        eps = mp.exp(mp.mpf(repr(float(x))))
-        E = 4 + eps if phase == "rot" else 4 - eps
-        p2 = mp.sqrt(4 * E / 3)
-        if phase == "rot":
-            k2 = 4 / E
-            per = 2 * mp.sqrt(k2) * mp.ellipk(k2) / mp.sqrt(3)
-        else:
-            per = 4 * mp.ellipk(E / 4) / mp.sqrt(3)
-        return rl.variational_monodromy([mp.mpf(0), mp.mpf(0), mp.mpf(0), p2], per, method="heyoka",
-                                        precision=f"mp{bits}")
+    return rl.textbook_monodromy(rl.pendulum(log_abs_dE=float(x), phase=phase), bits)
 
 
 def agreeing_digits(a, b):

@@ -26,6 +26,9 @@ def register(sub):
                    help=f"largest index n in each sequence (1..{N_MAX_LIMIT}; default 6)")
     p.add_argument("--kind", default=None, help="IS or PD (default both)")
     p.add_argument("--family", default="pendulum", choices=["pendulum", "breather"])
+    p.add_argument("--digits", type=int, default=None,
+                   help="significant digits (default float64, ~13 in log|E-4|; > 15 re-locates every root "
+                        "with heyoka real128 / multiprecision)")
     p.add_argument("--json", action="store_true", help="print a JSON list of records")
     p.set_defaults(func=run)
 
@@ -44,7 +47,7 @@ def run(args):
         else:
             emit(records, False, ["kind", "E", "period", "transition"])
         return 0
-    from ..bifurcations import transitions
+    from ..bifurcations import transition, transitions
 
     if args.phase not in ("lib", "rot", "both"):
         raise ValueError(f"--phase must be lib, rot or both, got {args.phase!r}")
@@ -56,10 +59,14 @@ def run(args):
         kinds = (args.kind.upper(),)
     else:
         raise ValueError(f"--kind must be IS or PD, got {args.kind!r}")
+    if args.digits is not None and not 1 <= args.digits <= 1000:
+        raise ValueError(f"--digits must be between 1 and 1000, got {args.digits}")
     trs = transitions(phase=args.phase, n_max=args.n_max, kinds=kinds)
+    if args.digits is not None and args.digits > 15:
+        trs = [transition(t.label, digits=args.digits) for t in trs]
     records = [t.to_record() for t in trs]
     if args.json:
         print(json.dumps(records, indent=2))          # always a list, even for one record
     else:
-        emit(records, False, ["label", "log_abs_dE", "E", "period", "transition"])
+        emit(records, False, ["label", "log_abs_dE", "E", "period", "transition", "precision"])
     return 0
