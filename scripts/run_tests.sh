@@ -38,6 +38,7 @@ echo "run_tests: pytest tests/ took $((SECONDS - t0)) s"
 n_nb=$(find book -name '*.ipynb' -not -path '*/.ipynb_checkpoints/*' | wc -l)
 unset MPLBACKEND
 t0=$SECONDS
-run_pytest "$n_nb" --nbval --nbval-current-env --nbval-cell-timeout=600 book/ || status=1
+run_pytest "$n_nb" --nbval --nbval-current-env --nbval-cell-timeout=600 \
+    --nbval-sanitize-with book/nbval_sanitize.cfg book/ || status=1
 echo "run_tests: nbval book/ took $((SECONDS - t0)) s"
 exit "$status"
