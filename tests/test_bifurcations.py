@@ -253,3 +253,85 @@ def test_cli_breather_family():
     assert rc == 0, err
     recs = json.loads(out)
     assert isinstance(recs, list) and all("E" in r and "period" in r and "kind" in r for r in recs)
+
+
+# ----------------------------------------------------------------------------- tr M_perp asymptotics (paper §5.2)
+
+from rotorlib import scaling as sc  # noqa: E402
+
+
+def test_fit_harmonic_recovers_coefficients():
+    tau = np.linspace(0.0, 20.0, 400)
+    y = 0.3 + 1.7 * np.cos(tau) - 0.4 * np.sin(tau)
+    f = sc.fit_harmonic(tau, y, 5.0, 5.0 + 2 * np.pi)
+    assert abs(f.c0 - 0.3) < 1e-12 and abs(f.c1 - 1.7) < 1e-12 and abs(f.s1 + 0.4) < 1e-12
+    assert abs(f.amplitude - math.hypot(1.7, 0.4)) < 1e-12 and f.max_residual < 1e-12
+    assert np.allclose(f.c0 + f.amplitude * np.cos(tau + f.phase), y, atol=1e-12)
+    assert 5.0 <= f.tau_min < f.tau_max <= 5.0 + 2 * np.pi and f.n == int(((tau >= 5) & (tau <= 5 + 2 * np.pi)).sum())
+
+
+@pytest.mark.parametrize("tau,y,lo,hi", [
+    (np.arange(5.0), np.arange(4.0), -np.inf, np.inf),                 # shapes differ
+    (np.arange(10.0), np.arange(10.0), 2.0, 3.5),                      # 2 samples in the window
+    (np.arange(10.0), np.r_[np.arange(9.0), np.nan], -np.inf, np.inf),  # not finite
+    (np.ones((3, 3)), np.ones((3, 3)), -np.inf, np.inf),               # not 1-d
+])
+def test_fit_harmonic_rejects_bad_input(tau, y, lo, hi):
+    with pytest.raises(ValueError):
+        sc.fit_harmonic(tau, y, lo, hi)
+
+
+def test_separatrix_transmission_against_direct_scattering():
+    """|t|^2 from the closed form against integrating -y'' - (2/3) sech^2(z) y = (1/3) y across the well."""
+    from scipy.integrate import solve_ivp
+
+    q = 1 / math.sqrt(3.0)
+
+    def rhs(z, Y):
+        k = 1 / 3 + (2 / 3) / math.cosh(z) ** 2
+        return [Y[1], -k * Y[0], Y[3], -k * Y[2]]
+
+    sol = solve_ivp(rhs, (-40.0, 40.0), [1.0, 0.0, 0.0, 1.0], method="DOP853", rtol=1e-13, atol=1e-15)
+    y1, dy1, y2, dy2 = sol.y[:, -1]
+    S = np.array([[y1, q * y2], [dy1 / q, dy2]])          # in (y, y'/q), where free motion is a rotation
+    assert abs(np.linalg.det(S) - 1) < 1e-10
+    T_direct = 4.0 / ((S[0, 0] + S[1, 1]) ** 2 + (S[0, 1] - S[1, 0]) ** 2)   # amplitude of tr(R(theta) S) = 2/|t|
+    T = sc.separatrix_transmission()
+    assert abs(T_direct - T) < 1e-9 and 0.9 < T < 0.901
+    assert abs(float(sc.separatrix_transmission(30)) - T) < 1e-15
+    for bad in (0, -3, 2.5, "30"):
+        with pytest.raises(ValueError):
+            sc.separatrix_transmission(bad)
+
+
+def test_trace_asymptotics_against_the_80_roots_and_a_deep_fit():
+    T = by_label()
+    rot, lib = sc.trace_asymptotics("rot"), sc.trace_asymptotics("lib")
+    t = math.sqrt(rot.transmission)
+    assert rot.amplitude == 2 / t and rot.c0 == 0 and abs(lib.amplitude - 2 / t**2) < 1e-15
+    assert abs(lib.c0 - (lib.amplitude - 2)) < 1e-15 and abs(lib.window_width - 2 * rot.window_width) < 1e-15
+    # the unstable windows keep the width 2 arccos|t| (rotation) and 4 arccos|t| (libration)
+    for a, b, w in (("IS^r_19", "IS^r_20", rot.window_width), ("PD^r_19", "PD^r_20", rot.window_width),
+                    ("IS^l_19", "IS^l_20", lib.window_width)):
+        assert abs(T[b].period - T[a].period - w) < 1e-11
+    # the fitted amplitude of tr M_perp on one period deep in rotation (log|E - 4| from -26 to -37)
+    tr, tau = bf.trace_curve(np.linspace(-26.0, -37.0, 800), "rot")
+    f = sc.fit_harmonic(tau, tr - 2.0)
+    assert abs(f.amplitude - rot.amplitude) < 1e-9 and abs(f.c0) < 1e-9 and f.max_residual < 1e-8
+    with pytest.raises(ValueError):
+        sc.trace_asymptotics("both")
+
+
+def test_family_curve_float64_and_default_precision():
+    c = sc.family_curve("IS^l_1", 4.0, n=4)
+    T = by_label()
+    assert c.precision == "float64" and c.kind == "IS" and c.phase == "lib" and len(c.dE) == len(c.trace) == 5
+    assert c.dE_birth == -T["IS^l_1"].energy.eps and c.dE[-1] == 0.0 and np.all(np.diff(c.dE) > 0)
+    assert abs(c.trace[0] - 4.0) < 0.01 and abs(c.trace[-1] - 1.5082) < 1e-3 and c.max_residual < 1e-10
+    deep = sc.family_curve("IS^l_7", 4.0, n=2)               # born at 4 - E = 7.6e-10: real128 by default
+    assert deep.precision == "real128" and abs(deep.trace[-1] - 1.5211) < 1e-3 and deep.max_residual < 1e-24
+    past = sc.family_curve("IS^l_1", 4.02, n=6)               # continued past the separatrix energy
+    assert past.dE[0] < 0 < past.dE[-1] and abs(past.dE[-1] - 0.02) < 1e-12
+    for args in (("XY^l_1", 4.0), ("IS^l_1", 6.0), ("IS^l_1", 3.0), ("IS^r_1", 3.9)):
+        with pytest.raises(ValueError):
+            sc.family_curve(*args, n=3)

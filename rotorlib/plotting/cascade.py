@@ -55,19 +55,30 @@ def plot_fig2(curves, trs, label_n_max=6, ylim=(-1.5, 6.0)):
 
 
 def plot_fig3(panels):
-    """Self-similarity of tr M(E) under magnification (five panels a-e).
+    """Self-similarity of tr M(E) under magnification (five panels a-e), with the newborn families.
 
     Parameters
     ----------
     panels : list of dict
         Each with ``dE`` (``E - 4``, array), ``trace`` (array), ``title`` (str),
-        ``marks`` (list of ``(E - 4, y, label)``).
+        ``marks`` (list of ``(E - 4, y, label)``), optionally ``ylim`` and
+        ``families``: a list of objects with ``label``, ``kind``, ``dE`` and ``trace``
+        (:class:`rotorlib.scaling.FamilyCurve`), drawn dashed (IS) or dotted (PD)
+        and listed in the panel's legend; ``deeper``: more such families, drawn thin
+        and grey under one legend entry ``deeper_label``; ``legend_loc``.
     """
-    fig, axes = plt.subplots(2, 3, figsize=(13, 7.2), constrained_layout=True)
+    fig, axes = plt.subplots(2, 3, figsize=(13, 8.0), constrained_layout=True)
     axes = axes.ravel()
     for ax, p in zip(axes, panels):
         _band(ax)
-        ax.plot(p["dE"], p["trace"], color="k", lw=0.9)
+        ax.plot(p["dE"], p["trace"], color="k", lw=0.9, label="pendulum")
+        fams = p.get("families", [])
+        for i, f in enumerate(fams):
+            style = "--" if f.kind == "IS" else ":"
+            ax.plot(f.dE, f.trace, style, lw=1.2, color=_FAMILY_COLORS[i % len(_FAMILY_COLORS)], label=_tex(f.label))
+        for i, f in enumerate(p.get("deeper", [])):
+            ax.plot(f.dE, f.trace, "--" if f.kind == "IS" else ":", lw=0.8, color="0.45",
+                    label=p.get("deeper_label", "deeper families") if i == 0 else None)
         for x, y, lab in p.get("marks", []):
             ax.plot(x, y, "o", ms=4, color=_COLORS[lab[:2]], zorder=3)
             ax.annotate(_tex(lab), (x, y), xytext=(3, 6 if y > 2 else -12), textcoords="offset points",
@@ -78,9 +89,15 @@ def plot_fig3(panels):
         ax.set_xlabel(r"$E - 4$ (units $mgr$, $m = g = r = 1$)")
         ax.set_ylabel(r"$\mathrm{tr}\,M$")
         ax.set_title(p["title"], fontsize=10)
+        if fams or p.get("deeper"):
+            ax.legend(fontsize=7, ncol=2, loc=p.get("legend_loc", "best"), framealpha=0.85, handlelength=2.2)
     for ax in axes[len(panels):]:
         ax.axis("off")
     return fig
+
+
+_FAMILY_COLORS = ("tab:red", "tab:orange", "tab:purple", "tab:green", "tab:brown", "tab:pink",
+                  "tab:olive", "tab:cyan", "tab:blue", "tab:gray")
 
 
 def _tex(label):
