@@ -13,7 +13,13 @@ did not use:
 
 PD^r_2 is checked at E = 4.55, not 4.6: the family continued from its birth
 folds back at E = 4.5517 (tr M = 4 there, the paper's "becomes unstable at
-E ~ 4.55"), so no member of it has E = 4.6 (see ``test_pdr2_fold``).
+E ~ 4.55") and then runs down to E = 4.5, so no member of it has E = 4.6 (see
+``test_pdr2_fold`` and, for the continuation in amplitude and the scan of the
+whole energy shell at E = 4.6, ``tests/test_search.py``).
+
+The extended-precision families (IS^l_7,8, PD^l_4, PD^r_5,6; real128 search)
+are checked on one representative each way (``slow``): closure of the 32-digit
+state under heyoka mp160, energy, trace, and tr M -> 4 at birth.
 """
 from __future__ import annotations
 
@@ -139,7 +145,7 @@ def test_pdr2_fold():
         Es.append(float(E))
     assert Es[1] > Es[0] and Es[1] > Es[2]
     assert 4.549 < max(Es) < 4.553
-    with pytest.raises(ValueError, match="not found beyond"):
+    with pytest.raises(ValueError, match="folds back"):
         nb.newborn_orbit("PDr2", 4.6)
 
 
@@ -151,3 +157,35 @@ def test_cli_errors(capsys):
     assert "exists for" in err and len(err.strip().splitlines()) == 1
     assert main(["orbit", "XYl2", "--E", "3.9"]) == 2
     assert main(["orbit", "IS^r_2", "--E", "4.001"]) == 2
+
+
+DEEP = [("IS^l_7", "4"), ("PD^r_5", None)]
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("label,E", DEEP)
+def test_deep_families_real128(capsys, label, E):
+    """A real128 member of a deep family, exported by the CLI, checked with an independent integrator."""
+    from rotorlib import newborn as nb
+
+    spec = nb.family_spec(label)
+    E = E or repr(spec.E_birth + 0.1 * abs(spec.E_birth - 4.0))
+    rec = _cli_json(capsys, "orbit", label, "--E", E, "--json")
+    assert rec["precision"] == "real128"
+    x0 = np.array(rec["state0"])
+    assert abs(float(energy_alpha(x0)) - float(E)) < 1e-9
+    ref = rotorlib.variational_monodromy(rec["state0_str"], rec["period_str"], method="heyoka", precision="mp160")
+    assert ref.closure < 1e-20
+    assert abs(ref.trace - rec["trace"]) < 1e-5 * abs(ref.trace)
+    # the float64 rounding of the state closes only to ~|E - 4|^-1 eps (measured 2e-6 for IS^l_7 at E = 4)
+    v = rotorlib.variational_monodromy(x0, rec["period"], method="heyoka", precision="mp160")
+    assert v.closure < 1e-4
+
+
+@pytest.mark.slow
+def test_deep_family_born_with_trace_4():
+    from rotorlib import newborn as nb
+
+    slope, tr0 = nb.trace_slope_at_birth("IS^l_8")
+    assert abs(tr0 - 4.0) < 1e-3
+    assert abs(slope) > 1e6         # steep: |E_n - 4| = 2.5e-10

@@ -43,7 +43,7 @@ def trace_vs_period(pendulum_curves, families, ax=None, title=None, ylim=(-4, 12
     tau, tr = pendulum_curves
     ax.plot(tau, tr, "k-", lw=1.2, label="pendulum")
     for i, (lab, (t, y)) in enumerate(families.items()):
-        ax.plot(t, y, "o-", ms=2.5, lw=1.0, color=f"C{i % 10}", label=f"${lab}$")
+        ax.plot(t, y, "os^"[(i // 10) % 3] + "-", ms=2.5, lw=1.0, color=f"C{i % 10}", label=f"${lab}$")
     ax.axhline(0, color="grey", lw=0.5)
     ax.axhline(4, color="grey", lw=0.5)
     ax.set_ylim(*ylim)

@@ -1,0 +1,71 @@
+"""Figures of the search chapter (paper §6). Units m = g = r = 1."""
+from __future__ import annotations
+
+import matplotlib.pyplot as plt
+import numpy as np
+
+
+def landscape(L, ax=None):
+    """``d`` and ``|r|`` against the relative offset of ``p2(0)`` (log-log), with the minimiser's floor."""
+    if ax is None:
+        fig, ax = plt.subplots(figsize=(6.4, 4.2))
+    else:
+        fig = ax.figure
+    ax.loglog(L.delta, L.defect, "o-", ms=3, label=r"paper: departure $d$ (full period)")
+    ax.loglog(L.delta, L.residual, "s-", ms=3, label=r"symmetric shooting: $|r|$ (quarter/half period)")
+    eps = np.finfo(float).eps
+    ax.axvline(np.sqrt(eps), color="C3", ls="--", lw=1, label=r"Brent's stopping floor $\sqrt{\epsilon}$")
+    ax.axvline(eps, color="grey", ls=":", lw=1, label=r"$\epsilon$")
+    ax.set_xlabel(r"relative offset $\delta$ of $p_2(0) = p_2^*(1+\delta)$")
+    ax.set_ylabel(r"$d$ or $|r|$ (dimensionless)")
+    ax.set_title(f"${L.label}$, $u$ = {L.u:.3g}")
+    ax.legend(fontsize=7)
+    return fig
+
+
+def work_precision(wps, cost="integration"):
+    """One panel per family: error ``|E - E_ref|`` against cost for both searches.
+
+    ``cost='integration'``: total integration time in pendulum periods; ``'evaluations'``: count.
+    """
+    n = len(wps)
+    fig, axes = plt.subplots(1, n, figsize=(3.1 * n, 3.4), sharey=True)
+    axes = np.atleast_1d(axes)
+    for ax, w in zip(axes, wps):
+        if cost == "integration":
+            xp, xs, lab = w.integration_paper, w.integration_shooting, r"integration time / $\tau_n$"
+        else:
+            xp, xs, lab = w.evaluations_paper, w.evaluations_shooting, "function evaluations"
+        floor = 1e-17
+        ax.semilogy(xp, np.maximum(w.error_paper, floor), "o-", ms=4, label="paper (minimise $d$)")
+        ax.semilogy(xs, np.maximum(w.error_shooting, floor), "s-", ms=4, label="symmetric shooting (root)")
+        ax.set_xlabel(lab)
+        ax.set_title(f"${w.label}$", fontsize=9)
+    axes[0].set_ylabel(r"$|E - E_\mathrm{ref}|$ (units $g$)")
+    axes[0].legend(fontsize=7)
+    fig.tight_layout()
+    return fig
+
+
+def amplitude_branch(branch, u_scan=None, r_scan=None, E_scan=None):
+    """(a) ``E`` against the amplitude ``u`` along a family followed in amplitude; (b) ``r(u)`` at ``E_scan``."""
+    ncols = 1 if u_scan is None else 2
+    fig, axes = plt.subplots(1, ncols, figsize=(6.2 * ncols, 4.2))
+    axes = np.atleast_1d(axes)
+    ax = axes[0]
+    ax.plot(branch.u, branch.E, ".-", ms=3, label=f"${branch.label}$ from its birth")
+    ax.plot([branch.u_at_E_max], [branch.E_max], "r^", label=f"fold, E = {branch.E_max:.7f}")
+    ax.axhline(4.5, color="grey", ls=":", lw=1, label="E = 4.5 (maxima of V)")
+    if E_scan is not None:
+        ax.axhline(E_scan, color="C3", ls="--", lw=1, label=f"E = {E_scan:g}")
+    ax.set_xlabel(r"amplitude $u$ ($p_1(0)$ or $\alpha_1(0)$)")
+    ax.set_ylabel(r"energy $E$ (units $g$)")
+    ax.legend(fontsize=7)
+    if u_scan is not None:
+        ax = axes[1]
+        ax.plot(u_scan, r_scan, "-", lw=1)
+        ax.axhline(0, color="grey", lw=0.5)
+        ax.set_xlabel(r"amplitude $u$ (the whole energy shell)")
+        ax.set_ylabel(f"residual $r(u)$ at E = {E_scan:g}")
+    fig.tight_layout()
+    return fig
