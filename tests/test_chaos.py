@@ -85,3 +85,16 @@ def test_newborn_amplitude_branch_passes_the_fold():
     t1, _ = nbm.shoot(spec, b.exit_u, b.exit_E)
     v = variational_monodromy(np.array(nbm.start_state(spec, b.exit_u, b.exit_E), float), spec.factor * float(t1))
     assert v.closure < 1e-8 and abs(v.trace - 4.0) < 1e-5
+
+
+def test_rotational_band():
+    """Rotational daughters followed in amplitude: IS^r_2 stays below the band and becomes unstable at the energy
+    the continuation in E finds (paper: 4.02); PD^r_1 is in the band and unstable there; bad input raises."""
+    r2, p1 = ch.rotational_band(["IS^r_2", "PD^r_1"], dE_stop=1.7)
+    assert not r2.reaches_band and r2.E_max < 4.5 and r2.exit_level == 0.0 and r2.stays_unstable
+    assert abs(r2.exit_E - 4.02) < 0.01
+    assert p1.reaches_band and len(p1.band_trace) > 0 and np.all(p1.band_trace > 4)
+    with pytest.raises(ValueError):
+        ch.rotational_band(["PD^r_5"])                       # needs real128 shooting
+    with pytest.raises(ValueError):
+        ch.rotational_band(["IS^l_1"])

@@ -146,3 +146,83 @@ def test_dual_lame_functions():
     # control: a non-dual pair differs at O(1)
     c = laws.dual_lame("IS^l_1", "IS^r_2", n=801)
     assert c["max_diff"] > 0.1
+
+
+# ----------------------------------------------------------------- rotational families in amplitude (§7.5)
+
+def test_rotational_state_energy_and_bad_input():
+    """E - 4 = q + T(u) holds for the state built from (u, q), in float64 and real128; bad input raises."""
+    from rotorlib.system import energy_alpha
+
+    for lab in ("IS^r_1", "IS^r_2"):          # start on a1 / on p1
+        x = laws.rotational_state(lab, 0.3, 0.01)
+        assert abs(float(energy_alpha(np.array(x))) - 4 - laws.rotational_dE(lab, 0.3, 0.01)) < 1e-14
+        xm = laws.rotational_state(lab, "0.3", "1e-20", "real128")
+        assert abs(float(laws.rotational_dE(lab, "0.3", "1e-20", "real128")) - laws.rotational_dE(lab, 0.3, 1e-20)) < 1e-15
+        assert len(xm) == 4
+    with pytest.raises(ValueError):
+        laws.rotational_state("IS^l_1", 0.1, 0.0)          # librational family
+    with pytest.raises(ValueError):
+        laws.rotational_state("IS^r_1", 0.1, -5.0)         # no a2 motion
+    with pytest.raises(ValueError):
+        laws.follow_rotational("IS^r_1", -1.0)
+    with pytest.raises(ValueError):
+        laws.follow_rotational("IS^r_1", 0.01, precision="float32")
+    with pytest.raises(ValueError):
+        laws.rotational_ratios([("IS", 2)])                 # E_{n-2} does not exist
+    with pytest.raises(ValueError):
+        laws.rotational_ratios([("XX", 3)])
+
+
+def test_follow_rotational_passes_where_energy_continuation_stops():
+    """IS^r_3 reaches E(IS^r_1) in amplitude (rotorlib.newborn's continuation in E stops near E - 4 = 2e-3),
+    and the member there is a periodic orbit: it closes under an independent integrator (scipy DOP853)."""
+    from rotorlib.monodromy import variational_monodromy
+
+    target = transition("IS^r_1").E - 4
+    m = laws.rotational_member("IS^r_3", target)
+    assert abs(m.dE / target - 1) < 1e-12 and m.residual < 1e-6
+    v = variational_monodromy(m.state0, m.period, rtol=1e-13)
+    assert v.closure < 1e-6
+    # paper's asymptotic amplitudes: a1max ~ sqrt(E - E_n), a2'min ~ sqrt(3 (E_n - 4)), within 3% here
+    assert abs(m.a1_max / math.sqrt(target - (transition("IS^r_3").E - 4)) - 1) < 0.03
+    assert abs(m.a2dot_min / math.sqrt(3 * (transition("IS^r_3").E - 4)) - 1) < 0.03
+
+
+def test_rotational_member_real128_extreme():
+    """IS^r_7, born e^-37.3 = 6e-17 above E = 4, evaluated at E(IS^r_5) in real128: the orbit closes and its
+    a2'min matches sqrt(3 (E_7 - 4)) to 1e-4 (the extreme of what the real128 search reaches)."""
+    m = laws.rotational_member("IS^r_7", laws._rot_dE_str("IS^r_5"))
+    assert m.precision == "real128" and m.closure < 1e-15
+    d7 = math.exp(transition("IS^r_7").log_abs_dE)
+    assert abs(m.a2dot_min / math.sqrt(3 * d7) - 1) < 1e-4
+
+
+def test_rotational_ratio_converges_to_sqrt_delta_r():
+    """alpha^r(5), beta^r(5) of the IS^r odd class (IS^r_5 at E(IS^r_3) over IS^r_7 at E(IS^r_5)) equal
+    sqrt(delta^r) = e^(sqrt3 pi) to 1e-5; PD^r n = 3 is not evaluable (PD^r_3 ends at E -> 4.5)."""
+    rr = laws.rotational_ratios([("IS", 5), ("PD", 3)])
+    r5, p3 = rr
+    assert abs(r5.alpha / laws.DELTA_L - 1) < 1e-5 and abs(r5.beta / laws.DELTA_L - 1) < 1e-5
+    assert math.isnan(p3.alpha) and "does not reach" in p3.reason and p3.numerator is None
+
+
+def test_rotational_family_ends_at_the_potential_maximum():
+    """PD^r_2 followed in amplitude passes its fold (E max 4.5517, where tr M = 4) and ends at E -> 4.5 = V(pi/3, pi)
+    with a diverging half period; the exit from [0, 4] is located at the fold."""
+    b = laws.follow_rotational("PD^r_2", 1.0)
+    p = laws.branch_profile(b)
+    assert b.E_folds == 1 and 4.55 < p.E.max() < 4.552 and abs(p.E[-1] - 4.5) < 1e-4
+    assert p.t1[-1] > 3 * p.t1[0] and abs(abs(p.a1_pi[-1]) - math.pi / 3) < 0.01
+    dE, lev, stays = laws.rotational_exit(b, p)
+    assert lev == 4.0 and stays and abs(4 + dE - p.E.max()) < 1e-4
+    with pytest.raises(ValueError):
+        laws.rotational_member("PD^r_3", 1.6)                # never reaches E(PD^r_1)
+
+
+def test_rotational_member_unstable_float64_trace_in_real128():
+    """PD^r_4 at E(PD^r_2) is too unstable for a float64 period (closure fails): its trace comes from the
+    real128 polish, and its amplitudes agree with the real128 member's (read on the quarter period)."""
+    m = laws.rotational_member("PD^r_4", laws._rot_dE_str("PD^r_2"))
+    assert m.precision == "float64" and m.trace_precision == "real128" and m.closure < 1e-12
+    assert m.trace > 1e14 and m.residual < 1e-6

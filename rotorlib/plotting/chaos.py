@@ -8,7 +8,7 @@ from __future__ import annotations
 import matplotlib.pyplot as plt
 import numpy as np
 
-__all__ = ["plot_band_traces", "plot_sections", "plot_fraction", "plot_ftle_histograms"]
+__all__ = ["plot_band_traces", "plot_sections", "plot_fraction", "plot_ftle_histograms", "plot_rotational_branches"]
 
 BAND = (5.33, 5.6)
 
@@ -79,5 +79,26 @@ def plot_ftle_histograms(cf, energies, threshold=None):
     ax.set_xlabel(r"finite-time Lyapunov exponent $\lambda_T$ (units $\sqrt{g/m r^2}$)")
     ax.set_ylabel("count")
     ax.legend(fontsize=8)
+    fig.tight_layout()
+    return fig
+
+
+def plot_rotational_branches(profiles, E_max=4.5, trace_cap=1e12):
+    """tr M against E along rotational newborn families followed in amplitude
+    (:class:`rotorlib.laws.BranchProfile`), symmetric-log axis, with the band shaded and the energy
+    ``E_max`` (where the families end) marked. Members with ``|tr M| > trace_cap`` (float64 traces
+    there are only an order of magnitude) are not drawn."""
+    fig, ax = plt.subplots(figsize=(9, 4.4))
+    _band(ax)
+    ax.axhspan(0.0, 4.0, color="C2", alpha=0.15, zorder=0, label=r"stable window $0 < \mathrm{tr}\,M < 4$")
+    for i, p in enumerate(profiles):
+        tr = np.where(np.abs(p.trace) <= trace_cap, p.trace, np.nan)
+        ax.plot(p.E, tr, ".-", ms=2, lw=1, color=f"C{i % 10}", label=f"${p.label}$")
+    ax.axvline(E_max, color="k", ls="--", lw=0.8, label=f"E = {E_max:g} (max of V)")
+    ax.set_yscale("symlog", linthresh=5.0, linscale=2.0)
+    ax.set_ylim(-2 * trace_cap, 2 * trace_cap)
+    ax.set_xlabel(r"energy $E$ ($g$, with $m = g = r = 1$)")
+    ax.set_ylabel(r"$\mathrm{tr}\,M$ (symmetric log scale)")
+    ax.legend(fontsize=7, loc="center left", bbox_to_anchor=(1.01, 0.5))
     fig.tight_layout()
     return fig

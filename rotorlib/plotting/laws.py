@@ -98,3 +98,28 @@ def duality(ns, diffs, fit, lame, figsize=(12, 4)):
     ax[1].legend(fontsize=8)
     fig.tight_layout()
     return fig
+
+
+def rotational_reach(profiles, levels, figsize=(12, 4.2)):
+    """Rotational newborn families followed in amplitude: (a) ``E - 4`` against the amplitude ``u``,
+    (b) ``E - 4`` against the time ``t1`` from the start line to ``a2 = pi`` (half or quarter period).
+
+    ``profiles``: list of :class:`rotorlib.laws.BranchProfile`; ``levels``: list of ``(label, E - 4)``
+    drawn as horizontal lines (energies the definition of alpha^r needs, and E = 4.5).
+    """
+    fig, ax = plt.subplots(1, 2, figsize=figsize)
+    for i, p in enumerate(profiles):
+        ax[0].plot(p.u, p.dE, ".-", ms=3, color=f"C{i}", label=f"${p.label}$")
+        ax[1].plot(p.t1, p.dE, ".-", ms=3, color=f"C{i}", label=f"${p.label}$")
+    for j, (lab, v) in enumerate(levels):
+        for a in ax:
+            a.axhline(v, color="k", lw=0.8, ls=[":", "--", "-."][j % 3], label=lab)
+    ax[0].set_xscale("log")
+    ax[0].set_xlabel(r"amplitude $u$ ($\alpha_1(0)$ or $p_1(0)$; rad or rad per unit time)")
+    ax[1].set_xlabel(r"$t_1$: time from $\alpha_2 = 0$ to $\alpha_2 = \pi$ (units of $\sqrt{r/g}$)")
+    for a, t in zip(ax, ("(a)", "(b)")):
+        a.set_ylabel(r"$E - 4$ ($g$, with $m = g = r = 1$)")
+        a.set_title(t, fontsize=10)
+        a.legend(fontsize=7)
+    fig.tight_layout()
+    return fig
