@@ -228,6 +228,8 @@ def family_range(spec: FamilySpec) -> tuple:
     far it was followed; PD^r_5 and PD^r_6 (extended precision) are accepted to
     ``E_n + 1000 |E_n - 4|``.
     """
+    if spec.label not in FAMILY_REACH:
+        raise ValueError(f"no newborn family {spec.label} is followed here (families: {', '.join(FAMILIES)})")
     top, _ = FAMILY_REACH[spec.label]
     if isinstance(top, str):
         top = spec.E_birth + float(top) * abs(spec.E_birth - 4.0)

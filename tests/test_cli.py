@@ -79,6 +79,15 @@ def test_table_output():
     ("trace", "pendulum", "--E", "1", "--digits", "0"),
     ("nosuchcommand",),
     (),
+    ("orbit", "ISl9", "--E", "4"),          # a transition with no followed family
+    ("orbit", "XYl1", "--E", "4"),          # no such label
+    ("orbit", "PDr2", "--E", "4.6"),        # past the family's fold
+    ("orbit", "ISl2", "--E", "3"),          # below the birth
+    ("orbit", "ISl2", "--E", "nan"),
+    ("orbit", "ISl2", "--E", "-1"),
+    ("orbit", "PDb", "--E", "9.5"),         # above the breather's period doubling
+    ("bifurcations", "--phase", "lib", "--n-max", "0"),
+    ("bifurcations", "--phase", "sideways"),
 ])
 def test_bad_input_one_line_nonzero(args):
     rc, out, err = run(*args)
