@@ -718,8 +718,8 @@ def paper_search(label, u, E_guess, width=None, xatol=1e-16, maxiter=500) -> Pap
     PaperSearchResult
 
     Precision: float64. Brent's bounded minimiser stops once its bracket is below
-    ``sqrt(eps) |p2| + xatol / 3`` (its built-in tolerance: at a smooth minimum ``f(x* + h) - f(x*)
-    ~ f'' h^2 / 2`` is invisible below ``h ~ sqrt(eps)``), so ``p2(0)`` and ``E`` are found to
+    ``sqrt(eps) |p2| + xatol / 3`` (its built-in tolerance: at a smooth minimum the change
+    ``f''(x) h^2 / 2`` of ``f`` is invisible below ``h ~ sqrt(eps)``), so ``p2(0)`` and ``E`` are found to
     ~1e-8 relative whatever ``xatol``; the full-period integration adds the flow's own
     amplification ``~eps / |E - 4|``. A root of the signed symmetric residual
     (:func:`birth_member`, :func:`solve_at_energy`) has neither limit.
