@@ -12,7 +12,12 @@ Glue (every notebook in book/):
   number literal (myst-nb cannot format ``np.float64(...)``: glue ``float(x)``).
 
 A Markdown page (book/*.md) has no code cells: a glue role there must name another document's key
-(``{glue:text}`01_formulation.ipynb::key:.4f```, myst-nb's cross-document form), and that notebook must glue it.
+(``{glue:text}`01_formulation.ipynb::key:.4f```, myst-nb's cross-document form, the path relative to the page or
+``/``-rooted at book/), and that notebook must glue it and store it in its outputs. The roles are parsed as myst-nb
+1.4 parses them (``myst_nb/ext/glue/roles.py``): ``{glue:text}`` splits the format off at the LAST colon, so a
+cross-document text role needs an explicit format (``doc::key:s``, not ``doc::key``); ``{glue:md}`` and the
+directives cannot paste from another document; the stored value must format with the role's format spec
+(checked with myst-nb's own ``format_plain_text``).
 
 Bibliography (book/references.bib):
 
@@ -37,7 +42,7 @@ PAGES = sorted(p for p in BOOK.glob("*.md"))
 BIB = BOOK / "references.bib"
 
 # {glue}`key`, {glue:}`key`, {glue:text}`key:.6f`, {glue:any}`key`, {glue:md}`key`, {glue:math}`key`
-GLUE_ROLE = re.compile(r"\{glue(?::[a-z]*)?\}`([^`]+)`")
+GLUE_ROLE = re.compile(r"\{glue(:[a-z]*)?\}`([^`]+)`")
 # ```{glue:figure} key   /  :::{glue} key   /  ```{glue:math} key
 GLUE_DIRECTIVE = re.compile(r"^[`:]{3,}\{glue(?::[a-z]*)?\}\s+(\S+)", re.MULTILINE)
 # glue("key", ...), glue('key', ...), glue(f"key_{i}", ...), myst_nb.glue(...)
@@ -53,15 +58,29 @@ def _source(cell) -> str:
     return "".join(src) if isinstance(src, list) else src
 
 
-def used_keys(markdown: str) -> list[tuple[str, str | None]]:
-    """(key, format spec or None) of every glue role and directive in a Markdown text."""
+def glue_uses(markdown: str) -> list[tuple[str, str, str | None]]:
+    """(role or directive, key, format spec or None) of every glue role and directive, parsed as myst-nb does.
+
+    ``{glue:text}`` (and ``{glue:md}``) split the format at the last colon (so ``doc::key`` without a format gives the
+    key ``doc:``); ``{glue}``, ``{glue:}``, ``{glue:any}`` take the whole text as the key. A key ``doc::name`` is a
+    cross-document reference.
+    """
     out = []
     for m in GLUE_ROLE.finditer(markdown):
-        key, _, fmt = m.group(1).partition(":")
-        out.append((key.strip(), fmt or None))
+        role, text = "glue" + (m.group(1) or ""), m.group(2)
+        if role in ("glue:text", "glue:md") and ":" in text:
+            key, fmt = text.rsplit(":", 1)
+            out.append((role, key.strip(), fmt if role == "glue:text" else None))
+        else:
+            out.append((role, text.strip(), None))
     for m in GLUE_DIRECTIVE.finditer(markdown):
-        out.append((m.group(1).strip(), None))
+        out.append(("directive", m.group(1).strip(), None))
     return out
+
+
+def used_keys(markdown: str) -> list[tuple[str, str | None]]:
+    """(key, format spec or None) of every glue role and directive in a Markdown text."""
+    return [(key, fmt) for _, key, fmt in glue_uses(markdown)]
 
 
 def defined_patterns(code: str) -> list[re.Pattern]:
@@ -105,8 +124,8 @@ def stored_keys(cells) -> set[str]:
 def test_every_glue_key_is_defined_in_the_same_notebook(nb_path):
     cells = _cells(nb_path)
     used = [(k, f, i) for i, c in enumerate(cells) if c["cell_type"] == "markdown" for k, f in used_keys(_source(c))]
-    cross = [k for k, _, _ in used if "::" in k]
-    bad_cross = [k for k in cross if not cross_document_key_ok(nb_path.parent, k)]
+    bad_cross = [b for c in cells if c["cell_type"] == "markdown"
+                 for b in check_cross_document_uses(nb_path.parent, _source(c), local_ok=True)]
     assert not bad_cross, f"{nb_path.name}: cross-document glue keys not defined by an executed notebook: {bad_cross}"
     used = [u for u in used if "::" not in u[0]]
     code = [_source(c) for c in cells if c["cell_type"] == "code"]
@@ -164,24 +183,63 @@ def test_glue_formats_are_valid(nb_path):
     assert not bad, f"{nb_path.name}: {bad}"
 
 
-def cross_document_key_ok(base: Path, key: str) -> bool:
-    """``doc::name`` names a notebook (relative to base) that glues ``name`` and stores it."""
-    doc, sep, name = key.rpartition("::")
+def cross_document_target(base: Path, key: str) -> tuple[Path | None, str]:
+    """The notebook and key named by ``doc::name`` (myst-nb splits at the first ``::``; ``doc`` is relative to base,
+    or to book/ if it starts with ``/``, as Sphinx's ``relfn2path`` resolves it); (None, key) if not cross-document."""
+    doc, sep, name = key.partition("::")
     if not sep:
-        return False
-    target = base / doc
+        return None, key
+    target = (BOOK / doc.lstrip("/")) if doc.startswith("/") else (base / doc)
     if target.suffix == "":
         target = target.with_suffix(".ipynb")
-    if target.suffix != ".ipynb" or not target.is_file():
+    return target, name
+
+
+def cross_document_key_ok(base: Path, key: str) -> bool:
+    """``doc::name`` names a notebook (relative to base) that glues ``name`` and stores it."""
+    target, name = cross_document_target(base, key)
+    if target is None or target.suffix != ".ipynb" or not target.is_file():
         return False
     cells = _cells(target)
     return key_is_defined(name, [_source(c) for c in cells if c["cell_type"] == "code"]) and name in stored_keys(cells)
 
 
+def cross_document_format_error(base: Path, key: str, fmt: str | None) -> str | None:
+    """Why myst-nb would fail to paste ``{glue:text}`key:fmt``` from the notebook's stored value (None if it works)."""
+    from myst_nb.core.variables import format_plain_text
+    target, name = cross_document_target(base, key)
+    text = stored_text(_cells(target)).get(name)
+    if text is None:
+        return "no text/plain stored"
+    try:
+        format_plain_text(text, fmt if fmt is not None else "s")
+    except (ValueError, TypeError) as exc:
+        return f"stored value {text!r} does not format with {fmt!r}: {exc}"
+    return None
+
+
+def check_cross_document_uses(base: Path, markdown: str, local_ok: bool) -> list[str]:
+    """Problems with the glue roles of a Markdown text that paste from another notebook (or, for a page, locally)."""
+    bad = []
+    for role, key, fmt in glue_uses(markdown):
+        if "::" not in key:
+            if not local_ok:
+                hint = " (a glue:text role doc::key needs a format: doc::key:s)" if key.endswith(":") else ""
+                bad.append(f"{key!r}: not a doc::key reference{hint}")
+            continue
+        if role not in ("glue", "glue:", "glue:any", "glue:text"):
+            bad.append(f"{key!r}: myst-nb's {role} cannot paste from another document")
+        elif not cross_document_key_ok(base, key):
+            bad.append(f"{key!r}: not glued by, or not stored in, the named notebook (re-execute it)")
+        elif role == "glue:text" and (err := cross_document_format_error(base, key, fmt)):
+            bad.append(f"{key!r}: {err}")
+    return bad
+
+
 @pytest.mark.parametrize("page", PAGES, ids=lambda p: p.name)
 def test_markdown_pages_glue_only_from_notebooks(page):
-    bad = [key for key, _ in used_keys(page.read_text(encoding="utf-8")) if not cross_document_key_ok(page.parent, key)]
-    assert not bad, f"{page.name}: glue keys that no executed notebook defines (a page must use doc::key): {bad}"
+    bad = check_cross_document_uses(page.parent, page.read_text(encoding="utf-8"), local_ok=False)
+    assert not bad, f"{page.name}: glue roles that no executed notebook can fill (a page must use doc::key): {bad}"
 
 
 # --- the parser itself -------------------------------------------------------------------------------------
@@ -197,6 +255,27 @@ def test_parser_finds_roles_directives_and_calls():
     loop = 'for key, val in (("a_key", 1.0), ("b_key", x)):\n    glue(key, val, display=False)\n'
     assert key_is_defined("a_key", [loop]) and key_is_defined("b_key", [loop]) and not key_is_defined("c_key", [loop])
     assert not key_is_defined("a_key", ['print("a_key")'])
+    # cross-document roles, parsed as myst-nb 1.4 parses them
+    md = ("{glue:text}`03_transitions.ipynb::err_x:.4f` {glue:text}`03_transitions.ipynb::err_v:s` "
+          "{glue:text}`03_transitions.ipynb::err_v` {glue}`06_laws.ipynb::k` {glue:md}`a.ipynb::m:commonmark`")
+    assert glue_uses(md) == [("glue:text", "03_transitions.ipynb::err_x", ".4f"), ("glue:text", "03_transitions.ipynb::err_v", "s"),
+                             ("glue:text", "03_transitions.ipynb:", "err_v"), ("glue", "06_laws.ipynb::k", None),
+                             ("glue:md", "a.ipynb::m", None)]
+    assert cross_document_target(BOOK, "03_transitions::k") == (BOOK / "03_transitions.ipynb", "k")
+    assert cross_document_target(BOOK / "sub", "/03_transitions.ipynb::k") == (BOOK / "03_transitions.ipynb", "k")
+    assert cross_document_target(BOOK, "plain_key") == (None, "plain_key")
+    bad = check_cross_document_uses(BOOK, md, local_ok=False)
+    assert any("needs a format" in b for b in bad) and any("cannot paste from another document" in b for b in bad)
+    assert any("06_laws.ipynb::k" in b and "not glued" in b for b in bad)
+
+
+def test_format_check_uses_myst_nb_formatting():
+    """The cross-document format check fails exactly where myst-nb's formatting fails."""
+    from myst_nb.core.variables import format_plain_text
+    assert format_plain_text("7.634", ".4f") == "7.6340" and format_plain_text("-36", "d") == "-36"
+    assert format_plain_text("'last digit off by +1'", "s") == "last digit off by +1"
+    with pytest.raises(ValueError):
+        format_plain_text("np.float64(1.5)", ".4f")
 
 
 # --- bibliography -------------------------------------------------------------------------------------------
