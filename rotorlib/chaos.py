@@ -43,7 +43,8 @@ from .system import potential_alpha, potential_phi
 
 __all__ = ["PoincareSection", "poincare_section", "sample_energy_shell", "ftle", "ChaoticFraction",
            "chaotic_fraction", "section_initial_conditions", "AmplitudeBranch", "newborn_amplitude_branch",
-           "RotationalBandResult", "rotational_band"]
+           "RotationalBandResult", "rotational_band",
+           "DeepRotationalResult", "rotational_band_real128"]
 
 
 def _check_E(E):
@@ -401,11 +402,11 @@ class RotationalBandResult:
         ``tr M`` of the members inside ``5.33 <= E <= 5.6``.
     exit_E : float
         Where ``tr M`` first leaves ``[0, 4]`` (``nan`` if born outside it, or born closer than
-        :data:`NOISY_BIRTH` to E = 4, where float64 ``tr M`` is unreliable near birth).
+        ``NOISY_BIRTH`` (1e-6) to E = 4, where float64 ``tr M`` is unreliable near birth).
     exit_level : float
     stays_unstable : bool
         Every member beyond the exit (or from birth) has ``tr M`` outside ``[0, 4]`` (for families born
-        closer than :data:`NOISY_BIRTH`: every member with ``E - 4 > 1e-4``).
+        closer than ``NOISY_BIRTH`` (1e-6): every member with ``E - 4 > 1e-4``).
     """
 
     label: str
@@ -462,3 +463,127 @@ def rotational_band(labels, dE_stop=1.7, max_steps=2000, executor=None, progress
             raise ValueError(f"{spec.label} needs real128 shooting; rotational_band follows float64 families only")
     return pmap(_rotational_band_one, [(lab, float(dE_stop), int(max_steps)) for lab in labels], executor=executor,
                 progress=progress, desc="rotational families")
+
+
+# ----------------------------------------------------------------------------------------------
+# rotational families born within 3e-8 of E = 4 (PD^r_5, PD^r_6): real128 throughout
+# ----------------------------------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class DeepRotationalResult:
+    """A rotational family born within 3e-8 of E = 4 followed in real128 towards the band
+    (:func:`rotational_band_real128`).
+
+    Attributes
+    ----------
+    label : str
+    stability : rotorlib.laws.BranchStability
+        ``E``, ``t1``, ``tr M`` (real128) and the float64 comparison at the members evaluated.
+    E_max : float
+        Highest energy reached.
+    reaches_band : bool
+        Whether some member has ``E >= 5.33``.
+    band_trace : ndarray
+        ``tr M`` of the members inside ``5.33 <= E <= 5.6``.
+    exit_E, exit_level : float
+        Where ``tr M`` first leaves ``[0, 4]`` and the level crossed (``nan`` if born outside).
+    stays_unstable : bool
+        Every member beyond the exit (or from birth) has ``tr M`` outside ``[0, 4]``.
+    min_trace_after_exit : float
+        Smallest ``tr M`` among the members beyond the exit (from birth if born outside).
+    n_members : int
+        Members of the branch (all solved in real128).
+    seconds_follow, seconds_trace : float
+        Wall time of the continuation and of the real128 ``tr M`` (with the exit bisection).
+    stop : str
+        Why the continuation ended.
+    """
+
+    label: str
+    stability: object
+    E_max: float
+    reaches_band: bool
+    band_trace: np.ndarray
+    exit_E: float
+    exit_level: float
+    stays_unstable: bool
+    min_trace_after_exit: float
+    n_members: int
+    seconds_follow: float
+    seconds_trace: float
+    stop: str
+
+
+def _rotational_real128_one(args):
+    import time
+
+    from . import laws
+
+    label, dE_stop, every, order, t1_jump, t1_grow, compare, max_steps = args
+    t1_stop = None if t1_grow is None else laws._rot_spec(label).period_birth / 2 + t1_grow
+    t0 = time.perf_counter()
+    b = laws.follow_rotational(label, dE_stop, precision="real128", h_max=1.0, max_steps=max_steps, t1_jump=t1_jump,
+                               order=order, t1_stop=t1_stop)
+    t1 = time.perf_counter()
+    s = laws.branch_stability(b, every=every, compare_float64=compare)
+    t2 = time.perf_counter()
+    E = s.E
+    inb = (E >= BAND[0]) & (E <= BAND[1])
+    out = (s.trace < 0) | (s.trace > 4)
+    after = s.trace[int(np.argmax(out)):] if np.any(out) else np.array([])     # from the first member outside
+    return DeepRotationalResult(label, s, float(4.0 + b.dE.max()), bool(np.any(4.0 + b.dE >= BAND[0])),
+                                s.trace[inb], 4.0 + s.exit_dE, s.exit_level, s.stays_out,
+                                float(after.min()) if len(after) else float("nan"), len(b.u), t1 - t0, t2 - t1,
+                                b.stop)
+
+
+def rotational_band_real128(labels, dE_stop=1.7, every=1, order=4, t1_jump=0.05, t1_grow=3.0,
+                            compare_float64=False, max_steps=4000, executor=None, progress=False) -> list:
+    """Follow rotational families born within 3e-8 of E = 4 (``PD^r_5``, ``PD^r_6``, ``IS^r_5`` ...) in
+    their amplitude, in real128 throughout, until ``E - 4 >= dE_stop`` or the family ends, with real128
+    ``tr M`` along the branch (:func:`rotorlib.laws.branch_stability`). One task per family through
+    :func:`rotorlib.parallel.pmap`.
+
+    Why real128 throughout: the shooting residual in float64 stays at its acceptance limit (~1e-6, the
+    q-channel being ~``E_n - 4`` wide) and float64 ``tr M`` is round-off (wrong sign and size) at every
+    member measured for PD^r_5 and PD^r_6 from birth to E - 4 = 0.01, while these families are already
+    ``|tr M| > 1e9`` there; a float64 continuation resumed from real128 members jumps between families.
+    The continuation uses a quartic predictor (``order``) and refuses steps that change ``t1`` by more
+    than ``t1_jump`` (:func:`rotorlib.laws.follow_rotational`).
+
+    Parameters
+    ----------
+    labels : list of str
+    dE_stop : float
+        Stop at ``E - 4 >= dE_stop`` (1.7 reaches past the band).
+    every : int
+        Evaluate ``tr M`` at every ``every``-th member (and the last).
+    order, t1_jump : see :func:`rotorlib.laws.follow_rotational`.
+    t1_grow : float or None
+        Stop once ``t1`` exceeds its value at birth (half the pendulum period) by this much: the family is
+        then ending on an orbit asymptotic to ``V = 4.5`` (``t1`` diverges logarithmically there and the
+        steps shrink without end). ``None``: follow until the continuation sticks (minutes).
+    compare_float64 : bool
+        Also record float64 ``tr M``, closure and residual at the same members.
+    max_steps : int
+        Largest number of members (PD^r_6 needs ~2000 to ``t1_grow = 3``: the steps in ``log u`` shrink
+        as ``u`` converges at the end).
+
+    Notes
+    -----
+    Precision: Members: real128 shooting residual below ``max(1e-18, 1e-30 / (E_n - 4))`` (typically 1e-25).
+    ``tr M``: real128 variational equations, ~``30 - log10|tr M|`` correct digits (full-period closure
+    ~1e-30 near birth). The exit energy to ~1e-10 relative.
+    """
+    from . import laws
+
+    labels = list(labels)
+    for lab in labels:
+        spec = laws._rot_spec(lab)
+        if laws._rot_precision(spec, None) != "real128":
+            raise ValueError(f"{spec.label} is a float64 family; use rotational_band")
+    if not int(every) >= 1 or not int(order) >= 2:
+        raise ValueError(f"need every >= 1 and order >= 2, got {every!r}, {order!r}")
+    tasks = [(lab, float(dE_stop), int(every), int(order), float(t1_jump), None if t1_grow is None else float(t1_grow),
+              bool(compare_float64), int(max_steps)) for lab in labels]
+    return pmap(_rotational_real128_one, tasks, executor=executor, progress=progress, desc="rotational families")

@@ -62,7 +62,8 @@ __all__ = ["SQRT3_PI", "DELTA_L", "SQRT_DELTA_L", "SlopeLaw", "fork_fit", "pendu
            "asymptotic_a1", "asymptotic_a2_deficit", "DualPair", "dual_label", "duality_pairs", "fit_rate",
            "dual_lame", "reach", "compare", "table", "rotational_state", "rotational_dE", "rotational_residual",
            "RotationalBranch", "follow_rotational", "RotationalMember", "rotational_member", "RotationalRatio",
-           "rotational_ratios", "BranchProfile", "branch_profile", "rotational_exit"]
+           "rotational_ratios", "BranchProfile", "branch_profile", "rotational_exit",
+           "BranchStability", "branch_stability"]
 
 #: ``sqrt(3) pi``; ``delta^l = e^{sqrt3 pi}`` (230.76), ``sqrt(delta^l) = e^{sqrt3 pi / 2}`` (15.19).
 SQRT3_PI = math.sqrt(3.0) * math.pi
@@ -563,12 +564,13 @@ def _secant1(f, x0, x1, tol, floor, precision, maxiter=40):
     return best[1], best[0]
 
 
-def _rot_predict(X, Y, xn, par, prec):
-    """Quadratic (in ``u^2`` when ``par == 'u'``) extrapolation of ``Y`` through the last three points."""
+def _rot_predict(X, Y, xn, par, prec, order=2):
+    """Polynomial extrapolation (degree ``order``, quadratic by default; in ``u^2`` when ``par == 'u'``)
+    of ``Y`` through the last ``order + 1`` points."""
     import mpmath as mp
 
     g = (lambda v: v * v) if par == "u" else (lambda v: v)
-    xs, ys = [g(v) for v in X[-3:]], list(Y[-3:])
+    xs, ys = [g(v) for v in X[-(order + 1):]], list(Y[-(order + 1):])
     x = g(xn)
     while len(xs) > 1 and len(set(xs)) < len(xs):
         xs, ys = xs[1:], ys[1:]
@@ -578,7 +580,8 @@ def _rot_predict(X, Y, xn, par, prec):
         yg = ys[1] + (ys[1] - ys[0]) * (x - xs[1]) / (xs[1] - xs[0])
     else:
         prod = math.prod if prec == "float64" else mp.fprod
-        yg = sum(ys[i] * prod([(x - xs[j]) / (xs[i] - xs[j]) for j in range(3) if j != i]) for i in range(3))
+        n = len(xs)
+        yg = sum(ys[i] * prod([(x - xs[j]) / (xs[i] - xs[j]) for j in range(n) if j != i]) for i in range(n))
     return yg, abs(yg - ys[-1])
 
 
@@ -613,7 +616,7 @@ class RotationalBranch:
     residual : ndarray
         ``|rotational_residual|`` at each member.
     stop : str
-        Why the continuation ended (``target``, ``steps`` or ``stuck at ...``).
+        Why the continuation ended (``target``, ``steps``, ``t1`` (see ``t1_stop``) or ``stuck at ...``).
     """
 
     label: str
@@ -663,7 +666,8 @@ def _rot_seed(spec, precision):
     return u, q, r, d
 
 
-def follow_rotational(label, dE_stop, precision=None, h=0.3, max_steps=400, h_min=1e-5, h_max=0.3) -> RotationalBranch:
+def follow_rotational(label, dE_stop, precision=None, h=0.3, max_steps=400, h_min=1e-5, h_max=0.3,
+                      start=None, t1_jump=None, order=2, t1_stop=None) -> RotationalBranch:
     """Follow a rotational newborn family in its amplitude from birth until ``E - 4 >= dE_stop``.
 
     Why not in ``E``: the newborn orbit's ``a2`` motion keeps the energy ``~E_n - 4`` above the barrier
@@ -691,14 +695,33 @@ def follow_rotational(label, dE_stop, precision=None, h=0.3, max_steps=400, h_mi
         point of ``u``); the continuation stops ("stuck") when a step below ``h_min`` is refused.
     max_steps : int
         Largest number of members.
+    start : sequence of ``(u, q)``, optional
+        Resume from these members (at least three, in order along the branch, e.g. the last members of an
+        earlier run, possibly in the other precision) instead of seeding at birth.
+        They are converted to ``precision`` as they are (not re-solved) and are the first members of the
+        result, with the residual of ``precision`` evaluated at them.
+    t1_jump : float, optional
+        Refuse (and halve ``h``) a step whose time ``t1`` to ``a2 = pi`` differs from the previous
+        member's by more than this fraction. The residual has one root in ``q`` per family at fixed ``u``
+        (the families differ in ``t1``), and a long step can land on another family's root: PD^r_5
+        followed without this guard jumps at ``E - 4 ~ 0.03`` from ``t1 ~ 7.35`` onto the PD^r_3 branch
+        (``t1 ~ 4.2``). Default ``None``: no check (one extra shooting per member when set).
+    order : int
+        Degree of the polynomial predictor (through the last ``order + 1`` members; default 2). Near a
+        birth close to E = 4 the corrector converges only inside a channel of width ``~|E_n - 4|`` in
+        ``q`` (outside it ``a2`` never reaches ``pi``), so the step is limited by the predictor's error
+        there and a higher ``order`` allows larger steps.
+    t1_stop : float, optional
+        Also stop (``stop = 't1'``) once ``t1`` exceeds this: ``t1`` diverges as a family ends on an
+        orbit asymptotic to the potential maximum ``V = 4.5``, where the steps shrink without end.
 
     Returns
     -------
     RotationalBranch
 
-    Precision
-    ---------
-    Residuals ``|x_k(t1)/u|`` at the accepted members are below 1e-6 (float64; typically 1e-9,
+    Notes
+    -----
+    Precision: Residuals ``|x_k(t1)/u|`` at the accepted members are below 1e-6 (float64; typically 1e-9,
     i.e. ``q`` to ~1e-9 relative) and ``max(1e-18, 1e-30 / (E_n - 4))`` (real128; typically 1e-22).
     A family whose members grow too unstable for the working precision (``|tr M|`` beyond ~1e12 in
     float64) stops with ``stop = 'stuck ...'``.
@@ -713,18 +736,41 @@ def follow_rotational(label, dE_stop, precision=None, h=0.3, max_steps=400, h_mi
         raise ValueError(f"dE_stop must be a number, got {dE_stop!r}") from None
     if not stop_val > 0 or not math.isfinite(stop_val):
         raise ValueError(f"dE_stop must be > 0, got {dE_stop!r}")
+    if t1_jump is not None and not float(t1_jump) > 0:
+        raise ValueError(f"t1_jump must be > 0, got {t1_jump!r}")
+    if t1_stop is not None and not float(t1_stop) > 0:
+        raise ValueError(f"t1_stop must be > 0, got {t1_stop!r}")
+    if int(order) != order or not 1 <= order <= 8:
+        raise ValueError(f"order must be an integer from 1 to 8, got {order!r}")
+    order = int(order)
     tol, _ = _rot_tols(prec, math.exp(spec.log_abs_dE_birth))
     with mp.workdps(40):
         stop = _num(dE_stop if isinstance(dE_stop, str) else float(dE_stop), prec)
-        u0, q0, r0, d = _rot_seed(spec, prec)
-        U, Q, P, R = [u0], [q0], ["u"], [float(r0)]
-        dE = [rotational_dE(spec.label, u0, q0, prec)]
+        if start is None:
+            u0, q0, r0, d = _rot_seed(spec, prec)
+            U, Q, P, R = [u0], [q0], ["u"], [float(r0)]
+        else:
+            start = [(_num(a, prec), _num(b, prec)) for a, b in start]
+            if len(start) < 3:
+                raise ValueError(f"start needs at least three members, got {len(start)}")
+            U, Q = [a for a, _ in start], [b for _, b in start]
+            P = ["u"] * len(U)
+            R = [float(abs(rotational_residual(spec.label, a, b, prec))) for a, b in start]
+            d = _num(math.exp(spec.log_abs_dE_birth), prec)
+        dE = [rotational_dE(spec.label, a, b, prec) for a, b in zip(U, Q)]
+        t_max = 4 * spec.period_birth + 50.0
+        track = t1_jump is not None or t1_stop is not None
+        if track:
+            T1 = [float(_rot_shoot(spec, U[-1], Q[-1], prec, t_max)[0])]
         reason = "steps"
         mode_q = 0
         exp = (lambda v: math.exp(v)) if prec == "float64" else mp.exp
         for _ in range(max_steps):
             if dE[-1] >= stop:
                 reason = "target"
+                break
+            if t1_stop is not None and T1[-1] >= float(t1_stop):
+                reason = "t1"
                 break
             # parameter: u (in the direction it last moved); q only to pass a turning point of u
             if mode_q > 0:
@@ -740,11 +786,20 @@ def follow_rotational(label, dE_stop, precision=None, h=0.3, max_steps=400, h_mi
                 else:
                     pn = Q[-1] + sgn * h * abs(dE[-1])
                     X, Y = Q, U
-                yg, change = _rot_predict(X, Y, pn, par, prec)
+                yg, change = _rot_predict(X, Y, pn, par, prec, order)
                 y, r = _rot_correct(spec, pn, yg, change, par, prec, abs(d))
                 ok = y is not None and (len(X) < 2 or abs(y - yg) <= 0.2 * change + 1e3 * tol * abs(y))
+                if ok and track:
+                    un, qn = (pn, y) if par == "u" else (y, pn)
+                    try:
+                        t1n = float(_rot_shoot(spec, un, qn, prec, t_max)[0])
+                    except (RuntimeError, ValueError):
+                        t1n = float("nan")
+                    ok = t1_jump is None or abs(t1n - T1[-1]) <= float(t1_jump) * T1[-1]
                 if ok:
                     un, qn = (pn, y) if par == "u" else (y, pn)
+                    if track:
+                        T1.append(t1n)
                     U.append(un), Q.append(qn), P.append(par), R.append(float(r))
                     dE.append(rotational_dE(spec.label, un, qn, prec))
                     accepted = True
@@ -1025,7 +1080,7 @@ class BranchProfile:
         ``tr M`` over one period (float64 variational equations; where ``|tr M|`` exceeds ~1e12 only its
         sign and size are meaningful).
     stop : str
-        :attr:`RotationalBranch.stop`.
+        as ``RotationalBranch.stop``.
     """
 
     label: str
@@ -1113,3 +1168,159 @@ def rotational_exit(branch: RotationalBranch, profile: BranchProfile = None, xto
         if abs(b - a) <= xtol * abs(b):
             break
     return float(rotational_dE(spec.label, b, q)), level, bool(np.all(out[k:]))
+
+
+@dataclass(frozen=True)
+class BranchStability:
+    """``tr M`` along a :class:`RotationalBranch` in the branch's own precision, with the float64 values at
+    the same members for comparison (:func:`branch_stability`).
+
+    Attributes
+    ----------
+    label, precision : str
+    dE, u : ndarray
+        ``E - 4`` and amplitude of each member evaluated.
+    t1 : ndarray
+        Time from the start line to ``a2 = pi`` (period = ``t1`` x 2 for IS^r, x 4 for PD^r).
+    trace, closure : ndarray
+        ``tr M`` over one period from the 4x4 variational equations in ``precision`` (rounded to float),
+        and ``max |x(T) - x(0)|`` (mod the lattice) of that integration.
+    trace64, closure64, residual64 : ndarray
+        The same member (``u``, ``q`` rounded to float64) integrated in float64: ``tr M``, closure, and
+        ``|rotational_residual|`` in float64. Where these agree with ``trace`` / ``closure`` float64 is
+        adequate; ``nan`` when not computed.
+    exit_dE, exit_level : float
+        ``E - 4`` where ``trace`` first leaves ``[0, 4]`` (bisection in ``u``, each point re-solved for
+        ``q`` in ``precision``) and the level crossed; ``nan`` if the first member is already outside or
+        no member leaves.
+    stays_out : bool
+        Every member after the exit (or every member, if the first is outside) has ``trace`` outside
+        ``[0, 4]`` (members not evaluated, with ``every > 1``, are not checked).
+    stop : str
+        as ``RotationalBranch.stop``.
+    """
+
+    label: str
+    precision: str
+    dE: np.ndarray
+    u: np.ndarray
+    t1: np.ndarray
+    trace: np.ndarray
+    closure: np.ndarray
+    trace64: np.ndarray
+    closure64: np.ndarray
+    residual64: np.ndarray
+    exit_dE: float
+    exit_level: float
+    stays_out: bool
+    stop: str
+
+    @property
+    def E(self) -> np.ndarray:
+        """Energies ``4 + dE``."""
+        return 4.0 + self.dE
+
+
+def _rot_trace(spec, u, q, prec):
+    """``(t1, tr M, closure)`` of the member ``(u, q)`` in ``prec``."""
+    import mpmath as mp
+
+    from . import flow
+    from .monodromy import _unwind
+
+    with mp.workdps(40):
+        x0 = rotational_state(spec.label, u, q, prec)
+        t1, _ = _rot_shoot(spec, u, q, prec, 4 * spec.period_birth + 50.0)
+        _, xT, tr = flow.monodromy_matrix(x0, spec.factor * t1, prec)
+        x0f = np.array([float(v) for v in x0])
+        return float(t1), float(tr), float(np.max(np.abs(_unwind(xT - x0f))))
+
+
+def branch_stability(branch: RotationalBranch, every=1, compare_float64=True, xtol=1e-10) -> BranchStability:
+    """:class:`BranchStability` of every ``every``-th member of ``branch`` (and the last one).
+
+    ``tr M`` is integrated in the branch's precision (real128 for the families born within 3e-8 of
+    E = 4), so it stays meaningful where float64 gives noise; with ``compare_float64`` the float64 trace,
+    closure and shooting residual of the same members are recorded beside it. The first exit from
+    ``[0, 4]`` is located by bisection in ``u`` to ``xtol`` relative (each point re-solved for ``q`` in
+    the branch's precision from a quadratic predictor on the neighbouring members).
+
+    Notes
+    -----
+    Precision: real128: closure of the full period ~1e-30 near birth, growing like ``|tr M| x 1e-31``; ``tr M``
+    then has ~``30 - log10|tr M|`` correct digits. float64: see :func:`branch_profile`. The exit energy
+    is good to ``xtol`` in ``u`` (~1e-10 relative in ``E - 4``).
+    """
+    if not int(every) >= 1:
+        raise ValueError(f"every must be >= 1, got {every!r}")
+    if not 0 < float(xtol) < 1e-2:
+        raise ValueError(f"xtol must be in (0, 1e-2), got {xtol!r}")
+    spec = _rot_spec(branch.label)
+    prec = branch.precision
+    idx = list(range(0, len(branch.u), int(every)))
+    if idx[-1] != len(branch.u) - 1:
+        idx.append(len(branch.u) - 1)
+    t1s, trs, cls, tr64, cl64, r64 = [], [], [], [], [], []
+    for i in idx:
+        t1, tr, cl = _rot_trace(spec, branch.u[i], branch.q[i], prec)
+        t1s.append(t1), trs.append(tr), cls.append(cl)
+        if compare_float64 and prec != "float64":
+            uf, qf = float(branch.u[i]), float(branch.q[i])
+            try:
+                _, a, b = _rot_trace(spec, uf, qf, "float64")
+                c = abs(float(rotational_residual(spec.label, uf, qf, "float64")))
+            except (RuntimeError, ValueError):
+                a = b = c = float("nan")
+            tr64.append(a), cl64.append(b), r64.append(c)
+        else:
+            tr64.append(tr if prec == "float64" else float("nan")), cl64.append(cl if prec == "float64" else
+                                                                                 float("nan"))
+            r64.append(float(branch.residual[i]) if prec == "float64" else float("nan"))
+    trs = np.array(trs)
+    out = (trs < 0) | (trs > 4)
+    nan = float("nan")
+    if out[0]:
+        exit_dE, level, stays = nan, nan, bool(np.all(out))
+    elif not np.any(out):
+        exit_dE, level, stays = nan, nan, False
+    else:
+        k = int(np.argmax(out))
+        level = 4.0 if trs[k] > 4 else 0.0
+        stays = bool(np.all(out[k:]))
+        ia, fa = idx[k - 1], trs[k - 1]
+        for j in range(idx[k - 1] + 1, idx[k]):          # narrow to consecutive members (every > 1)
+            tj = _rot_trace(spec, branch.u[j], branch.q[j], prec)[1]
+            if tj < 0 or tj > 4:
+                level = 4.0 if tj > 4 else 0.0
+                break
+            ia, fa = j, tj
+        exit_dE = _rot_bisect_exit(spec, branch, ia, ia + 1, fa - level, level, float(xtol))
+    return BranchStability(spec.label, prec, branch.dE[idx], np.array([float(branch.u[i]) for i in idx]),
+                           np.array(t1s), trs, np.array(cls), np.array(tr64), np.array(cl64), np.array(r64),
+                           float(exit_dE), float(level), stays, branch.stop)
+
+
+def _rot_bisect_exit(spec, branch, ia, ib, fa, level, xtol):
+    """Bisection in ``u`` between members ``ia < ib`` for ``tr M = level``; returns ``E - 4`` (float)."""
+    import mpmath as mp
+
+    prec = branch.precision
+    U, Q = list(branch.u[:ia + 1]), list(branch.q[:ia + 1])
+    a, b = branch.u[ia], branch.u[ib]
+    q_b = branch.q[ib]
+    with mp.workdps(40):
+        for _ in range(200):
+            m = (a + b) / 2
+            yg, ch = _rot_predict(U, Q, m, "u", prec)
+            qm, _ = _rot_correct(spec, m, yg, ch, "u", prec, abs(Q[-1]))
+            if qm is None:
+                raise ValueError(f"{spec.label}: no member at u = {float(m)!r} while locating the exit")
+            fm = _rot_trace(spec, m, qm, prec)[1] - level
+            if (fm < 0) == (fa < 0):
+                a, fa = m, fm
+                U.append(m), Q.append(qm)
+            else:
+                b, q_b = m, qm
+            if abs(b - a) <= xtol * abs(b):
+                break
+        return float(rotational_dE(spec.label, b, q_b, prec))

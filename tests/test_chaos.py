@@ -98,3 +98,60 @@ def test_rotational_band():
         ch.rotational_band(["PD^r_5"])                       # needs real128 shooting
     with pytest.raises(ValueError):
         ch.rotational_band(["IS^l_1"])
+
+
+def test_real128_rotational_options_and_bad_input():
+    """New continuation options: polynomial predictor of higher order, resuming from members, bad input."""
+    import mpmath as mp
+    from rotorlib import laws
+    X = [0.1, 0.2, 0.3, 0.4, 0.5]
+    Y = [1 + 2 * x ** 2 - x ** 4 + 3 * x ** 8 for x in X]            # quartic in u^2: order 4 is exact
+    yg, _ = laws._rot_predict(X, Y, 0.7, "u", "float64", 4)
+    assert abs(yg - (1 + 2 * 0.49 - 0.7 ** 4 + 3 * 0.7 ** 8)) < 1e-12
+    yg2, _ = laws._rot_predict(X, Y, 0.7, "u", "float64")            # default quadratic: not exact
+    assert abs(yg2 - yg) > 1e-3
+    with mp.workdps(40):
+        f = (lambda x: 1 + 2 * x ** 2 - x ** 4 + 3 * x ** 8)
+        Xm = [mp.mpf(k) / 10 for k in range(1, 6)]
+        yr, _ = laws._rot_predict(Xm, [f(x) for x in Xm], mp.mpf("0.7"), "u", "real128", 4)
+        assert abs(yr - f(mp.mpf("0.7"))) < mp.mpf("1e-30")
+    with pytest.raises(ValueError):
+        laws.follow_rotational("PD^r_2", 0.1, t1_jump=0.0)
+    with pytest.raises(ValueError):
+        laws.follow_rotational("PD^r_2", 0.1, start=[(0.1, 0.0), (0.2, 0.0)])
+    with pytest.raises(ValueError):
+        laws.follow_rotational("PD^r_2", 0.1, order=0)
+    with pytest.raises(ValueError):
+        laws.follow_rotational("PD^r_2", 0.1, t1_stop=-1.0)
+    with pytest.raises(ValueError):
+        ch.rotational_band_real128(["PD^r_1"])                        # a float64 family
+    with pytest.raises(ValueError):
+        ch.rotational_band_real128(["PD^r_6"], every=0)
+    # resuming a float64 branch from three of its members continues it (same members as the full run)
+    b = laws.follow_rotational("PD^r_4", 1e-3)
+    assert len(b.u) > 5
+    r = laws.follow_rotational("PD^r_4", 1e-3, start=list(zip(b.u[:3], b.q[:3])))
+    assert r.stop == "target" and np.allclose([float(v) for v in r.u[:3]], [float(v) for v in b.u[:3]])
+    assert np.all(r.residual < 1e-6)
+    # t1_stop ends the continuation once t1 has grown (the approach to E = 4.5); the t1 guard keeps t1 continuous
+    t1_0 = laws._rot_spec("PD^r_4").period_birth / 2
+    e = laws.follow_rotational("PD^r_4", 1.7, t1_jump=0.05, t1_stop=t1_0 + 0.5, order=4, max_steps=2000)
+    p = laws.branch_profile(e)
+    assert e.stop == "t1" and p.t1[-1] >= t1_0 + 0.5 and p.t1[-2] < t1_0 + 0.5
+    assert np.all(np.abs(np.diff(p.t1)) <= 0.05 * p.t1[:-1] + 1e-9)
+    with pytest.raises(ValueError):
+        laws.branch_stability(b, every=0)
+
+
+@pytest.mark.slow
+def test_pdr6_real128_exit():
+    """PD^r_6 (born 2.5e-10 above E = 4): real128 tr M enters the window, touches 0 without crossing it and leaves
+    through 4 at E - 4 = 1.55e-9; float64 tr M is round-off there. The exit is where tr M = 4 (re-solved member)."""
+    from rotorlib import laws
+    b = laws.follow_rotational("PD^r_6", 3e-9, precision="real128", h_max=0.3, t1_jump=0.05, order=4)
+    s = laws.branch_stability(b, xtol=1e-7)
+    assert s.trace[0] < 4 and np.all(s.trace >= 0) and s.exit_level == 4.0 and s.stays_out
+    assert abs(s.exit_dE - 1.5513e-9) < 2e-13
+    assert np.all(s.closure < 1e-20) and np.all(np.abs(np.diff(s.t1)) < 1e-3)
+    assert np.nanmax(s.residual64) > 1e-7                              # float64 shooting is at its noise floor
+    assert np.median(np.abs(s.trace64 - s.trace)) > 1.0                # and its tr M is round-off
