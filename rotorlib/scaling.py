@@ -198,7 +198,7 @@ def rounded_verdict(paper: str, ours, digits_ours: int = 12) -> dict:
     if p == o_r:
         v, cause = "agrees", "correctly rounded"
     elif p == o_t:
-        v, cause = "truncated", "ours truncated (not rounded) to the printed digits"
+        v, cause = "truncated", "the paper's value is ours truncated, not rounded"
     elif abs(k) <= 3 or (abs(k) <= 9 and not swap):
         v, cause = f"last digit off by {k:+d}", "lower working precision (or an inaccurate input)"
     elif swap:
