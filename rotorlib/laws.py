@@ -464,11 +464,9 @@ def _rot_precision(spec, precision):
 
 
 def _num(v, precision):
-    import mpmath as mp
+    from .newborn import _mpf
 
-    if precision == "float64":
-        return float(v)
-    return mp.mpf(repr(v)) if isinstance(v, float) else mp.mpf(v)
+    return float(v) if precision == "float64" else _mpf(v)
 
 
 def rotational_state(label, u, q, precision="float64"):
@@ -483,19 +481,18 @@ def rotational_state(label, u, q, precision="float64"):
     """
     import mpmath as mp
 
+    from .newborn import _state_with_p2
+
     spec = _rot_spec(label)
     u, q = _num(u, precision), _num(q, precision)
     if precision == "float64":
         if 4 + q <= 0:
             raise ValueError(f"q = {q!r} <= -4: no a2 motion")
-        p2 = math.sqrt(4 * (4 + q) / 3)
-        return [u, 0.0, 0.0, p2] if spec.start == "a1" else [0.0, 0.0, u, p2]
+        return _state_with_p2(spec, u, math.sqrt(4 * (4 + q) / 3))
     with mp.workdps(40):
         if 4 + q <= 0:
             raise ValueError(f"q = {q} <= -4: no a2 motion")
-        p2 = mp.sqrt(4 * (4 + q) / 3)
-        z = mp.mpf(0)
-        return [u, z, z, p2] if spec.start == "a1" else [z, z, u, p2]
+        return _state_with_p2(spec, u, mp.sqrt(4 * (4 + q) / 3), zero=mp.mpf(0))
 
 
 def rotational_dE(label, u, q, precision="float64"):
@@ -1129,8 +1126,6 @@ def rotational_exit(branch: RotationalBranch, profile: BranchProfile = None, xto
     ``[0, 4]``. ``(nan, nan, True)`` when the first member is already outside (born unstable) and all
     stay outside; ``(nan, nan, False)`` if it never leaves.
     """
-    from . import flow
-
     if branch.precision != "float64":
         raise ValueError("rotational_exit works on float64 branches")
     spec = _rot_spec(branch.label)
@@ -1144,30 +1139,8 @@ def rotational_exit(branch: RotationalBranch, profile: BranchProfile = None, xto
     if k is None:
         return float("nan"), float("nan"), False
     level = 4.0 if prof.trace[k] > 4 else 0.0
-    U, Q = list(branch.u[:k]), list(branch.q[:k])
-
-    def g(u):
-        yg, ch = _rot_predict(U, Q, u, "u", "float64")
-        q, _ = _rot_correct(spec, u, yg, ch, "u", "float64", abs(Q[-1]))
-        if q is None:
-            raise ValueError(f"{spec.label}: no member at u = {u!r}")
-        x0 = rotational_state(spec.label, u, q)
-        t1, _ = _rot_shoot(spec, u, q, "float64", 4 * spec.period_birth + 50.0)
-        return flow.monodromy_matrix(x0, spec.factor * t1, "float64")[2] - level, q
-
-    a, b = branch.u[k - 1], branch.u[k]
-    fa = prof.trace[k - 1] - level
-    q = branch.q[k]
-    for _ in range(80):
-        m = 0.5 * (a + b)
-        fm, qm = g(m)
-        if (fm < 0) == (fa < 0):
-            a, fa = m, fm
-        else:
-            b, q = m, qm
-        if abs(b - a) <= xtol * abs(b):
-            break
-    return float(rotational_dE(spec.label, b, q)), level, bool(np.all(out[k:]))
+    dE = _rot_bisect_exit(spec, branch, k - 1, k, prof.trace[k - 1] - level, level, float(xtol))
+    return dE, level, bool(np.all(out[k:]))
 
 
 @dataclass(frozen=True)

@@ -257,6 +257,11 @@ def _mpf(v):
     return mp.mpf(v)
 
 
+def _state_with_p2(spec: FamilySpec, u, p2, zero=0.0):
+    """``[a1, a2, p1, p2]`` on the family's start line: ``a1 = u`` or ``p1 = u`` (``spec.start``), given ``p2``."""
+    return [u, zero, zero, p2] if spec.start == "a1" else [zero, zero, u, p2]
+
+
 def start_state(spec: FamilySpec, u, E, precision="float64"):
     """Initial state on the starting symmetry line with unknown ``u`` at energy ``E``.
 
@@ -738,21 +743,19 @@ def paper_search(label, u, E_guess, width=None, xatol=1e-16, maxiter=500) -> Pap
         raise ValueError(f"the bracket half-width must be > 0, got {w!r} (E_guess = E_n?)")
     neval = [0]
 
-    def state(p2):
-        return [u, 0.0, 0.0, p2] if spec.start == "a1" else [0.0, 0.0, u, p2]
-
     def d(p2):
         neval[0] += 1
-        return periodicity_defect(spec.label, state(p2))[0]
+        return periodicity_defect(spec.label, _state_with_p2(spec, u, p2))[0]
 
     lo, hi = start_state(spec, u, E_guess - w)[3], start_state(spec, u, E_guess + w)[3]
     res = minimize_scalar(d, bounds=(lo, hi), method="bounded", options={"xatol": xatol, "maxiter": maxiter})
     p2 = float(res.x)
     from .system import energy_alpha
 
-    dmin, tstar = periodicity_defect(spec.label, state(p2))
+    x0 = _state_with_p2(spec, u, p2)
+    dmin, tstar = periodicity_defect(spec.label, x0)
     at_bound = min(p2 - lo, hi - p2) < 1e-3 * (hi - lo) + 3 * (math.sqrt(np.finfo(float).eps) * abs(p2) + xatol)
-    return PaperSearchResult(spec.label, u, p2, float(energy_alpha(np.array(state(p2)))), dmin, neval[0], tstar,
+    return PaperSearchResult(spec.label, u, p2, float(energy_alpha(np.array(x0))), dmin, neval[0], tstar,
                              bool(at_bound))
 
 
@@ -840,7 +843,7 @@ def compare_searches(label, u=None, xatol=1e-16, tol=None) -> SearchComparison:
     t1 = time.perf_counter()
     E_s, it = birth_member(spec, u, tol=tol)
     t2 = time.perf_counter()
-    x_p = [u, 0.0, 0.0, ps.p2] if spec.start == "a1" else [0.0, 0.0, u, ps.p2]
+    x_p = _state_with_p2(spec, u, ps.p2)
     x_s = start_state(spec, u, float(E_s))
     d_p = periodicity_defect(label, x_p, "real128")[0]
     d_s = periodicity_defect(label, x_s, "real128")[0]
@@ -958,7 +961,7 @@ def defect_landscape(label, u=None, delta=None) -> DefectLandscape:
     dd, rr = [], []
     for dl in delta:
         p2 = p2s * (1 + dl)
-        x0 = [u, 0.0, 0.0, p2] if spec.start == "a1" else [0.0, 0.0, u, p2]
+        x0 = _state_with_p2(spec, u, p2)
         dd.append(periodicity_defect(label, x0)[0])
         rr.append(abs(shoot_residual(spec, u, float(energy_alpha(np.array(x0))))))
     return DefectLandscape(spec.label, u, p2s, delta, np.array(dd), np.array(rr))
