@@ -18,25 +18,24 @@ Daughter family ``PD^b``
     * the paper's (:func:`daughter_by_er_minimisation`): start at
       ``(b1, b2, q1, q2) = (0, delta, q1, 0)``, integrate until ``b1 = 8 pi``
       (two breather periods) and minimise ``Er(q1)``;
-    * symmetric shooting (:func:`daughter_by_shooting`). ``V(b1, b2)`` is even in
+    * the engine's symmetric shooting (:data:`DAUGHTER`). ``V(b1, b2)`` is even in
       ``b1`` and in ``b2`` separately, so ``(b1, b2, q1, q2, t) ->
       (-b1, b2, q1, -q2, -t)`` and ``(b1, b2, q1, q2, t) -> (4 pi - b1, -b2, q1, q2, -t)``
       are reversing symmetries with fixed sets ``{b1 = 0, q2 = 0}`` and
       ``{b1 = 2 pi, b2 = 0}``. An orbit starting on the first set that reaches the
       second when ``b1`` first equals ``2 pi`` is periodic, with period four times
       that time, and ``b2`` changes sign after half a period (multiplier -1): the
-      period-doubled daughter. One unknown (``delta`` at fixed ``E``, or ``E`` at
-      fixed ``delta``), a quarter period of integration.
+      period-doubled daughter. In pendulum variables ``b1 = a1 + a2``,
+      ``b2 = 3 a1 - a2``; the parent R (``delta = 0``) is divided out.
 
     The family is continued in ``delta`` (:func:`daughter_family`); it exists for
-    ``E < E_PD`` (a backward fork-like bifurcation). Its monodromy comes from the
-    4x4 variational equations over the full period (heyoka float64, tolerance
-    ~2e-16).
+    ``E < E_PD`` (a backward fork-like bifurcation).
 
 Precision: the transition energy to ~1e-15 in float64 and to >= 20 digits with
-``digits=30``; daughter orbits close to ~1e-12 over their period and ``tr M`` is
-accurate to ~1e-9 (variational equations over one period of a mildly unstable
-orbit). ``tests/test_breathers.py`` checks both against independent integrators.
+``digits=30``; daughter orbits (float64) close to ~1e-12 over their period and ``tr M``
+is accurate to ~1e-9; :func:`breather_daughter` with ``digits=D`` re-solves the member in
+the tier that delivers ``D`` digits. ``tests/test_breathers.py`` checks both against
+independent integrators.
 """
 from __future__ import annotations
 
@@ -47,16 +46,20 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy import optimize
 
+from .continuation import ContinuationOptions, Natural, continuation, switch
+from .flow import Section, flow, sample, to_section
 from .monodromy import monodromy
 from .orbits import breather
-from .periodic import PeriodicOrbit
-from .system import beta_to_alpha, energy_beta, potential_beta
+from .periodic import PeriodicOrbit, orbit_from_state
+from .precision import FLOAT64, tier
+from .shooting import ShootingProblem, StartSet, solve
+from .system import alpha_to_beta, beta_to_alpha, potential_beta
 
 __all__ = [
-    "BreatherTransition", "breather_transitions", "pd_transition", "pd_eigenstructure", "PDEigenstructure",
-    "breather_trace", "daughter_by_shooting", "daughter_by_er_minimisation", "daughter_family",
-    "DaughterFamily", "breather_daughter", "DAUGHTER_E_MIN", "daughter_quarter_residual",
-    "er_function", "beta_monodromy", "daughter_trajectory", "half_map_trace", "DEFAULT_DELTAS",
+    "BreatherTransition", "breather_transitions", "pd_transition", "pd_eigenstructure",
+    "PDEigenstructure", "breather_trace", "DAUGHTER", "daughter_orbit",
+    "daughter_by_er_minimisation", "daughter_family", "DaughterFamily", "breather_daughter",
+    "DAUGHTER_E_MIN", "er_function", "daughter_trajectory", "half_map_trace", "DEFAULT_DELTAS",
 ]
 
 TWO_PI = 2.0 * math.pi
@@ -233,121 +236,50 @@ def pd_eigenstructure(E=None, tol=1e-8) -> PDEigenstructure:
 
 
 # ----------------------------------------------------------------------------------------------
-# integrators (heyoka, breather variables)
-# ----------------------------------------------------------------------------------------------
-
-def _beta_sys(hy):
-    b1, b2, q1, q2 = hy.make_vars("b1", "b2", "q1", "q2")
-    sp, sm = hy.sin(0.5 * (b1 + b2)), hy.sin(0.5 * (b1 - b2))
-    return [(b1, 2.0 * q1), (b2, 6.0 * q2), (q1, -0.5 * (sp + sm + 2.0 * hy.sin(b1))), (q2, -0.5 * (sp - sm))], b1
-
-
-@functools.lru_cache(maxsize=None)
-def _event_integrator():
-    """Nonlinear flow with a terminal event at ``b1 = par[0]`` (upward crossing)."""
-    import heyoka as hy
-
-    sys, b1 = _beta_sys(hy)
-    ev = hy.t_event(b1 - hy.par[0], direction=hy.event_direction.positive)
-    return hy.taylor_adaptive(sys, [0.0] * 4, pars=[0.0], t_events=[ev], compact_mode=True)
-
-
-@functools.lru_cache(maxsize=None)
-def _var_integrator():
-    import heyoka as hy
-
-    sys, _ = _beta_sys(hy)
-    vsys = hy.var_ode_sys(sys, hy.var_args.vars, order=1)
-    return hy.taylor_adaptive(vsys, [0.0] * 20, compact_mode=True)
-
-
-def _flow_to_b1(x0, target, t_max=100.0):
-    """Integrate from ``x0 = [b1, b2, q1, q2]`` until ``b1 = target``; returns ``(t, state)``."""
-    import heyoka as hy
-
-    ta = _event_integrator()
-    ta.time = 0.0
-    ta.state[:] = x0
-    ta.pars[0] = target
-    res = ta.propagate_until(t_max)
-    if int(res[0]) < -1000:             # a terminal event gives a small outcome code, limits huge ones
-        raise ValueError(f"the orbit from {list(x0)} does not reach b1 = {target:.6g} (not rotational)")
-    return float(ta.time), ta.state.copy()
-
-
-def beta_monodromy(x0, period):
-    """Monodromy in breather variables ``[b1, b2, q1, q2]`` and the final state, by heyoka's
-    variational equations over ``period``."""
-    ta = _var_integrator()
-    ta.time = 0.0
-    ta.state[:] = np.concatenate([np.asarray(x0, float), np.eye(4).ravel()])
-    ta.propagate_until(float(period))
-    st = ta.state.copy()
-    return st[4:].reshape(4, 4), st[:4]
-
-
-def _beta_to_alpha_matrix():
-    return np.array([beta_to_alpha(e) for e in np.eye(4)]).T
-
-
-# ----------------------------------------------------------------------------------------------
 # the daughter family
 # ----------------------------------------------------------------------------------------------
 
-def _q1(E, delta):
-    k = E - potential_beta(0.0, delta)
-    if k <= 0:
-        raise ValueError(f"E = {E!r} is below V(0, delta = {delta!r})")
-    return math.sqrt(k)
+#: The daughter ``PD^b`` as a shooting problem: start ``(b1, b2, q1, q2) = (0, delta, q1, 0)``
+#: (``a1 = delta/4``, ``a2 = -delta/4``, ``p1 = p2 = q1``), section ``b1 = a1 + a2 = 2 pi``,
+#: condition ``b2 = 3 a1 - a2 = 0``, period ``4 t1``, closing on ``(a1, a2) + (2 pi, 6 pi)``.
+DAUGHTER = ShootingProblem("PD^b", StartSet("b1 = 0, q2 = 0", a=(0.25, -0.25), b=(1.0, 1.0)),
+                           Section((1, 1, 0, 0), 2.0, 1), Section((3, -1, 0, 0)), 1, 4,
+                           (2.0, 6.0), trivial=0.0, t_max=100.0,
+                           abort=Section((0, 0, 0.5, 1.5), 0.0, -1))     # b1 turning back
 
 
-def daughter_quarter_residual(E, delta):
-    """``(b2, t)`` when ``b1`` first reaches ``2 pi`` from ``(0, delta, q1(E, delta), 0)``."""
-    t, x = _flow_to_b1([0.0, delta, _q1(E, delta), 0.0], TWO_PI)
-    return x[1], t
+def _beta(x):
+    return alpha_to_beta(np.array([float(v) for v in x]))
 
 
-def er_function(q1_0, delta):
-    """The paper's ``Er(pi_1(0))``: integrate ``(0, delta, q1_0, 0)`` until ``b1 = 8 pi``."""
-    _, x = _flow_to_b1([0.0, delta, q1_0, 0.0], 4 * TWO_PI)
-    return math.sqrt((x[1] - delta) ** 2 + (x[2] - q1_0) ** 2 + x[3] ** 2)
+def daughter_orbit(E, delta, t=FLOAT64, method="symmetric shooting (quarter period)",
+                   digits=None) -> PeriodicOrbit:
+    """The daughter orbit of the member ``(delta, E)`` (:data:`DAUGHTER`), integrated in tier
+    ``t``: monodromy over the full period; ``alpha1_max = alpha2_max = max|b2| / 4`` (the
+    largest excursion of ``a1`` and ``a2`` from the parent's line ``a2 = 3 a1`` at fixed
+    ``b1``); ``extra`` has ``delta_b2``, ``q1_0``, ``quarter_period``, ``beta2_max`` and
+    ``symmetric_residual`` (``|b2|`` at ``b1 = 2 pi``)."""
+    with t.context():
+        x0 = DAUGHTER.state(delta, E, t)
+        tq, x1 = to_section(x0, DAUGHTER.section, t, t_max=DAUGHTER.t_max)
+        return _finish(x0, 4 * tq, E, tq, x1, t, method, digits=digits)
 
 
-def _finish(E, delta, method, extra=None, q1_0=None, period=None) -> PeriodicOrbit:
-    """Build the PeriodicOrbit from ``(0, delta, q1, 0)``.
-
-    By default the orbit is taken to be the symmetric daughter: period = 4 x the time to
-    ``b1 = 2 pi``. With ``period`` given (the Er search), that period is used as is.
-    The monodromy is integrated over the full period; ``residual`` is the actual closure.
-    """
-    q1 = _q1(E, delta) if q1_0 is None else float(q1_0)
-    x0 = np.array([0.0, delta, q1, 0.0])
-    tq, xq = _flow_to_b1(x0, TWO_PI)
-    T = 4.0 * tq if period is None else float(period)
-    Mb, xT = beta_monodromy(x0, T)
-    dx = xT - x0 - np.array([4 * TWO_PI, 0.0, 0.0, 0.0])
-    Ta = _beta_to_alpha_matrix()
-    Ma = Ta @ Mb @ np.linalg.inv(Ta)
-    ts = np.linspace(0.0, T, 401)
-    traj = _sample(x0, ts)
+def _finish(x0, T, E, tq, xq, t, method, extra=None, digits=None):
+    o = orbit_from_state("PD^b", x0, T, t, DAUGHTER.lattice, E, digits=digits)
+    traj = _beta_traj(x0, float(T), 401)
     b2max = float(np.max(np.abs(traj[:, 1])))
-    ex = {"method": method, "delta_b2": float(delta), "q1_0": float(x0[2]), "quarter_period": tq,
-          "beta2_max": b2max, "symmetric_residual": abs(float(xq[1]))}
-    ex.update(extra or {})
-    E_true = float(energy_beta(x0))
-    return PeriodicOrbit("PD^b", float(E), T, beta_to_alpha(x0), Ma, float(np.trace(Mb)),
-                         float(np.max(np.abs(dx))), abs(E_true - E), "float64",
-                         b2max / 4.0, b2max / 4.0, math.log(abs(E - 4.0)), ex)
+    ex = dict(o.extra, method=method, delta_b2=float(_beta(x0)[1]), q1_0=float(x0[2]),
+              quarter_period=float(tq), beta2_max=b2max,
+              symmetric_residual=abs(float(_beta(xq)[1])), **(extra or {}))
+    from dataclasses import replace
+
+    return replace(o, alpha1_max=b2max / 4, alpha2_max=b2max / 4, extra=ex)
 
 
-def _sample(x0, ts):
-    """States ``[b1, b2, q1, q2]`` at times ``ts`` (heyoka, float64)."""
-    ta = _event_integrator()
-    ta.time = 0.0
-    ta.state[:] = x0
-    ta.pars[0] = 1e9                       # no event
-    out = ta.propagate_grid(np.asarray(ts, float))
-    return np.asarray(out[-1])
+def _beta_traj(x0, T, n):
+    st, _ = sample([float(v) for v in x0], T, n)
+    return alpha_to_beta(st)
 
 
 @dataclass(frozen=True)
@@ -361,14 +293,16 @@ class DaughterFamily:
     E_PD : float
         The parent's transition energy.
     slope_ratio : float
-        ``tr M_new'(E) / tr M_pend'(E)`` at the bifurcation, from the continuation:
-        ``d tr M / d(delta^2)`` divided by ``dE / d(delta^2)`` (polynomial fit in
-        ``delta^2`` of the points with ``delta <= delta_fit``), over the parent's slope.
+        ``tr M_new'(E) / tr M_R'(E)`` at the bifurcation: ``d tr M / d(delta^2)`` over
+        ``dE / d(delta^2)`` (quadratic fits in ``delta^2`` of the points with
+        ``delta <= delta_fit``), over the parent's slope.
     parent_slope : float
     E_unstable : float
         Energy below which the family is unstable (``tr M`` leaves ``(0, 4)``).
     unstable_crossing : str
         ``tr M = 0`` or ``tr M = 4``: which boundary is crossed there.
+    fit : dict
+    branch : rotorlib.continuation.Branch
     """
 
     delta: np.ndarray
@@ -381,170 +315,112 @@ class DaughterFamily:
     E_unstable: float
     unstable_crossing: str
     fit: dict = field(default_factory=dict)
+    branch: object = None
 
 
-def _E_at_delta(delta, E_guess, E_PD, step=None):
-    """The daughter energy at fixed ``delta`` (root in E of the quarter-period residual).
-
-    Brackets the root around ``E_guess`` by widening ``[E_guess - s, E_guess + s]``
-    (never above ``E_PD``), then ``brentq`` (``xtol`` 1e-14).
-    """
-    f = lambda E: daughter_quarter_residual(E, delta)[0]        # noqa: E731
-    s = step if step is not None else max(1e-4, 0.02 * (E_PD - E_guess))
-    for _ in range(30):
-        lo, hi = E_guess - s, min(E_guess + s, E_PD + 1e-9)
-        try:
-            flo, fhi = f(lo), f(hi)
-        except ValueError:                 # too low an energy: the orbit no longer rotates
-            s *= 0.5
-            continue
-        if flo * fhi <= 0:
-            return optimize.brentq(f, lo, hi, xtol=1e-14, rtol=8.9e-16)
-        s *= 2.0
-    raise RuntimeError(f"no daughter orbit bracketed at delta = {delta}")
-
-
-def daughter_family(deltas=None, E_PD=None, delta_fit=0.12):
-    """Continue the daughter family in ``delta = b2(0)`` from the bifurcation.
+def daughter_family(deltas=None, E_PD=None, delta_fit=0.12) -> DaughterFamily:
+    """Continue the daughter family in ``delta = b2(0)`` from the bifurcation (the engine's
+    natural continuation, predictor linear in ``delta^2`` from the parent at ``(0, E_PD)``,
+    with ``tr M`` of every member and the exit from the stable window located).
 
     Parameters
     ----------
     deltas : array_like, optional
-        Increasing positive amplitudes (default: 0.02 ... 5.66, reaching E ~ 5.32).
+        Increasing positive amplitudes (default: 0.02 ... 5.69, reaching E ~ 5.29).
     E_PD : float, optional
         Parent transition energy (computed when omitted).
     delta_fit : float
         Points with ``delta <= delta_fit`` enter the slope fit.
-
-    Returns
-    -------
-    DaughterFamily
     """
-    if E_PD is None:
-        E_PD = pd_transition().E
-    if deltas is None:
-        deltas = DEFAULT_DELTAS
-    deltas = np.asarray(deltas, float)
-    Es, Ts, trs = [], [], []
-    E_guess, step = E_PD - 1e-4, None
-    for k, d in enumerate(deltas):
-        E = _E_at_delta(d, E_guess, E_PD, step)
-        orb = _finish(E, d, "shooting")
-        Es.append(E)
-        Ts.append(orb.period)
-        trs.append(orb.trace)
-        if k + 1 < len(deltas):            # secant predictor in delta^2 for the next amplitude
-            if k == 0:
-                E_guess = E_PD + (E - E_PD) * (deltas[1] / d) ** 2
-            else:
-                s0, s1, s2 = deltas[k - 1] ** 2, d * d, deltas[k + 1] ** 2
-                E_guess = E + (E - Es[-2]) * (s2 - s1) / (s1 - s0)
-            step = max(1e-6, 0.1 * abs(E_guess - E))
-    Es, Ts, trs = map(np.array, (Es, Ts, trs))
+    E_PD = pd_transition().E if E_PD is None else float(E_PD)
+    deltas = np.asarray(DEFAULT_DELTAS if deltas is None else deltas, float)
+    first, _ = switch(DAUGHTER, float(deltas[0]), E_PD, -1e-4)
+    alg = Natural("u", tuple(float(d) for d in deltas[1:]), order=1, origin=0.0,
+                  origin_other=E_PD)
+    b = continuation(DAUGHTER, alg, ContinuationOptions(traces=True, folds=False), [first])
+    Es, trs, per = b.E, b.trace, b.period
     sel = deltas <= delta_fit
     s = deltas[sel] ** 2
-    pE = np.polyfit(s, Es[sel], 2)
-    pT = np.polyfit(s, trs[sel], 2)
+    pE, pT = np.polyfit(s, Es[sel], 2), np.polyfit(s, trs[sel], 2)
     parent = _trace_slope(E_PD)
-    ratio = (pT[-2] / pE[-2]) / parent
-    # leaving the stable window (0, 4)
     E_unst, which = float("nan"), "none"
-    for lev, name in ((0.0, "tr M = 0"), (4.0, "tr M = 4")):
-        g = trs - lev
-        idx = np.nonzero((np.sign(g[:-1]) != np.sign(g[1:])) & (deltas[:-1] > 0.05))[0]
-        if len(idx):
-            i = idx[0]
-
-            def h(d, lev=lev):
-                E = _E_at_delta(d, Es[i], E_PD)
-                return _finish(E, d, "shooting").trace - lev
-            dc = optimize.brentq(h, deltas[i], deltas[i + 1], xtol=1e-10)
-            Ec = _E_at_delta(dc, Es[i], E_PD)
-            if math.isnan(E_unst) or Ec > E_unst:
-                E_unst, which = Ec, name
-    return DaughterFamily(deltas, Es, Ts, trs, E_PD, float(ratio), float(parent), E_unst, which,
-                          {"E_fit": pE, "trace_fit": pT, "E_at_birth": pE[-1], "trace_at_birth": pT[-1]})
-
-
-def daughter_by_shooting(E, delta_bracket=None) -> PeriodicOrbit:
-    """The daughter orbit at energy ``E`` by symmetric quarter-period shooting (unknown: ``delta``)."""
-    if delta_bracket is None:
-        raise ValueError("give a bracket (delta_lo, delta_hi) for delta")
-    f = lambda d: daughter_quarter_residual(E, d)[0]            # noqa: E731
-    d = optimize.brentq(f, *delta_bracket, xtol=1e-15, rtol=8.9e-16)
-    return _finish(E, d, "symmetric shooting (quarter period)")
+    for p in b.special_points:                     # the first exit from the window, E falling
+        if p.located and float(b.members[p.index].u) > 0.05 and math.isnan(E_unst):
+            E_unst, which = float(p.member.E), "tr M = 4" if p.kind == "IS" else "tr M = 0"
+    return DaughterFamily(deltas, Es, per, trs, E_PD, float((pT[-2] / pE[-2]) / parent),
+                          float(parent), E_unst, which,
+                          {"E_fit": pE, "trace_fit": pT, "E_at_birth": pE[-1],
+                           "trace_at_birth": pT[-1]}, b)
 
 
 def daughter_by_er_minimisation(delta, q1_guess, width=0.05) -> PeriodicOrbit:
-    """The paper's search: fix ``b2(0) = delta``, minimise ``Er(pi1(0))`` over two breather periods.
-
-    Brent's method from the bracket ``(q1_guess - width, q1_guess, q1_guess + width)``;
-    ``pi1(0)`` to ~1e-8. The returned orbit has the energy of ``(0, delta, pi1(0), 0)``,
-    the period ``t*`` (time to ``b1 = 8 pi``) and ``extra['Er']``; nothing assumes the
-    symmetry, and ``extra['symmetric_residual'] = |b2|`` at ``b1 = 2 pi`` tells whether the
-    minimiser found the symmetric daughter (~0) or another orbit through the same line.
-    """
-    res = optimize.minimize_scalar(er_function, bracket=(q1_guess - width, q1_guess, q1_guess + width),
+    """The paper's search: fix ``b2(0) = delta``, minimise ``Er(pi1(0))`` over two breather
+    periods (Brent from the bracket ``q1_guess -+ width``; ``pi1(0)`` to ~1e-8). The orbit
+    returned has the energy of ``(0, delta, pi1(0), 0)``, the period ``t*`` (time to
+    ``b1 = 8 pi``) and ``extra['Er']``; nothing assumes the symmetry, and
+    ``extra['symmetric_residual'] = |b2|`` at ``b1 = 2 pi`` tells whether the minimiser
+    found the symmetric daughter (~0) or another orbit through the same line."""
+    res = optimize.minimize_scalar(er_function, bracket=(q1_guess - width, q1_guess,
+                                                         q1_guess + width),
                                    args=(delta,), tol=1e-12)
     q1 = float(res.x)
-    E = q1 * q1 + float(potential_beta(0.0, delta))
-    t_star, _ = _flow_to_b1([0.0, delta, q1, 0.0], 4 * TWO_PI)
-    return _finish(E, delta, "Er minimisation (paper)", {"Er": float(res.fun)}, q1_0=q1, period=t_star)
+    x0 = list(beta_to_alpha(np.array([0.0, delta, q1, 0.0])))
+    t_star, _ = to_section(x0, Section((1, 1, 0, 0), 8.0, 1), t_max=100.0)
+    tq, xq = to_section(x0, DAUGHTER.section, t_max=100.0)
+    return _finish(x0, t_star, q1 * q1 + float(potential_beta(0.0, delta)), tq, xq, FLOAT64,
+                   "Er minimisation (paper)", {"Er": float(res.fun)})
+
+
+def er_function(q1_0, delta):
+    """The paper's ``Er(pi_1(0))``: integrate ``(0, delta, q1_0, 0)`` until ``b1 = 8 pi``."""
+    x0 = list(beta_to_alpha(np.array([0.0, delta, q1_0, 0.0])))
+    _, x = to_section(x0, Section((1, 1, 0, 0), 8.0, 1), t_max=100.0)
+    b = _beta(x)
+    return math.sqrt((b[1] - delta) ** 2 + (b[2] - q1_0) ** 2 + b[3] ** 2)
 
 
 @functools.lru_cache(maxsize=4)
 def _branch_table():
-    fam = daughter_family()
-    return fam
+    return daughter_family()
 
 
 def breather_daughter(E, digits=None) -> PeriodicOrbit:
     """The orbit of the daughter family ``PD^b`` at energy ``E`` (the ``orbit PD^b`` command).
 
-    Parameters
-    ----------
-    E : float
-        ``DAUGHTER_E_MIN <= E < E_PD`` (~8.969).
-    digits : int, optional
-        Only float64 (``None`` or <= 15) is implemented.
-
-    Returns
-    -------
-    PeriodicOrbit
-        Label ``PD^b``, state ``[a1, a2, p1, p2]`` at ``b1 = 0`` (``b2 = delta``,
-        ``q2 = 0``), the doubled period, the 4x4 monodromy in alpha order and its
-        trace. ``alpha1_max = alpha2_max = max|b2|/4``: the largest excursion of
-        ``a1`` and of ``a2`` away from the parent breather's line ``a2 = 3 a1`` at
-        fixed ``b1`` (``a1 = (b1 + b2)/4``, ``a2 = (3 b1 - b2)/4``); ``extra`` has
-        ``beta2_max``, ``delta_b2``, ``q1_0``.
+    ``delta`` is bracketed by the members of :func:`daughter_family` and solved at ``E`` by
+    the secant (float64), then re-solved in the tier that delivers ``digits`` (extended:
+    ``state0_str``, ``period_str``, ``trace_str`` with that many digits).
 
     Raises
     ------
     ValueError
-        Outside the family's existence range, or for ``digits > 15``.
+        Outside the family's range ``DAUGHTER_E_MIN <= E < E_PD``.
     """
     from .energy import as_float
 
-    E = as_float(E, "E")
-    if digits is not None and digits > 15:
-        raise ValueError("breather_daughter: only float64 (digits <= 15) is implemented")
+    Ef = as_float(E, "E")
     fam = _branch_table()
-    if not (DAUGHTER_E_MIN <= E < fam.E_PD):
-        raise ValueError(f"the breather daughter family PD^b exists for E < E_PD = {fam.E_PD:.12f} "
-                         f"(computed for {DAUGHTER_E_MIN} <= E < {fam.E_PD:.12f}); got E = {E!r}")
-    # E decreases monotonically along the branch: bracket delta from the table
-    i = int(np.searchsorted(-fam.E, -E))          # fam.E[i - 1] > E >= fam.E[i]
+    if not (DAUGHTER_E_MIN <= Ef < fam.E_PD):
+        raise ValueError(f"the breather daughter family PD^b exists for E < E_PD = "
+                         f"{fam.E_PD:.12f} (computed for {DAUGHTER_E_MIN} <= E < "
+                         f"{fam.E_PD:.12f}); got E = {E!r}")
+    i = int(np.searchsorted(-fam.E, -Ef))          # fam.E[i - 1] > E >= fam.E[i]
     if i >= len(fam.E):
         raise ValueError(f"E = {E!r} is below the computed branch (E >= {fam.E[-1]:.6f})")
-    lo = 1e-3 if i == 0 else fam.delta[i - 1]
-    hi = fam.delta[i]
-    return daughter_by_shooting(E, (0.999 * lo, 1.001 * hi))
+    lo, hi = (1e-3 if i == 0 else fam.delta[i - 1]), fam.delta[i]
+    Eh = fam.E[i - 1] if i else fam.E_PD
+    guess = lo + (hi - lo) * (Eh - Ef) / (Eh - fam.E[i])
+    d = solve(DAUGHTER, guess, guess * (1 + 1e-6), E=Ef, tol=1e-15).x
+    t = FLOAT64 if digits is None or digits <= 15 else tier(int(digits))
+    if t.extended:
+        with t.context():
+            d = solve(DAUGHTER, t.num(d), t.num(d) * (1 + t.num("1e-12")), E=str(E), t=t).x
+    return daughter_orbit(str(E) if t.extended else Ef, d, t, digits=digits)
 
 
 def daughter_trajectory(orbit: PeriodicOrbit, n=801) -> np.ndarray:
-    """States ``[b1, b2, q1, q2]`` at ``n`` equally spaced times over one period of a daughter orbit."""
-    x0 = np.array([0.0, orbit.extra["delta_b2"], orbit.extra["q1_0"], 0.0])
-    return _sample(x0, np.linspace(0.0, orbit.period, int(n)))
+    """States ``[b1, b2, q1, q2]`` at ``n`` equally spaced times over one period of a daughter."""
+    return _beta_traj(orbit.state0, orbit.period, int(n))
 
 
 def half_map_trace(orbit: PeriodicOrbit) -> float:
@@ -554,6 +430,7 @@ def half_map_trace(orbit: PeriodicOrbit) -> float:
     symplectic with eigenvalues ``1, 1, mu, 1/mu``, hence ``tr M = 2 + mu^2 + mu^-2 =
     (tr N - 2)^2``: ``tr M`` of this family can touch 0 but never go below it.
     """
-    x0 = np.array([0.0, orbit.extra["delta_b2"], orbit.extra["q1_0"], 0.0])
-    Phi, _ = beta_monodromy(x0, 0.5 * orbit.period)
-    return float(np.trace(np.diag([1.0, -1.0, 1.0, -1.0]) @ Phi))
+    _, Phi = flow(orbit.state0, 0.5 * orbit.period, variational=True)
+    A = np.array([alpha_to_beta(e) for e in np.eye(4)]).T        # alpha state -> beta state
+    Pb = A @ np.array(Phi, float) @ np.linalg.inv(A)
+    return float(np.trace(np.diag([1.0, -1.0, 1.0, -1.0]) @ Pb))

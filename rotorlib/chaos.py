@@ -42,9 +42,8 @@ from .parallel import pmap
 from .system import potential_alpha, potential_phi
 
 __all__ = ["PoincareSection", "poincare_section", "sample_energy_shell", "ftle", "ChaoticFraction",
-           "chaotic_fraction", "section_initial_conditions", "AmplitudeBranch", "newborn_amplitude_branch",
-           "RotationalBandResult", "rotational_band",
-           "DeepRotationalResult", "rotational_band_real128"]
+           "chaotic_fraction", "section_initial_conditions", "BAND", "NOISY_BIRTH",
+           "amplitude_branch", "FamilyInBand", "band_families"]
 
 
 def _check_E(E):
@@ -280,205 +279,46 @@ def chaotic_fraction(energies, N=200, T=200.0, threshold=0.05, renorm=5.0, seed=
 
 
 # ----------------------------------------------------------------------------------------------
-# newborn pendulum families followed in their amplitude (past folds in E)
+# newborn families followed towards the band (the engine, rotorlib.continuation)
 # ----------------------------------------------------------------------------------------------
-
-@dataclass(frozen=True)
-class AmplitudeBranch:
-    """A newborn pendulum family followed in its shooting amplitude ``u``.
-
-    Attributes
-    ----------
-    label : str
-    u, E, trace, closure : ndarray
-        Amplitude, energy, ``tr M`` (4x4 variational equations, heyoka float64) and
-        closure of each member (``nan`` where no member was found).
-    exit_E, exit_u : float
-        Where ``tr M`` first leaves ``[0, 4]`` along the branch (``nan`` if it does not).
-    exit_level : float
-        0 or 4: which edge is crossed there.
-    """
-
-    label: str
-    u: np.ndarray
-    E: np.ndarray
-    trace: np.ndarray
-    closure: np.ndarray
-    exit_E: float
-    exit_u: float
-    exit_level: float
-
-
-def _member_at_u(nbm, spec, u, E_near, window):
-    from scipy.optimize import brentq
-
-    def f(x):
-        return nbm.shoot_residual(spec, u, x)
-
-    Es = np.linspace(E_near - window, E_near + window, 13)
-    vals = []
-    for x in Es:
-        try:
-            vals.append(f(x))
-        except (ValueError, RuntimeError):
-            vals.append(np.nan)
-    roots = []
-    for i in range(12):
-        if np.isfinite(vals[i]) and np.isfinite(vals[i + 1]) and vals[i] * vals[i + 1] < 0:
-            try:
-                roots.append(brentq(f, Es[i], Es[i + 1], xtol=1e-13))
-            except (ValueError, RuntimeError):      # the section is not reached inside the bracket
-                pass
-    if not roots:
-        return None
-    return min(roots, key=lambda r: abs(r - E_near))
-
-
-def _member_trace(nbm, spec, u, E):
-    from .monodromy import variational_monodromy
-
-    t1, _ = nbm.shoot(spec, u, E)
-    x0 = np.array(nbm.start_state(spec, u, E), float)
-    v = variational_monodromy(x0, spec.factor * float(t1), method="heyoka")
-    return v.trace, v.closure
-
-
-def newborn_amplitude_branch(label, E_start, du_rel=0.03, n_max=30, window=0.03) -> AmplitudeBranch:
-    """Follow a newborn pendulum family (``rotorlib.newborn``) in its amplitude ``u`` from the member
-    at ``E_start`` until ``tr M`` leaves ``[0, 4]``; the exit is located by ``brentq`` in ``u``.
-
-    At each ``u`` the energy is the root of ``rotorlib.newborn.shoot_residual`` nearest the previous
-    one (bracketed on a 13-point grid of half-width ``window``), so the branch is followed through
-    folds in ``E`` that a continuation in ``E`` cannot pass. Float64 only (for ``|E - 4| > 1e-3``).
-    """
-    from scipy.optimize import brentq
-
-    from . import newborn as nbm
-
-    spec = nbm.family_spec(label)
-    o = nbm.newborn_orbit(label, E_start)
-    us, Es, trs, cls = [o.extra["u"]], [o.E], [o.trace], [o.residual]
-    exit_E = exit_u = exit_level = float("nan")
-    for k in range(1, n_max + 1):
-        u = us[0] * (1 + du_rel * k)
-        E = _member_at_u(nbm, spec, u, Es[-1], window)
-        if E is None:
-            break
-        tr, cl = _member_trace(nbm, spec, u, E)
-        us.append(u), Es.append(E), trs.append(tr), cls.append(cl)
-        if not 0.0 <= tr <= 4.0:
-            lev = 4.0 if tr > 4.0 else 0.0
-            E_prev = Es[-2]
-
-            def g(x):
-                Ex = _member_at_u(nbm, spec, x, E_prev, window)
-                return _member_trace(nbm, spec, x, Ex)[0] - lev
-            exit_u = brentq(g, us[-2], us[-1], xtol=1e-10)
-            exit_E = _member_at_u(nbm, spec, exit_u, E_prev, window)
-            exit_level = lev
-            break
-    return AmplitudeBranch(label, np.array(us), np.array(Es), np.array(trs), np.array(cls), float(exit_E),
-                           float(exit_u), float(exit_level))
-
-
-# ----------------------------------------------------------------------------------------------
-# rotational newborn families followed in amplitude towards the band
-# ----------------------------------------------------------------------------------------------
-
-@dataclass(frozen=True)
-class RotationalBandResult:
-    """A rotational newborn family followed in its amplitude towards the band (:func:`rotational_band`).
-
-    Attributes
-    ----------
-    label : str
-    profile : rotorlib.laws.BranchProfile
-        ``E``, ``tr M``, ``t1`` ... along the branch.
-    E_max : float
-        Highest energy reached.
-    reaches_band : bool
-        Whether some member has ``E >= 5.33``.
-    band_trace : ndarray
-        ``tr M`` of the members inside ``5.33 <= E <= 5.6``.
-    exit_E : float
-        Where ``tr M`` first leaves ``[0, 4]`` (``nan`` if born outside it, or born closer than
-        ``NOISY_BIRTH`` (1e-6) to E = 4, where float64 ``tr M`` is unreliable near birth).
-    exit_level : float
-    stays_unstable : bool
-        Every member beyond the exit (or from birth) has ``tr M`` outside ``[0, 4]`` (for families born
-        closer than ``NOISY_BIRTH`` (1e-6): every member with ``E - 4 > 1e-4``).
-    """
-
-    label: str
-    profile: object
-    E_max: float
-    reaches_band: bool
-    band_trace: np.ndarray
-    exit_E: float
-    exit_level: float
-    stays_unstable: bool
-
 
 BAND = (5.33, 5.6)
 
-#: Families born closer than this to E = 4 (IS^r_3, IS^r_4) have float64 ``tr M`` dominated by round-off
-#: near their birth (O(1) scatter measured within ~1e-6 of it), so their exit is not located.
+#: Families born closer than this to E = 4 (IS^r_3, IS^r_4) have float64 ``tr M`` dominated by
+#: round-off near their birth (O(1) scatter measured within ~1e-6 of it): their exit is not
+#: located and their stability is judged only where ``E - 4 > 1e-4``.
 NOISY_BIRTH = 1e-6
 
 
-def _rotational_band_one(args):
-    from . import laws
+def amplitude_branch(label, E_start, du_rel=0.03, n_max=30):
+    """A newborn family stepped in its amplitude from the member at ``E_start``:
+    ``u_k = u_0 (1 + du_rel k)`` (natural continuation, the energy solved at each ``u``, so
+    folds in ``E`` are passed), with ``tr M`` of every member, until ``tr M`` leaves
+    ``[0, 4]`` (the crossing is then an ``IS``/``PD`` point of the branch). Float64 (for
+    ``|E - 4| > 1e-3``). Returns a :class:`rotorlib.continuation.Branch`."""
+    from .continuation import ContinuationOptions, FamilyEnd, Natural, continuation, member
+    from .newborn import family_spec, newborn_orbit
 
-    label, dE_stop, max_steps = args
-    b = laws.follow_rotational(label, dE_stop, h_max=0.3, max_steps=max_steps)
-    prof = laws.branch_profile(b)
-    if math.exp(laws._rot_spec(label).log_abs_dE_birth) > NOISY_BIRTH:
-        dE, lev, stays = laws.rotational_exit(b, prof)
-    else:       # float64 tr M is noise near birth: judge only members with E - 4 > 1e-4
-        far = prof.dE > 1e-4
-        dE, lev, stays = float("nan"), float("nan"), bool(np.all((prof.trace[far] < 0) | (prof.trace[far] > 4)))
-    E = prof.E
-    inb = (E >= BAND[0]) & (E <= BAND[1])
-    return RotationalBandResult(label, prof, float(E.max()), bool(np.any(E >= BAND[0])), prof.trace[inb],
-                                4.0 + dE, lev, stays)
+    spec = family_spec(label)
+    o = newborn_orbit(label, E_start, digits=15)
+    m0 = member(spec.problem, o.extra["u"], o.E, traces=True)
+    us = tuple(m0.u * (1 + du_rel * k) for k in range(1, n_max + 1))
+    opts = ContinuationOptions(traces=True, folds=False, stop_on=("IS", "PD"))
+    try:
+        return continuation(spec.problem, Natural("u", us, order=1), opts, [m0])
+    except FamilyEnd as end:                        # the family ends before any exit
+        return continuation(spec.problem, Natural("u", ()), opts, end.members)
 
-
-def rotational_band(labels, dE_stop=1.7, max_steps=2000, executor=None, progress=False) -> list:
-    """Follow rotational newborn families (``IS^r_n``, ``PD^r_n`` with float64 shooting, ``n <= 4``) in
-    their amplitude (:func:`rotorlib.laws.follow_rotational`) until ``E - 4 >= dE_stop`` or the family
-    ends, with ``tr M`` of every member (:func:`rotorlib.laws.branch_profile`) and the first exit from
-    the stable window (:func:`rotorlib.laws.rotational_exit`). One task per family through
-    :func:`rotorlib.parallel.pmap`.
-
-    Precision: float64 members (shooting residual < 1e-6, typically 1e-9); ``tr M`` from the float64
-    variational equations, meaningful in size and sign up to ``|tr M| ~ 1e12``; the exit energy to
-    ~1e-10.
-    """
-    from . import laws
-
-    labels = list(labels)
-    for lab in labels:
-        spec = laws._rot_spec(lab)
-        if laws._rot_precision(spec, None) != "float64":
-            raise ValueError(f"{spec.label} needs real128 shooting; rotational_band follows float64 families only")
-    return pmap(_rotational_band_one, [(lab, float(dE_stop), int(max_steps)) for lab in labels], executor=executor,
-                progress=progress, desc="rotational families")
-
-
-# ----------------------------------------------------------------------------------------------
-# rotational families born within 3e-8 of E = 4 (PD^r_5, PD^r_6): real128 throughout
-# ----------------------------------------------------------------------------------------------
 
 @dataclass(frozen=True)
-class DeepRotationalResult:
-    """A rotational family born within 3e-8 of E = 4 followed in real128 towards the band
-    (:func:`rotational_band_real128`).
+class FamilyInBand:
+    """A newborn family followed towards the band (:func:`band_families`).
 
     Attributes
     ----------
     label : str
-    stability : rotorlib.laws.BranchStability
-        ``E``, ``t1``, ``tr M`` (real128) and the float64 comparison at the members evaluated.
+    branch : rotorlib.continuation.Branch
+        Members (``E``, ``u``, ``t1``, ``trace``) and special points (``IS``/``PD``: tr M = 4/0).
     E_max : float
         Highest energy reached.
     reaches_band : bool
@@ -486,21 +326,15 @@ class DeepRotationalResult:
     band_trace : ndarray
         ``tr M`` of the members inside ``5.33 <= E <= 5.6``.
     exit_E, exit_level : float
-        Where ``tr M`` first leaves ``[0, 4]`` and the level crossed (``nan`` if born outside).
+        Where ``tr M`` first leaves ``[0, 4]`` and the level crossed (``nan`` when born
+        outside the window, or born closer than :data:`NOISY_BIRTH` in float64).
     stays_unstable : bool
         Every member beyond the exit (or from birth) has ``tr M`` outside ``[0, 4]``.
     min_trace_after_exit : float
-        Smallest ``tr M`` among the members beyond the exit (from birth if born outside).
-    n_members : int
-        Members of the branch (all solved in real128).
-    seconds_follow, seconds_trace : float
-        Wall time of the continuation and of the real128 ``tr M`` (with the exit bisection).
-    stop : str
-        Why the continuation ended.
     """
 
     label: str
-    stability: object
+    branch: object
     E_max: float
     reaches_band: bool
     band_trace: np.ndarray
@@ -508,82 +342,57 @@ class DeepRotationalResult:
     exit_level: float
     stays_unstable: bool
     min_trace_after_exit: float
-    n_members: int
-    seconds_follow: float
-    seconds_trace: float
-    stop: str
 
 
-def _rotational_real128_one(args):
-    import time
+def _band_one(args):
+    from .newborn import family_spec, follow
 
-    from . import laws
-
-    label, dE_stop, every, order, t1_jump, t1_grow, compare, max_steps = args
-    t1_stop = None if t1_grow is None else laws._rot_spec(label).period_birth / 2 + t1_grow
-    t0 = time.perf_counter()
-    b = laws.follow_rotational(label, dE_stop, precision="real128", h_max=1.0, max_steps=max_steps, t1_jump=t1_jump,
-                               order=order, t1_stop=t1_stop)
-    t1 = time.perf_counter()
-    s = laws.branch_stability(b, every=every, compare_float64=compare)
-    t2 = time.perf_counter()
-    E = s.E
+    label, dE_stop, digits, t1_grow = args
+    spec = family_spec(label)
+    t1_max = None if t1_grow is None else spec.period_birth / 2 + t1_grow
+    deep = spec.depth < 3e-8
+    b = follow(label, chart="K", E_max=4 + dE_stop, digits=digits, traces=True,
+               jump=0.05 if deep else None, t1_max=t1_max)
+    E, tr = b.E, b.trace
+    out = (tr < 0) | (tr > 4)
+    noisy = not b.tier.extended and spec.depth < NOISY_BIRTH
+    exit_E = lev = float("nan")
+    if noisy:                       # float64 tr M is noise near birth: judge E - 4 > 1e-4 only
+        far = E - 4 > 1e-4
+        stays, after = bool(np.all(out[far])), tr[far]
+    elif out[0]:
+        stays, after = bool(np.all(out)), tr
+    else:
+        pts = [p for p in b.special_points if p.kind in ("IS", "PD")]
+        k = int(np.argmax(out)) if np.any(out) else None
+        stays, after = (False, tr[:0]) if k is None else (bool(np.all(out[k:])), tr[k:])
+        if pts:
+            exit_E, lev = float(pts[0].member.E), 4.0 if pts[0].kind == "IS" else 0.0
     inb = (E >= BAND[0]) & (E <= BAND[1])
-    out = (s.trace < 0) | (s.trace > 4)
-    after = s.trace[int(np.argmax(out)):] if np.any(out) else np.array([])     # from the first member outside
-    return DeepRotationalResult(label, s, float(4.0 + b.dE.max()), bool(np.any(4.0 + b.dE >= BAND[0])),
-                                s.trace[inb], 4.0 + s.exit_dE, s.exit_level, s.stays_out,
-                                float(after.min()) if len(after) else float("nan"), len(b.u), t1 - t0, t2 - t1,
-                                b.stop)
+    return FamilyInBand(spec.label, b, float(E.max()), bool(np.any(E >= BAND[0])), tr[inb],
+                        exit_E, lev, stays, float(after.min()) if len(after) else float("nan"))
 
 
-def rotational_band_real128(labels, dE_stop=1.7, every=1, order=4, t1_jump=0.05, t1_grow=3.0,
-                            compare_float64=False, max_steps=4000, executor=None, progress=False) -> list:
-    """Follow rotational families born within 3e-8 of E = 4 (``PD^r_5``, ``PD^r_6``, ``IS^r_5`` ...) in
-    their amplitude, in real128 throughout, until ``E - 4 >= dE_stop`` or the family ends, with real128
-    ``tr M`` along the branch (:func:`rotorlib.laws.branch_stability`). One task per family through
-    :func:`rotorlib.parallel.pmap`.
+def band_families(labels, dE_stop=1.7, digits=None, t1_grow=None, executor=None,
+                  progress=False) -> list:
+    """Follow newborn families (``IS^r_n``, ``PD^r_n``) with the engine from birth until
+    ``E - 4 >= dE_stop`` or the family ends, with ``tr M`` of every member and the first exit
+    from the stable window. One task per family through :func:`rotorlib.parallel.pmap`.
 
-    Why real128 throughout: the shooting residual in float64 stays at its acceptance limit (~1e-6, the
-    q-channel being ~``E_n - 4`` wide) and float64 ``tr M`` is round-off (wrong sign and size) at every
-    member measured for PD^r_5 and PD^r_6 from birth to E - 4 = 0.01, while these families are already
-    ``|tr M| > 1e9`` there; a float64 continuation resumed from real128 members jumps between families.
-    The continuation uses a quartic predictor (``order``) and refuses steps that change ``t1`` by more
-    than ``t1_jump`` (:func:`rotorlib.laws.follow_rotational`).
+    ``digits``: the continuation's tier (default float64 while ``|E_n - 4| > 3e-8``, real128
+    beyond: at PD^r_5,6 float64 ``tr M`` has the wrong size or sign at every member measured).
+    ``t1_grow``: also stop once ``t1`` exceeds its birth value by this much (the families
+    end on orbits asymptotic to ``V = 4.5``, where ``t1`` diverges).
 
-    Parameters
-    ----------
-    labels : list of str
-    dE_stop : float
-        Stop at ``E - 4 >= dE_stop`` (1.7 reaches past the band).
-    every : int
-        Evaluate ``tr M`` at every ``every``-th member (and the last).
-    order, t1_jump : see :func:`rotorlib.laws.follow_rotational`.
-    t1_grow : float or None
-        Stop once ``t1`` exceeds its value at birth (half the pendulum period) by this much: the family is
-        then ending on an orbit asymptotic to ``V = 4.5`` (``t1`` diverges logarithmically there and the
-        steps shrink without end). ``None``: follow until the continuation sticks (minutes).
-    compare_float64 : bool
-        Also record float64 ``tr M``, closure and residual at the same members.
-    max_steps : int
-        Largest number of members (PD^r_6 needs ~2000 to ``t1_grow = 3``: the steps in ``log u`` shrink
-        as ``u`` converges at the end).
-
-    Notes
-    -----
-    Precision: Members: real128 shooting residual below ``max(1e-18, 1e-30 / (E_n - 4))`` (typically 1e-25).
-    ``tr M``: real128 variational equations, ~``30 - log10|tr M|`` correct digits (full-period closure
-    ~1e-30 near birth). The exit energy to ~1e-10 relative.
+    Precision: float64 members to ``|r| < 1e-6`` (typically 1e-9), ``tr M`` meaningful in
+    size and sign up to ``|tr M| ~ 1e12``; real128 members to ``max(eps^(2/3), 1e4 eps / d)``
+    with ``~30 - log10|tr M|`` correct digits of ``tr M``; exits to ~1e-12 relative.
     """
-    from . import laws
-
     labels = list(labels)
     for lab in labels:
-        spec = laws._rot_spec(lab)
-        if laws._rot_precision(spec, None) != "real128":
-            raise ValueError(f"{spec.label} is a float64 family; use rotational_band")
-    if not int(every) >= 1 or not int(order) >= 2:
-        raise ValueError(f"need every >= 1 and order >= 2, got {every!r}, {order!r}")
-    tasks = [(lab, float(dE_stop), int(every), int(order), float(t1_jump), None if t1_grow is None else float(t1_grow),
-              bool(compare_float64), int(max_steps)) for lab in labels]
-    return pmap(_rotational_real128_one, tasks, executor=executor, progress=progress, desc="rotational families")
+        from .newborn import family_spec
+
+        if family_spec(lab).phase != "rot":
+            raise ValueError(f"{lab}: band_families follows rotational families (IS^r_n, PD^r_n)")
+    tasks = [(lab, float(dE_stop), digits, t1_grow) for lab in labels]
+    return pmap(_band_one, tasks, executor=executor, progress=progress, desc="families")

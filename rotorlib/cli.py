@@ -64,6 +64,9 @@ def main(argv=None) -> int:
     except KeyboardInterrupt:
         print("rotorlib: interrupted", file=sys.stderr)
         return 130
+    except BrokenPipeError:                 # output piped into head & co: stop quietly
+        sys.stderr.close()
+        return 141
     except Exception as exc:  # a bug, not bad input: still one line, never a traceback
         msg = str(exc).splitlines()[0] if str(exc) else ""
         print(f"rotorlib: internal error: {exc.__class__.__name__}: {msg} (please report)", file=sys.stderr)

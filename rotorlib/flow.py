@@ -1,238 +1,276 @@
-"""The nonlinear 4-D flow in pendulum variables, with section events, in float64 or real128.
+"""The nonlinear flow in pendulum variables, its variational equations and section events.
 
-The equations are Hamilton's equations of
-``H = p1^2/4 + 3 p2^2/4 + 3 - cos 2a1 - cos(a2 - a1) - cos(a1 + a2)``
-(:func:`rotorlib.system.rhs_alpha`), integrated with heyoka's Taylor method
-(tolerance = machine epsilon of the chosen type: 2.2e-16 in float64,
-1.9e-34 in real128). Integrators are compiled once per (precision, event)
-and cached (~0.5 s float64, ~2 s real128 the first time).
+Hamilton's equations of ``H = p1^2/4 + 3 p2^2/4 + 3 - cos 2a1 - cos(a2 - a1) -
+cos(a1 + a2)`` (:func:`rotorlib.system.rhs_alpha`) are integrated with heyoka's
+Taylor method at the tolerance of the :class:`~rotorlib.precision.Tier`
+(machine epsilon: 2.2e-16 float64, 1.9e-34 real128, ``2^(1-bits)`` for
+``mp<bits>``). Integrators are compiled once per (tier, section, variational)
+and thread, and reused.
 
-Events (terminal, located to the working precision by heyoka's polynomial
-root finder):
+A :class:`Section` is a hyperplane ``c . x = level`` of the state
+``x = [a1, a2, p1, p2]``, or the family of parallel hyperplanes ``c . x = level
+(mod period)`` (the lattice translates of a symmetry line); it is crossed in a
+``direction``. :func:`to_section` integrates to its k-th crossing, located by
+heyoka's event root finder to the working precision.
 
-``turn``
-    ``p2 = 0`` while ``p2`` decreases: the turning point of a librating ``a2``.
-``a2_down``
-    ``a2 = level`` while ``a2`` decreases.
-``a2_up``
-    ``a2 = level`` while ``a2`` increases.
-
-Precision: one crossing costs ~0.1 ms (float64) and ~10 ms (real128) for a
-quarter period near E = 4. The flow itself near the separatrix amplifies
-round-off like ``1/|E - 4|`` (``../shared/NUMERICS.md``), so float64 results
-keep ~``16 + log10|E - 4|`` digits; real128 keeps ~``34 + log10|E - 4|``.
+Precision: near the separatrix the flow amplifies round-off like ``1/|E - 4|``
+(``../shared/NUMERICS.md``): a tier keeps ~``digits + log10|E - 4|`` digits.
 """
+
 from __future__ import annotations
 
-import functools
+import threading
+from dataclasses import dataclass
 
-import mpmath as mp
 import numpy as np
 
-__all__ = ["PRECISIONS", "to_fp", "from_fp", "integrator", "flow_to_event", "flow_for",
-           "variational_integrator", "monodromy_matrix", "sample", "extrema"]
+from .precision import FLOAT64, Tier
 
-PRECISIONS = ("float64", "real128")
-EVENTS = ("turn", "a2_down", "a2_up", None)
-
-
-def _hy():
-    import heyoka as hy
-    return hy
+__all__ = ["Section", "SectionNotReached", "to_section", "crossings", "flow", "monodromy_matrix",
+           "sample", "extrema"]
 
 
-def _check_precision(precision):
-    if precision not in PRECISIONS:
-        raise ValueError(f"precision must be one of {PRECISIONS}, got {precision!r}")
+@dataclass(frozen=True)
+class Section:
+    """``c . x = level * pi (mod period * pi)``, crossed in ``direction``.
+
+    Attributes
+    ----------
+    c : tuple of 4 floats
+        Coefficients on ``[a1, a2, p1, p2]`` (small dyadic rationals: exact in every tier).
+    level : float
+        The level in units of pi.
+    direction : {1, -1, 0}
+        Crossing with ``c . x`` increasing, decreasing, or either.
+    period : float, optional
+        In units of pi: every ``level + k period`` is the same section (a symmetry
+        line and its lattice translates). ``None``: one hyperplane.
+    """
+
+    c: tuple
+    level: float = 0.0
+    direction: int = 0
+    period: float | None = None
+
+    def value(self, x):
+        """``c . x`` (exact for the zero coefficients)."""
+        return sum(ci * xi for ci, xi in zip(self.c, x) if ci)
 
 
-def to_fp(v, precision):
-    """A number (float, str, mpf) in the integrator's type, without losing digits."""
-    if precision == "float64":
-        return float(v)
-    hy = _hy()
-    if isinstance(v, (float, np.floating)):
-        v = repr(float(v))
-    elif isinstance(v, (int, np.integer)):
-        v = str(int(v))
-    elif not isinstance(v, str):
-        with mp.workdps(40):
-            v = mp.nstr(mp.mpf(v), 38)
-    return hy.real128(v)
-
-
-def from_fp(v, precision):
-    """Back to a Python number: float (float64) or ``mpmath.mpf`` at 36 digits (real128)."""
-    if precision == "float64":
-        return float(v)
-    with mp.workdps(36):
-        return mp.mpf(str(v))
-
-
-def _dtype(precision):
-    return float if precision == "float64" else _hy().real128
-
-
-def _sys():
-    hy = _hy()
+def _system(hy):
     a1, a2, p1, p2 = hy.make_vars("a1", "a2", "p1", "p2")
     s_m, s_p = hy.sin(a2 - a1), hy.sin(a1 + a2)
-    two = hy.expression(2.0)
-    half = hy.expression(0.5)
-    threehalves = hy.expression(1.5)
-    sys = [(a1, half * p1), (a2, threehalves * p2),
-           (p1, -(two * hy.sin(two * a1) - s_m + s_p)), (p2, -(s_m + s_p))]
-    return sys, (a1, a2, p1, p2)
+    two, half, three_halves = (hy.expression(v) for v in (2.0, 0.5, 1.5))
+    return [(a1, half * p1), (a2, three_halves * p2),
+            (p1, -(two * hy.sin(two * a1) - s_m + s_p)), (p2, -(s_m + s_p))]
 
 
-@functools.lru_cache(maxsize=None)
-def integrator(precision="float64", event=None):
-    """A cached heyoka integrator of the nonlinear flow with one terminal event.
+def _rhs(x):
+    """``dx/dt`` as plain arithmetic on tier numbers (for crossing directions and projections)."""
+    from .system import rhs_alpha
 
-    The event level (for ``a2_up``/``a2_down``) is the runtime parameter ``par[0]``.
+    if isinstance(x[0], float):
+        return rhs_alpha(0.0, x)
+    import mpmath as mp
+
+    a1, a2, p1, p2 = x
+    s_m, s_p = mp.sin(a2 - a1), mp.sin(a1 + a2)
+    return [p1 / 2, 3 * p2 / 2, -(2 * mp.sin(2 * a1) - s_m + s_p), -(s_m + s_p)]
+
+
+_LOCAL = threading.local()
+
+
+def _integrator(t: Tier, sections, variational: bool, terminal=True):
+    cache = _LOCAL.__dict__.setdefault("integrators", {})
+    key = (t.name, sections, variational, terminal)
+    if key not in cache:
+        cache[key] = _build(t, sections, variational, terminal)
+    return cache[key]
+
+
+def _event_expr(hy, section, k):
+    """The event function of ``section`` with parameters ``par[2k]``, ``par[2k + 1]``."""
+    lin = sum((hy.expression(float(ci)) * v for ci, v in zip(section.c, hy.make_vars(
+        "a1", "a2", "p1", "p2")) if ci), hy.expression(0.0))
+    if section.period is None:
+        d = {1: hy.event_direction.positive, -1: hy.event_direction.negative}
+        return lin - hy.par[2 * k], d.get(section.direction, hy.event_direction.any)
+    return hy.sin(hy.par[2 * k + 1] * lin - hy.par[2 * k]), hy.event_direction.any
+
+
+def _build(t: Tier, sections, variational, terminal):
+    """A heyoka integrator with terminal events (one per section) or, with
+    ``terminal=False``, non-terminal events recording every crossing in ``ta.found``."""
+    import heyoka as hy
+
+    sys = _system(hy)
+    if variational:
+        sys = hy.var_ode_sys(sys, hy.var_args.vars, order=1)
+    kw = dict(t.hy_kwargs)
+    ev_kw = {k: v for k, v in kw.items() if k == "fp_type"}
+    found = []
+    events = []
+    for k, section in enumerate(sections or ()):
+        expr, d = _event_expr(hy, section, k)
+        if terminal:
+            events.append(hy.t_event(expr, direction=d, **ev_kw))
+        else:
+            def cb(ta, time, d_sgn, k=k):
+                ta.update_d_output(time)
+                found.append((k, time, ta.d_output[:4].copy()))
+            events.append(hy.nt_event(expr, cb, direction=d, **ev_kw))
+    ev = {"t_events" if terminal else "nt_events": events}
+    n = 20 if variational else 4
+    ta = hy.taylor_adaptive(sys, t.hy_array([0.0] * (4 if variational else n)),
+                            pars=t.hy_array([0.0] * max([2 * k + (1 if s.period is None else 2)
+                                                         for k, s in enumerate(sections or ())]
+                                                        or [0])),
+                            compact_mode=variational or t.extended, **ev, **kw)
+    return ta, found
+
+
+def _set_levels(ta, t: Tier, sections):
+    with t.context():
+        for k, s in enumerate(sections):
+            if s.period is None:
+                if s.level or 2 * k < len(ta.pars):
+                    ta.pars[2 * k] = t.to_hy(t.pi * s.level)
+            else:
+                ta.pars[2 * k] = t.to_hy(t.pi * s.level / s.period)
+                ta.pars[2 * k + 1] = t.to_hy(1 / t.num(s.period))
+
+
+def _start(ta, t: Tier, x0, variational):
+    if ta.with_events:
+        ta.reset_cooldowns()
+    ta.time = t.to_hy(0.0)
+    x = list(x0) + (list(np.eye(4).ravel()) if variational else [])
+    ta.state[:] = t.hy_array(x)
+
+
+def _out(ta, t: Tier, variational):
+    s = [t.from_hy(v) for v in ta.state]
+    if not variational:
+        return s
+    return s[:4], [s[4 + 4 * i: 8 + 4 * i] for i in range(4)]
+
+
+class SectionNotReached(RuntimeError):
+    """The section was not crossed (``crossing`` times) before ``t_max``.
+
+    Attributes
+    ----------
+    t_max : float
+    crossings : int
+        Crossings found before ``t_max``.
     """
-    _check_precision(precision)
-    if event not in EVENTS:
-        raise ValueError(f"event must be one of {EVENTS}, got {event!r}")
-    hy = _hy()
-    sys, (a1, a2, p1, p2) = _sys()
-    kw = {"fp_type": hy.real128} if precision == "real128" else {}
-    dt = _dtype(precision)
-    evs = []
-    if event == "turn":
-        evs = [hy.t_event(p2, direction=hy.event_direction.negative, **kw)]
-    elif event == "a2_down":
-        evs = [hy.t_event(a2 - hy.par[0], direction=hy.event_direction.negative, **kw)]
-    elif event == "a2_up":
-        evs = [hy.t_event(a2 - hy.par[0], direction=hy.event_direction.positive, **kw)]
-    if event in ("a2_down", "a2_up"):
-        kw["pars"] = np.zeros(1, dtype=dt)
-    return hy.taylor_adaptive(sys, np.zeros(4, dtype=dt), t_events=evs, compact_mode=precision != "float64", **kw)
+
+    def __init__(self, t_max, crossings):
+        super().__init__(f"section not reached before t = {float(t_max):g} "
+                         f"({crossings} crossings)")
+        self.t_max, self.crossings = t_max, crossings
 
 
-def flow_to_event(x0, event, level=0.0, precision="float64", t_max=1e4):
-    """Integrate from ``x0`` (t = 0) to the first ``event`` and return ``(t, x)``.
+def to_section(x0, section: Section, t: Tier = FLOAT64, crossing=1, t_max=1e4,
+               variational=False, abort: Section | None = None):
+    """Integrate from ``x0`` at ``t = 0`` to the ``crossing``-th crossing of ``section``.
 
-    ``x0`` entries and ``level`` may be floats, decimal strings or mpf; the
-    result is float64 (a numpy array) or a list of mpf (real128).
+    Returns ``(t1, x1)`` or, with ``variational``, ``(t1, x1, Phi)`` where ``Phi`` is the
+    4x4 fundamental matrix ``dx(t1)/dx0`` at fixed time (rows of tier numbers). Raises
+    :class:`SectionNotReached` at ``t_max``, or as soon as ``abort`` is crossed first (e.g.
+    ``a2`` turning back before it reaches the section of a rotation).
     """
-    hy = _hy()
-    ta = integrator(precision, event)
-    dt = _dtype(precision)
-    ta.time = to_fp(0.0, precision)
-    ta.state[:] = np.array([to_fp(v, precision) for v in x0], dtype=dt)
-    if event in ("a2_down", "a2_up"):
-        ta.pars[0] = to_fp(level, precision)
-    res = ta.propagate_until(to_fp(t_max, precision))
-    # a terminal event ends the call with a small integer outcome (heyoka: -1 - index without callback);
-    # the named outcomes (success, time_limit, ...) are large negative codes.
-    if int(res[0]) < -1000:
-        raise RuntimeError(f"event {event!r} not reached before t = {t_max} (outcome {res[0]})")
-    t = from_fp(ta.time, precision)
-    x = [from_fp(v, precision) for v in ta.state]
-    return t, (np.array(x, dtype=float) if precision == "float64" else x)
+    import heyoka as hy
+
+    secs = (section,) if abort is None else (section, abort)
+    ta, _ = _integrator(t, secs, variational)
+    _start(ta, t, x0, variational)
+    _set_levels(ta, t, secs)
+    found, tmax = 0, t.to_hy(t_max)
+    while True:
+        res = ta.propagate_until(tmax)
+        code = int(res[0]) if res[0] not in (hy.taylor_outcome.time_limit,
+                                             hy.taylor_outcome.success) else -10 ** 6
+        if code < -1000 or code == -2:
+            raise SectionNotReached(t_max, found)
+        if not _right_way(section, [t.from_hy(v) for v in ta.state[:4]], t):
+            continue
+        found += 1
+        if found == crossing:
+            return (t.from_hy(ta.time), *_pack(_out(ta, t, variational), variational))
 
 
-def flow_for(x0, t, precision="float64"):
-    """Integrate from ``x0`` for time ``t`` (no event)."""
-    ta = integrator(precision, None)
-    dt = _dtype(precision)
-    ta.time = to_fp(0.0, precision)
-    ta.state[:] = np.array([to_fp(v, precision) for v in x0], dtype=dt)
-    ta.propagate_until(to_fp(t, precision))
-    x = [from_fp(v, precision) for v in ta.state]
-    return np.array(x, dtype=float) if precision == "float64" else x
+def _right_way(section, x, t):
+    """Whether a crossing at ``x`` goes in the section's direction (modular sections:
+    heyoka's direction filter cannot tell the translates apart)."""
+    if section.period is None or not section.direction:
+        return True
+    with t.context():
+        return (section.value(_rhs(x)) > 0) == (section.direction > 0)
 
 
-@functools.lru_cache(maxsize=None)
-def variational_integrator(precision="float64"):
-    """Flow + first-order variational equations (state then the 4x4 matrix, row-major)."""
-    _check_precision(precision)
-    hy = _hy()
-    sys, _ = _sys()
-    vsys = hy.var_ode_sys(sys, hy.var_args.vars, order=1)
-    kw = {"fp_type": hy.real128} if precision == "real128" else {}
-    return hy.taylor_adaptive(vsys, np.zeros(4, dtype=_dtype(precision)), compact_mode=True, **kw)
+def crossings(x0, sections, t_max, t: Tier = FLOAT64):
+    """Every crossing of each of ``sections`` on ``0 < t < t_max`` from ``x0``.
 
-
-def monodromy_matrix(x0, period, precision="float64"):
-    """Monodromy matrix (order ``[a1, a2, p1, p2]``) and the end state after ``period``.
-
-    Returns ``(M, x_T)`` as float64 arrays (the trace is returned as an mpf
-    in real128 as a third element, else a float).
+    Returns a list of ``(index of the section, time, state)`` in time order (state as
+    tier numbers), each located by heyoka's event root finder (non-terminal events).
     """
-    ta = variational_integrator(precision)
-    dt = _dtype(precision)
-    ta.time = to_fp(0.0, precision)
-    st = [to_fp(v, precision) for v in x0] + [to_fp(v, precision) for v in np.eye(4).ravel()]
-    ta.state[:] = np.array(st, dtype=dt)
-    ta.propagate_until(to_fp(period, precision))
-    s = [from_fp(v, precision) for v in ta.state]
-    M = np.array([[float(s[4 + 4 * i + j]) for j in range(4)] for i in range(4)])
-    if precision == "float64":
-        tr = float(sum(s[4 + 5 * i] for i in range(4)))
-    else:
-        with mp.workdps(36):
-            tr = sum(s[4 + 5 * i] for i in range(4))
-    return M, np.array([float(v) for v in s[:4]]), tr
+    sections = tuple(sections)
+    ta, found = _integrator(t, sections, False, terminal=False)
+    _start(ta, t, x0, False)
+    _set_levels(ta, t, sections)
+    found.clear()
+    ta.propagate_until(t.to_hy(t_max))
+    out = [(k, t.from_hy(tt), [t.from_hy(v) for v in x]) for k, tt, x in found]
+    found.clear()
+    return [c for c in out if _right_way(sections[c[0]], c[2], t)]
 
 
-def sample(x0, period, n=801, precision="float64"):
-    """States on a uniform grid of ``n`` times over ``[0, period]``, shape ``(n, 4)`` (float64)."""
-    ta = integrator(precision, None)
-    dt = _dtype(precision)
-    ta.time = to_fp(0.0, precision)
-    ta.state[:] = np.array([to_fp(v, precision) for v in x0], dtype=dt)
+def _pack(out, variational):
+    return out if variational else (out,)
+
+
+def flow(x0, time, t: Tier = FLOAT64, variational=False):
+    """The state after ``time`` (and ``Phi`` with ``variational``), as tier numbers."""
+    ta, _ = _integrator(t, None, variational)
+    _start(ta, t, x0, variational)
+    ta.propagate_until(t.to_hy(time))
+    return _out(ta, t, variational)
+
+
+def monodromy_matrix(x0, period, t: Tier = FLOAT64):
+    """``(M, x(T), tr M)``: the monodromy in state order as a float64 array, the end
+    state (tier numbers) and the trace (a tier number, summed in the tier)."""
+    x, Phi = flow(x0, period, t, variational=True)
+    with t.context():
+        tr = sum(Phi[i][i] for i in range(4))
+    return np.array([[float(v) for v in row] for row in Phi]), x, tr
+
+
+def sample(x0, period, n=801, t: Tier = FLOAT64):
+    """States at ``n`` equally spaced times over ``[0, period]``: ``(states (n, 4), times)``,
+    float64."""
+    ta, _ = _integrator(t, None, False)
+    _start(ta, t, x0, False)
     grid = np.linspace(0.0, float(period), n)
-    if precision == "real128":
-        grid = np.array([to_fp(g, precision) for g in grid], dtype=dt)
-    out = ta.propagate_grid(grid)
-    return np.array(out[-1], dtype=float).reshape(n, 4), np.array(grid, dtype=float)
+    out = ta.propagate_grid(t.hy_array(grid) if t.extended else grid)
+    return np.array(out[-1], dtype=float).reshape(n, 4), grid
 
 
-_FOUND = []
+def extrema(x0, period, t: Tier = FLOAT64):
+    """``(max |a1|, largest excursion of a2)`` over ``[0, period]``, each located at its
+    turning point (``p1 = 0`` or ``p2 = 0``) to the working precision.
 
-
-def _record(key):
-    def cb(ta, t, d):
-        _FOUND.append((key, [v for v in ta.update_d_output(t)]))
-    return cb
-
-
-@functools.lru_cache(maxsize=None)
-def _extrema_integrator(precision):
-    hy = _hy()
-    sys, (a1, a2, p1, p2) = _sys()
-    kw = {"fp_type": hy.real128} if precision == "real128" else {}
-    return hy.taylor_adaptive(sys, np.zeros(4, dtype=_dtype(precision)),
-                              nt_events=[hy.nt_event(p1, _record("a1"), **kw), hy.nt_event(p2, _record("a2"), **kw)],
-                              compact_mode=precision != "float64", **kw)
-
-
-def extrema(x0, period, precision="float64"):
-    """``max |a1|`` and the largest excursion of ``a2`` over one period, located exactly.
-
-    The extrema of ``a1`` are at ``p1 = 0`` and those of ``a2`` at ``p2 = 0``;
-    each is located by a non-terminal event (precision of the integrator) and
-    evaluated with heyoka's dense output. For a rotating ``a2`` (no ``p2 = 0``)
-    the excursion is ``max |a2 - 2 pi round(a2 / 2 pi)|`` on a grid of 4001 points.
-
-    Returns ``(a1_max, a2_max)`` as floats.
+    For a rotating ``a2`` (no turning point) the excursion is ``max |a2 - 2 pi k|``
+    (nearest multiple) on 4001 samples. Returns floats.
     """
-    ta = _extrema_integrator(precision)
-    ta.time = to_fp(0.0, precision)
-    ta.state[:] = np.array([to_fp(v, precision) for v in x0], dtype=_dtype(precision))
-    _FOUND.clear()
-    ta.propagate_until(to_fp(period, precision))
-    pts = list(_FOUND)
-    _FOUND.clear()
-    a1s = [abs(float(x[0])) for k, x in pts if k == "a1"]
-    a2s = [abs(float(x[1])) for k, x in pts if k == "a2"]
-    a1m = max(a1s + [abs(float(x0[0]))])
+    import math
+
+    hits = crossings(x0, (Section((0, 0, 1, 0)), Section((0, 0, 0, 1))), period, t)
+    a1m = max([abs(float(x0[0]))] + [abs(float(x[0])) for k, _, x in hits if k == 0])
+    a2s = [abs(float(x[1])) for k, _, x in hits if k == 1]
     if a2s:
-        a2m = max(a2s)
-    else:
-        st, _ = sample(x0, period, 4001, "float64")
-        w = st[:, 1] - 2 * np.pi * np.round(st[:, 1] / (2 * np.pi))
-        a2m = float(np.max(np.abs(w)))
-    return a1m, a2m
+        return a1m, max(a2s)
+    st, _ = sample(x0, period, 4001)
+    return a1m, float(np.max(np.abs(st[:, 1] - 2 * math.pi * np.round(st[:, 1] / (2 * math.pi)))))

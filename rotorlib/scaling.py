@@ -8,8 +8,6 @@
 * :func:`fit_convergence`: fit ``log|err_n| = a + b x_n + log|x_n|`` (error ~ ``|E-4| log|E-4|``).
 * :func:`transverse_eigenstructure`: spectrum and transverse eigenvectors of M at a transition,
   robust to the parabolic (defective) 2x2 block.
-* :func:`rounded_verdict`: is a printed value the correctly rounded value of ours? If not, why
-  (truncation, lower precision, a typo)?
 
 Numerics only (no matplotlib). Works with floats or mpmath numbers.
 """
@@ -17,14 +15,13 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from decimal import ROUND_DOWN, ROUND_HALF_EVEN, Decimal
 
 import numpy as np
 
 from .bifurcations import CLASSES
 
 __all__ = ["class_sequences", "log_delta_sequence", "asymptotic_distance", "fit_convergence",
-           "TransverseEigen", "transverse_eigenstructure", "rounded_verdict", "text_table",
+           "TransverseEigen", "transverse_eigenstructure",
            "HarmonicFit", "fit_harmonic", "separatrix_transmission", "TraceAsymptotics", "trace_asymptotics",
            "FamilyCurve", "family_curve", "FAMILY_FLOAT64_DEPTH"]
 
@@ -141,100 +138,6 @@ def transverse_eigenstructure(t, rel_tol=1e-8) -> TransverseEigen:
 
     ev = np.concatenate([np.asarray(multipliers_from_trace(M.trace_transverse)), [1.0, 1.0]])
     return TransverseEigen(ev, mu, s, vecs, lon, res)
-
-
-def _decimals(text: str) -> int:
-    s = text.strip().lower()
-    if "e" in s:
-        mant, ex = s.split("e")
-        d = len(mant.split(".")[1]) if "." in mant else 0
-        return d - int(ex)
-    return len(s.split(".")[1]) if "." in s else 0
-
-
-def rounded_verdict(paper: str, ours, digits_ours: int = 12) -> dict:
-    """Compare a printed value with ours, at the printed precision.
-
-    Parameters
-    ----------
-    paper : str
-        The value as printed (``'-4.6658'``, ``'2.8611e-11'``, ``'8.243'``).
-    ours : float, str or mpf
-        Our value (accurate to far more digits than printed).
-
-    Returns
-    -------
-    dict
-        ``paper``, ``ours`` (ours correctly rounded to the printed digits),
-        ``difference`` (paper - ours, float), ``tolerance`` (half a unit in the
-        last printed digit), ``verdict`` and ``cause``. Verdicts:
-        ``agrees`` (the printed value is ours correctly rounded);
-        ``truncated`` (ours truncated, not rounded); ``last digit off by k``
-        (|k| <= 9: lower precision); ``typo`` (one digit other than the last
-        is wrong, possibly with the last digit off by a few units, or two
-        adjacent digits transposed); ``DIFFERS`` (anything else).
-    """
-    d = _decimals(paper)
-    q = Decimal(1).scaleb(-d)
-    o = Decimal(str(ours)) if not isinstance(ours, Decimal) else ours
-    try:
-        import mpmath as mp
-
-        if isinstance(ours, mp.mpf):
-            o = Decimal(mp.nstr(ours, 40, strip_zeros=False))
-    except ImportError:       # pragma: no cover
-        pass
-    p = Decimal(paper.strip())
-    o_r = o.quantize(q, rounding=ROUND_HALF_EVEN)
-    o_t = o.quantize(q, rounding=ROUND_DOWN)
-    diff = float(p - o)
-    tol = float(q) / 2
-    k = int((p - o_r) / q)
-    a, b = _digits_of(p, d), _digits_of(o_r, d)
-    same_shape = len(a) == len(b) and (p < 0) == (o_r < 0)
-    diffs = [i for i, (x, y) in enumerate(zip(a, b)) if x != y] if same_shape else []
-    swap = (len(diffs) == 2 and diffs[1] == diffs[0] + 1 and a[diffs[0]] == b[diffs[1]]
-            and a[diffs[1]] == b[diffs[0]])
-    if p == o_r:
-        v, cause = "agrees", "correctly rounded"
-    elif p == o_t:
-        v, cause = "truncated", "the paper's value is ours truncated, not rounded"
-    elif abs(k) <= 3 or (abs(k) <= 9 and not swap):
-        v, cause = f"last digit off by {k:+d}", "lower working precision (or an inaccurate input)"
-    elif swap:
-        v, cause = "typo", "two adjacent digits transposed"
-    else:
-        v, cause = "DIFFERS", "not explained by rounding or a single typo"
-        for i in diffs:                  # one wrong digit (not the last), maybe with the last off by a few units
-            if i == len(a) - 1:
-                continue
-            fixed = Decimal(a[:i] + b[i] + a[i + 1:]) * q * (-1 if p < 0 else 1)
-            k2 = int((fixed - o_r) / q)
-            if abs(k2) <= 9:
-                v = "typo"
-                cause = f"digit {a[i]} printed for {b[i]}" + (f", and last digit off by {k2:+d}" if k2 else "")
-                break
-    return {"paper": paper, "ours": _fmt(o_r, paper), "difference": diff, "tolerance": tol, "verdict": v,
-            "cause": cause}
-
-
-def _digits_of(x: Decimal, d: int) -> str:
-    return format(abs(x), f".{d}f").replace(".", "") if d >= 0 else str(abs(x))
-
-
-def _fmt(o_r: Decimal, paper: str) -> str:
-    if "e" in paper.lower():
-        mant_digits = len(paper.lower().split("e")[0].replace("-", "").replace(".", "")) - 1
-        return f"{float(o_r):.{mant_digits}e}"
-    return str(o_r)
-
-
-def text_table(header, rows) -> str:
-    """A plain-text table (columns padded) from a header and rows of values."""
-    cells = [[str(c) for c in header]] + [[str(c) for c in r] for r in rows]
-    widths = [max(len(r[j]) for r in cells) for j in range(len(header))]
-    line = lambda r: "  ".join(c.ljust(w) for c, w in zip(r, widths)).rstrip()   # noqa: E731
-    return "\n".join([line(cells[0]), "  ".join("-" * w for w in widths)] + [line(r) for r in cells[1:]])
 
 
 # --------------------------------------------------------------------------- tr M_perp asymptotics
@@ -422,10 +325,10 @@ class FamilyCurve:
     max_residual: float
 
 
-def family_curve(label, E_end, n=12, precision=None) -> FamilyCurve:
+def family_curve(label, E_end, n=12, digits=None) -> FamilyCurve:
     """``tr M(E)`` of the family born at ``label``, from birth to ``E_end`` (``n`` members).
 
-    Precision: ``precision=None`` picks float64 when ``|E_n - 4| > FAMILY_FLOAT64_DEPTH``
+    Precision: ``digits=None`` picks float64 when ``|E_n - 4| > FAMILY_FLOAT64_DEPTH``
     and real128 otherwise (see :data:`FAMILY_FLOAT64_DEPTH`); the traces are then good to
     ~1e-4 absolute or better (float64, checked against real128 in the chapter) or ~1e-20
     (real128).
@@ -442,8 +345,10 @@ def family_curve(label, E_end, n=12, precision=None) -> FamilyCurve:
     kind, phase, _ = parse_label(label)
     tr = transition(label)
     d_birth = tr.energy.eps
-    prec = precision or ("float64" if d_birth > FAMILY_FLOAT64_DEPTH else "real128")
-    fam = newborn_family(label, E_end=E_end, n=n, precision=prec)
+    if digits is None and d_birth <= FAMILY_FLOAT64_DEPTH:
+        digits = 30
+    fam = newborn_family(label, E_end=E_end, n=n, digits=digits)
+    prec = fam[0].precision
     side = -1.0 if phase == "lib" else 1.0          # the side of E = 4 the family is born on
 
     def dE(o):                                      # librational families may continue past E = 4

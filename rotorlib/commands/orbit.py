@@ -24,30 +24,29 @@ def register(sub):
     p.add_argument("label", help="family label: IS^l_2, ISl2, PD^r_3, PDr3, PD^b ...")
     p.add_argument("--E", required=True, metavar="V", help="energy (m = g = r = 1)")
     p.add_argument("--digits", type=int, default=None,
-                   help="<= 15: float64 search; 16..31: real128 (default: real128 polish near E = 4)")
+                   help="significant digits of state, period and trace (default: float64, "
+                        "real128 near E = 4; > 15: the tier that delivers them, with "
+                        "state0_str, period_str, trace_str; up to 1000)")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.set_defaults(func=run)
 
 
-def run(args):
-    E = as_float(args.E, "E")
-    if args.digits is not None and not 1 <= args.digits <= 31:
-        raise ValueError(f"--digits must be from 1 to 31, got {args.digits}")
-    if _BREATHER.match(args.label.strip()):
-        try:
-            from ..breathers import breather_daughter
-        except ImportError:
-            raise ValueError("the breather daughter (PD^b) needs rotorlib.breathers, which is not available") from None
-        orbit = breather_daughter(E) if args.digits is None else breather_daughter(E, digits=args.digits)
-        rec = orbit.to_record()
-    else:
-        from ..newborn import newborn_orbit
+def record(label, E, digits=None) -> dict:
+    """The record the command prints for ``label`` at energy ``E`` (a decimal string keeps
+    its digits): the orbit's :meth:`~rotorlib.periodic.PeriodicOrbit.to_record`."""
+    as_float(E, "E")
+    if digits is not None and not 1 <= digits <= 1000:
+        raise ValueError(f"--digits must be from 1 to 1000, got {digits}")
+    if _BREATHER.match(str(label).strip()):
+        from ..breathers import breather_daughter
 
-        prec = None if args.digits is None else ("float64" if args.digits <= 15 else "real128")
-        orbit = newborn_orbit(args.label, args.E if prec != "float64" else E, precision=prec)
-        rec = orbit.to_record()
-        for key in ("state0_str", "period_str", "trace_str", "start", "section", "condition", "t1"):
-            if key in orbit.extra:
-                rec[key] = orbit.extra[key]
+        return breather_daughter(E, digits=digits).to_record()
+    from ..newborn import newborn_orbit
+
+    return newborn_orbit(label, E, digits=digits).to_record()
+
+
+def run(args):
+    rec = record(args.label, args.E, args.digits)
     emit([rec], args.json, ["label", "E", "period", "trace", "alpha1_max", "alpha2_max", "precision"])
     return 0

@@ -85,7 +85,7 @@ def plot_ftle_histograms(cf, energies, threshold=None):
 
 def plot_rotational_branches(profiles, E_max=4.5, trace_cap=1e12):
     """tr M against E along rotational newborn families followed in amplitude
-    (:class:`rotorlib.laws.BranchProfile`), symmetric-log axis, with the band shaded and the energy
+    (:class:`rotorlib.continuation.Branch` with traces), symmetric-log axis, with the band shaded and the energy
     ``E_max`` (where the families end) marked. Members with ``|tr M| > trace_cap`` (float64 traces
     there are only an order of magnitude) are not drawn."""
     fig, ax = plt.subplots(figsize=(9, 4.4))

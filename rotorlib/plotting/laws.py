@@ -104,7 +104,7 @@ def rotational_reach(profiles, levels, figsize=(12, 4.2)):
     """Rotational newborn families followed in amplitude: (a) ``E - 4`` against the amplitude ``u``,
     (b) ``E - 4`` against the time ``t1`` from the start line to ``a2 = pi`` (half or quarter period).
 
-    ``profiles``: list of :class:`rotorlib.laws.BranchProfile`; ``levels``: list of ``(label, E - 4)``
+    ``profiles``: list of :class:`rotorlib.continuation.Branch`; ``levels``: list of ``(label, E - 4)``
     drawn as horizontal lines (energies the definition of alpha^r needs, and E = 4.5).
     """
     fig, ax = plt.subplots(1, 2, figsize=figsize)

@@ -48,13 +48,16 @@ def work_precision(wps, cost="integration"):
 
 
 def amplitude_branch(branch, u_scan=None, r_scan=None, E_scan=None):
-    """(a) ``E`` against the amplitude ``u`` along a family followed in amplitude; (b) ``r(u)`` at ``E_scan``."""
+    """(a) ``E`` against the amplitude ``u`` along a family (a :class:`rotorlib.continuation.Branch`)
+    with its fold; (b) ``r(u)`` at ``E_scan``."""
     ncols = 1 if u_scan is None else 2
     fig, axes = plt.subplots(1, ncols, figsize=(6.2 * ncols, 4.2))
     axes = np.atleast_1d(axes)
     ax = axes[0]
     ax.plot(branch.u, branch.E, ".-", ms=3, label=f"${branch.label}$ from its birth")
-    ax.plot([branch.u_at_E_max], [branch.E_max], "r^", label=f"fold, E = {branch.E_max:.7f}")
+    if branch.fold is not None:
+        f = branch.fold
+        ax.plot([float(f.u)], [float(f.E)], "r^", label=f"fold, E = {float(f.E):.7f}")
     ax.axhline(4.5, color="grey", ls=":", lw=1, label="E = 4.5 (maxima of V)")
     if E_scan is not None:
         ax.axhline(E_scan, color="C3", ls="--", lw=1, label=f"E = {E_scan:g}")

@@ -1,0 +1,637 @@
+"""Families of periodic orbits: one continuation engine for every :class:`ShootingProblem`.
+
+``continuation(problem, algorithm, options, start)`` follows the curve ``r(u, w) = 0``
+of :func:`rotorlib.shooting.residual` from one or more known members and returns a
+:class:`Branch`: its members and its special points, detected along the way.
+
+Algorithms
+    :class:`Natural` steps one coordinate (``u`` or ``E``) through given values,
+    predicts the other by polynomial extrapolation and corrects it with the secant
+    (:func:`rotorlib.shooting.secant`); a step that fails is halved. It cannot pass
+    a fold of its parameter. :class:`PALC` (pseudo-arclength) steps along the
+    tangent in the plane ``(u, w)`` scaled by the current member (steps are relative
+    changes, so a branch spanning many decades costs few steps) and corrects with
+    Newton on ``[r = 0, tangent . (X - X_k) = ds]``, the gradient of ``r`` from the
+    variational equations; it passes folds.
+
+Events (:class:`SpecialPoint`)
+    ``fold`` (``E`` turns), ``E`` (a requested energy), ``IS`` / ``PD`` (``tr M``
+    crosses 4 / 0, with ``options.traces``), located between members by a secant on
+    the pseudo-arclength, each point re-solved. The branch ``stop`` says why it
+    ended: ``values``, ``steps``, ``E range``, ``period`` (the period grew beyond
+    ``options.t1_max``: the family runs into an orbit of infinite period) or
+    ``stuck`` (the step fell below its minimum).
+
+Precision: members satisfy ``|r| < options.r_max`` (default 1e-8 float64,
+``eps^(2/3)`` extended); located events are solved to the tier's precision.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+
+from .flow import SectionNotReached, monodromy_matrix
+from .precision import FLOAT64, Tier
+from .shooting import NoConvergence, ShootingProblem, residual, secant, solve
+
+__all__ = ["Member", "SpecialPoint", "Branch", "Natural", "PALC", "ContinuationOptions",
+           "continuation", "member", "switch", "switch_branch"]
+
+NAN = float("nan")
+
+
+@dataclass(frozen=True)
+class Member:
+    """One periodic orbit of a family: unknowns, energy, symmetric time, residual, trace.
+
+    ``u``, ``w``, ``E``, ``t1`` are tier numbers (float or mpf); ``x1`` the state at the
+    symmetric point ``t1``; ``trace`` is ``tr M`` over the full period (a tier number,
+    ``nan`` unless computed).
+    """
+
+    u: object
+    w: object
+    E: object
+    t1: object
+    r: object
+    trace: object = NAN
+    x1: tuple = ()
+
+
+@dataclass(frozen=True)
+class SpecialPoint:
+    """An event along a branch: ``kind`` (``fold``, ``E``, ``IS``, ``PD``), the located
+    ``member`` and the index of the member after which it lies. ``located`` is False when
+    the location failed (the orbit stops reaching its section there): ``member`` is then
+    the nearest member of the branch."""
+
+    kind: str
+    member: Member
+    index: int
+    located: bool = True
+
+
+@dataclass(frozen=True)
+class Branch:
+    """A family followed by :func:`continuation`.
+
+    Attributes
+    ----------
+    problem : ShootingProblem
+    tier : Tier
+    members : tuple of Member
+    special_points : tuple of SpecialPoint
+    stop : str
+        Why the continuation ended (see the module docstring).
+    """
+
+    problem: ShootingProblem
+    tier: Tier
+    members: tuple
+    special_points: tuple = ()
+    stop: str = ""
+
+    def _col(self, name):
+        import numpy as np
+
+        return np.array([float(getattr(m, name)) for m in self.members])
+
+    @property
+    def label(self) -> str:
+        return self.problem.label
+
+    @property
+    def u(self):
+        return self._col("u")
+
+    @property
+    def dE(self):
+        """``E - 4`` of the members, formed in the tier (no cancellation)."""
+        import numpy as np
+
+        with self.tier.context():
+            return np.array([float(m.E - 4) for m in self.members])
+
+    @property
+    def E(self):
+        return self._col("E")
+
+    @property
+    def t1(self):
+        return self._col("t1")
+
+    @property
+    def period(self):
+        return self.problem.factor * self._col("t1")
+
+    @property
+    def trace(self):
+        return self._col("trace")
+
+    def points(self, kind) -> list:
+        """The special points of one kind (``fold``, ``E``, ``IS``, ``PD``)."""
+        return [p for p in self.special_points if p.kind == kind]
+
+    @property
+    def fold(self):
+        """The first located fold (a :class:`Member`), or ``None``."""
+        pts = [p for p in self.points("fold") if p.located]
+        return pts[0].member if pts else None
+
+    @property
+    def E_max(self) -> float:
+        """The largest energy on the branch (a located fold where there is one)."""
+        return max([float(p.member.E) for p in self.points("fold")] + list(self.E))
+
+    def state(self, m: Member):
+        """The initial state of a member (tier numbers)."""
+        return self.problem.state(m.u, m.w, self.tier)
+
+
+@dataclass(frozen=True)
+class Natural:
+    """Natural-parameter continuation through ``values`` of ``parameter`` (``u`` or ``E``).
+
+    The predictor extrapolates the other unknown with a polynomial of degree ``order``
+    through the last members in the coordinate ``s``: ``u^2`` for ``parameter='u'``
+    (a fork is even in ``u``), ``sqrt|E - origin|`` for ``'E'`` (a fork has
+    ``u ~ sqrt|E - E_n|``). ``origin`` (with ``origin_other``) is a virtual member at
+    the bifurcation used by the first predictions. A failed step is halved in ``s``
+    (at most ``halvings`` times).
+    """
+
+    parameter: str
+    values: tuple
+    order: int = 1
+    origin: object = None
+    origin_other: object = None
+    halvings: int = 12
+
+
+@dataclass(frozen=True)
+class PALC:
+    """Pseudo-arclength continuation.
+
+    ``ds`` is the first step, ``ds_max``/``ds_min`` its bounds, in the plane
+    ``((u - u_k) / |u_k|, (w - w_k) / |E_k - E_ref|)`` rescaled at every member ``k``
+    (floors ``u_floor``, ``w_floor``); ``direction`` is the sign of ``du`` of the first
+    step. The predictor is the polynomial of degree ``order`` through the last members
+    (parametrised by chord length; the tangent at the first steps).
+    """
+
+    ds: float = 0.3
+    ds_max: float = 1.0
+    ds_min: float = 1e-7
+    E_ref: float = 0.0
+    u_floor: float = 1e-12
+    w_floor: float = 1e-12
+    direction: int = 1
+    order: int = 2
+
+
+@dataclass(frozen=True)
+class ContinuationOptions:
+    """Stopping rules and events.
+
+    Attributes
+    ----------
+    max_steps : int
+    E_range : (float, float)
+        Stop (``E range``) once a member leaves it.
+    t1_max : float
+        Stop (``period``) once ``t1`` exceeds it.
+    jump : float or None
+        Refuse a step that changes ``t1`` by more than this fraction (a long step can
+        land on another family whose members are close in ``(u, w)``).
+    traces : bool
+        ``tr M`` of every member; detect and locate ``IS`` and ``PD`` points.
+    energies : tuple
+        Locate a member at each of these energies (``E`` points; decimal strings keep
+        their digits in extended tiers).
+    folds : bool
+        Locate the folds of ``E``.
+    r_max : float or None
+        Accepted residual (default 1e-8 float64, ``eps^(2/3)`` extended).
+    stop_on : tuple
+        Stop (``event``) once ``tr M`` crosses the level of one of these kinds (``IS``: 4,
+        ``PD``: 0; needs ``traces``).
+    """
+
+    max_steps: int = 400
+    E_range: tuple = (-math.inf, math.inf)
+    t1_max: float = math.inf
+    jump: float | None = None
+    traces: bool = False
+    energies: tuple = ()
+    folds: bool = True
+    r_max: float | None = None
+    stop_on: tuple = ()
+
+
+def _r_max(opts, t: Tier):
+    return opts.r_max if opts.r_max is not None else (1e-8 if not t.extended else t.eps ** (2 / 3))
+
+
+def member(problem: ShootingProblem, u, w, t: Tier = FLOAT64, traces=False, shot=None) -> Member:
+    """The :class:`Member` at ``(u, w)`` (``tr M`` over the full period with ``traces``)."""
+    with t.context():
+        s = shot or residual(problem, u, w, t)
+        tr = NAN
+        if traces:
+            tr = monodromy_matrix(s.x0, problem.factor * s.t1, t)[2]
+        return Member(t.num(u), t.num(w), problem.energy(u, w, t), s.t1, s.r, tr, tuple(s.x1))
+
+
+def switch(problem: ShootingProblem, u, E_birth, dE, t: Tier = FLOAT64, tol=None,
+           r_max=None):
+    """The member of ``problem`` (a daughter family whose parent is its ``trivial`` root,
+    divided out of the residual) with amplitude ``u``, by a secant in ``w`` from the
+    bifurcation energy ``E_birth`` and ``E_birth + dE`` (the paper's "adjust one quantity").
+    Returns ``(member, secant iterations)``."""
+    with t.context():
+        E0 = t.num(E_birth)
+        w0, w1 = problem.w_at(u, E0, t), problem.w_at(u, E0 + t.num(dE), t)
+        root = solve(problem, w0, w1, u=u, t=t, tol=tol, r_max=r_max)
+        return replace(member(problem, u, root.x, t), r=root.residual), root.iterations
+
+
+def switch_branch(branch: Branch, point: SpecialPoint, daughter: ShootingProblem, amplitude,
+                  algorithm=None, options=None) -> Branch:
+    """Branch switching at a bifurcation ``point`` (``IS`` or ``PD``) of ``branch`` onto the
+    family of ``daughter``: the parent (``u = u*`` there) is divided out of the daughter's
+    residual, the first member is found at ``u* + amplitude`` with the energy adjusted from
+    the bifurcation's, on whichever side it exists, and the family is continued from it
+    (default :class:`PALC`). ``daughter`` shares the parent's start set; a PD daughter
+    closes after twice the parent's symmetric time (``factor``)."""
+    t, p = branch.tier, point.member
+    with t.context():
+        d = replace(daughter, trivial=p.u, K_ref=branch.problem.K_ref)
+        scale = abs(p.E - 4) if abs(p.E - 4) > 0 else t.num(1)
+        last = None
+        for dE in (scale * t.num("1e-3"), -scale * t.num("1e-3")):
+            try:
+                first, _ = switch(d, p.u + t.num(amplitude), p.E, dE, t)
+                break
+            except (NoConvergence, SectionNotReached) as exc:
+                last = exc
+        else:
+            raise NoConvergence(daughter.label, {"E": p.E}, why=f"no daughter near u* ({last})")
+        return continuation(d, algorithm or PALC(E_ref=float(p.E)), options, [first], t)
+
+
+# --------------------------------------------------------------------------- natural
+
+def _extrapolate(xs, ys, x, order, t: Tier):
+    """Lagrange extrapolation through the last ``order + 1`` points (duplicates dropped)."""
+    pts = list(zip(xs, ys))[-(order + 1):]
+    while len(pts) > 1 and len({p[0] for p in pts}) < len(pts):
+        pts = pts[1:]
+    if len(pts) == 1:
+        return pts[0][1]
+    with t.context():
+        out = 0
+        for i, (xi, yi) in enumerate(pts):
+            term = yi
+            for j, (xj, _) in enumerate(pts):
+                if j != i:
+                    term = term * (x - xj) / (xi - xj)
+            out = out + term
+        return out
+
+
+def _natural(problem, alg: Natural, opts, start, t: Tier):
+    par = alg.parameter
+    if par not in ("u", "E"):
+        raise ValueError(f"Natural: parameter must be 'u' or 'E', got {par!r}")
+    m = t.m
+
+    def s_of(v):                                  # the predictor's coordinate
+        return v * v if par == "u" else m.sqrt(abs(v - alg.origin))
+
+    members = list(start)
+    with t.context():
+        xs = [s_of(mb.u if par == "u" else mb.E) for mb in members]
+        ys = [mb.w if par == "u" else mb.u for mb in members]
+        if alg.origin is not None:
+            xs.insert(0, s_of(t.num(alg.origin)) if par == "u" else t.num(0))
+            ys.insert(0, t.num(alg.origin_other))
+        targets = [t.num(v) for v in alg.values]
+        halvings = 0
+        while targets:
+            v = targets[0]
+            guess = _extrapolate(xs, ys, s_of(v), alg.order, t)
+            try:
+                if par == "u":
+                    root = solve(problem, guess, u=v, t=t, r_max=_r_max(opts, t))
+                    new = member(problem, v, root.x, t, opts.traces)
+                else:
+                    root = solve(problem, guess, E=v, t=t, r_max=_r_max(opts, t))
+                    new = member(problem, root.x, problem.w_at(root.x, v, t), t, opts.traces)
+            except (NoConvergence, SectionNotReached):
+                if halvings >= alg.halvings:
+                    raise FamilyEnd(problem.label, members, float(v) if par == "E" else NAN,
+                                    par) from None
+                halvings += 1
+                prev = members[-1].u if par == "u" else members[-1].E
+                if par == "u":
+                    targets.insert(0, (prev + v) / 2)
+                else:
+                    sm = (s_of(prev) + s_of(v)) / 2
+                    targets.insert(0, alg.origin + (1 if v > alg.origin else -1) * sm * sm)
+                continue
+            members.append(new)
+            xs.append(s_of(v))
+            ys.append(new.w if par == "u" else new.u)
+            targets.pop(0)
+            if _crossed(opts, members):
+                return members, "event"
+    return members, "values"
+
+
+def _crossed(opts, members):
+    """Whether ``tr M`` of the last two members crosses a level of ``opts.stop_on``."""
+    if len(members) < 2:
+        return False
+    a, b = members[-2].trace, members[-1].trace
+    levels = {"IS": 4, "PD": 0}
+    return any((a - levels[k]) * (b - levels[k]) < 0 for k in opts.stop_on)
+
+
+class FamilyEnd(ValueError):
+    """A natural continuation could not go on.
+
+    Attributes
+    ----------
+    label : str
+    members : list of Member
+        The members found before it stopped.
+    E_reached : float
+        The energy of the last member found.
+    E_asked : float
+        The energy asked for (``nan`` when stepping in ``u``).
+    """
+
+    def __init__(self, label, members, E_asked, par):
+        E_reached = float(members[-1].E)
+        self.members = members
+        super().__init__(
+            f"{label}: the family was not found beyond E = {E_reached!r} (a fold in {par}, or "
+            f"the orbit stops reaching its section)"
+            + (f"; asked for E = {E_asked!r}" if E_asked == E_asked else ""))
+        self.label, self.E_reached, self.E_asked = label, E_reached, E_asked
+
+
+# --------------------------------------------------------------------------- PALC
+
+class _Local:
+    """Coordinates centred on a reference member and scaled by it,
+    ``X = ((u - u_k) / su, (w - w_k) / sw)`` with ``su = |u_k|``, ``sw = |E_k - E_ref|``
+    (floors ``u_floor``, ``w_floor``), and the local-parametrization corrector."""
+
+    def __init__(self, problem, t, alg, ref: Member, opts):
+        self.p, self.t, self.alg, self.ref, self.opts = problem, t, alg, ref, opts
+        with t.context():
+            self.su = max(abs(ref.u), t.num(alg.u_floor))
+            self.sw = max(abs(ref.E - t.num(alg.E_ref)), t.num(alg.w_floor))
+
+    def X(self, m: Member):
+        return ((m.u - self.ref.u) / self.su, (m.w - self.ref.w) / self.sw)
+
+    def tangent(self):
+        """The unit tangent at the reference (kernel of the variational gradient of ``r``)."""
+        s = residual(self.p, self.ref.u, self.ref.w, self.t, derivative=True)
+        g = (s.grad[0] * self.su, s.grad[1] * self.sw)
+        n = self.t.m.sqrt(g[0] ** 2 + g[1] ** 2)
+        return (-g[1] / n, g[0] / n)
+
+    def correct(self, k, value, guess, change):
+        """The member with coordinate ``k`` (``0``: ``u``, ``1``: ``w``) at ``value``, the
+        other solved by the secant from ``guess`` (first step ``1e-4`` of the predicted
+        ``change``). Raises NoConvergence or SectionNotReached."""
+        t = self.t
+        tol = 1e-13 if not t.extended else t.num(t.eps) * 8
+        x1 = guess + max(abs(change) * t.num("1e-4"), abs(guess) * t.num(t.eps) ** t.num(0.5),
+                         (self.sw if k == 0 else self.su) * tol)
+        kw = dict(t=t, tol=tol, r_max=_r_max(self.opts, t))
+        if k == 0:
+            root = solve(self.p, guess, x1, u=value, floor=self.sw, **kw)
+            return member(self.p, value, root.x, t, self.opts.traces)
+        root = solve(self.p, guess, x1, w=value, floor=self.su, **kw)
+        return member(self.p, root.x, value, t, self.opts.traces)
+
+
+def _held(d):
+    """The coordinate held fixed for a step along ``d`` (scaled): ``u`` unless it is nearly
+    stationary (a turning point of ``u``); near a fork ``E - E_n ~ u^2`` changes twice as
+    fast as ``u`` in relative terms, and ``w(u^2)`` is the smooth prediction."""
+    return 0 if abs(d[0]) >= abs(d[1]) / 5 else 1
+
+
+def _predict(members, k, value, order, t):
+    """The other coordinate at ``value`` of coordinate ``k``: Lagrange extrapolation through
+    the last members, in ``u^2`` when stepping ``u`` (a fork is even in ``u``)."""
+    xs = [m.u * m.u if k == 0 else m.w for m in members]
+    ys = [m.w if k == 0 else m.u for m in members]
+    return _extrapolate(xs, ys, value * value if k == 0 else value, order, t)
+
+
+def _palc(problem, alg: PALC, opts, start, t: Tier, on_member):
+    members = list(start)
+    ds, stop = t.num(alg.ds), "steps"
+    with t.context():
+        for _ in range(opts.max_steps):
+            ref = members[-1]
+            loc = _Local(problem, t, alg, ref, opts)
+            if len(members) >= 2:
+                back = loc.X(members[-2])
+                d = (-back[0], -back[1])
+            else:
+                try:
+                    d = loc.tangent()
+                except (SectionNotReached, ValueError):
+                    stop = "section lost"
+                    break
+                if (d[0] > 0) != (alg.direction > 0):
+                    d = (-d[0], -d[1])
+            k = _held(d)
+            sign = 1 if d[k] > 0 else -1
+            new = None
+            while ds >= alg.ds_min:
+                if k == 0:
+                    value = ref.u + sign * ds * loc.su
+                else:
+                    value = ref.w + sign * ds * loc.sw
+                if len(members) >= 2:
+                    guess = _predict(members, k, value, alg.order, t)
+                else:
+                    other = (d[1] / d[0]) * (value - ref.u) / loc.su * loc.sw if k == 0 else \
+                        (d[0] / d[1]) * (value - ref.w) / loc.sw * loc.su
+                    guess = (ref.w if k == 0 else ref.u) + other
+                change = guess - (ref.w if k == 0 else ref.u)
+                try:
+                    mb = loc.correct(k, value, guess, change)
+                except (SectionNotReached, ValueError):
+                    mb = None
+                if mb is not None:
+                    # a correction far beyond the predicted change may be another family (they lie
+                    # close in (u, w) near E = 4), unless t1 moved continuously
+                    got, dt1 = mb.w if k == 0 else mb.u, abs(mb.t1 - ref.t1) / abs(ref.t1)
+                    far = abs(got - guess) > abs(change) / 5 + abs(got) * 1e-10 and dt1 > 0.01
+                    jump = opts.jump is not None and dt1 > opts.jump
+                    if not far and not jump:
+                        new = mb
+                        break
+                ds = ds / 2
+            if new is None:
+                stop = "stuck"
+                break
+            members.append(new)
+            ds = min(ds * t.num(1.5), t.num(alg.ds_max))
+            why = on_member(members)
+            if why:
+                stop = why
+                break
+    return members, stop
+
+
+# --------------------------------------------------------------------------- events
+
+def _between(problem, t, alg, members, i, j, opts):
+    """``(at, vb)``: members between ``members[i]`` and ``members[j]``, parametrised by the
+    coordinate held by the step (:func:`_held`), ``v`` from 0 at ``i`` to ``vb`` at ``j``,
+    the other interpolated through the neighbouring members and corrected."""
+    a, b = members[i], members[j]
+    loc = _Local(problem, t, alg, a, opts)
+    Xb = loc.X(b)
+    k = _held(Xb)
+    known = list(members[max(0, i - 1):j + 2])          # interpolation through the neighbours
+
+    def at(v):
+        value = a.u + v * loc.su if k == 0 else a.w + v * loc.sw
+        if len(known) >= 2:
+            guess = _predict(known, k, value, len(known) - 1, t)
+        else:
+            f = v / Xb[k]
+            guess = a.w + f * (b.w - a.w) if k == 0 else a.u + f * (b.u - a.u)
+        return loc.correct(k, value, guess, (b.w - a.w) if k == 0 else (b.u - a.u))
+
+    return at, Xb[k]
+
+
+def _illinois(g, at, vb, ga, gb, tol, maxiter=100):
+    """The member ``at(v)`` where ``g`` vanishes for ``v`` in ``(0, vb)`` (``g`` of opposite
+    signs ``ga``, ``gb`` at the ends): the Illinois variant of regula falsi, a bracketing
+    superlinear method that works on floats and mpf alike."""
+    a, b, side, last = 0 * vb, vb, 0, None
+    for _ in range(maxiter):
+        c = (a * gb - b * ga) / (gb - ga)
+        m = at(c)
+        gc = g(m)
+        if gc == 0 or (last is not None and abs(c - last) <= tol * abs(vb)):
+            return m
+        last = c
+        if (gc > 0) == (gb > 0):
+            b, gb = c, gc
+            ga = ga / 2 if side == -1 else ga
+            side = -1
+        else:
+            a, ga = c, gc
+            gb = gb / 2 if side == 1 else gb
+            side = 1
+    return m
+
+
+def _events(problem, t, branch_members, opts, alg):
+    """Special points between consecutive members: a secant on the local parameter for the
+    zeros of ``E - E_target`` and ``tr M - 4``, ``tr M``; bounded Brent for the folds of
+    ``E`` (``E`` to ~1e-15: the extremum is quadratic). A point that cannot be located (the
+    orbit stops reaching its section there) is kept unlocated."""
+    from scipy.optimize import minimize_scalar
+
+    pal = alg if isinstance(alg, PALC) else PALC()
+    out = []
+    with t.context():
+        checks = [("E", lambda m, e=t.num(e): m.E - e) for e in opts.energies]
+        if opts.traces:
+            checks += [("IS", lambda m: m.trace - 4), ("PD", lambda m: m.trace)]
+        for k in range(1, len(branch_members)):
+            a, b = branch_members[k - 1], branch_members[k]
+            for kind, g in checks:
+                if not g(a) * g(b) < 0:
+                    continue
+                try:
+                    at, vb = _between(problem, t, pal, branch_members, k - 1, k, opts)
+                    tol = 1e-14 if not t.extended else t.num(t.eps) * 4
+                    out.append(SpecialPoint(kind, _illinois(g, at, vb, g(a), g(b), tol), k - 1))
+                except (SectionNotReached, ValueError):
+                    out.append(SpecialPoint(kind, b, k - 1, False))
+            if opts.folds and k < len(branch_members) - 1:
+                c = branch_members[k + 1]
+                if not (b.E - a.E) * (c.E - b.E) < 0:
+                    continue
+                try:
+                    at, vc = _between(problem, t, pal, branch_members, k - 1, k + 1, opts)
+                    sign = 1 if b.E > a.E else -1
+                    res = minimize_scalar(lambda v: -sign * float(at(v).E), method="bounded",
+                                          bounds=sorted((0.0, float(vc))),
+                                          options={"xatol": 1e-10 * abs(float(vc))})
+                    out.append(SpecialPoint("fold", at(t.num(res.x)), k))
+                except (SectionNotReached, ValueError):
+                    out.append(SpecialPoint("fold", b, k, False))
+    return sorted(out, key=lambda p: p.index)
+
+
+# --------------------------------------------------------------------------- front end
+
+def continuation(problem: ShootingProblem, algorithm, options: ContinuationOptions = None,
+                 start=(), t: Tier = FLOAT64) -> Branch:
+    """Follow the family of ``problem`` from the members ``start`` (see the module docstring).
+
+    Parameters
+    ----------
+    problem : ShootingProblem
+    algorithm : Natural or PALC
+    options : ContinuationOptions, optional
+    start : sequence of Member
+        Known members, in order along the branch (at least one).
+    t : Tier
+        Working precision of every shot.
+
+    Returns
+    -------
+    Branch
+    """
+    opts = options or ContinuationOptions()
+    if not start:
+        raise ValueError("continuation needs at least one starting member")
+    start = [m if not opts.traces or m.trace == m.trace else member(
+        problem, m.u, m.w, t, True) for m in start]
+
+    def on_member(members):
+        m = members[-1]
+        if not (opts.E_range[0] <= m.E <= opts.E_range[1]):
+            return "E range"
+        if m.t1 > opts.t1_max:
+            return "period"
+        return "event" if _crossed(opts, members) else ""
+
+    if isinstance(algorithm, Natural):
+        members, stop = _natural(problem, algorithm, opts, start, t)
+    elif isinstance(algorithm, PALC):
+        members, stop = _palc(problem, algorithm, opts, start, t, on_member)
+    else:
+        raise ValueError(f"algorithm must be Natural or PALC, got {algorithm!r}")
+    special = _events(problem, t, members, opts, algorithm)
+    return Branch(problem, t, tuple(members), tuple(special), stop)
+
+
+def with_traces(branch: Branch) -> Branch:
+    """The same branch with ``tr M`` of every member and its ``IS``/``PD`` points."""
+    opts = ContinuationOptions(traces=True, folds=False)
+    mem = tuple(member(branch.problem, m.u, m.w, branch.tier, True) for m in branch.members)
+    extra = _events(branch.problem, branch.tier, mem, opts, PALC())
+    return replace(branch, members=mem, special_points=branch.special_points + tuple(extra))
+
+
+__all__ += ["FamilyEnd", "with_traces"]

@@ -1,0 +1,159 @@
+"""Precision tiers: one ``digits`` control for every integration in rotorlib.
+
+A :class:`Tier` is float64 (heyoka's Taylor method at machine epsilon, or scipy),
+heyoka ``real128`` (quadruple precision, ~33 digits) or heyoka multiprecision
+``mp<bits>`` (MPFR). :func:`tier` maps a requested number of significant digits to
+a tier exactly as :func:`rotorlib.hill.precision_tier` does, so that a result
+computed with ``digits=D`` names the same tier whatever produced it.
+
+Numbers in a tier are Python floats (float64) or ``mpmath.mpf`` evaluated at
+:attr:`Tier.dps` working digits (extended tiers); a float given to an extended
+tier is read as its shortest decimal representation (``4.55`` means 455/100).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from functools import lru_cache
+
+import mpmath as mp
+import numpy as np
+
+__all__ = ["Tier", "tier", "FLOAT64", "REAL128"]
+
+
+@dataclass(frozen=True)
+class Tier:
+    """A working precision: ``float64``, ``real128`` or ``mp<bits>``."""
+
+    name: str
+
+    def __post_init__(self):
+        ok = self.name in ("float64", "real128") or (
+            self.name.startswith("mp") and self.name[2:].isdigit()
+        )
+        if not ok:
+            raise ValueError(f"precision must be float64, real128 or mp<bits>, got {self.name!r}")
+
+    @property
+    def bits(self) -> int:
+        """Mantissa bits (53, 113 or the MPFR precision)."""
+        return {"float64": 53, "real128": 113}.get(self.name) or int(self.name[2:])
+
+    @property
+    def dps(self) -> int:
+        """mpmath working digits for quantities carried between integrations."""
+        return 17 if self.name == "float64" else 40 if self.name == "real128" else int(
+            self.bits / 3.32) + 8
+
+    @property
+    def eps(self) -> float:
+        """Unit roundoff ``2^(1 - bits)`` (as a float; 0 below the float64 range)."""
+        return 2.0 ** (1 - self.bits)
+
+    @property
+    def extended(self) -> bool:
+        return self.name != "float64"
+
+    def context(self):
+        """``mp.workdps(dps)``: arithmetic on the tier's numbers happens inside it."""
+        return mp.workdps(self.dps)
+
+    def num(self, v):
+        """``v`` (float, int, decimal string or mpf) as a number of this tier."""
+        if not self.extended:
+            return float(v)
+        if isinstance(v, (float, np.floating)):
+            v = repr(float(v))
+        elif isinstance(v, (int, np.integer)):
+            v = int(v)
+        with self.context():
+            return mp.mpf(v)
+
+    @property
+    def m(self):
+        """The math module of the tier's numbers (:mod:`math` or :mod:`mpmath`)."""
+        return mp if self.extended else math
+
+    @property
+    def pi(self):
+        return self.num(mp.pi) if self.extended else math.pi
+
+    def text(self, v, digits=None) -> str:
+        """``v`` as a decimal string with ``digits`` significant digits (default: all)."""
+        if not self.extended:
+            return repr(float(v))
+        with self.context():
+            return mp.nstr(mp.mpf(v), digits or self.dps - 4, strip_zeros=False)
+
+    # ---------------------------------------------------------------- heyoka types
+    @property
+    def hy_kwargs(self) -> dict:
+        """``fp_type`` / ``prec`` keyword arguments of ``heyoka.taylor_adaptive``."""
+        import heyoka as hy
+
+        if self.name == "float64":
+            return {}
+        if self.name == "real128":
+            return {"fp_type": hy.real128}
+        return {"fp_type": hy.real, "prec": self.bits}
+
+    def to_hy(self, v):
+        """A number in heyoka's type for this tier, without losing digits."""
+        if not self.extended:
+            return float(v)
+        import heyoka as hy
+
+        if isinstance(v, (float, np.floating)):
+            s = repr(float(v))
+        elif isinstance(v, (int, np.integer, str)):
+            s = str(v)
+        else:
+            with self.context():
+                s = mp.nstr(mp.mpf(v), self.dps + 2)
+        return hy.real128(s) if self.name == "real128" else hy.real(s, self.bits)
+
+    def from_hy(self, v):
+        """Back from heyoka's type: a float or an mpf."""
+        if not self.extended:
+            return float(v)
+        with self.context():
+            return mp.mpf(str(v))
+
+    def hy_array(self, values):
+        """A numpy array of heyoka numbers (the state of an integrator)."""
+        vals = [self.to_hy(v) for v in values]
+        if self.name == "float64":
+            return np.array(vals, dtype=float)
+        import heyoka as hy
+
+        return np.array(vals, dtype=hy.real128 if self.name == "real128" else object)
+
+
+FLOAT64 = Tier("float64")
+REAL128 = Tier("real128")
+
+
+@lru_cache(maxsize=None)
+def tier(digits=None, extra=0) -> Tier:
+    """The tier that delivers ``digits`` significant digits after losing ``extra``.
+
+    ``digits=None`` or ``digits + extra <= 15``: float64; up to 31: real128; beyond:
+    ``mp<bits>`` with ``bits = ceil((digits + extra + 8) * 3.33)`` (as
+    :func:`rotorlib.hill.precision_tier`). ``extra`` is the number of digits the
+    computation itself loses (e.g. ``log10(1/|E - 4|)`` for shooting near the
+    separatrix).
+    """
+    if digits is None:
+        return FLOAT64
+    if isinstance(digits, bool) or not isinstance(digits, (int, np.integer)) or not (
+        1 <= digits <= 1000
+    ):
+        raise ValueError(f"digits must be an integer from 1 to 1000, got {digits!r}")
+    d = int(digits) + max(0, int(math.ceil(extra)))
+    if d <= 15:
+        return FLOAT64
+    if d <= 31:
+        return REAL128
+    return Tier(f"mp{int(math.ceil((d + 8) * 3.33))}")

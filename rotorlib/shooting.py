@@ -1,0 +1,366 @@
+"""Symmetric shooting for periodic orbits (paper §6): the problem, its residual, its corrector.
+
+The flow is reversible: with ``T`` the reversal of time (``p -> -p``) and ``g`` a
+symmetry of V, ``R = T g`` maps orbits to orbits run backwards. An orbit through a
+point of ``Fix R1`` that meets ``Fix R2`` at ``t1`` is periodic: ``x(t + 2 t1) =
+R2 R1 x(t)``, so its period is ``2 t1`` times the order of ``R2 R1`` (``factor``).
+A :class:`ShootingProblem` says where the orbit starts (:class:`StartSet`, one
+parameter ``u`` at given energy), which fixed set it must meet (a
+:class:`~rotorlib.flow.Section` crossed as an event, and a ``condition`` that
+vanishes on the fixed set), at which crossing, and the lattice vector it closes
+on. Its residual :func:`residual` is one number of two unknowns ``(u, w)``; ``w``
+is the energy ``E`` or, with ``K_ref``, the free kinetic energy ``K - K_ref`` at
+the start (the chart of the rotational families, where ``E - 4`` is formed without
+cancellation). The energy shell is exact by construction: no unfolding term.
+
+Correctors: :func:`secant` in one unknown (:func:`solve`), and Newton with the
+variational equations (the gradient of the residual, corrected for the moving
+event time) in :mod:`rotorlib.continuation`.
+
+Precision: every quantity is computed in the :class:`~rotorlib.precision.Tier`
+asked for; the residual carries ``~eps / |E - 4|`` round-off near the separatrix.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+
+from .flow import Section, SectionNotReached, to_section
+from .precision import FLOAT64, Tier
+
+__all__ = ["StartSet", "ShootingProblem", "Shot", "Root", "NoConvergence", "residual",
+           "secant", "solve"]
+
+
+def _kin(p):
+    """Kinetic energy ``p1^2/4 + 3 p2^2/4``."""
+    return p[0] * p[0] / 4 + 3 * p[1] * p[1] / 4
+
+
+@dataclass(frozen=True)
+class StartSet:
+    """Initial states on a fixed set of a reversing symmetry, one parameter ``u``.
+
+    ``q = q0 pi + u a`` and ``p = u c + sqrt(K / K(b)) b`` (``c`` and ``b``
+    orthogonal in the kinetic metric), so ``E = K + V(q) + u^2 K(c)``: ``K`` is the
+    kinetic energy left for the direction ``b``.
+
+    Attributes
+    ----------
+    name : str
+    q0, a, c, b : tuple of 2 floats
+        Base point (units of pi), configuration direction, momentum directions.
+    """
+
+    name: str
+    q0: tuple = (0.0, 0.0)
+    a: tuple = (0.0, 0.0)
+    c: tuple = (0.0, 0.0)
+    b: tuple = (0.0, 1.0)
+
+    def __post_init__(self):
+        if self.c[0] * self.b[0] / 4 + 3 * self.c[1] * self.b[1] / 4:
+            raise ValueError(f"{self.name}: c and b must be orthogonal in the kinetic metric")
+
+    def _q(self, u, t: Tier):
+        pi = t.pi
+        return [self.q0[0] * pi + u * self.a[0] if self.q0[0] or t.extended else u * self.a[0],
+                self.q0[1] * pi + u * self.a[1] if self.q0[1] or t.extended else u * self.a[1]]
+
+    def _v(self, q, t: Tier):
+        if t.extended:
+            m = t.m
+            return 3 - m.cos(2 * q[0]) - m.cos(q[1] - q[0]) - m.cos(q[0] + q[1])
+        from .system import potential_alpha
+
+        return float(potential_alpha(q[0], q[1]))
+
+    def bound(self, u, t: Tier = FLOAT64):
+        """``V(q(u)) + u^2 K(c)``: the energy at ``u`` with ``K = 0``."""
+        with t.context():
+            return self._v(self._q(u, t), t) + u * u * _kin(self.c)
+
+    def state(self, u, K, t: Tier = FLOAT64):
+        """``[a1, a2, p1, p2]`` at ``(u, K)`` (tier numbers). ``K < 0`` raises ValueError."""
+        with t.context():
+            u, K = t.num(u), t.num(K)
+            if K < 0:
+                raise ValueError(f"{self.name}: u = {float(u)!r} is outside the energy shell")
+            s = t.m.sqrt(K / _kin(self.b))
+            q = self._q(u, t)
+            zero = t.num(0)
+            return q + [u * self.c[0] + s * self.b[0] if self.b[0] or self.c[0] else zero,
+                        u * self.c[1] + s * self.b[1] if self.b[1] or self.c[1] else zero]
+
+
+@dataclass(frozen=True)
+class ShootingProblem:
+    """A symmetric periodic orbit as a root of one residual (see the module docstring).
+
+    Attributes
+    ----------
+    label : str
+    start : StartSet
+    section : Section
+        The event: the orbit's ``crossing``-th crossing of it is the symmetric point.
+    condition : Section
+        Vanishes on the target fixed set (its ``level`` and ``period`` are used, its
+        ``direction`` is not); the residual is its value at the event.
+    crossing : int
+    factor : int
+        Period = ``factor * t1``.
+    lattice : tuple
+        ``(a1, a2)`` displacement over one period, in units of pi.
+    trivial : float or None
+        A known root ``u = trivial`` of the condition for every ``w`` (the parent orbit,
+        e.g. the pendulum at ``u = 0``), divided out of the residual.
+    K_ref : float or None
+        Chart: ``None``, the second unknown is ``E``; else it is ``K - K_ref``.
+    t_max : float
+        Integration limit of one shot.
+    abort : Section or None
+        A shot that crosses it before ``section`` has failed (ends at once).
+    """
+
+    label: str
+    start: StartSet
+    section: Section
+    condition: Section
+    crossing: int = 1
+    factor: int = 2
+    lattice: tuple = (0.0, 0.0)
+    trivial: float | None = None
+    K_ref: float | None = None
+    t_max: float = 1e3
+    abort: Section | None = None
+
+    def chart(self, K_ref=None) -> "ShootingProblem":
+        """The same problem with the second unknown ``E`` (``K_ref=None``) or ``K - K_ref``."""
+        return replace(self, K_ref=K_ref)
+
+    def energy(self, u, w, t: Tier = FLOAT64):
+        """``E`` at ``(u, w)``."""
+        if self.K_ref is None:
+            return t.num(w)
+        with t.context():
+            return t.num(self.K_ref) + t.num(w) + self.start.bound(t.num(u), t)
+
+    def w_at(self, u, E, t: Tier = FLOAT64):
+        """The second unknown at amplitude ``u`` and energy ``E``."""
+        if self.K_ref is None:
+            return t.num(E)
+        with t.context():
+            return t.num(E) - t.num(self.K_ref) - self.start.bound(t.num(u), t)
+
+    def state(self, u, w, t: Tier = FLOAT64):
+        """Initial state ``[a1, a2, p1, p2]`` at ``(u, w)``."""
+        with t.context():
+            u = t.num(u)
+            K = (t.num(w) - self.start.bound(u, t) if self.K_ref is None
+                 else t.num(self.K_ref) + t.num(w))
+            return self.start.state(u, K, t)
+
+
+@dataclass(frozen=True)
+class Shot:
+    """One evaluation of the residual.
+
+    Attributes
+    ----------
+    r : float or mpf
+        The residual (deflated by ``u - trivial``).
+    t1 : float or mpf
+        Time of the symmetric point (period = ``factor * t1``).
+    x0, x1 : list
+        Initial state and state at ``t1``.
+    grad : tuple or None
+        ``(dr/du, dr/dw)`` (with ``derivative=True``).
+    dt1 : tuple or None
+        ``(dt1/du, dt1/dw)``.
+    """
+
+    r: object
+    t1: object
+    x0: list
+    x1: list
+    grad: tuple | None = None
+    dt1: tuple | None = None
+
+
+def _cond(section: Section, x, t: Tier):
+    """The condition's value (modular conditions as ``(P/pi) sin(pi (c.x - L)/P)``: a unit
+    slope at every translate) and its derivative factor."""
+    y = section.value(x) - section.level * t.pi if section.level else section.value(x)
+    if section.period is None:
+        return y, 1
+    k = t.pi / (section.period * t.pi)
+    return t.m.sin(k * y) / k, t.m.cos(k * y)
+
+
+def residual(problem: ShootingProblem, u, w, t: Tier = FLOAT64, derivative=False) -> Shot:
+    """The residual at ``(u, w)`` in tier ``t``; raises SectionNotReached or ValueError.
+
+    With ``derivative``, the variational equations give ``dx1/dx0 = (I - f s^T/(s.f)) Phi``
+    (``Phi`` at fixed time, ``s`` the section's normal, ``f`` the vector field at the
+    event), hence ``dr/du``, ``dr/dw`` and ``dt1/du``, ``dt1/dw``.
+    """
+    with t.context():
+        u, w = t.num(u), t.num(w)
+        x0 = problem.state(u, w, t)
+        out = to_section(x0, problem.section, t, problem.crossing, problem.t_max, derivative,
+                         problem.abort)
+        t1, x1 = out[0], out[1]
+        g, dg = _cond(problem.condition, x1, t)
+        d = 1 if problem.trivial is None else u - t.num(problem.trivial)
+        if problem.trivial is not None and d == 0:
+            raise ValueError(f"{problem.label}: u = {problem.trivial} is the parent orbit")
+        r = g / d
+        if not derivative:
+            return Shot(r, t1, x0, x1)
+        grad, dt = _gradient(problem, u, w, out[2], x1, t)
+        c = [ci * dg for ci in problem.condition.c]
+        dr = [sum(ci * gi for ci, gi in zip(c, col)) / d for col in grad]
+        if problem.trivial is not None:
+            dr[0] -= r / d
+        return Shot(r, t1, x0, x1, tuple(dr), tuple(dt))
+
+
+def _gradient(problem, u, w, Phi, x1, t: Tier):
+    """``(dx1/du, dx1/dw)`` and ``(dt1/du, dt1/dw)``: the start set differentiated in
+    closed form, the flow by its fundamental matrix, the event time by implicit
+    differentiation of the section."""
+    from .flow import _rhs
+
+    st, x0 = problem.start, problem.state(u, w, t)
+    K = (x0[2] * x0[2] / 4 + 3 * x0[3] * x0[3] / 4) - u * u * _kin(st.c)
+    dp_dK = [bi / (2 * t.m.sqrt(K * _kin(st.b))) for bi in st.b] if K > 0 else [0, 0]
+    f0 = _rhs(x0)
+    if problem.K_ref is None:                 # K = E - V(q(u)) - u^2 K(c)
+        dK_du = (f0[2] * st.a[0] + f0[3] * st.a[1]) - 2 * u * _kin(st.c)
+    else:                                     # K = K_ref + w
+        dK_du = 0
+    cols = [[st.a[0], st.a[1], st.c[0] + dp_dK[0] * dK_du, st.c[1] + dp_dK[1] * dK_du],
+            [0, 0, dp_dK[0], dp_dK[1]]]
+    f = _rhs(x1)
+    s = problem.section.c
+    sf = sum(si * fi for si, fi in zip(s, f))
+    out, dts = [], []
+    for v in cols:
+        y = [sum(Phi[i][j] * v[j] for j in range(4)) for i in range(4)]
+        dt = -sum(si * yi for si, yi in zip(s, y)) / sf
+        out.append([yi + fi * dt for yi, fi in zip(y, f)])
+        dts.append(dt)
+    return out, dts
+
+
+@dataclass(frozen=True)
+class Root:
+    """Result of :func:`secant`: ``x``, ``|f(x)|``, iterations and whether the step converged."""
+
+    x: object
+    residual: object
+    iterations: int
+    converged: bool
+
+
+class NoConvergence(ValueError):
+    """A corrector failed.
+
+    Attributes
+    ----------
+    label : str
+    fixed : dict
+        The fixed coordinate (``{"E": ...}`` or ``{"u": ...}``) as floats.
+    best : Root or None
+    """
+
+    def __init__(self, label, fixed, best=None, why=""):
+        where = ", ".join(f"{k} = {float(v)!r}" for k, v in fixed.items())
+        super().__init__(f"{label}: the shooting did not converge at {where}" + (
+            f" ({why})" if why else ""))
+        self.label, self.fixed, self.best = label, {k: float(v) for k, v in fixed.items()}, best
+
+
+def secant(f, x0, x1, tol, floor=0.0, maxiter=40) -> Root:
+    """Secant iteration on a scalar ``f``.
+
+    A point beyond the section's reach (``f`` raises SectionNotReached or ValueError)
+    is moved back towards the last good one. Stops when the step falls below
+    ``tol * max(|x|, floor)`` (converged) or stops shrinking after 3 iterations (the
+    round-off floor of ``f``); returns the iterate with the smallest ``|f|`` then.
+    """
+    fx0 = f(x0)
+    for _ in range(30):
+        try:
+            fx1 = f(x1)
+            break
+        except (SectionNotReached, ValueError):
+            x1 = x0 + (x1 - x0) / 8
+    else:
+        raise SectionNotReached(0.0, 0)
+    best = (abs(fx1), x1) if abs(fx1) < abs(fx0) else (abs(fx0), x0)
+    last = None
+    it = 0
+    for it in range(maxiter):
+        if fx1 == fx0:
+            break
+        x2 = x1 - fx1 * (x1 - x0) / (fx1 - fx0)
+        for _ in range(30):
+            try:
+                fx2 = f(x2)
+                break
+            except (SectionNotReached, ValueError):
+                x2 = x1 + (x2 - x1) / 2
+        else:
+            raise SectionNotReached(0.0, 0)
+        dx = abs(x2 - x1)
+        x0, fx0, x1, fx1 = x1, fx1, x2, fx2
+        if abs(fx1) < best[0]:
+            best = (abs(fx1), x1)
+        if dx <= tol * max(abs(x1), floor) or fx1 == 0:
+            return Root(x1, abs(fx1), it + 1, True)
+        if last is not None and it >= 3 and dx >= last:
+            break
+        last = dx
+    return Root(best[1], best[0], it + 1, False)
+
+
+def solve(problem: ShootingProblem, x0, x1=None, *, u=None, w=None, E=None,
+          t: Tier = FLOAT64, tol=None, floor=0.0, r_max=None) -> Root:
+    """The member with amplitude ``u`` (solving for ``w``), or with second unknown ``w`` or
+    energy ``E`` (solving for ``u``).
+
+    A :func:`secant` from ``x0`` and ``x1`` to a step of ``tol * max(|x|, floor)`` (default
+    tol 4e-15 float64, ``8 eps`` extended). ``x1`` defaults to ``x0 (1 + 1e-4)`` in float64,
+    ``x0 (1 + 1e-9)`` extended. Raises :class:`NoConvergence` unless
+    ``|r| < r_max`` at the end (default 1e-8 float64, ``eps^(2/3)`` extended; ``math.inf``
+    accepts any end).
+    """
+    if sum(v is not None for v in (u, w, E)) != 1:
+        raise ValueError("give exactly one of u, w and E")
+    with t.context():
+        tol = tol if tol is not None else (4e-15 if not t.extended else t.num(t.eps) * 8)
+        r_max = r_max if r_max is not None else (1e-8 if not t.extended else t.eps ** (2 / 3))
+        x0 = t.num(x0)
+        if u is not None:
+            u = t.num(u)
+
+            def f(ww):
+                return residual(problem, u, ww, t).r
+        elif w is not None:
+            w = t.num(w)
+
+            def f(uu):
+                return residual(problem, uu, w, t).r
+        else:
+            E = t.num(E)
+
+            def f(uu):
+                return residual(problem, uu, problem.w_at(uu, E, t), t).r
+        if x1 is None:
+            x1 = x0 * (1 + (1e-4 if not t.extended else t.num("1e-9")))
+        root = secant(f, x0, t.num(x1), tol, floor)
+        if not root.residual < r_max:
+            fixed = {"u": u} if u is not None else {"w": w} if w is not None else {"E": E}
+            raise NoConvergence(problem.label, fixed, root)
+        return root
