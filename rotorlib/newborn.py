@@ -118,8 +118,8 @@ class FamilySpec:
 
     @property
     def depth(self) -> float:
-        """``|E_n - 4|``."""
-        return abs(self.E_birth - 4.0)
+        """``|E_n - 4|`` (from ``log|E_n - 4|``: exact where ``E_n`` rounds to 4 in float64)."""
+        return math.exp(self.log_abs_dE_birth)
 
     @property
     def problem(self) -> ShootingProblem:

@@ -73,85 +73,43 @@ def test_bad_input():
         ch.poincare_section(float("nan"))
 
 
-def test_newborn_amplitude_branch_passes_the_fold():
-    pytest.importorskip("rotorlib.newborn")
-    b = ch.newborn_amplitude_branch("PD^r_2", 4.54)
-    assert b.exit_level == 4.0 and abs(b.exit_E - 4.55) < 0.005          # paper: PD^r_2 unstable from ~4.55
-    assert np.all(b.closure < 1e-9)
+def test_amplitude_branch_passes_the_fold():
+    b = ch.amplitude_branch("PD^r_2", 4.54)
+    exits = [p for p in b.special_points if p.kind in ("IS", "PD")]
+    assert b.stop == "event" and exits[0].kind == "IS"
+    assert abs(float(exits[0].member.E) - 4.55) < 0.005           # paper: PD^r_2 unstable from ~4.55
     # the member at the exit closes under scipy and has tr M = 4 (independent 4x4 route)
-    from rotorlib import newborn as nbm
     from rotorlib.monodromy import variational_monodromy
-    spec = nbm.family_spec("PD^r_2")
-    t1, _ = nbm.shoot(spec, b.exit_u, b.exit_E)
-    v = variational_monodromy(np.array(nbm.start_state(spec, b.exit_u, b.exit_E), float), spec.factor * float(t1))
+
+    m = exits[0].member
+    v = variational_monodromy(np.array(b.state(m), float), b.problem.factor * float(m.t1))
     assert v.closure < 1e-8 and abs(v.trace - 4.0) < 1e-5
 
 
-def test_rotational_band():
-    """Rotational daughters followed in amplitude: IS^r_2 stays below the band and becomes unstable at the energy
-    the continuation in E finds (paper: 4.02); PD^r_1 is in the band and unstable there; bad input raises."""
-    r2, p1 = ch.rotational_band(["IS^r_2", "PD^r_1"], dE_stop=1.7)
+def test_band_families():
+    """Rotational daughters followed with the engine: IS^r_2 stays below the band and becomes
+    unstable at the energy of chapter 08 (paper: 4.02); PD^r_1 is in the band and unstable there;
+    bad input raises."""
+    r2, p1 = ch.band_families(["IS^r_2", "PD^r_1"], dE_stop=1.7)
     assert not r2.reaches_band and r2.E_max < 4.5 and r2.exit_level == 0.0 and r2.stays_unstable
     assert abs(r2.exit_E - 4.02) < 0.01
     assert p1.reaches_band and len(p1.band_trace) > 0 and np.all(p1.band_trace > 4)
     with pytest.raises(ValueError):
-        ch.rotational_band(["PD^r_5"])                       # needs real128 shooting
-    with pytest.raises(ValueError):
-        ch.rotational_band(["IS^l_1"])
-
-
-def test_real128_rotational_options_and_bad_input():
-    """New continuation options: polynomial predictor of higher order, resuming from members, bad input."""
-    import mpmath as mp
-    from rotorlib import laws
-    X = [0.1, 0.2, 0.3, 0.4, 0.5]
-    Y = [1 + 2 * x ** 2 - x ** 4 + 3 * x ** 8 for x in X]            # quartic in u^2: order 4 is exact
-    yg, _ = laws._rot_predict(X, Y, 0.7, "u", "float64", 4)
-    assert abs(yg - (1 + 2 * 0.49 - 0.7 ** 4 + 3 * 0.7 ** 8)) < 1e-12
-    yg2, _ = laws._rot_predict(X, Y, 0.7, "u", "float64")            # default quadratic: not exact
-    assert abs(yg2 - yg) > 1e-3
-    with mp.workdps(40):
-        f = (lambda x: 1 + 2 * x ** 2 - x ** 4 + 3 * x ** 8)
-        Xm = [mp.mpf(k) / 10 for k in range(1, 6)]
-        yr, _ = laws._rot_predict(Xm, [f(x) for x in Xm], mp.mpf("0.7"), "u", "real128", 4)
-        assert abs(yr - f(mp.mpf("0.7"))) < mp.mpf("1e-30")
-    with pytest.raises(ValueError):
-        laws.follow_rotational("PD^r_2", 0.1, t1_jump=0.0)
-    with pytest.raises(ValueError):
-        laws.follow_rotational("PD^r_2", 0.1, start=[(0.1, 0.0), (0.2, 0.0)])
-    with pytest.raises(ValueError):
-        laws.follow_rotational("PD^r_2", 0.1, order=0)
-    with pytest.raises(ValueError):
-        laws.follow_rotational("PD^r_2", 0.1, t1_stop=-1.0)
-    with pytest.raises(ValueError):
-        ch.rotational_band_real128(["PD^r_1"])                        # a float64 family
-    with pytest.raises(ValueError):
-        ch.rotational_band_real128(["PD^r_6"], every=0)
-    # resuming a float64 branch from three of its members continues it (same members as the full run)
-    b = laws.follow_rotational("PD^r_4", 1e-3)
-    assert len(b.u) > 5
-    r = laws.follow_rotational("PD^r_4", 1e-3, start=list(zip(b.u[:3], b.q[:3])))
-    assert r.stop == "target" and np.allclose([float(v) for v in r.u[:3]], [float(v) for v in b.u[:3]])
-    assert np.all(r.residual < 1e-6)
-    # t1_stop ends the continuation once t1 has grown (the approach to E = 4.5); the t1 guard keeps t1 continuous
-    t1_0 = laws._rot_spec("PD^r_4").period_birth / 2
-    e = laws.follow_rotational("PD^r_4", 1.7, t1_jump=0.05, t1_stop=t1_0 + 0.5, order=4, max_steps=2000)
-    p = laws.branch_profile(e)
-    assert e.stop == "t1" and p.t1[-1] >= t1_0 + 0.5 and p.t1[-2] < t1_0 + 0.5
-    assert np.all(np.abs(np.diff(p.t1)) <= 0.05 * p.t1[:-1] + 1e-9)
-    with pytest.raises(ValueError):
-        laws.branch_stability(b, every=0)
+        ch.band_families(["IS^l_1"])
 
 
 @pytest.mark.slow
 def test_pdr6_real128_exit():
-    """PD^r_6 (born 2.5e-10 above E = 4): real128 tr M enters the window, touches 0 without crossing it and leaves
-    through 4 at E - 4 = 1.55e-9; float64 tr M is round-off there. The exit is where tr M = 4 (re-solved member)."""
-    from rotorlib import laws
-    b = laws.follow_rotational("PD^r_6", 3e-9, precision="real128", h_max=0.3, t1_jump=0.05, order=4)
-    s = laws.branch_stability(b, xtol=1e-7)
-    assert s.trace[0] < 4 and np.all(s.trace >= 0) and s.exit_level == 4.0 and s.stays_out
-    assert abs(s.exit_dE - 1.5513e-9) < 2e-13
-    assert np.all(s.closure < 1e-20) and np.all(np.abs(np.diff(s.t1)) < 1e-3)
-    assert np.nanmax(s.residual64) > 1e-7                              # float64 shooting is at its noise floor
-    assert np.median(np.abs(s.trace64 - s.trace)) > 1.0                # and its tr M is round-off
+    """PD^r_6 (born 2.5e-10 above E = 4), real128 throughout: tr M enters the window, stays >= 0
+    and leaves through 4 at E - 4 = 1.55e-9 (the member there has tr M = 4); float64 tr M of the
+    same members is round-off."""
+    from rotorlib.flow import monodromy_matrix
+
+    (r,) = ch.band_families(["PD^r_6"], dE_stop=3e-9)
+    b = r.branch
+    assert b.tier.name == "real128" and b.trace[0] < 4 and np.all(b.trace >= 0)
+    assert r.exit_level == 4.0 and r.stays_unstable and abs(r.exit_E - 4 - 1.5513e-9) < 2e-13
+    assert np.all(np.abs(np.diff(b.t1)) < 1e-3)
+    m = b.members[-1]
+    tr64 = monodromy_matrix([float(v) for v in b.state(m)], b.problem.factor * float(m.t1))[2]
+    assert abs(tr64 - float(m.trace)) > 1.0                          # float64 tr M is round-off

@@ -23,7 +23,9 @@ def test_slope_theorem_from_cli_orbits(label, expected):
     the ratio to the pendulum slope is -2 (IS, i.e. tr M_pend' = -(1/2) tr M_new') or 8 (PD^r) within 2%."""
     t = transition(label)
     d = abs(t.E - 4.0)
-    recs = [laws.cli_orbit(label, t.E + r * d) for r in (5e-4, 1e-3, 2e-3)]
+    from rotorlib.commands.orbit import record
+
+    recs = [record(label, repr(t.E + r * d)) for r in (5e-4, 1e-3, 2e-3)]
     E = [float(r["E"]) for r in recs]
     law = laws.slope_law(label, E, [r["trace"] for r in recs], [r["alpha1_max"] for r in recs])
     assert abs(law.ratio / expected - 1) < 0.02, law
@@ -150,79 +152,68 @@ def test_dual_lame_functions():
 
 # ----------------------------------------------------------------- rotational families in amplitude (§7.5)
 
-def test_rotational_state_energy_and_bad_input():
-    """E - 4 = q + T(u) holds for the state built from (u, q), in float64 and real128; bad input raises."""
-    from rotorlib.system import energy_alpha
-
-    for lab in ("IS^r_1", "IS^r_2"):          # start on a1 / on p1
-        x = laws.rotational_state(lab, 0.3, 0.01)
-        assert abs(float(energy_alpha(np.array(x))) - 4 - laws.rotational_dE(lab, 0.3, 0.01)) < 1e-14
-        xm = laws.rotational_state(lab, "0.3", "1e-20", "real128")
-        assert abs(float(laws.rotational_dE(lab, "0.3", "1e-20", "real128")) - laws.rotational_dE(lab, 0.3, 1e-20)) < 1e-15
-        assert len(xm) == 4
+def test_rotational_bad_input():
     with pytest.raises(ValueError):
-        laws.rotational_state("IS^l_1", 0.1, 0.0)          # librational family
+        laws.rotational_member("IS^l_1", 0.1)               # librational family
     with pytest.raises(ValueError):
-        laws.rotational_state("IS^r_1", 0.1, -5.0)         # no a2 motion
-    with pytest.raises(ValueError):
-        laws.follow_rotational("IS^r_1", -1.0)
-    with pytest.raises(ValueError):
-        laws.follow_rotational("IS^r_1", 0.01, precision="float32")
+        laws.rotational_member("IS^r_1", -1.0)
     with pytest.raises(ValueError):
         laws.rotational_ratios([("IS", 2)])                 # E_{n-2} does not exist
     with pytest.raises(ValueError):
         laws.rotational_ratios([("XX", 3)])
 
 
-def test_follow_rotational_passes_where_energy_continuation_stops():
-    """IS^r_3 reaches E(IS^r_1) in amplitude (rotorlib.newborn's continuation in E stops near E - 4 = 2e-3),
-    and the member there is a periodic orbit: it closes under an independent integrator (scipy DOP853)."""
+def test_rotational_member_where_energy_continuation_stops():
+    """IS^r_3 reaches E(IS^r_1) (the follow in the K chart: q = K - 4 the second unknown), and the
+    member there is a periodic orbit: it closes under an independent integrator (scipy DOP853)."""
     from rotorlib.monodromy import variational_monodromy
 
     target = transition("IS^r_1").E - 4
-    m = laws.rotational_member("IS^r_3", target)
+    m = laws.rotational_member("IS^r_3", laws.dE_str("IS^r_1"))
     assert abs(m.dE / target - 1) < 1e-12 and m.residual < 1e-6
     v = variational_monodromy(m.state0, m.period, rtol=1e-13)
     assert v.closure < 1e-6
-    # paper's asymptotic amplitudes: a1max ~ sqrt(E - E_n), a2'min ~ sqrt(3 (E_n - 4)), within 3% here
+    # paper's asymptotic amplitudes: a1max ~ sqrt(E - E_n), a2'min ~ sqrt(3 (E_n - 4)), within 3%
     assert abs(m.a1_max / math.sqrt(target - (transition("IS^r_3").E - 4)) - 1) < 0.03
     assert abs(m.a2dot_min / math.sqrt(3 * (transition("IS^r_3").E - 4)) - 1) < 0.03
 
 
 def test_rotational_member_real128_extreme():
-    """IS^r_7, born e^-37.3 = 6e-17 above E = 4, evaluated at E(IS^r_5) in real128: the orbit closes and its
-    a2'min matches sqrt(3 (E_7 - 4)) to 1e-4 (the extreme of what the real128 search reaches)."""
-    m = laws.rotational_member("IS^r_7", laws._rot_dE_str("IS^r_5"))
+    """IS^r_7, born e^-37.3 = 6e-17 above E = 4, evaluated at E(IS^r_5) in real128: the orbit closes
+    and its a2'min matches sqrt(3 (E_7 - 4)) to 1e-4."""
+    m = laws.rotational_member("IS^r_7", laws.dE_str("IS^r_5"))
     assert m.precision == "real128" and m.closure < 1e-15
     d7 = math.exp(transition("IS^r_7").log_abs_dE)
     assert abs(m.a2dot_min / math.sqrt(3 * d7) - 1) < 1e-4
 
 
 def test_rotational_ratio_converges_to_sqrt_delta_r():
-    """alpha^r(5), beta^r(5) of the IS^r odd class (IS^r_5 at E(IS^r_3) over IS^r_7 at E(IS^r_5)) equal
-    sqrt(delta^r) = e^(sqrt3 pi) to 1e-5; PD^r n = 3 is not evaluable (PD^r_3 ends at E -> 4.5)."""
-    rr = laws.rotational_ratios([("IS", 5), ("PD", 3)])
-    r5, p3 = rr
+    """alpha^r(5), beta^r(5) of the IS^r odd class equal sqrt(delta^r) = e^(sqrt3 pi) to 1e-5;
+    PD^r n = 3 is not evaluable (PD^r_3 ends at E -> 4.5)."""
+    r5, p3 = laws.rotational_ratios([("IS", 5), ("PD", 3)])
     assert abs(r5.alpha / laws.DELTA_L - 1) < 1e-5 and abs(r5.beta / laws.DELTA_L - 1) < 1e-5
     assert math.isnan(p3.alpha) and "does not reach" in p3.reason and p3.numerator is None
 
 
 def test_rotational_family_ends_at_the_potential_maximum():
-    """PD^r_2 followed in amplitude passes its fold (E max 4.5517, where tr M = 4) and ends at E -> 4.5 = V(pi/3, pi)
-    with a diverging half period; the exit from [0, 4] is located at the fold."""
-    b = laws.follow_rotational("PD^r_2", 1.0)
-    p = laws.branch_profile(b)
-    assert b.E_folds == 1 and 4.55 < p.E.max() < 4.552 and abs(p.E[-1] - 4.5) < 1e-4
-    assert p.t1[-1] > 3 * p.t1[0] and abs(abs(p.a1_pi[-1]) - math.pi / 3) < 0.01
-    dE, lev, stays = laws.rotational_exit(b, p)
-    assert lev == 4.0 and stays and abs(4 + dE - p.E.max()) < 1e-4
-    with pytest.raises(ValueError):
+    """PD^r_2 followed in amplitude passes its fold (E max 4.5517, where tr M = 4) and ends at
+    E -> 4.5 = V(pi/3, pi) with a diverging half period; tr M = 4 is located at the fold."""
+    from rotorlib.newborn import follow
+
+    b = follow("PD^r_2", chart="K", E_max=5.0, traces=True)
+    assert len(b.points("fold")) == 1 and 4.55 < b.E_max < 4.552 and abs(b.E[-1] - 4.5) < 1e-4
+    assert b.t1[-1] > 3 * b.t1[0] and abs(abs(b.members[-1].x1[0]) - math.pi / 3) < 0.01
+    IS = [p for p in b.special_points if p.kind == "IS"]
+    assert IS and abs(float(IS[0].member.E) - b.E_max) < 1e-4
+    with pytest.raises(laws.NotReached) as e:
         laws.rotational_member("PD^r_3", 1.6)                # never reaches E(PD^r_1)
+    assert 0.49 < e.value.dE_max < 0.5
 
 
-def test_rotational_member_unstable_float64_trace_in_real128():
-    """PD^r_4 at E(PD^r_2) is too unstable for a float64 period (closure fails): its trace comes from the
-    real128 polish, and its amplitudes agree with the real128 member's (read on the quarter period)."""
-    m = laws.rotational_member("PD^r_4", laws._rot_dE_str("PD^r_2"))
-    assert m.precision == "float64" and m.trace_precision == "real128" and m.closure < 1e-12
-    assert m.trace > 1e14 and m.residual < 1e-6
+def test_rotational_member_too_unstable_for_float64_is_re_solved_in_real128():
+    """PD^r_4 at E(PD^r_2) (tr M ~ 3e15): the float64 period does not close, so the member is
+    re-solved at that energy in real128; its amplitudes agree with the real128 continuation's."""
+    m = laws.rotational_member("PD^r_4", laws.dE_str("PD^r_2"))
+    r = laws.rotational_member("PD^r_4", laws.dE_str("PD^r_2"), digits=30)
+    assert m.precision == "real128" and m.closure < 1e-12 and m.trace > 1e14
+    assert abs(m.a1_max / r.a1_max - 1) < 1e-12 and abs(m.a2dot_min / r.a2dot_min - 1) < 1e-9

@@ -117,20 +117,21 @@ def test_fork_like_and_start_lines():
     """Each family is born on one side only (E > E_n: forward fork), with tr M -> 4, and the
     starting symmetry line of the spec is the one on which the linearised residual vanishes."""
     from rotorlib import newborn as nb
+    from rotorlib.shooting import residual
 
     for label in ("ISl1", "ISl2", "ISl3", "ISl4", "PDl1", "ISr1", "ISr2", "PDr1", "PDr3"):
         spec = nb.family_spec(label)
-        u_s, E_s, c = nb._seed(spec.label, "float64")
+        _, c = nb.seed(spec.label)
         assert c > 0, label                          # forward: E - E_n = c u^2 > 0
         # tiny amplitude at the bifurcation: the residual of the pendulum's own linearisation is ~0
-        r_here = nb.shoot_residual(spec, 1e-7, spec.E_birth)
+        r_here = residual(spec.problem, 1e-7, spec.E_birth).r
         assert abs(r_here) < 1e-5, (label, r_here)
         # and E_n +- a little: it changes sign across E_n (a simple fork in E)
         d = 1e-4 * abs(spec.E_birth - 4.0)
-        lo = nb.shoot_residual(spec, 1e-7, spec.E_birth - d)
-        hi = nb.shoot_residual(spec, 1e-7, spec.E_birth + d)
+        lo = residual(spec.problem, 1e-7, spec.E_birth - d).r
+        hi = residual(spec.problem, 1e-7, spec.E_birth + d).r
         assert lo * hi < 0, label
-    orb = nb.newborn_orbit("ISl2", nb.family_spec("ISl2").E_birth + 1e-6, precision="float64")
+    orb = nb.newborn_orbit("ISl2", nb.family_spec("ISl2").E_birth + 1e-6, digits=15)
     assert abs(orb.trace - 4.0) < 0.05
 
 
