@@ -5,6 +5,7 @@ command (interpreter start, heyoka JIT compilation, scan and root refinement) an
 
 Usage: ``.venv/bin/python benchmarks/bench_bifurcations.py``
 """
+
 import json
 import subprocess
 import sys
@@ -13,8 +14,9 @@ import time
 
 def main():
     t0 = time.perf_counter()
-    p = subprocess.run([sys.executable, "-m", "rotorlib", "bifurcations", "--n-max", "20", "--phase", "both",
-                        "--json"], capture_output=True, text=True, check=True)
+    cli = [sys.executable, "-m", "rotorlib", "bifurcations"]
+    args = ["--n-max", "20", "--phase", "both", "--json"]
+    p = subprocess.run(cli + args, capture_output=True, text=True, check=True)
     wall = time.perf_counter() - t0
     recs = json.loads(p.stdout)
     from rotorlib.bifurcations import transitions
@@ -22,8 +24,10 @@ def main():
     t0 = time.perf_counter()
     trs = transitions(phase="both", n_max=20)
     lib = time.perf_counter() - t0
-    print(f"bifurcations --n-max 20 --phase both: {len(recs)} transitions, {wall:.2f} s wall (CLI), "
-          f"{lib:.2f} s in rotorlib.bifurcations.transitions (requirement: < 60 s)")
+    print(
+        f"bifurcations --n-max 20 --phase both: {len(recs)} transitions, {wall:.2f} s wall (CLI), "
+        f"{lib:.2f} s in rotorlib.bifurcations.transitions (requirement: < 60 s)"
+    )
     assert len(recs) == len(trs) == 80
     return 0 if wall < 60 else 1
 

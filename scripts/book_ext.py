@@ -19,6 +19,7 @@
    And cross-references by short name (``:class:`PeriodicOrbit```) resolve when
    exactly one documented rotorlib object has that name.
 """
+
 from __future__ import annotations
 
 import re
@@ -36,8 +37,10 @@ def _disconnect_thebe(app: Sphinx) -> None:
     for listeners in app.events.listeners.values():
         for listener in list(listeners):
             handler = listener.handler
-            if (getattr(handler, "__module__", "") == "sphinx_thebe"
-                    and getattr(handler, "__name__", "") in _THEBE_HANDLERS):
+            if (
+                getattr(handler, "__module__", "") == "sphinx_thebe"
+                and getattr(handler, "__name__", "") in _THEBE_HANDLERS
+            ):
                 app.disconnect(listener.id)
 
 
@@ -45,7 +48,7 @@ def _escape_bars(line: str) -> str:
     if _TABLE_LINE.match(line) or "|" not in line:
         return line
     parts = _LITERAL.split(line)
-    for i in range(0, len(parts), 2):          # even = outside literals
+    for i in range(0, len(parts), 2):  # even = outside literals
         parts[i] = re.sub(r"(?<!\\)\|", r"\\|", parts[i])
     return "".join(parts)
 
@@ -58,8 +61,13 @@ def _process_docstring(app, what, name, obj, options, lines: list[str]) -> None:
     while i < len(lines):
         line = lines[i]
         nxt = lines[i + 1] if i + 1 < len(lines) else ""
-        if (what == "module" and line.strip() and _UNDERLINE.match(nxt)
-                and len(nxt.strip()) >= len(line.strip()) and not _UNDERLINE.match(line)):
+        if (
+            what == "module"
+            and line.strip()
+            and _UNDERLINE.match(nxt)
+            and len(nxt.strip()) >= len(line.strip())
+            and not _UNDERLINE.match(line)
+        ):
             indent = line[: len(line) - len(line.lstrip())]
             out += [f"{indent}.. rubric:: {_escape_bars(line.strip())}", ""]
             i += 2
@@ -71,22 +79,39 @@ def _process_docstring(app, what, name, obj, options, lines: list[str]) -> None:
 
 def _resolve_short_names(app, env, node, contnode):
     if node.get("refdomain") != "py" or node.get("reftype") not in {
-            "class", "func", "meth", "attr", "obj", "data", "exc", "mod", "const"}:
+        "class",
+        "func",
+        "meth",
+        "attr",
+        "obj",
+        "data",
+        "exc",
+        "mod",
+        "const",
+    }:
         return None
     target = node.get("reftarget", "").lstrip("~.")
     if not target:
         return None
     objects = env.get_domain("py").objects
-    hits = [full for full in objects
-            if full.startswith("rotorlib") and (full == target or full.endswith("." + target))]
+    hits = [
+        full
+        for full in objects
+        if full.startswith("rotorlib")
+        and (full == target or full.endswith("." + target))
+    ]
     if len(hits) != 1:
         return None
     entry = objects[hits[0]]
-    return make_refnode(app.builder, node["refdoc"], entry.docname, entry.node_id, contnode, hits[0])
+    return make_refnode(
+        app.builder, node["refdoc"], entry.docname, entry.node_id, contnode, hits[0]
+    )
 
 
 def setup(app: Sphinx) -> dict:
     _disconnect_thebe(app)
-    app.connect("autodoc-process-docstring", _process_docstring, priority=400)  # before numpydoc (500)
+    app.connect(
+        "autodoc-process-docstring", _process_docstring, priority=400
+    )  # before numpydoc (500)
     app.connect("missing-reference", _resolve_short_names)
     return {"parallel_read_safe": True, "parallel_write_safe": True}

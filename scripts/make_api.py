@@ -9,6 +9,7 @@ appears in the book without editing anything.
 Usage: python scripts/make_api.py [--check]
   --check  exit 1 if book/api.md is not up to date (writes nothing).
 """
+
 from __future__ import annotations
 
 import sys
@@ -18,8 +19,17 @@ ROOT = Path(__file__).resolve().parents[1]
 OUT = ROOT / "book" / "api.md"
 
 # Reading order for the core modules; the others follow alphabetically, plotting last.
-FIRST = ["rotorlib", "rotorlib.system", "rotorlib.energy", "rotorlib.elliptic", "rotorlib.orbits",
-         "rotorlib.hill", "rotorlib.monodromy", "rotorlib.flow", "rotorlib.periodic"]
+FIRST = [
+    "rotorlib",
+    "rotorlib.system",
+    "rotorlib.energy",
+    "rotorlib.elliptic",
+    "rotorlib.orbits",
+    "rotorlib.hill",
+    "rotorlib.monodromy",
+    "rotorlib.flow",
+    "rotorlib.periodic",
+]
 LAST = ["rotorlib.parallel", "rotorlib.cli", "rotorlib.commands"]
 
 
@@ -54,8 +64,15 @@ def render() -> str:
         "",
     ]
     for mod in modules():
-        lines += [f"## `{mod}`", "", "```{eval-rst}", f".. automodule:: {mod}",
-                  "   :no-members:" if mod == "rotorlib" else "   :members:", "```", ""]
+        lines += [
+            f"## `{mod}`",
+            "",
+            "```{eval-rst}",
+            f".. automodule:: {mod}",
+            "   :no-members:" if mod == "rotorlib" else "   :members:",
+            "```",
+            "",
+        ]
     return "\n".join(lines)
 
 
@@ -63,7 +80,10 @@ def main(argv: list[str]) -> int:
     text = render()
     current = OUT.read_text(encoding="utf-8") if OUT.is_file() else None
     if "--check" in argv:
-        print("make_api: book/api.md is " + ("up to date" if current == text else "OUT OF DATE"))
+        print(
+            "make_api: book/api.md is "
+            + ("up to date" if current == text else "OUT OF DATE")
+        )
         return 0 if current == text else 1
     if current != text:
         OUT.write_text(text, encoding="utf-8")

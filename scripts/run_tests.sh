@@ -1,7 +1,12 @@
 #!/usr/bin/env bash
-# Run the unit tests (tests/, including the headless-browser test of the built
-# HTML in _build/html) and re-execute the book's notebooks with nbval,
-# comparing fresh outputs with the stored ones.
+# Run every check:
+#   1. ruff check and ruff format --check on the Python code and the notebooks
+#      (config: [tool.ruff] in pyproject.toml);
+#   2. actionlint on the GitHub Actions workflows (.github/workflows/);
+#   3. the unit tests (tests/, including the headless-browser test of the built
+#      HTML in _build/html);
+#   4. nbval: re-execute the book's notebooks, comparing fresh outputs with the
+#      stored ones.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -23,22 +28,48 @@ run_pytest() {
     return "$rc"
 }
 
-# Both parts always run (so one report shows every failure); the script fails
-# if either failed. Each part's wall-clock time is printed.
-status=0
+# Every part always runs (so one report shows every failure); the script fails
+# if any failed, and lists those that did. Each part's wall-clock time is printed.
+failed=()
+part() {  # part NAME CMD...: run CMD, print its time, record a failure
+    local name=$1 t0=$SECONDS rc=0
+    shift
+    "$@" || rc=$?
+    echo "run_tests: $name took $((SECONDS - t0)) s$([ "$rc" -eq 0 ] || echo " (FAILED, exit $rc)")"
+    [ "$rc" -eq 0 ] || failed+=("$name")
+}
+
+# --- lint ---------------------------------------------------------------------
+LINT_PATHS=(rotorlib tests scripts benchmarks book)
+part "ruff check" .venv/bin/ruff check --no-cache "${LINT_PATHS[@]}"
+part "ruff format --check" .venv/bin/ruff format --check --no-cache "${LINT_PATHS[@]}"
+# actionlint's optional shellcheck/pyflakes passes are switched off so that the
+# result does not depend on what else happens to be installed on the machine.
+shopt -s nullglob
+workflows=(.github/workflows/*.yml .github/workflows/*.yaml)
+shopt -u nullglob
+if [ "${#workflows[@]}" -eq 0 ]; then
+    echo "run_tests: no workflow in .github/workflows/ (expected at least book.yml)"
+    failed+=("actionlint")
+else
+    part "actionlint" .venv/bin/actionlint -shellcheck= -pyflakes= "${workflows[@]}"
+fi
+
+# --- tests --------------------------------------------------------------------
 mkdir -p tests book
 n_tests=$(find tests -name 'test_*.py' -o -name '*_test.py' | wc -l)
-t0=$SECONDS
-MPLBACKEND=Agg run_pytest "$n_tests" tests || status=1
-echo "run_tests: pytest tests/ took $((SECONDS - t0)) s"
+MPLBACKEND=Agg part "pytest tests/" run_pytest "$n_tests" tests
 
 # --nbval-current-env: execute notebooks with this venv's Python, whatever
 # kernel their metadata names. MPLBACKEND must not reach the kernel: with it
 # set (e.g. Agg) ipykernel does not use the inline backend and figures vanish.
 n_nb=$(find book -name '*.ipynb' -not -path '*/.ipynb_checkpoints/*' | wc -l)
 unset MPLBACKEND
-t0=$SECONDS
-run_pytest "$n_nb" --nbval --nbval-current-env --nbval-cell-timeout=600 \
-    --nbval-sanitize-with book/nbval_sanitize.cfg book/ || status=1
-echo "run_tests: nbval book/ took $((SECONDS - t0)) s"
-exit "$status"
+part "nbval book/" run_pytest "$n_nb" --nbval --nbval-current-env --nbval-cell-timeout=600 \
+    --nbval-sanitize-with book/nbval_sanitize.cfg book/
+
+if [ "${#failed[@]}" -gt 0 ]; then
+    echo "run_tests: FAILED: $(IFS=,; echo "${failed[*]}" | sed 's/,/, /g')"
+    exit 1
+fi
+echo "run_tests: all parts passed"

@@ -8,7 +8,16 @@ For every HTML page of _build/html, served over http on 127.0.0.1:
   when it contains math;
 * every ``<img>`` loaded (``naturalWidth > 0``);
 * every link to a local page points to an existing file (and anchor);
-* no cell shows an error traceback.
+* no cell shows an error traceback;
+* no code block overflows horizontally: every ``pre`` of a code cell's input
+  (``.cell_input pre``) and of a code block in the text (``div.highlight pre``
+  outside cell outputs) has ``scrollWidth <= clientWidth + 1`` at the test's
+  1280 px wide viewport; the failure names each line that does not fit
+  (test_code_blocks_fit).
+Every chapter (the notebooks ``book/0*`` and ``book/appendix_*`` in _toc.yml)
+shows at least one rendered table: a ``<table>`` with a header and a row in the
+main content, not a monospace table printed into an output
+(test_chapter_shows_table).
 Screenshots of two chapters (and of a chapter's launch menu) are written to
 _build/screenshots/ (kept as CI artifacts).
 
@@ -29,6 +38,7 @@ import urllib.parse
 from pathlib import Path
 
 import pytest
+import yaml
 
 # ~1-2 s per page in a real browser: the whole module is marked slow.
 pytestmark = pytest.mark.slow
@@ -102,6 +112,7 @@ def browser_context():
 
         context.route("**/*", guard)
         context.blocked = blocked
+        context.visits = {}   # page path -> _visit's result (each page is loaded once)
         yield context
         context.close()
     shutil.rmtree(profile, ignore_errors=True)
@@ -148,38 +159,125 @@ async () => {
     nImages: imgs.length,
     links: Array.from(document.querySelectorAll("a[href]")).map(a => a.href),
     tracebacks: document.querySelectorAll(".output.traceback, .output.error, .cell_output .traceback").length,
+    code: codeOverflow(article),
+    tables: Array.from(article.querySelectorAll("table"))
+      .filter(t => !t.closest("table.highlighttable, mjx-container") && t.rows.length >= 2).length,
+    // Plain-text tables printed into outputs (for the failure message only):
+    // a rule line of dashes, or at least 3 lines of 3+ columns split by 2+ spaces or '|'.
+    printedTables: Array.from(article.querySelectorAll(".cell_output pre")).filter(pre => {
+      const lines = pre.textContent.split("\\n").filter(l => l.trim());
+      const columnar = lines.filter(l => l.trim().split(/ {2,}|\\s*\\|\\s*/).length >= 3).length;
+      return lines.some(l => /^[ |+:=-]*[-=]{3,}[ |+:=-]*$/.test(l)) || columnar >= 3;
+    }).length,
   };
 }
 """
+
+# Horizontal overflow of code blocks. A block overflows when its scrollWidth
+# exceeds its clientWidth by more than 1 px (the criterion); the lines to blame
+# are found by measuring each line's right edge (a DOM Range over its text)
+# against the block's content box. Cell outputs are not code and not checked.
+_CODE_OVERFLOW_JS = """
+function codeOverflow(article) {
+  // Collapsed cells (hide-input, hide-output) are measured as a reader who opens them sees them.
+  article.querySelectorAll("details").forEach(d => { d.open = true; });
+  const inCell = Array.from(article.querySelectorAll(".cell_input pre"));
+  const inText = Array.from(article.querySelectorAll("div.highlight pre"))
+    .filter(pre => !pre.closest(".cell_output") && !pre.closest(".cell_input"));
+  const cells = Array.from(article.querySelectorAll("div.cell"));
+  const result = {blocks: inCell.length + inText.length, overflowing: []};
+  for (const pre of inCell.concat(inText)) {
+    if (pre.scrollWidth <= pre.clientWidth + 1) continue;
+    const style = getComputedStyle(pre);
+    const padL = parseFloat(style.paddingLeft), padR = parseFloat(style.paddingRight);
+    const box = pre.getBoundingClientRect();
+    const left = box.left + pre.clientLeft + padL - pre.scrollLeft;
+    const avail = pre.clientWidth - padL - padR;
+    // text nodes with their offsets in pre.textContent
+    const nodes = [];
+    const walker = document.createTreeWalker(pre, NodeFilter.SHOW_TEXT);
+    let node, total = 0;
+    while ((node = walker.nextNode())) { nodes.push([node, total]); total += node.data.length; }
+    const at = off => {
+      for (let i = nodes.length - 1; i >= 0; i--) {
+        if (nodes[i][1] <= off) return [nodes[i][0], Math.min(off - nodes[i][1], nodes[i][0].data.length)];
+      }
+      return [pre, 0];
+    };
+    const text = pre.textContent.replace(/\\n$/, "");
+    const lines = [];
+    let start = 0, widest = null;
+    text.split("\\n").forEach((line, i) => {
+      if (line.length) {
+        const range = document.createRange();
+        range.setStart(...at(start));
+        range.setEnd(...at(start + line.length));
+        const right = range.getBoundingClientRect().right - left;
+        const entry = {line: i + 1, chars: line.length, px: Math.round(right), text: line};
+        if (right > avail + 1) lines.push(entry);
+        if (!widest || right > widest.px) widest = entry;
+      }
+      start += line.length + 1;
+    });
+    const cell = pre.closest("div.cell");
+    result.overflowing.push({
+      where: cell ? `code cell ${cells.indexOf(cell) + 1}` : "code block in the text",
+      scrollWidth: pre.scrollWidth, clientWidth: pre.clientWidth, avail: Math.round(avail),
+      lines: lines.length ? lines : (widest ? [widest] : []),
+    });
+  }
+  return result;
+}
+"""
+_PAGE_STATE_JS = _PAGE_STATE_JS.replace("async () => {", "async () => {\n" + _CODE_OVERFLOW_JS, 1)
+
+
+def _visit(server, context, page_path: str) -> dict:
+    """Load ``page_path`` once per test session; what the page showed and did.
+
+    Returns ``{"redirect": target or None, "errors": [...], "blocked": [...],
+    "state": _PAGE_STATE_JS's result or None}``; later calls reuse it.
+    """
+    visits = context.visits
+    if page_path in visits:
+        return visits[page_path]
+    html = (HTML / page_path).read_text(encoding="utf-8", errors="replace")
+    refresh = re.search(r'http-equiv="refresh"\s+content="\d+;\s*url=([^"]+)"', html, re.I)
+    if refresh:   # a redirect page (index.html -> book/intro.html)
+        visits[page_path] = {"redirect": refresh.group(1), "errors": [], "blocked": [], "state": None}
+        return visits[page_path]
+    errors: list[str] = []
+    page = context.new_page()
+    page.set_default_timeout(30_000)
+    page.on("console", lambda msg: errors.append(f"console {msg.type}: {msg.text}")
+            if msg.type == "error" else None)
+    page.on("pageerror", lambda exc: errors.append(f"uncaught exception: {exc}"))
+    n_blocked = len(context.blocked)
+    try:
+        response = page.goto(server + page_path, wait_until="load", timeout=30_000)
+        assert response is not None and response.ok, f"{page_path}: HTTP {response and response.status}"
+        page.evaluate("async () => { await document.fonts.ready; }")   # code widths need the final font
+        state = page.evaluate(_PAGE_STATE_JS)
+        page.wait_for_timeout(100)   # late console errors
+    finally:
+        page.close()
+    visits[page_path] = {"redirect": None, "errors": errors, "blocked": context.blocked[n_blocked:],
+                         "state": state}
+    return visits[page_path]
 
 
 @pytest.mark.parametrize("page_path", PAGES or ["<book not built>"])
 def test_page(server, browser_context, page_path):
     if page_path not in PAGES:
         _unavailable("the book is not built")
-    html = (HTML / page_path).read_text(encoding="utf-8", errors="replace")
-    refresh = re.search(r'http-equiv="refresh"\s+content="\d+;\s*url=([^"]+)"', html, re.I)
-    if refresh:   # a redirect page (index.html -> book/intro.html): its target must exist
-        target = (HTML / page_path).parent / urllib.parse.unquote(refresh.group(1).split("#")[0])
-        assert target.is_file(), f"{page_path} redirects to missing {refresh.group(1)}"
+    visit = _visit(server, browser_context, page_path)
+    if visit["redirect"]:   # a redirect page (index.html -> book/intro.html): its target must exist
+        target = (HTML / page_path).parent / urllib.parse.unquote(visit["redirect"].split("#")[0])
+        assert target.is_file(), f"{page_path} redirects to missing {visit['redirect']}"
         return
-    errors: list[str] = []
-    page = browser_context.new_page()
-    page.set_default_timeout(30_000)
-    page.on("console", lambda msg: errors.append(f"console {msg.type}: {msg.text}")
-            if msg.type == "error" else None)
-    page.on("pageerror", lambda exc: errors.append(f"uncaught exception: {exc}"))
-    n_blocked = len(browser_context.blocked)
-    try:
-        response = page.goto(server + page_path, wait_until="load", timeout=30_000)
-        assert response is not None and response.ok, f"{page_path}: HTTP {response and response.status}"
-        state = page.evaluate(_PAGE_STATE_JS)
-        page.wait_for_timeout(100)   # late console errors
-    finally:
-        page.close()
-
-    problems = list(errors)
-    blocked = browser_context.blocked[n_blocked:]
+    state = visit["state"]
+    problems = list(visit["errors"])
+    blocked = visit["blocked"]
     if blocked:
         problems.append(f"requests leaving 127.0.0.1 (blocked): {sorted(set(blocked))[:10]}")
     if state["mathSource"] and not state["mathTypeset"]:
@@ -200,6 +298,61 @@ def test_page(server, browser_context, page_path):
         elif fragment and target.suffix == ".html" and fragment not in _ids(target):
             problems.append(f"broken anchor {href} (no id {fragment!r} in {target.relative_to(HTML)})")
     assert not problems, f"{page_path}:\n  " + "\n  ".join(problems)
+
+
+def _clip(text: str, n: int = 100) -> str:
+    return text if len(text) <= n else text[: n - 3] + "..."
+
+
+@pytest.mark.parametrize("page_path", PAGES or ["<book not built>"])
+def test_code_blocks_fit(server, browser_context, page_path):
+    """No code block scrolls sideways: a reader sees every line of code whole."""
+    if page_path not in PAGES:
+        _unavailable("the book is not built")
+    visit = _visit(server, browser_context, page_path)
+    if visit["redirect"]:
+        return
+    code = visit["state"]["code"]
+    if not code["overflowing"]:
+        return
+    n_lines = sum(len(b["lines"]) for b in code["overflowing"])
+    msg = [f"{page_path}: {len(code['overflowing'])} of {code['blocks']} code blocks overflow "
+           f"horizontally ({n_lines} lines too wide):"]
+    for b in code["overflowing"]:
+        msg.append(f"  {b['where']}: scrollWidth {b['scrollWidth']} > clientWidth {b['clientWidth']} + 1 "
+                   f"(room for {b['avail']} px of text)")
+        for ln in b["lines"]:
+            msg.append(f"    line {ln['line']} ({ln['chars']} chars, {ln['px']} px): {_clip(ln['text'])!r}")
+    pytest.fail("\n".join(msg), pytrace=False)
+
+
+def _toc_chapters() -> list[str]:
+    """The chapter notebooks in _toc.yml: book/0* and book/appendix_* entries."""
+    toc = yaml.safe_load((ROOT / "_toc.yml").read_text(encoding="utf-8"))
+    entries = [str(c["file"]) for c in toc.get("chapters") or [] if "file" in c]
+    chapters = [e for e in entries if re.fullmatch(r"book/(0[^/]*|appendix_[^/]*)", e)]
+    return [e for e in chapters if (ROOT / f"{e}.ipynb").is_file()]
+
+
+TOC_CHAPTERS = _toc_chapters()
+
+
+def test_toc_has_chapters():
+    assert len(TOC_CHAPTERS) >= 2, f"_toc.yml names too few chapter notebooks: {TOC_CHAPTERS}"
+
+
+@pytest.mark.parametrize("chapter", TOC_CHAPTERS)
+def test_chapter_shows_table(server, browser_context, chapter):
+    """Results are shown as rendered tables (HTML ``<table>``), not plain text in a monospace font."""
+    page_path = f"{chapter}.html"
+    if not PAGES:
+        _unavailable("the book is not built")
+    assert page_path in PAGES, f"{chapter} is in _toc.yml but {page_path} was not built"
+    state = _visit(server, browser_context, page_path)["state"]
+    assert state["tables"] >= 1, (
+        f"{page_path}: no rendered table (<table> with a header and a row) in the main content"
+        + (f"; {state['printedTables']} output(s) print a plain-text table instead"
+           if state["printedTables"] else ""))
 
 
 def _chapters() -> list[str]:
