@@ -49,6 +49,7 @@ ls -1t _build/.jupyter_caches | tail -n +$((KEEP_CACHES + 1)) |
 # --- generated pages ----------------------------------------------------------
 "$PY" scripts/make_api.py
 "$PY" scripts/make_gallery.py
+"$PY" scripts/make_ledger.py
 
 # --- build --------------------------------------------------------------------
 # --all: re-read every page (cheap: unchanged notebooks come from the cache);

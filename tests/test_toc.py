@@ -124,6 +124,27 @@ def test_gallery_up_to_date():
                                   + "\nrun: .venv/bin/python scripts/make_gallery.py (build_book.sh does it)")
 
 
+def test_ledger_up_to_date():
+    proc = subprocess.run([sys.executable, str(ROOT / "scripts" / "make_ledger.py"), "--check"],
+                          capture_output=True, text=True, cwd=ROOT)
+    assert proc.returncode == 0, (proc.stdout + proc.stderr
+                                  + "\nrun: .venv/bin/python scripts/make_ledger.py (build_book.sh does it)")
+
+
+def test_ledger_counts_every_chapter_claim():
+    """The ledger lists at least 90 claims, each with a link to a chapter that is in the toc."""
+    sys.path.insert(0, str(ROOT / "scripts"))
+    try:
+        import make_ledger as L
+    finally:
+        sys.path.pop(0)
+    rows = [(p, c) for p in L.toc_notebooks() for c in L.claims_of(p)[1]]
+    assert len(rows) >= 90
+    assert all(c["status"] in L.STATUSES and c["section"] for _, c in rows)
+    text = (ROOT / "book" / "ledger.md").read_text()
+    assert sum(line.startswith("| ") and ".ipynb)" in line for line in text.splitlines()) == len(rows)
+
+
 def test_gallery_parser_reads_captions():
     """The caption parser itself, on the forms the chapters use."""
     sys.path.insert(0, str(ROOT / "scripts"))
