@@ -80,6 +80,12 @@ class StartSet:
         with t.context():
             return self._v(self._q(u, t), t) + u * u * _kin(self.c)
 
+    def at(self, u, E, t: Tier = FLOAT64):
+        """The state at ``u`` on the energy shell ``E`` (the protocol every start set keeps)."""
+        with t.context():
+            u = t.num(u)
+            return self.state(u, t.num(E) - self.bound(u, t), t)
+
     def state(self, u, K, t: Tier = FLOAT64):
         """``[a1, a2, p1, p2]`` at ``(u, K)`` (tier numbers). ``K < 0`` raises ValueError."""
         with t.context():
@@ -154,11 +160,10 @@ class ShootingProblem:
 
     def state(self, u, w, t: Tier = FLOAT64):
         """Initial state ``[a1, a2, p1, p2]`` at ``(u, w)``."""
+        if self.K_ref is None:
+            return self.start.at(u, w, t)
         with t.context():
-            u = t.num(u)
-            K = (t.num(w) - self.start.bound(u, t) if self.K_ref is None
-                 else t.num(self.K_ref) + t.num(w))
-            return self.start.state(u, K, t)
+            return self.start.state(t.num(u), t.num(self.K_ref) + t.num(w), t)
 
 
 @dataclass(frozen=True)
@@ -226,21 +231,27 @@ def residual(problem: ShootingProblem, u, w, t: Tier = FLOAT64, derivative=False
 
 
 def _gradient(problem, u, w, Phi, x1, t: Tier):
-    """``(dx1/du, dx1/dw)`` and ``(dt1/du, dt1/dw)``: the start set differentiated in
-    closed form, the flow by its fundamental matrix, the event time by implicit
-    differentiation of the section."""
+    """``(dx1/du, dx1/dw)`` and ``(dt1/du, dt1/dw)``: the start set differentiated (in closed
+    form for a :class:`StartSet`, by central differences of its ``at`` otherwise), the flow
+    by its fundamental matrix, the event time by implicit differentiation of the section."""
     from .flow import _rhs
 
-    st, x0 = problem.start, problem.state(u, w, t)
-    K = (x0[2] * x0[2] / 4 + 3 * x0[3] * x0[3] / 4) - u * u * _kin(st.c)
-    dp_dK = [bi / (2 * t.m.sqrt(K * _kin(st.b))) for bi in st.b] if K > 0 else [0, 0]
-    f0 = _rhs(x0)
-    if problem.K_ref is None:                 # K = E - V(q(u)) - u^2 K(c)
-        dK_du = (f0[2] * st.a[0] + f0[3] * st.a[1]) - 2 * u * _kin(st.c)
-    else:                                     # K = K_ref + w
-        dK_du = 0
-    cols = [[st.a[0], st.a[1], st.c[0] + dp_dK[0] * dK_du, st.c[1] + dp_dK[1] * dK_du],
-            [0, 0, dp_dK[0], dp_dK[1]]]
+    st = problem.start
+    if isinstance(st, StartSet):
+        x0 = problem.state(u, w, t)
+        K = (x0[2] * x0[2] / 4 + 3 * x0[3] * x0[3] / 4) - u * u * _kin(st.c)
+        dp_dK = [bi / (2 * t.m.sqrt(K * _kin(st.b))) for bi in st.b] if K > 0 else [0, 0]
+        f0 = _rhs(x0)
+        dK_du = 0 if problem.K_ref is not None else (  # K = E - V(q(u)) - u^2 K(c)
+            (f0[2] * st.a[0] + f0[3] * st.a[1]) - 2 * u * _kin(st.c))
+        cols = [[st.a[0], st.a[1], st.c[0] + dp_dK[0] * dK_du, st.c[1] + dp_dK[1] * dK_du],
+                [0, 0, dp_dK[0], dp_dK[1]]]
+    else:
+        h = t.num(t.eps) ** (t.num(1) / 3)
+        cols = [[(a - b) / (2 * h) for a, b in zip(problem.state(u + h, w, t),
+                                                   problem.state(u - h, w, t))],
+                [(a - b) / (2 * h) for a, b in zip(problem.state(u, w + h, t),
+                                                   problem.state(u, w - h, t))]]
     f = _rhs(x1)
     s = problem.section.c
     sf = sum(si * fi for si, fi in zip(s, f))

@@ -1,0 +1,287 @@
+"""Reversing symmetries of the 3-rotor Hamiltonian and their fixed sets (for the atlas).
+
+In the relative angles ``phi = (phi1, phi2)`` on the torus ``(2 pi Z)^2`` the potential
+``V = 3 - cos phi1 - cos phi2 - cos phi3`` (``phi3 = -phi1 - phi2``) and the kinetic metric
+``(phi1'^2 + phi2'^2 + phi1' phi2') / 3`` are invariant under the permutations of
+``(phi1, phi2, phi3)`` (relabelling the rotors) and ``phi -> -phi``: the dihedral group
+``D6`` of the hexagonal torus, found here by enumerating the integer matrices that preserve
+both (:func:`symmetry_group`). With time reversal ``T: (q, p, t) -> (q, -p, -t)``, every
+``g`` with ``g^2 = 1`` gives a reversing symmetry ``R = T g`` (``g`` acting on momenta by its
+cotangent lift ``g^-T``): ``g = 1`` (pure time reversal), ``g = -1`` and the six reflections.
+Their fixed sets ``Fix R = {x : R x = x}`` on the energy shell are one-parameter curves:
+
+* ``T``: ``p = 0`` on the equipotential ``V = E`` (brake points; ``E < 4.5`` only);
+* ``T (-1)``: a point with ``2 phi = 0 mod 2 pi`` (G, or a saddle D1..D3 for ``E > 4``) and any
+  momentum of kinetic energy ``E - V``: a circle;
+* ``T g`` for a reflection ``g``: ``phi`` on the mirror (a closed geodesic of the torus) and
+  ``p`` in the ``-1`` eigenspace of ``g^-T``.
+
+:func:`fixed_sets` lists them (in the pendulum variables of the engine,
+``a1 = phi1/2``, ``a2 = phi1/2 + phi2``). Up to the group the start sets reduce to five
+classes (brake, G, D, mirror of a transposition, mirror of a negated transposition):
+:func:`start_sets`; every fixed set is a target (:func:`targets`).
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .flow import Section
+from .precision import FLOAT64, Tier
+from .shooting import StartSet
+
+__all__ = ["symmetry_group", "Reversor", "reversors", "FixedSet", "fixed_sets", "start_sets",
+           "targets", "CircleSet", "BrakeSet"]
+
+#: ``a = A phi`` (pendulum variables); momenta transform with ``A^-T``.
+A = np.array([[0.5, 0.0], [0.5, 1.0]])
+_G = np.array([[1.0, 0.5], [0.5, 1.0]]) / 3.0        # kinetic metric of phi'
+
+
+def _V(phi):
+    f1, f2 = phi
+    return 3 - math.cos(f1) - math.cos(f2) - math.cos(f1 + f2)
+
+
+def symmetry_group() -> list:
+    """The integer 2x2 matrices ``g`` (acting on ``phi``) that preserve V and the metric."""
+    rng = np.random.default_rng(1)
+    pts = rng.uniform(0, 2 * math.pi, (20, 2))
+    out = []
+    for e in itertools.product((-1, 0, 1), repeat=4):
+        g = np.array(e, float).reshape(2, 2)
+        if abs(np.linalg.det(g)) != 1 or not np.allclose(g.T @ _G @ g, _G):
+            continue
+        if all(abs(_V(g @ p) - _V(p)) < 1e-12 for p in pts):
+            out.append(g)
+    return out
+
+
+@dataclass(frozen=True)
+class Reversor:
+    """``R = T g`` for an involution ``g`` of the group: ``name``, the matrix ``g`` (on phi)."""
+
+    name: str
+    g: tuple
+
+    @property
+    def kind(self) -> str:
+        tr = self.g[0][0] + self.g[1][1]
+        return "time reversal" if tr == 2 else "point" if tr == -2 else "mirror"
+
+
+def reversors() -> list:
+    """The eight reversing symmetries ``T g``, ``g^2 = 1``, named by what ``g`` does to
+    ``(phi1, phi2, phi3)`` (``1``, ``-1``, ``(12)``, ``(13)``, ``(23)``, ``-(12)`` ...)."""
+    perm = {(0, 1, 1, 0): "(12)", (-1, -1, 0, 1): "(13)", (1, 0, -1, -1): "(23)"}
+    out = []
+    for g in symmetry_group():
+        if not np.allclose(g @ g, np.eye(2)):
+            continue
+        key = tuple(int(v) for v in g.ravel())
+        neg = tuple(-v for v in key)
+        name = ("1" if key == (1, 0, 0, 1) else "-1" if key == (-1, 0, 0, -1) else
+                perm.get(key) or "-" + perm[neg])
+        out.append(Reversor(name, tuple(map(tuple, g.astype(int).tolist()))))
+    order = ["1", "-1", "(12)", "(13)", "(23)", "-(12)", "-(13)", "-(23)"]
+    return sorted(out, key=lambda r: order.index(r.name))
+
+
+@dataclass(frozen=True)
+class FixedSet:
+    """One component of ``Fix R`` on the energy shell.
+
+    Attributes
+    ----------
+    name : str
+        ``Fix T``, ``Fix T(-1) at G``, ``Fix T(12)`` ...
+    reversor : Reversor
+    section, condition : Section
+        The event that crosses the fixed set (a configuration line, or ``p2 = 0`` for brake
+        points) and the residual that vanishes on it, in the engine's variables.
+    point : tuple or None
+        ``phi`` of the point (``T(-1)``), else ``None``.
+    """
+
+    name: str
+    reversor: Reversor
+    section: Section
+    condition: Section
+    point: tuple | None = None
+
+
+def _alpha_form(n_phi):
+    """A linear form ``n . phi`` written on the pendulum variables: ``n . A^-1 a``."""
+    return tuple(float(v) for v in np.array(n_phi) @ np.linalg.inv(A))
+
+
+def _mirror(g):
+    """``(e, n, g_v)``: the mirror's direction ``e`` and normal form ``n`` (integers) and the
+    number of its components ``g_v``: ``Fix g = {n . phi = 0 mod 2 pi / g_v}``."""
+    gm = np.array(g, float)
+    w, vec = np.linalg.eig(gm)
+    e = vec[:, int(np.argmax(w))]
+    e = np.round(e / np.min(np.abs(e[np.abs(e) > 1e-9]))).astype(int)
+    n = np.array([-e[1], e[0]])
+    d = gm - np.eye(2)                                  # rank one: d = v n^T
+    k = 0 if n[0] else 1
+    v = d[:, k] / n[k]
+    return e, n, math.gcd(int(round(abs(v[0]))), int(round(abs(v[1]))))
+
+
+def fixed_sets() -> list:
+    """Every fixed-set component of the eight reversors (:class:`FixedSet`), as targets."""
+    out = []
+    for r in reversors():
+        g = np.array(r.g, float)
+        if r.kind == "time reversal":
+            out.append(FixedSet("Fix T", r, Section((0, 0, 0, 1)), Section((0, 0, 1, 0))))
+        elif r.kind == "point":
+            for name, q in (("G", (0, 0)), ("D1", (1, 1)), ("D2", (1, 0)), ("D3", (0, 1))):
+                out.append(FixedSet(f"Fix T(-1) at {name}", r,
+                                    Section(_alpha_form((1, 0)) + (0, 0), q[0], 0, 2.0),
+                                    Section(_alpha_form((0, 1)) + (0, 0), q[1], 0, 2.0),
+                                    (q[0] * math.pi, q[1] * math.pi)))
+        else:
+            e, n, gv = _mirror(g)
+            w, vec = np.linalg.eig(np.linalg.inv(g).T)      # momenta: -1 eigenvector of g^-T
+            b = vec[:, int(np.argmin(w))]
+            m_phi = np.array([-b[1], b[0]])                  # m . P = 0 on the fixed set
+            m_alpha = A @ m_phi                              # P_phi = A^T p_alpha
+            out.append(FixedSet(f"Fix T{r.name}", r, Section(_alpha_form(n) + (0, 0), 0.0, 0,
+                                                             2.0 / gv),
+                                Section((0, 0) + tuple(float(v) for v in m_alpha))))
+    return out
+
+
+def targets() -> list:
+    """All fixed sets: every symmetric orbit meets two of them half a period apart."""
+    return fixed_sets()
+
+
+# --------------------------------------------------------------------------- start sets
+
+@dataclass(frozen=True)
+class CircleSet:
+    """``Fix T(-1)`` at a point: ``q = q0`` and ``p = sqrt(K) (sin u c + cos u b)`` with ``c``,
+    ``b`` of unit kinetic energy, ``-pi/2 < u < pi/2`` (the other half is the image under -1)."""
+
+    name: str
+    q0: tuple
+
+    def bound(self, u, t: Tier = FLOAT64):
+        with t.context():
+            m = t.m
+            q = [self.q0[0] * t.pi, self.q0[1] * t.pi]
+            return 3 - m.cos(2 * q[0]) - m.cos(q[1] - q[0]) - m.cos(q[0] + q[1])
+
+    def at(self, u, E, t: Tier = FLOAT64):
+        with t.context():
+            u, K = t.num(u), t.num(E) - self.bound(u, t)
+            if K < 0:
+                raise ValueError(f"{self.name}: E below V there")
+            s = t.m.sqrt(K)
+            return [self.q0[0] * t.pi, self.q0[1] * t.pi, 2 * s * t.m.sin(u),
+                    2 * s * t.m.cos(u) / t.m.sqrt(3)]
+
+    def span(self, E):
+        return (-math.pi / 2, math.pi / 2)
+
+
+@dataclass(frozen=True)
+class BrakeSet:
+    """``Fix T``: ``p = 0`` on the equipotential ``V = E`` around ``centre`` (``phi``, units of
+    pi: G for ``E < 4``, the maximum T1 for ``4 < E < 4.5``), parametrised by the polar angle
+    ``u`` in the ``phi`` plane; the radius is solved from ``V = E`` (Brent in float64, then
+    Newton in the tier)."""
+
+    name: str
+    centre: tuple
+
+    def _radius(self, u, E, t):
+        from scipy.optimize import brentq
+
+        c = (self.centre[0] * math.pi, self.centre[1] * math.pi)
+        d = (math.cos(float(u)), math.sin(float(u)))
+
+        def f(r):
+            return _V((c[0] + r * d[0], c[1] + r * d[1])) - float(E)
+
+        hi = 0.05
+        while f(hi) * f(0.0) > 0 and hi < 4.0:
+            hi *= 1.5
+        r = brentq(f, 0.0, hi, xtol=1e-15)
+        if not t.extended:
+            return r
+        m = t.m
+        with t.context():
+            u, E, r = t.num(u), t.num(E), t.num(r)
+            cu, su = m.cos(u), m.sin(u)
+            for _ in range(8):
+                f1, f2 = self.centre[0] * t.pi + r * cu, self.centre[1] * t.pi + r * su
+                V = 3 - m.cos(f1) - m.cos(f2) - m.cos(f1 + f2)
+                dV = (m.sin(f1) + m.sin(f1 + f2)) * cu + (m.sin(f2) + m.sin(f1 + f2)) * su
+                r = r - (V - E) / dV
+            return r
+
+    def at(self, u, E, t: Tier = FLOAT64):
+        with t.context():
+            r = self._radius(u, E, t)
+            f1 = self.centre[0] * t.pi + r * t.m.cos(t.num(u))
+            f2 = self.centre[1] * t.pi + r * t.m.sin(t.num(u))
+            return [f1 / 2, f1 / 2 + f2, t.num(0), t.num(0)]
+
+    def span(self, E):
+        return (0.0, 2 * math.pi)
+
+
+@dataclass(frozen=True)
+class MirrorSet:
+    """``Fix T g`` for a reflection: ``phi`` on the mirror, ``p`` along the ``-1`` eigenvector of
+    ``g^-T``: a :class:`~rotorlib.shooting.StartSet` line with ``u`` the position along the
+    mirror (one closed geodesic: ``0 <= u < 2 pi`` for the primitive direction)."""
+
+    name: str
+    line: StartSet
+
+    def at(self, u, E, t: Tier = FLOAT64):
+        return self.line.at(u, E, t)
+
+    def bound(self, u, t: Tier = FLOAT64):
+        return self.line.bound(u, t)
+
+    def state(self, u, K, t: Tier = FLOAT64):
+        return self.line.state(u, K, t)
+
+    def span(self, E):
+        return (0.0, 2 * math.pi)
+
+
+def start_sets(E) -> list:
+    """One start set per class of fixed sets under the group (every symmetric orbit meets one
+    of them, up to a symmetry): brake points (``E < 4.5``), the circle at G, the circle at D1
+    (``E > 4``), the mirror of (12) (the breathers' line ``phi1 = phi2``) and of -(12)."""
+    E = float(E)
+    out = []
+    if E < 4.0:
+        out.append(BrakeSet("Fix T (around G)", (0.0, 0.0)))
+    elif E < 4.5:
+        out.append(BrakeSet("Fix T (around T1)", (2 / 3, 2 / 3)))
+    out.append(CircleSet("Fix T(-1) at G", (0.0, 0.0)))
+    if E > 4.0:
+        out.append(CircleSet("Fix T(-1) at D1", tuple(A @ np.array([1.0, 1.0]))))
+    for r in reversors():
+        if r.name in ("(12)", "-(12)"):
+            g = np.array(r.g, float)
+            e, _, _ = _mirror(g)
+            w, vec = np.linalg.eig(np.linalg.inv(g).T)
+            b_phi = vec[:, int(np.argmin(w))]
+            b = np.linalg.inv(A).T @ b_phi                   # p_alpha = A^-T P_phi
+            line = StartSet(f"Fix T{r.name}", a=tuple(A @ e.astype(float)),
+                            b=tuple(float(v) for v in b / np.max(np.abs(b))))
+            out.append(MirrorSet(f"Fix T{r.name}", line))
+    return out
