@@ -8,7 +8,8 @@ that ``1 - m`` is not representable from ``m`` (the separatrix limit
 Precision
 ---------
 float64 throughout, except ``mp_ellipk_m1`` and ``mp_dK_dm`` (mpmath, at the
-working precision, for the extended tiers and for depths beyond float64). ``ellipk_m1`` and ``ellipe_m1`` are scipy's Cephes
+working precision, for the extended tiers and for depths beyond float64).
+``ellipk_m1`` and ``ellipe_m1`` are scipy's Cephes
 routines (relative error ~1e-16). ``jacobi_sncndn`` uses the arithmetic-
 geometric mean (Abramowitz & Stegun 16.4) started from ``b0 = sqrt(m1)``
 after reducing the argument to ``[0, K/2]`` with the quarter-period

@@ -356,8 +356,10 @@ def _compose_mp(P1, P2, dps):
     """Coefficient map and Delta in mpmath at ``dps`` digits from entries of any type (via ``str``)."""
     import mpmath as mp
 
+    def conv(P):
+        return None if P is None else [[mp.mpf(str(P[i][j])) for j in range(2)] for i in range(2)]
+
     with mp.workdps(dps):
-        conv = lambda P: None if P is None else [[mp.mpf(str(P[i][j])) for j in range(2)] for i in range(2)]  # noqa: E731
         C = _coefficient_map(_half_map(conv(P1), conv(P2)))
         return C, 2 * C[0][0]
 

@@ -4,7 +4,7 @@ import math
 import mpmath as mp
 import numpy as np
 import pytest
-from scipy.integrate import quad, solve_ivp
+from scipy.integrate import solve_ivp
 
 import rotorlib
 from rotorlib.system import energy_alpha, rhs_alpha
@@ -160,7 +160,8 @@ def test_breather_bad_input(E, fam):
 @pytest.mark.parametrize("make", [lambda: rotorlib.pendulum(E=1.0), lambda: rotorlib.pendulum(E=0.001),
                                   lambda: rotorlib.pendulum(log_abs_dE=-30, phase="lib"),
                                   lambda: rotorlib.pendulum(log_abs_dE=-30, phase="rot"),
-                                  lambda: rotorlib.breather(E=3.0, family="LG"), lambda: rotorlib.breather(E=4.0, family="LG"),
+                                  lambda: rotorlib.breather(E=3.0, family="LG"),
+                                  lambda: rotorlib.breather(E=4.0, family="LG"),
                                   lambda: rotorlib.breather(log_abs_dE=-30, family="LD"),
                                   lambda: rotorlib.breather(E=9.0, family="R"),
                                   lambda: rotorlib.breather(log_abs_dE=-30, family="R")])
