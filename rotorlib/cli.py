@@ -10,14 +10,26 @@ from __future__ import annotations
 import argparse
 import importlib
 import json
+import re
 import sys
 
 #: Command modules, in help order. A module missing from the package is skipped.
 COMMANDS = ("trace", "bifurcations", "orbit")
 
 
+#: A negative number in any notation (-5, -1.5, -.5, -1e6, -1E+3, -inf, -nan). argparse's own matcher
+#: knows only -123 and -1.5 and takes "-1e6" for an option ("expected at least one argument").
+NEGATIVE_NUMBER = re.compile(r"^-(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?$|^-(inf|infinity|nan)$", re.IGNORECASE)
+
+
 class _OneLineParser(argparse.ArgumentParser):
-    """argparse that reports usage errors on a single line."""
+    """argparse that reports usage errors on a single line and reads negative numbers in any notation."""
+
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        # argparse consults this matcher to decide whether "-..." is a value or an option
+        # (no option of ours looks like a number, so every match is a value)
+        self._negative_number_matcher = NEGATIVE_NUMBER
 
     def error(self, message):
         raise ValueError(f"{self.prog}: {message}")

@@ -7,7 +7,9 @@ that ``1 - m`` is not representable from ``m`` (the separatrix limit
 
 Precision
 ---------
-float64 throughout. ``ellipk_m1`` and ``ellipe_m1`` are scipy's Cephes
+float64 throughout, except ``mp_ellipk_m1`` and ``mp_dK_dm`` (mpmath, at the
+working precision, for the extended tiers and for depths beyond float64).
+``ellipk_m1`` and ``ellipe_m1`` are scipy's Cephes
 routines (relative error ~1e-16). ``jacobi_sncndn`` uses the arithmetic-
 geometric mean (Abramowitz & Stegun 16.4) started from ``b0 = sqrt(m1)``
 after reducing the argument to ``[0, K/2]`` with the quarter-period
@@ -21,7 +23,7 @@ from __future__ import annotations
 import numpy as np
 from scipy import special
 
-__all__ = ["ellipk_m1", "ellipe_m1", "dK_dm", "jacobi_sncndn", "jacobi_am"]
+__all__ = ["ellipk_m1", "ellipe_m1", "dK_dm", "jacobi_sncndn", "jacobi_am", "mp_ellipk_m1", "mp_dK_dm"]
 
 
 def ellipk_m1(m1: float) -> float:
@@ -50,6 +52,43 @@ def dK_dm(m: float, m1: float) -> float:
     K = ellipk_m1(m1)
     E = ellipe_m1(m1)
     return (E - m1 * K) / (2.0 * m * m1)
+
+
+def mp_ellipk_m1(m1):
+    """K(m) in mpmath from the complementary parameter: ``pi / (2 agm(1, sqrt(m1)))``.
+
+    Correct to the working precision for any ``m1 > 0`` (``m < 1``, negative
+    ``m`` included) however small ``m1`` is: ``1 - m`` is never formed, so no
+    guard digits are needed near the separatrix (``m1 = 1e-4343`` costs
+    nothing extra).
+    """
+    import mpmath as mp
+
+    return mp.pi / (2 * mp.agm(1, mp.sqrt(m1)))
+
+
+def mp_dK_dm(m, m1):
+    """dK/dm in mpmath, correct to the working precision for any ``m < 1``.
+
+    ``(E(m) - m1 K(m)) / (2 m m1)`` for ``|m| >= 1/2`` (near the separatrix, any
+    small ``m1``, where :func:`dK_dm` overflows float64); the power series
+    ``pi/2 sum n c_n m^(n-1)``, ``c_n = ((2n)!/(2^(2n) n!^2))^2``, for ``|m| < 1/2``
+    (no cancellation as ``m -> 0``).
+    """
+    import mpmath as mp
+
+    if abs(m) >= 0.5:
+        return (mp.ellipe(m) - m1 * mp_ellipk_m1(m1)) / (2 * m * m1)
+    a, total, n, mn = mp.mpf(1), mp.mpf(0), 0, mp.mpf(1)      # a = (2n)!/(2^(2n) n!^2), mn = m^(n-1)
+    tiny = mp.mpf(2) ** (-mp.mp.prec - 4)
+    while True:
+        n += 1
+        a *= mp.mpf(2 * n - 1) / (2 * n)
+        term = n * a * a * mn
+        total += term
+        if abs(term) <= tiny * abs(total):
+            return mp.pi / 2 * total
+        mn *= m
 
 
 def _agm_sncndn(u, m, m1):

@@ -3,31 +3,50 @@
 Near the pendulum separatrix E = 4 the energy itself cannot carry the
 information (4 + 1e-30 == 4 in float64); the distance ``eps = |E - 4|``, or
 its logarithm, can. Every orbit in :mod:`rotorlib` is built from a
-:class:`PendulumEnergy` or :class:`BreatherEnergy`, which keeps ``eps`` and
-the complementary elliptic parameter ``m1`` exact to one rounding.
+:class:`PendulumEnergy` or :class:`BreatherEnergy` (distance to the breather
+separatrix 4.5), which keep the decimal input, ``eps`` and ``log|E - sep|``.
+
+The input is a *decimal*: a string is read exactly as typed (``"3.99999999999999999999"``
+is 4 - 1e-20, not the float64 4.0), a float as its shortest ``repr`` (``3.9``
+means 39/10). ``eps`` is the exact decimal distance rounded once to float64;
+:meth:`mp_values` rebuilds ``E`` and ``eps`` in mpmath at any precision from the
+same decimal, so no float64 rounding reaches the extended-precision tiers.
 
 Accepted input (anything else raises ``ValueError`` with the reason):
 
-* pendulum: ``E >= 0`` finite and ``E != 4``; or ``log|E - 4|`` finite with a
-  phase, ``lib`` (then ``log|E - 4| <= log 4``, i.e. ``E >= 0``) or ``rot``.
-  ``E = 0`` is the small-oscillation limit about G.
+* pendulum: ``E >= 0`` finite and ``E != 4`` as a decimal; or ``log|E - 4|``
+  finite with a phase, ``lib`` (then ``log|E - 4| <= log 4``, i.e. ``E >= 0``)
+  or ``rot``. ``E = 0`` is the equilibrium G (small-oscillation limit).
 * breather: families ``LG`` (0 <= E < 4.5), ``LD`` (4 <= E < 4.5) and ``R``
-  (E > 4.5); the distance is to the breather separatrix 4.5. ``E = 4.5``
-  (heteroclinic orbit between the maxima T) is refused.
+  (E > 4.5); the distance is to the breather separatrix 4.5. Only an input
+  that *is* the separatrix (``E`` equal to 4.5 as a decimal) is refused.
+
+Depth: any ``log|E - sep|`` is accepted. Below ``|E - sep| = 1.8e-307``
+(``log < -706.3``) ``eps`` or ``m1`` leave the normal float64 range (``eps`` is
+0.0 below ``log = -745``); such energies are carried by ``log_abs_dE`` and
+:meth:`mp_values` only, and the float64 closed forms refuse them
+(:meth:`require_float64`, ``ValueError`` naming the extended tiers).
 """
 from __future__ import annotations
 
 import math
+import numbers
+import sys
 from dataclasses import dataclass
-
-import numpy as np
+from decimal import Context, Decimal, InvalidOperation
 
 from .system import BREATHER_SEPARATRIX_ENERGY, SEPARATRIX_ENERGY
 
-__all__ = ["PendulumEnergy", "BreatherEnergy", "pendulum_energy", "breather_energy", "as_float"]
+__all__ = ["PendulumEnergy", "BreatherEnergy", "pendulum_energy", "breather_energy", "as_float",
+           "FLOAT64_MIN_EPS"]
 
 _PHASES = ("lib", "rot")
 _FAMILIES = ("LG", "LD", "R")
+#: Smallest ``|E - sep|`` the float64 closed forms accept: it keeps ``eps`` and the
+#: complementary parameter ``m1`` (>= eps/4 for every family) normal floats.
+FLOAT64_MIN_EPS = 8.0 * sys.float_info.min
+#: Decimal inputs longer than this (digits needed for the exact ``E - sep``) are refused.
+_MAX_DIGITS = 100_000
 
 
 def as_float(value, name: str) -> float:
@@ -43,8 +62,161 @@ def as_float(value, name: str) -> float:
     return x
 
 
+# --------------------------------------------------------------------------- decimal input (shared)
+
+def _decimal_text(value, name: str) -> str:
+    """The decimal text of an input: a string as typed, a float as its ``repr``.
+
+    Raises ``ValueError`` for booleans, unparsable or non-finite values.
+    """
+    if isinstance(value, bool) or value is None:
+        raise ValueError(f"{name} must be a number, got {value!r}")
+    if isinstance(value, str):
+        text = value.strip()
+    elif isinstance(value, numbers.Integral):
+        text = str(int(value))
+    elif isinstance(value, numbers.Real) and not isinstance(value, Decimal):
+        text = repr(float(value))               # float, numpy floats: shortest round-trip decimal
+    else:
+        text = str(value)                      # Decimal, mpmath mpf (its digits at the current dps)
+    try:
+        d = Decimal(text)
+    except (InvalidOperation, ValueError):
+        raise ValueError(f"{name} must be a number, got {value!r}") from None
+    if not d.is_finite():
+        raise ValueError(f"{name} must be finite, got {value!r}")
+    return text
+
+
+def _exact_distance(text: str, sep: Decimal):
+    """``(sign, |E - sep|)`` of the decimal ``text`` as an exact ``Decimal``."""
+    d = Decimal(text)
+    top = max(d.adjusted(), sep.adjusted(), 0)
+    low = min(d.as_tuple().exponent, sep.as_tuple().exponent)
+    prec = top - low + 3                       # enough digits for the exact difference
+    if prec > _MAX_DIGITS:
+        raise ValueError(f"E = {text!r} has too many digits (its distance to {sep} needs {prec} > {_MAX_DIGITS})")
+    ctx = Context(prec=prec, Emax=999_999_999, Emin=-999_999_999)
+    diff = ctx.subtract(d, sep)
+    return (diff > 0) - (diff < 0), abs(diff)
+
+
 @dataclass(frozen=True)
-class PendulumEnergy:
+class _Distance:
+    """Parsed input: side (-1 below, +1 above the separatrix), eps and its log (floats), E, given."""
+
+    side: int
+    eps: float
+    log_abs_dE: float
+    E: float
+    given: tuple
+    E_exact: object = None                     # the Decimal E for E input (family checks)
+
+
+def _distance(sep: Decimal, E=None, log_abs_dE=None, side=None, what="E-4") -> _Distance:
+    """Parse ``E`` or ``log|E - sep|`` (with ``side``) into a :class:`_Distance`; shared by both energies."""
+    if (E is None) == (log_abs_dE is None):
+        raise ValueError(f"give exactly one of E and log|{what}|")
+    fsep = float(sep)
+    if E is not None:
+        text = _decimal_text(E, "E")
+        s, dist = _exact_distance(text, sep)
+        if s == 0:
+            return _Distance(0, 0.0, -math.inf, fsep, ("E", text), Decimal(text))
+        eps = float(dist)
+        x = math.log(eps) if eps >= sys.float_info.min else float(dist.ln(Context(prec=25)))
+        Ef = float(Decimal(text))
+        if not math.isfinite(Ef):
+            raise ValueError(f"E = {text} is beyond the float64 range")
+        return _Distance(s, eps, x, Ef, ("E", text), Decimal(text))
+    text = _decimal_text(log_abs_dE, f"log|{what}|")
+    x = float(Decimal(text))
+    if not math.isfinite(x):
+        raise ValueError(f"log|{what}| = {text} is beyond the float64 range of the logarithm")
+    if x > 700.0:
+        raise ValueError(f"log|{what}| = {text} is too large (|E| would exceed 1e304)")
+    eps = math.exp(x)                            # 0.0 or subnormal below -745 / -708: see require_float64
+    return _Distance(side, eps, x, fsep + side * eps, ("log_abs_dE", text))
+
+
+class _SeparatrixDistance:
+    """Methods shared by :class:`PendulumEnergy` and :class:`BreatherEnergy` (decimal input, mpmath values)."""
+
+    _SEP = Decimal(4)
+    _NAME = "E-4"
+
+    @property
+    def side(self) -> int:
+        """-1 below the separatrix, +1 above."""
+        return 1 if self.phase == "rot" else -1
+
+    @property
+    def in_float64_range(self) -> bool:
+        """True when ``eps >= FLOAT64_MIN_EPS`` (the float64 closed forms apply)."""
+        return self.eps >= FLOAT64_MIN_EPS
+
+    def require_float64(self) -> None:
+        """Raise ``ValueError`` when ``|E - sep|`` is below the float64 range of the closed forms."""
+        if not self.in_float64_range:
+            raise ValueError(
+                f"|{self._NAME}| = exp({self.log_abs_dE:.6g}) is below the float64 range "
+                f"(|{self._NAME}| >= {FLOAT64_MIN_EPS:.2g}, log >= {math.log(FLOAT64_MIN_EPS):.1f}): "
+                "use the extended precision tiers (digits > 15)")
+
+    def mp_E_eps(self, dps: int):
+        """``(E, eps)`` as mpmath numbers rounded to ``dps`` digits, from the decimal input.
+
+        Precision: for ``E`` input both are the exact decimals rounded once (so
+        ``eps`` keeps ``dps`` digits however small, and ``E`` however close to 0);
+        for ``log|E - sep|`` input, ``eps`` to ``dps`` digits relative (guard digits
+        cover ``exp`` of a large log) and ``E = sep -/+ eps`` to ``dps`` digits of ``sep``.
+        """
+        import mpmath as mp
+
+        kind, text = self.given
+        sep = mp.mpf(str(self._SEP))
+        if kind == "E":
+            _, dist = _exact_distance(text, self._SEP)
+            with mp.workdps(dps):
+                return mp.mpf(text), mp.mpf(str(dist))
+        guard = len(str(int(abs(float(text))))) + 5
+        with mp.workdps(dps + guard):
+            eps = mp.exp(mp.mpf(text))
+            E = sep + self.side * eps
+        with mp.workdps(dps):
+            return +E, +eps
+
+    def decimal_E(self, digits: int = 17) -> str:
+        """E as a decimal string with ``digits`` significant digits *after* the
+        leading ``4.000…`` zeros, so that ``E - sep`` is visible however small
+        (the string has about ``-log10|E - sep|`` characters)."""
+        import mpmath as mp
+
+        extra = max(0, int(-self.log_abs_dE / math.log(10)) + 1)
+        with mp.workdps(digits + extra + 10):
+            E, _ = self.mp_E_eps(digits + extra + 10)
+            return mp.nstr(E, digits + extra, strip_zeros=True)
+
+    def E_text(self, digits: int = 17) -> str:
+        """:meth:`decimal_E` down to ``|E - sep| = 1e-300``; deeper, ``'4 - 1.13548386531474e-4343'``
+        (the exact decimal would have ``-log10|E - sep|`` characters)."""
+        if self.log_abs_dE > -690.0:
+            return self.decimal_E(digits)
+        import mpmath as mp
+
+        _, eps = self.mp_E_eps(20)
+        return f"{self._SEP} {'-' if self.side < 0 else '+'} {mp.nstr(eps, 15)}"
+
+
+def _pendulum_m(phase, E, eps):
+    """``(m, m1)`` of the closed-form pendulum; float64 or mpmath (same formulas)."""
+    if phase == "lib":
+        return E / 4, eps / 4                  # k^2 = E/4
+    return 4 / E, eps / E                      # kappa^2 = 4/E
+
+
+@dataclass(frozen=True)
+class PendulumEnergy(_SeparatrixDistance):
     """Energy of a pendulum orbit, carried by its distance to the separatrix.
 
     Attributes
@@ -52,14 +224,17 @@ class PendulumEnergy:
     phase : {'lib', 'rot'}
         Libration (E < 4) or rotation (E > 4).
     eps : float
-        ``|E - 4|`` (exact to one rounding however small).
+        ``|E - 4|``, the exact decimal distance rounded once to float64 (0.0 or
+        subnormal when it underflows, ``log|E - 4| < -706.3``: see ``log_abs_dE``).
     log_abs_dE : float
-        ``log|E - 4|`` (natural log; ``-inf`` never occurs).
+        ``log|E - 4|`` (natural log; finite at any depth).
     E : float
         The energy in float64 (equal to 4.0 when ``eps < 1e-16``: use ``eps``).
     m, m1 : float
         Elliptic parameter of the closed form and ``1 - m``: ``m = E/4``,
         ``m1 = eps/4`` in libration; ``m = 4/E``, ``m1 = eps/E`` in rotation.
+    given : tuple
+        ``('E', text)`` or ``('log_abs_dE', text)``: the decimal input.
     """
 
     phase: str
@@ -78,33 +253,17 @@ class PendulumEnergy:
     def mp_values(self, dps: int) -> dict:
         """E, eps, m, m1 as mpmath numbers at ``dps`` digits, from the decimal input.
 
-        The input is read as the decimal string the user gave (``repr`` of a
-        float argument), so ``E=3.9`` means exactly 39/10 here.
+        The input is read as the decimal the user gave (``repr`` of a float
+        argument), so ``E=3.9`` means exactly 39/10 here. Each value is correct
+        to ``dps`` digits relative, at any depth.
         """
         import mpmath as mp
 
+        E, eps = self.mp_E_eps(dps + 5)
+        with mp.workdps(dps + 5):
+            m, m1 = _pendulum_m(self.phase, E, eps)
         with mp.workdps(dps):
-            kind, text = self.given
-            if kind == "E":
-                E = mp.mpf(text)
-                eps = abs(E - 4)
-            else:
-                eps = mp.exp(mp.mpf(text))
-                E = 4 - eps if self.phase == "lib" else 4 + eps
-            if self.phase == "lib":
-                m1, m = eps / 4, E / 4
-            else:
-                m1, m = eps / E, 4 / E
             return dict(E=+E, eps=+eps, m=+m, m1=+m1)
-
-    def decimal_E(self, digits: int = 17) -> str:
-        """E as a decimal string with ``digits`` significant digits *after* the
-        leading ``4.000…`` zeros, so that ``E - 4`` is visible however small."""
-        import mpmath as mp
-
-        extra = max(0, int(-self.log_abs_dE / math.log(10)) + 1)
-        with mp.workdps(digits + extra + 10):
-            return mp.nstr(self.mp_values(digits + extra + 10)["E"], digits + extra, strip_zeros=True)
 
 
 def pendulum_energy(E=None, log_abs_dE=None, phase=None) -> PendulumEnergy:
@@ -112,83 +271,82 @@ def pendulum_energy(E=None, log_abs_dE=None, phase=None) -> PendulumEnergy:
 
     Parameters
     ----------
-    E : float, optional
-        Relative energy (units m = g = r = 1).
-    log_abs_dE : float, optional
-        Natural log of the distance to the separatrix; needs ``phase``.
+    E : float, int or str, optional
+        Relative energy (units m = g = r = 1), read as a decimal: a string
+        keeps every typed digit (``"3.99999999999999999999"`` is 4 - 1e-20).
+    log_abs_dE : float or str, optional
+        Natural log of the distance to the separatrix; needs ``phase``. Any
+        depth is accepted (below -706.3 only the extended tiers can use it).
     phase : {'lib', 'rot'}, optional
         Required with ``log_abs_dE``; checked against ``E`` when both given.
 
     Raises
     ------
     ValueError
-        Negative, non-finite or unparsable input; ``E == 4`` exactly; both or
-        neither of ``E`` and ``log_abs_dE``; a phase other than lib/rot; a
-        librational ``log|E-4| > log 4`` (negative energy); an ``eps`` that
-        underflows float64 (``log|E-4| < -745``).
+        Negative, non-finite or unparsable input; ``E`` equal to 4 as a
+        decimal; both or neither of ``E`` and ``log_abs_dE``; a phase other than
+        lib/rot; a librational ``log|E-4| > log 4`` (negative energy).
     """
-    sep = SEPARATRIX_ENERGY
     if phase is not None and phase not in _PHASES:
         raise ValueError(f"phase must be 'lib' or 'rot', got {phase!r}")
-    if (E is None) == (log_abs_dE is None):
-        raise ValueError("give exactly one of E and log|E-4|")
+    side = None if phase is None else (1 if phase == "rot" else -1)
+    if log_abs_dE is not None and E is None and phase is None:
+        raise ValueError("log|E-4| needs a phase, 'lib' or 'rot'")
+    d = _distance(Decimal(4), E=E, log_abs_dE=log_abs_dE, side=side)
     if E is not None:
-        E = as_float(E, "E")
-        if E < 0:
-            raise ValueError(f"E must be >= 0 (the minimum of V is 0), got {E!r}")
-        if E == sep:
+        if d.E_exact < 0:
+            raise ValueError(f"E must be >= 0 (the minimum of V is 0), got {d.given[1]}")
+        if d.side == 0:
             raise ValueError("E = 4 is the separatrix (homoclinic orbit): the period diverges; "
                              "give log|E-4| and a phase instead")
-        ph = "lib" if E < sep else "rot"
+        ph = "lib" if d.side < 0 else "rot"
         if phase is not None and phase != ph:
-            raise ValueError(f"E = {E!r} is in the {ph} phase, not {phase!r}")
-        eps = abs(E - sep)
-        x = math.log(eps)
-        given = ("E", repr(E))
+            raise ValueError(f"E = {d.given[1]} is in the {ph} phase, not {phase!r}")
     else:
-        x = as_float(log_abs_dE, "log|E-4|")
-        if phase is None:
-            raise ValueError("log|E-4| needs a phase, 'lib' or 'rot'")
         ph = phase
-        if ph == "lib" and x > math.log(sep):
+        if ph == "lib" and d.log_abs_dE > math.log(SEPARATRIX_ENERGY):
             raise ValueError(f"libration has E = 4 - exp(log|E-4|) >= 0, so log|E-4| <= log 4 = "
-                             f"{math.log(sep):.6f}; got {x!r}")
-        eps = math.exp(x)
-        if eps == 0.0 or not math.isfinite(eps):
-            raise ValueError(f"log|E-4| = {x!r} is outside the float64 range of |E-4| "
-                             "(|E-4| = exp(log|E-4|) must lie between 1e-323 and 1.8e308)")
-        E = sep - eps if ph == "lib" else sep + eps
-        given = ("log_abs_dE", repr(x))
-    if ph == "lib":
-        m1 = eps / 4.0
-        m = E / 4.0
-    else:
-        m1 = eps / E
-        m = sep / E
-    return PendulumEnergy(ph, eps, x, E, m, m1, given)
+                             f"{math.log(SEPARATRIX_ENERGY):.6f}; got {d.given[1]}")
+    m, m1 = _pendulum_m(ph, d.E, d.eps)
+    return PendulumEnergy(ph, d.eps, d.log_abs_dE, d.E, m, m1, d.given)
 
 
 @dataclass(frozen=True)
-class BreatherEnergy:
-    """Energy of an isosceles breather (phi1 = phi2 = phi).
+class BreatherEnergy(_SeparatrixDistance):
+    """Energy of an isosceles breather (phi1 = phi2 = phi), carried by its distance to E = 4.5.
 
     Attributes
     ----------
     family : {'LG', 'LD', 'R'}
         Libration about G, libration about D, or rotation.
     E : float
-        Energy.
+        Energy in float64 (equal to 4.5 when ``eps < 1e-16``: use ``eps``).
     eps : float
-        ``|E - 4.5|``, the distance to the breather separatrix.
+        ``|E - 4.5|``, the exact decimal distance rounded once to float64 (0.0
+        or subnormal below ``log|E - 4.5| = -706.3``).
+    log_abs_dE : float
+        ``log|E - 4.5|`` (finite at any depth).
+    given : tuple
+        ``('E', text)`` or ``('log_abs_dE', text)``: the decimal input.
     """
 
     family: str
     E: float
     eps: float
+    log_abs_dE: float
+    given: tuple
+
+    _SEP = Decimal("4.5")
+    _NAME = "E-4.5"
 
     @property
     def phase(self) -> str:
         return "rot" if self.family == "R" else "lib"
+
+    def mp_values(self, dps: int) -> dict:
+        """E and eps = |E - 4.5| as mpmath numbers at ``dps`` digits, from the decimal input."""
+        E, eps = self.mp_E_eps(dps)
+        return dict(E=E, eps=eps)
 
 
 def breather_energy(E=None, family=None, log_abs_dE=None) -> BreatherEnergy:
@@ -196,45 +354,45 @@ def breather_energy(E=None, family=None, log_abs_dE=None) -> BreatherEnergy:
 
     Parameters
     ----------
-    E : float, optional
-        Energy; the family defaults to ``LG`` below 4.5 and ``R`` above.
+    E : float, int or str, optional
+        Energy, read as a decimal (a string keeps every typed digit); the
+        family defaults to ``LG`` below 4.5 and ``R`` above.
     family : {'LG', 'LD', 'R'}, optional
-    log_abs_dE : float, optional
-        ``log|E - 4.5|`` instead of ``E`` (needs ``family``).
+    log_abs_dE : float or str, optional
+        ``log|E - 4.5|`` instead of ``E`` (needs ``family``); any depth.
 
     Raises
     ------
     ValueError
         For energies the family does not have: ``R`` needs ``E > 4.5``, ``LG``
-        ``0 <= E < 4.5``, ``LD`` ``4 <= E < 4.5``; ``E = 4.5`` exactly; negative
-        or non-finite input; an unknown family.
+        ``0 <= E < 4.5``, ``LD`` ``4 <= E < 4.5``; ``E`` equal to 4.5 as a
+        decimal; negative or non-finite input; an unknown family.
     """
-    sep = BREATHER_SEPARATRIX_ENERGY
     if family is not None and family not in _FAMILIES:
         raise ValueError(f"breather family must be one of LG, LD, R; got {family!r}")
-    if (E is None) == (log_abs_dE is None):
-        raise ValueError("give exactly one of E and log|E-4.5|")
-    if E is None:
-        x = as_float(log_abs_dE, "log|E-4.5|")
-        if family is None:
-            raise ValueError("log|E-4.5| needs a breather family (LG, LD or R)")
-        eps = math.exp(x)
-        if eps == 0.0 or not math.isfinite(eps):
-            raise ValueError(f"log|E-4.5| = {x!r} is outside float64 range")
-        E = sep + eps if family == "R" else sep - eps
+    if log_abs_dE is not None and E is None and family is None:
+        raise ValueError("log|E-4.5| needs a breather family (LG, LD or R)")
+    side = None if family is None else (1 if family == "R" else -1)
+    d = _distance(Decimal("4.5"), E=E, log_abs_dE=log_abs_dE, side=side, what="E-4.5")
+    if E is not None:
+        text = d.given[1]
+        if d.E_exact < 0:
+            raise ValueError(f"E must be >= 0, got {text}")
+        if d.side == 0:
+            raise ValueError("E = 4.5 is the breather separatrix (heteroclinic orbit between the maxima T): "
+                             "the period diverges; give log|E-4.5| and a family instead")
+        fam = family or ("R" if d.side > 0 else "LG")
+        if fam == "R" and d.side < 0:
+            raise ValueError(f"the rotational breather R exists only for E > 4.5; got E = {text}")
+        if fam in ("LG", "LD") and d.side > 0:
+            raise ValueError(f"the librational breather {fam} exists only for E < 4.5; got E = {text}")
+        if fam == "LD" and d.E_exact < 4:
+            raise ValueError(f"the breather LD (libration about D) exists only for 4 <= E < 4.5; got E = {text}")
     else:
-        E = as_float(E, "E")
-        eps = abs(E - sep)
-    if E < 0:
-        raise ValueError(f"E must be >= 0, got {E!r}")
-    if E == sep:
-        raise ValueError("E = 4.5 is the breather separatrix (heteroclinic orbit between the maxima T): "
-                         "the period diverges")
-    fam = family or ("R" if E > sep else "LG")
-    if fam == "R" and E < sep:
-        raise ValueError(f"the rotational breather R exists only for E > 4.5; got E = {E!r}")
-    if fam in ("LG", "LD") and E > sep:
-        raise ValueError(f"the librational breather {fam} exists only for E < 4.5; got E = {E!r}")
-    if fam == "LD" and E < SEPARATRIX_ENERGY:
-        raise ValueError(f"the breather LD (libration about D) exists only for 4 <= E < 4.5; got E = {E!r}")
-    return BreatherEnergy(fam, E, eps)
+        fam = family
+        x = d.log_abs_dE
+        if fam == "LG" and x > math.log(BREATHER_SEPARATRIX_ENERGY):
+            raise ValueError(f"LG has E = 4.5 - exp(log|E-4.5|) >= 0, so log|E-4.5| <= log 4.5; got {d.given[1]}")
+        if fam == "LD" and x > math.log(0.5):
+            raise ValueError(f"LD has E = 4.5 - exp(log|E-4.5|) >= 4, so log|E-4.5| <= log 0.5; got {d.given[1]}")
+    return BreatherEnergy(fam, d.E, d.eps, d.log_abs_dE, d.given)

@@ -20,15 +20,27 @@ coefficient, the coefficient-period map is ``S Phi(h)^-1 S Phi(h)``
 orbit period is two coefficient periods for libration (pendulum, LG, LD) and
 one for rotation (pendulum, R). The rotational breather's coefficient is not
 symmetric about the quarter period, so its half period is integrated as two
-contracting pieces, ``[0, K]`` forward and ``[2K, K]`` backward.
+contracting pieces, ``[0, K]`` forward and ``[2K, K]`` backward. Inverses are
+adjugates (the Wronskian is 1 exactly): near the breather separatrix the maps
+are nearly rank one and a computed determinant would cancel (:func:`_half_map`).
 
-Precision: float64 ``Delta`` to ~1e-13 absolute for any ``m1`` down to 1e-300
-(heyoka Taylor, tol 2e-16; scipy DOP853, rtol 1e-13); real128 (~32 digits)
-and arbitrary precision with heyoka; mpmath's Taylor integrator as the slow
-independent reference. ``tests/test_monodromy.py`` measures each.
+Precision (``tests/test_monodromy.py``, ``tests/test_extremes.py``,
+``tests/test_breather_depth.py``):
+
+* float64 (heyoka Taylor, tol 2e-16; scipy DOP853, rtol 1e-13): pendula
+  ``Delta`` to ~1e-13 absolute, breathers ~1e-14 relative (``tr M`` grows like
+  ``|E - 4.5|^-2``), for every ``m1`` down to ~2e-307 (``|E - sep| >= 1.8e-307``;
+  deeper energies are refused). Where ``Delta`` overflows float64 (R below
+  ``|E - 4.5| ~ e^-355``) the float64 maps are composed again in mpmath
+  (``delta_str``, ``delta_exact``).
+* real128 (~32 digits) for ``m1 >= 1e-4800`` (``log|E - sep| >~ -11050``);
+  heyoka multiprecision beyond (MPFR exponents), at a cost linear in
+  ``K ~ |log|E - sep||/2`` (``log|E - 4| = -10000``: ~1 s in real128).
+* mpmath's Taylor integrator as the slow independent reference.
 """
 from __future__ import annotations
 
+import contextlib
 import math
 import threading
 from dataclasses import dataclass
@@ -120,50 +132,34 @@ class HillProblem:
 def hill_problem(orbit, dps=None) -> HillProblem:
     """The reduced transverse problem of a pendulum or breather orbit.
 
-    With ``dps`` the parameters are computed with mpmath at that many digits
-    from the decimal input of the energy (for extended precision).
+    Parameters
+    ----------
+    orbit : PendulumOrbit or BreatherOrbit
+    dps : int, optional
+        ``None``: float64 parameters (refused with ``ValueError`` when
+        ``|E - sep| < 1.8e-307``, below the float64 range). Otherwise mpmath
+        parameters correct to ``dps`` digits, built from the decimal input of
+        the energy at any depth (:meth:`~rotorlib.orbits.PendulumOrbit.closed_form`);
+        no float64 rounding of ``E`` enters.
     """
-    fam = orbit.family
-    if fam == "pendulum":
-        en = orbit.energy
-        kind = "pendulum-" + en.phase
-        if dps is None:
-            m, m1, K = en.m, en.m1, orbit.K
-            c3 = 2.0 * m / 3.0
-        else:
-            import mpmath as mp
-
-            extra = int(max(0.0, -en.log_abs_dE / math.log(10))) + 10
-            with mp.workdps(dps + extra):
-                v = en.mp_values(dps + extra)
-                m, m1 = v["m"], v["m1"]
-                K = mp.ellipk(m)
-                c3 = 2 * m / 3
-        du_dt = math.sqrt(3.0) if en.phase == "lib" else math.sqrt(3.0 / float(m))
-        return HillProblem(kind, m, m1, K, c3, 0.0, 2 if en.phase == "lib" else 1, du_dt, 2.0)
-    fam = orbit.energy.family
-    p = orbit.params
-    if dps is None:
-        m, m1, nu, K = p["m"], p["m1"], p["nu"], orbit.K
-        shape = {"LG": lambda: p["A"] ** 2, "LD": lambda: p["D"] ** 2, "R": lambda: p["lam"] ** 2}[fam]()
-        c3 = 3.0 / nu ** 2
-    else:
+    cf = orbit.closed_form(dps)
+    m, m1, K = cf["m"], cf["m1"], cf["K"]
+    ctx = contextlib.nullcontext()
+    if dps is not None:
         import mpmath as mp
 
-        with mp.workdps(dps + 10):
-            E = mp.mpf(repr(orbit.energy.E))
-            if fam in ("LG", "LD"):
-                S = mp.sqrt(9 - 2 * E)
-                den = (1 + S) * (3 + S)
-                m, m1, nu = (1 - S) * (3 - S) / den, 8 * S / den, mp.sqrt(den / 2) / 2
-                shape = (3 - S) / (1 + S) if fam == "LG" else (1 - S) / (3 + S)
-            else:
-                Q = mp.sqrt(E * (E - 4))
-                m, m1 = (Q - E + 6) / (2 * Q), (Q + E - 6) / (2 * Q)
-                nu, shape = mp.sqrt(Q), mp.sqrt(E / (E - 4))
-            K = mp.ellipk(m)
-            c3 = 3 / nu ** 2
-    return HillProblem("breather-" + fam, m, m1, K, c3, shape, 1 if fam == "R" else 2, float(nu), 1.0 / 6.0)
+        ctx = mp.workdps(dps)
+    if orbit.family == "pendulum":
+        phase = orbit.energy.phase
+        with ctx:
+            c3 = 2 * m / 3
+        du_dt = math.sqrt(3.0) if phase == "lib" else math.sqrt(3.0 / float(m))
+        return HillProblem("pendulum-" + phase, m, m1, K, c3, 0.0, 2 if phase == "lib" else 1, du_dt, 2.0)
+    fam = orbit.energy.family
+    with ctx:
+        c3 = 3 / cf["nu"] ** 2
+    return HillProblem("breather-" + fam, m, m1, K, c3, cf["shape"], 1 if fam == "R" else 2, float(cf["nu"]),
+                       1.0 / 6.0)
 
 
 def _coefficient(kind, sp, cp, m, c3, shape, sign):
@@ -326,6 +322,48 @@ def _segment_mpmath(prob, sign, dps):
         return mp.matrix([[x[1], x[3]], [x[2], x[4]]]), abs(float(x[0])), 0
 
 
+def _half_map(P1, P2):
+    """Map over the coefficient's half period from the segment maps (2x2 nested lists, any number type).
+
+    ``P1``: ``[0, K]`` forward; ``P2``: ``[2K, K]`` backward in ``s = 2K - u``,
+    basis ``(y, dy/ds)`` (``None`` when the half period is one segment). The
+    inverse of ``S P2 S`` is its adjugate ``[[d, b], [c, a]]``: ``det P2 = 1`` is
+    the Wronskian, exact by construction. Forming the determinant of the
+    computed matrix instead cancels catastrophically near the breather
+    separatrix (entries ~ |E - 4.5|^-1/2, ``det`` = difference of two products
+    ~ |E - 4.5|^-1): that was the float64 failure of R (``tests/test_extremes.py``).
+    """
+    if P2 is None:
+        return P1
+    (a, b), (c, d) = P2
+    (e, f), (g, h) = P1
+    return [[d * e + b * g, d * f + b * h], [c * e + a * g, c * f + a * h]]
+
+
+def _coefficient_map(Ph):
+    """``S Ph^-1 S Ph`` with ``Ph^-1`` the adjugate (``det Ph = 1``): ``[[t, 2qs], [2pr, t]]``, ``t = ps + qr``.
+
+    ``Delta = 2t``. Near a separatrix the two products ``ps`` and ``qr`` have the
+    same sign (measured for pendula and breathers at every depth tested), so
+    ``Delta`` keeps the relative accuracy of the entries.
+    """
+    (p, q), (r, s) = Ph
+    t = p * s + q * r
+    return [[t, 2 * q * s], [2 * p * r, t]]
+
+
+def _compose_mp(P1, P2, dps):
+    """Coefficient map and Delta in mpmath at ``dps`` digits from entries of any type (via ``str``)."""
+    import mpmath as mp
+
+    def conv(P):
+        return None if P is None else [[mp.mpf(str(P[i][j])) for j in range(2)] for i in range(2)]
+
+    with mp.workdps(dps):
+        C = _coefficient_map(_half_map(conv(P1), conv(P2)))
+        return C, 2 * C[0][0]
+
+
 def solve_hill(prob: HillProblem, backend: str, precision: str, tol=None) -> HillSolution:
     """Integrate the reduced transverse problem and return the coefficient-period map.
 
@@ -334,69 +372,59 @@ def solve_hill(prob: HillProblem, backend: str, precision: str, tol=None) -> Hil
     (default: the machine epsilon of ``precision``). The defaults are the
     verified tiers; other values serve work-precision studies
     (``benchmarks/bench_precision.py``). Ignored by the mpmath backend.
+
+    The segment maps are composed with exact adjugates (:func:`_half_map`,
+    :func:`_coefficient_map`) in the working precision. When the float64
+    ``Delta`` overflows (breathers at ``|E - 4.5| < ~e^-350``: ``Delta ~ |E - 4.5|^-2``)
+    the float64 entries are composed again in mpmath, so ``delta_exact`` and
+    ``delta_str`` still carry the value (``delta`` and ``coefficient_map`` are
+    then ``inf``).
     """
+    if precision == "real128":
+        _check_real128_range(prob)
     import mpmath as mp
-
-    S = np.diag([1.0, -1.0])
-
-    def compose(P1, P2):
-        # P1: [0, K] forward; P2: [2K, K] backward in s = 2K - u, basis (y, dy/ds)
-        if P2 is None:
-            Ph = P1
-        else:
-            Ph = _inv2(_mat(S) * P2 * _mat(S)) * P1
-        return _mat(S) * _inv2(Ph) * _mat(S) * Ph
 
     two = prob.kind == "breather-R"
     if backend == "scipy":
-        P1, r1, n1 = _segment_scipy(prob, 1.0, tol)
-        P2, r2, n2 = _segment_scipy(prob, -1.0, tol) if two else (None, 0.0, 0)
-        _mat, _inv2 = (lambda a: _NP(a)), _np_inv2
-        C = compose(_NP(P1), None if P2 is None else _NP(P2)).a
-        d = float(np.trace(C))
-        dexact = d
-        dstr = repr(d)
+        def seg(sign):
+            return _segment_scipy(prob, sign, tol)
     elif backend == "heyoka":
-        P1, r1, n1 = _segment_heyoka(prob, 1.0, precision, tol)
-        P2, r2, n2 = _segment_heyoka(prob, -1.0, precision, tol) if two else (None, 0.0, 0)
-        if precision == "float64":
-            _mat, _inv2 = (lambda a: _NP(a)), _np_inv2
-            C = compose(_NP(P1), None if P2 is None else _NP(P2)).a
-            dexact = float(np.trace(C))
-            dstr = repr(dexact)
-        else:
-            dps = 36 if precision == "real128" else int(int(precision[2:]) / 3.33) + 2
-            with mp.workdps(dps + 5):
-                tomp = lambda A: mp.matrix([[mp.mpf(str(A[i][j])) for j in range(2)] for i in range(2)])
-                _mat, _inv2 = (lambda a: mp.matrix(a) if not isinstance(a, mp.matrix) else a), (lambda A: A ** -1)
-                Cm = compose(tomp(P1), None if P2 is None else tomp(P2))
-                dexact = Cm[0, 0] + Cm[1, 1]
-                C = np.array([[float(Cm[i, j]) for j in range(2)] for i in range(2)])
-                dstr = mp.nstr(dexact, dps - 2)
+        def seg(sign):
+            return _segment_heyoka(prob, sign, precision, tol)
     else:
         dps = int(precision[6:])
-        with mp.workdps(dps):
-            P1, r1, n1 = _segment_mpmath(prob, 1.0, dps)
-            P2, r2, n2 = _segment_mpmath(prob, -1.0, dps) if two else (None, 0.0, 0)
-            _mat, _inv2 = (lambda a: mp.matrix(a) if not isinstance(a, mp.matrix) else a), (lambda A: A ** -1)
-            Cm = compose(P1, P2)
-            dexact = Cm[0, 0] + Cm[1, 1]
-            C = np.array([[float(Cm[i, j]) for j in range(2)] for i in range(2)])
-            dstr = mp.nstr(dexact, dps - 5)
-    return HillSolution(C, float(dexact), dstr, max(r1, r2), backend, precision, n1 + n2, dexact)
+
+        def seg(sign):
+            P, r, n = _segment_mpmath(prob, sign, dps)
+            return [[P[0, 0], P[0, 1]], [P[1, 0], P[1, 1]]], r, n
+    P1, r1, n1 = seg(1.0)
+    P2, r2, n2 = seg(-1.0) if two else (None, 0.0, 0)
+    if precision == "float64":
+        fl = lambda P: None if P is None else [[float(P[i][j]) for j in range(2)] for i in range(2)]  # noqa: E731
+        C = _coefficient_map(_half_map(fl(P1), fl(P2)))
+        dexact = 2.0 * C[0][0]
+        dstr = repr(dexact)
+        if not math.isfinite(dexact):
+            C, dexact = _compose_mp(fl(P1), fl(P2), 20)
+            dstr = mp.nstr(dexact, 16)
+    else:
+        if precision == "real128":
+            dps = 36
+        elif precision.startswith("mp") and not precision.startswith("mpmath"):
+            dps = int(int(precision[2:]) / 3.33) + 2
+        C, dexact = _compose_mp(P1, P2, dps + 5)
+        dstr = mp.nstr(dexact, dps - 2 if backend == "heyoka" else dps - 5)
+    Cf = np.array([[float(C[i][j]) for j in range(2)] for i in range(2)])
+    return HillSolution(Cf, float(dexact), dstr, max(r1, r2), backend, precision, n1 + n2, dexact)
 
 
-class _NP:
-    """Tiny wrapper so that ``*`` is the matrix product for numpy 2x2 arrays."""
-
-    def __init__(self, a):
-        self.a = a.a if isinstance(a, _NP) else np.asarray(a, dtype=float)
-
-    def __mul__(self, other):
-        return _NP(self.a @ _NP(other).a)
+#: Smallest m1 the real128 tier accepts (real128 normals reach 3.4e-4932; psi decays to ~sqrt(m1)).
+REAL128_MIN_M1 = "1e-4800"
 
 
-def _np_inv2(A):
-    a = A.a
-    det = a[0, 0] * a[1, 1] - a[0, 1] * a[1, 0]
-    return _NP(np.array([[a[1, 1], -a[0, 1]], [-a[1, 0], a[0, 0]]]) / det)
+def _check_real128_range(prob):
+    import mpmath as mp
+
+    if mp.mpf(prob.m1) < mp.mpf(REAL128_MIN_M1):
+        raise ValueError(f"m1 = {mp.nstr(mp.mpf(prob.m1), 3)} is below the real128 range (m1 >= {REAL128_MIN_M1}, "
+                         "|E - sep| > ~1e-4800, log > -11050): use digits > 31 (multiprecision)")

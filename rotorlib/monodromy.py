@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from decimal import Decimal
 
 import numpy as np
 
@@ -75,7 +76,18 @@ class Monodromy:
     multipliers : ndarray (2,)
         Eigenvalues of M_perp (M_parallel has 1, 1).
     stable : bool
-        ``0 < tr M < 4``.
+        ``0 < tr M < 4`` for the computed value (see ``stability`` near the edges).
+    stability : {'stable', 'unstable', 'marginal'}
+        ``marginal`` when ``tr M`` is within the accuracy of the tier
+        (``1e-12`` in float64, ``10^(2 - digits)`` above) of an edge of the
+        stable interval, 0 or 4, so that the computed value cannot decide. The
+        equilibrium ``E = 0`` is marginal: both normal modes have frequency
+        sqrt(3) (1:1 resonance) and ``M`` is the identity (neutrally stable,
+        every perturbation stays bounded). For small ``E > 0`` the pendulum has
+        ``4 - tr M = pi^2 E^3/3456 (1 + O(E))`` (stable), unresolved below
+        ``E ~ 7e-4`` in float64 (``4 - tr M < 1e-12``).
+    stability_note : str
+        One sentence explaining ``marginal`` (empty otherwise).
     precision, backend : str
         How the transverse block was computed.
     residual : float
@@ -101,6 +113,8 @@ class Monodromy:
     residual: float
     energy: object = field(repr=False, default=None)
     period_str: str = ""
+    stability: str = ""
+    stability_note: str = ""
 
     def in_alpha_state_order(self) -> np.ndarray:
         """M in the state order ``[a1, a2, p1, p2]`` (pendulum variables)."""
@@ -155,8 +169,18 @@ def monodromy(orbit=None, *, E=None, log_abs_dE=None, phase=None, family="pendul
     Returns
     -------
     Monodromy
-        Float64 trace accurate to ~1e-13 absolute at any ``|E - 4|`` (see
-        :mod:`rotorlib.hill`); ``trace_str`` carries extended digits.
+        Float64: pendula ~1e-13 absolute in ``tr M`` at any ``|E - 4| >= 1.8e-307``;
+        breathers ~1e-14 relative at any ``|E - 4.5| >= 1.8e-307`` (``tr M ~ |E - 4.5|^-2``
+        overflows float64 below ``|E - 4.5| ~ e^-350``: ``trace`` is then ``inf``
+        and ``trace_str`` carries 16 digits). Deeper energies are refused in
+        float64 (``ValueError``) and computed by the extended tiers, which read
+        the decimal input at ``digits + 15`` digits: ``trace_str`` to ``digits``
+        digits (``tests/test_extremes.py``, ``tests/test_breather_depth.py``).
+
+    Raises
+    ------
+    ValueError
+        Bad precision request, or a float64 request beyond the float64 range.
     """
     orbit = _as_orbit(orbit, E, log_abs_dE, phase, family)
     be, prec = precision_tier(digits, backend)
@@ -164,27 +188,29 @@ def monodromy(orbit=None, *, E=None, log_abs_dE=None, phase=None, family="pendul
     prob = hill_problem(orbit, dps=dps)
     sol = solve_hill(prob, be, prec, tol=tol)
     C = sol.coefficient_map
-    Phi = C @ C if prob.repeats == 2 else C
-    D = np.diag([1.0, prob.momentum_scale * prob.du_dt])
-    Mperp = D @ Phi @ np.linalg.inv(D)
+    d = np.array([1.0, prob.momentum_scale * prob.du_dt])
+    with np.errstate(over="ignore", invalid="ignore"):      # inf/nan entries when tr M overflows float64
+        Phi = C @ C if prob.repeats == 2 else C
+        Mperp = (Phi * d[:, None]) * (1.0 / d)[None, :]      # D Phi D^-1
     delta = sol.delta
     tr_perp = delta * delta - 2.0 if prob.repeats == 2 else delta
-    if prec == "float64":
-        tr_str = repr(tr_perp + 2.0)
+    shown = max(5, digits or 20)
+    tr_exact = tr_perp + 2.0
+    if prec == "float64" and math.isfinite(tr_perp):
+        tr_str = repr(tr_exact)
         period_str = repr(orbit.period)
     else:
         import mpmath as mp
 
         with mp.workdps(len(sol.delta_str) + 5):
-            dx = mp.mpf(sol.delta_exact) if not isinstance(sol.delta_exact, mp.mpf) else sol.delta_exact
-            t = dx * dx if prob.repeats == 2 else dx + 2
-            tr_str = mp.nstr(t, max(5, (digits or 20)))
-            K = mp.mpf(prob.K)
-            if isinstance(orbit, PendulumOrbit):
-                per = 4 * K / mp.sqrt(3) if prob.repeats == 2 else 2 * mp.sqrt(mp.mpf(prob.m)) * K / mp.sqrt(3)
-            else:
-                per = 4 * K * mp.sqrt(mp.mpf(prob.c3) / 3)      # 4K/nu with c3 = 3/nu^2
-            period_str = mp.nstr(per, max(5, (digits or 20)))
+            dx = mp.mpf(sol.delta_exact)
+            tr_exact = dx * dx if prob.repeats == 2 else dx + 2
+            tr_str = mp.nstr(tr_exact, shown if prec != "float64" else 16)
+        if prec == "float64":
+            period_str = repr(orbit.period)
+        else:
+            with mp.workdps(dps):
+                period_str = mp.nstr(orbit.closed_form(dps)["period"], shown)
     period = orbit.period
     dT = orbit.dperiod_dE
     if isinstance(orbit, PendulumOrbit):
@@ -201,9 +227,34 @@ def monodromy(orbit=None, *, E=None, log_abs_dE=None, phase=None, family="pendul
     else:
         M[:2, :2], M[2:, 2:] = Mpar, Mperp
     tr = tr_perp + 2.0
+    # stability from the value with every computed digit (the float64 view of 4 - 1e-18 is 4.0)
+    stability, note = _stability(tr_exact, 1e-12 if prec == "float64" else 10.0 ** (2 - (digits or 20)), orbit)
     return Monodromy(orbit.family, orbit.E, period, M, basis, Mperp, Mpar, tr, tr_perp, tr_str,
-                     multipliers_from_trace(tr_perp), bool(0.0 < tr < 4.0), prec, be, sol.psi_end,
-                     orbit.energy, period_str)
+                     multipliers_from_trace(tr_perp), bool(0 < tr_exact < 4), prec, be, sol.psi_end,
+                     orbit.energy, period_str, stability, note)
+
+
+def _stability(tr, tol: float, orbit) -> tuple:
+    """``(stability, note)``: stable/unstable, or marginal within ``tol`` of tr M = 0 or 4 (see :class:`Monodromy`).
+
+    ``tr`` is a float or an mpmath number (extended tiers).
+    """
+    edge = 4 if abs(tr - 4) <= abs(tr) else 0
+    if abs(tr - edge) > tol:
+        return ("stable" if 0 < tr < 4 else "unstable"), ""
+    en = orbit.energy
+    if en.given[0] == "E" and Decimal(en.given[1]) == 0:
+        return "marginal", ("E = 0 is the equilibrium G: both normal modes have frequency sqrt(3) (1:1 resonance), "
+                            "M is the identity and all multipliers are 1: neutrally stable, not a transition")
+    note = (f"|tr M - {edge}| <= {tol:.0e}, the accuracy of this precision tier: on the stability edge "
+            f"tr M = {edge} within rounding, the computed value cannot tell stable from unstable")
+    if isinstance(orbit, PendulumOrbit) and en.phase == "lib" and orbit.E < 1e-2 and edge == 4:
+        import mpmath as mp
+
+        with mp.workdps(20):
+            gap = mp.nstr(mp.pi ** 2 * en.mp_E_eps(20)[0] ** 3 / 3456, 3)      # underflows float64 for E < 1e-100
+        note += f"; the small-E series gives 4 - tr M = pi^2 E^3/3456 (1 + O(E)) = {gap} > 0 (stable)"
+    return "marginal", note
 
 
 def trace_monodromy(orbit=None, **kwargs) -> float:
@@ -333,7 +384,7 @@ def textbook_monodromy(orbit, bits: int = 256) -> VariationalResult:
     """The textbook monodromy of a pendulum or breather R at ``bits`` of precision (heyoka).
 
     The initial state at the base point G and the period are computed with
-    mpmath from the energy's decimal input (pendulum: ``p2 = sqrt(4E/3)``,
+    mpmath from the energy's decimal input (``energy.mp_values``; pendulum: ``p2 = sqrt(4E/3)``,
     period ``4K(E/4)/sqrt3`` or ``2 kappa K(kappa^2)/sqrt3``; breather R:
     ``p1 = p2 = sqrt(E)``, period ``4K(m)/sqrt(Q)``), then the nonlinear flow and
     the 4x4 variational equations are integrated over one period. It shares no
@@ -352,7 +403,7 @@ def textbook_monodromy(orbit, bits: int = 256) -> VariationalResult:
                       else 2 * mp.sqrt(m) * mp.ellipk(m) / mp.sqrt(3))
             state0 = [mp.mpf(0), mp.mpf(0), mp.mpf(0), mp.sqrt(4 * E / 3)]
         elif isinstance(orbit, BreatherOrbit) and orbit.energy.family == "R":
-            E = mp.mpf(repr(float(orbit.E)))
+            E = orbit.energy.mp_values(dps)["E"]
             Q = mp.sqrt(E * (E - 4))
             period = 4 * mp.ellipk((Q - E + 6) / (2 * Q)) / mp.sqrt(Q)
             state0 = [mp.mpf(0), mp.mpf(0), mp.sqrt(E), mp.sqrt(E)]

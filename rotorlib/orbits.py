@@ -24,26 +24,72 @@ factorisation gives, with ``S = sqrt(9 - 2E)`` (libration) and
 All periods are ``4 K(m)/nu``. Base points: G for LG and R, D for LD.
 
 Precision: states are float64 closed forms; with :mod:`rotorlib.elliptic`
-they keep ~1e-15 relative accuracy for any distance to the separatrix (the
-energy residual is checked in ``tests/test_orbits.py``).
+they keep ~1e-15 relative accuracy for any distance to the separatrix down to
+``|E - sep| = 1.8e-307`` (the energy residual is checked in
+``tests/test_orbits.py``). ``closed_form(dps)`` gives the parameters, K, the
+period and its derivative in mpmath at ``dps`` digits from the decimal input,
+at any depth; the float64 ``K``, ``period`` and ``dperiod_dE`` use it beyond
+the float64 range of ``eps``.
 """
 from __future__ import annotations
 
+import contextlib
 import math
 from dataclasses import dataclass
 
 import numpy as np
 
-from .elliptic import dK_dm, ellipk_m1, jacobi_am, jacobi_sncndn
+from .elliptic import dK_dm, ellipk_m1, jacobi_am, jacobi_sncndn, mp_dK_dm, mp_ellipk_m1
 from .energy import BreatherEnergy, PendulumEnergy, breather_energy, pendulum_energy
 
 __all__ = ["PendulumOrbit", "BreatherOrbit", "pendulum", "breather", "separatrix_pendulum_state"]
 
 SQRT3 = math.sqrt(3.0)
+#: Digits used for the float64 view of K, period and d(period)/dE beyond the float64 range of eps.
+_DEEP_DPS = 30
+
+
+def _arith(dps):
+    """``(sqrt, K(m1), dK/dm(m, m1), context)`` for float64 (``dps=None``) or mpmath at ``dps`` digits.
+
+    The closed forms below are written once with these and exact binary
+    constants, so the float64 and the extended-precision parameters come from
+    the same formulas.
+    """
+    if dps is None:
+        return math.sqrt, ellipk_m1, dK_dm, contextlib.nullcontext()
+    import mpmath as mp
+
+    return mp.sqrt, mp_ellipk_m1, mp_dK_dm, mp.workdps(dps)
+
+
+class _ClosedForm:
+    """Shared float64 views: K, period and d(period)/dE at any depth."""
+
+    def _view(self, key, derivative=False):
+        # inside the float64 range: the float64 closed form; beyond it (eps underflows)
+        # the mpmath one at _DEEP_DPS digits, converted (d(period)/dE ~ 1/eps may be inf)
+        if self.energy.in_float64_range:
+            return self.closed_form(derivative=derivative)[key]
+        return float(self.closed_form(_DEEP_DPS, derivative=derivative)[key])
+
+    @property
+    def K(self) -> float:
+        """Complete elliptic integral K(m) of the closed form."""
+        return self._view("K")
+
+    @property
+    def period(self) -> float:
+        return self._view("period")
+
+    @property
+    def dperiod_dE(self) -> float:
+        """d(period)/dE in closed form (float64; ``inf`` when it overflows, |E - sep| < ~1e-308)."""
+        return self._view("dperiod_dE", derivative=True)
 
 
 @dataclass(frozen=True)
-class PendulumOrbit:
+class PendulumOrbit(_ClosedForm):
     """The pendulum a1 = 0 at a given energy (closed form).
 
     Attributes
@@ -62,28 +108,41 @@ class PendulumOrbit:
     def E(self) -> float:
         return self.energy.E
 
-    @property
-    def K(self) -> float:
-        """Complete elliptic integral K(m) of the closed form."""
-        return ellipk_m1(self.energy.m1)
+    def closed_form(self, dps=None, derivative=False) -> dict:
+        """E, eps, m, m1, K, period (and with ``derivative`` d(period)/dE) of the closed form.
 
-    @property
-    def period(self) -> float:
-        """Period: 4K/sqrt(3) (libration) or 2 kappa K/sqrt(3) (rotation)."""
-        if self.energy.phase == "lib":
-            return 4.0 * self.K / SQRT3
-        return 2.0 * math.sqrt(self.energy.m) * self.K / SQRT3
+        Parameters
+        ----------
+        dps : int, optional
+            ``None``: float64 (~1e-16 relative at any ``|E - 4| >= 1.8e-307``,
+            refused below with ``ValueError``). Otherwise mpmath numbers correct
+            to ``dps`` digits, built from the decimal input at any depth.
+        derivative : bool
+            Also return ``dperiod_dE``.
 
-    @property
-    def dperiod_dE(self) -> float:
-        """d(period)/dE, from dK/dm (closed form)."""
+        Notes
+        -----
+        Period ``4K/sqrt3`` (libration, ``m = E/4``) or ``2 kappa K/sqrt3``
+        (rotation, ``m = kappa^2 = 4/E``); ``dK/dm`` by chain rule.
+        """
         en = self.energy
-        dk = dK_dm(en.m, en.m1)
-        if en.phase == "lib":
-            return 4.0 / SQRT3 * dk / 4.0            # m = E/4
-        kappa = math.sqrt(en.m)
-        dm_dE = -en.m / en.E                         # m = 4/E
-        return 2.0 / SQRT3 * (dk * kappa + self.K / (2.0 * kappa)) * dm_dE
+        sqrt, ellipk, dkdm, ctx = _arith(dps)
+        if dps is None:
+            en.require_float64()
+            E, eps, m, m1 = en.E, en.eps, en.m, en.m1
+        else:
+            v = en.mp_values(dps)
+            E, eps, m, m1 = v["E"], v["eps"], v["m"], v["m1"]
+        with ctx:
+            K = ellipk(m1)
+            kappa = sqrt(m)
+            out = dict(E=E, eps=eps, m=m, m1=m1, K=K,
+                       period=4 * K / sqrt(3) if en.phase == "lib" else 2 * kappa * K / sqrt(3))
+            if derivative:
+                dk = dkdm(m, m1)
+                out["dperiod_dE"] = (dk / sqrt(3) if en.phase == "lib"                          # m = E/4
+                                     else 2 / sqrt(3) * (dk * kappa + K / (2 * kappa)) * (-m / E))  # m = 4/E
+            return out
 
     @property
     def state0(self) -> np.ndarray:
@@ -91,12 +150,13 @@ class PendulumOrbit:
         return np.array([0.0, 0.0, 0.0, math.sqrt(4.0 * self.E / 3.0)])
 
     def state(self, t) -> np.ndarray:
-        """State ``[a1, a2, p1, p2]`` at times ``t`` (shape ``t.shape + (4,)``).
+        """State ``[a1, a2, p1, p2]`` at times ``t`` (shape ``t.shape + (4,)``); float64 range only.
 
         In rotation ``a2`` is continuous (it grows by 2 pi per period).
         """
         t = np.asarray(t, dtype=float)
         en = self.energy
+        en.require_float64()
         if en.phase == "lib":
             k = math.sqrt(en.m)
             s, c, d = jacobi_sncndn(SQRT3 * t, en.m, en.m1)
@@ -128,8 +188,36 @@ def pendulum(E=None, log_abs_dE=None, phase=None) -> PendulumOrbit:
     return PendulumOrbit(pendulum_energy(E=E, log_abs_dE=log_abs_dE, phase=phase))
 
 
+def _breather_params(family, E, eps, sqrt) -> dict:
+    """m, m1, nu, shape and A (LG), D (LD) or lam (R) from ``E`` and ``eps = |E - 4.5|``.
+
+    Written without cancellation (module docstring identities
+    ``1 - S = 2(E - 4)/(1 + S)``, ``3 - S = 2E/(3 + S)``, ``Q^2 - (6 - E)^2 = 8 eps``),
+    so every parameter has the relative accuracy of the arithmetic (float64 or
+    mpmath) at any distance to 4.5 and down to E = 0.
+    """
+    if family in ("LG", "LD"):
+        S = sqrt(2 * eps)
+        den = (1 + S) * (3 + S)
+        p = dict(m=4 * E * (E - 4) / (den * den), m1=8 * S / den, nu=sqrt(den / 2) / 2)
+        if family == "LG":
+            p["shape"] = 2 * E / den                    # A^2 = (3 - S)/(1 + S)
+            p["A"] = sqrt(p["shape"])
+        else:
+            p["shape"] = 2 * (E - 4) / den              # D^2 = (1 - S)/(3 + S)
+            p["D"] = sqrt(p["shape"])
+        return p
+    Q = sqrt(E * (E - 4))
+    if E < 6:
+        m, m1 = (Q - E + 6) / (2 * Q), 4 * eps / (Q * (Q + 6 - E))
+    else:
+        m, m1 = 4 * eps / (Q * (Q + E - 6)), (Q + E - 6) / (2 * Q)
+    shape = sqrt(E / (E - 4))                           # lam^2
+    return dict(m=m, m1=m1, nu=sqrt(Q), shape=shape, lam=sqrt(shape))
+
+
 @dataclass(frozen=True)
-class BreatherOrbit:
+class BreatherOrbit(_ClosedForm):
     """An isosceles breather phi1 = phi2 = phi (closed form).
 
     Attributes
@@ -149,58 +237,59 @@ class BreatherOrbit:
 
     @property
     def params(self) -> dict:
-        """Closed-form parameters: m, m1, nu and A (LG), D (LD) or lam (R)."""
-        E, eps = self.energy.E, self.energy.eps
-        if self.energy.family in ("LG", "LD"):
-            S = math.sqrt(2.0 * eps)
-            den = (1.0 + S) * (3.0 + S)
-            p = dict(m=(1.0 - S) * (3.0 - S) / den, m1=8.0 * S / den, nu=0.5 * math.sqrt(den / 2.0))
-            if self.energy.family == "LG":
-                p["A"] = math.sqrt((3.0 - S) / (1.0 + S))
-            else:
-                p["D"] = math.sqrt(max(1.0 - S, 0.0) / (3.0 + S))
-            return p
-        Q = math.sqrt(E * (E - 4.0))
-        if E < 6.0:
-            m, m1 = (Q - E + 6.0) / (2.0 * Q), 4.0 * eps / (Q * (Q + 6.0 - E))
-        else:
-            m, m1 = 4.0 * eps / (Q * (Q + E - 6.0)), (Q + E - 6.0) / (2.0 * Q)
-        return dict(m=m, m1=m1, nu=math.sqrt(Q), lam=(E / (E - 4.0)) ** 0.25)
+        """Closed-form parameters in float64: m, m1, nu, shape and A (LG), D (LD) or lam (R)."""
+        en = self.energy
+        en.require_float64()
+        return _breather_params(en.family, en.E, en.eps, math.sqrt)
 
-    @property
-    def K(self) -> float:
-        return ellipk_m1(self.params["m1"])
+    def closed_form(self, dps=None, derivative=False) -> dict:
+        """:attr:`params` plus E, eps, K, period (and with ``derivative`` d(period)/dE), float64 or mpmath.
 
-    @property
-    def period(self) -> float:
-        """Period 4 K(m)/nu (phi advances by 2 pi per period in R)."""
-        return 4.0 * self.K / self.params["nu"]
+        Parameters
+        ----------
+        dps : int, optional
+            ``None``: float64 (~1e-16 relative for ``|E - 4.5| >= 1.8e-307``,
+            refused below). Otherwise mpmath numbers correct to ``dps`` digits
+            from the decimal input, at any depth.
+        derivative : bool
+            Also return ``dperiod_dE``.
 
-    @property
-    def dperiod_dE(self) -> float:
-        """d(period)/dE in closed form: tau = 4K(m)/nu with m(E), nu(E) as in the module docstring.
-
-        ``dtau/dE = 4 (K'(m) m'(E) nu - K nu'(E)) / nu^2`` with ``dK/dm`` from
-        :func:`rotorlib.elliptic.dK_dm`; float64 relative accuracy ~1e-15 away
-        from E = 4.5 (it diverges there like the period's log).
+        Notes
+        -----
+        ``tau = 4K(m)/nu``; ``dtau/dE = 4 (K'(m) m'(E) nu - K nu'(E)) / nu^2``
+        with ``m(E)``, ``nu(E)`` from the module docstring (it diverges at 4.5
+        like the period's log).
         """
-        E, eps = self.energy.E, self.energy.eps
-        p = self.params
-        m, m1, nu = p["m"], p["m1"], p["nu"]
-        if self.energy.family in ("LG", "LD"):
-            S = math.sqrt(2.0 * eps)
-            N, D = (1.0 - S) * (3.0 - S), (1.0 + S) * (3.0 + S)
-            dN, dD = 2.0 * S - 4.0, 2.0 * S + 4.0
-            dS = -1.0 / S                                   # S = sqrt(9 - 2E)
-            dm = (dN * D - N * dD) / (D * D) * dS
-            dnu = dD / (8.0 * math.sqrt(D / 2.0)) * dS      # nu = sqrt(D/2)/2
+        en = self.energy
+        sqrt, ellipk, dkdm, ctx = _arith(dps)
+        if dps is None:
+            en.require_float64()
+            E, eps = en.E, en.eps
         else:
-            Q = math.sqrt(E * (E - 4.0))
-            dQ = (E - 2.0) / Q
-            dm = (-Q - (6.0 - E) * dQ) / (2.0 * Q * Q)      # m = 1/2 + (6 - E)/(2Q)
-            dnu = dQ / (2.0 * math.sqrt(Q))                  # nu = sqrt(Q)
-        K = ellipk_m1(m1)
-        return 4.0 * (dK_dm(m, m1) * dm * nu - K * dnu) / (nu * nu)
+            v = en.mp_values(dps + 5)
+            E, eps = v["E"], v["eps"]
+        with ctx:
+            p = _breather_params(en.family, E, eps, sqrt)
+            m, nu = p["m"], p["nu"]
+            K = ellipk(p["m1"])
+            p.update(E=E, eps=eps, K=K, period=4 * K / nu)
+            if not derivative:
+                return p
+            if en.family in ("LG", "LD"):
+                S = sqrt(2 * eps)
+                D = (1 + S) * (3 + S)
+                dS = -1 / S                                     # S = sqrt(9 - 2E)
+                dD = 2 * S + 4
+                dN = 2 * S - 4                                  # N = (1 - S)(3 - S) = m D
+                dm = (dN * D - m * D * dD) / (D * D) * dS
+                dnu = dD / (8 * sqrt(D / 2)) * dS               # nu = sqrt(D/2)/2
+            else:
+                Q = sqrt(E * (E - 4))
+                dQ = (E - 2) / Q
+                dm = (-Q - (6 - E) * dQ) / (2 * Q * Q)          # m = 1/2 + (6 - E)/(2Q)
+                dnu = dQ / (2 * sqrt(Q))                        # nu = sqrt(Q)
+            p["dperiod_dE"] = 4 * (dkdm(m, p["m1"]) * dm * nu - K * dnu) / (nu * nu)
+            return p
 
     def phi(self, t):
         """phi(t) and phi'(t) of the breather."""

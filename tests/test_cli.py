@@ -68,7 +68,13 @@ def test_table_output():
     ("trace", "pendulum", "--E", "abc"),
     ("trace", "pendulum", "--log-dE", "-30"),
     ("trace", "pendulum", "--log-dE", "2", "--phase", "lib"),
-    ("trace", "pendulum", "--log-dE", "-900", "--phase", "rot"),
+    ("trace", "pendulum", "--log-dE", "-900", "--phase", "rot"),     # float64 tier: below its range
+    ("trace", "pendulum", "--log-dE", "-1e6", "--phase", "lib"),
+    ("trace", "pendulum", "--log-dE", "-inf", "--phase", "rot"),
+    ("trace", "pendulum", "--E", "-1e6"),
+    ("trace", "pendulum", "--E", "4.000000000000000000000000"),
+    ("trace", "breather", "--E", "4.50000"),
+    ("trace", "breather", "--log-dE", "-800", "--family", "R"),
     ("trace", "pendulum", "--E", "3", "--phase", "rot"),
     ("trace", "breather", "--E", "4.5"),
     ("trace", "breather", "--E", "4.3", "--phase", "rot"),
@@ -110,3 +116,47 @@ def test_bifurcations_digits_uses_extended_precision():
         assert a["precision"] == "real128" and b["precision"] == "float64"
         assert len(a["log_abs_dE"].lstrip("-").replace(".", "")) >= 25
         assert abs(float(a["log_abs_dE"]) - float(b["log_abs_dE"])) < 1e-12 * max(1, abs(float(b["log_abs_dE"])))
+
+
+@pytest.mark.parametrize("args,reason", [
+    (("--log-dE", "-1e6", "--phase", "lib"), "below the float64 range"),
+    (("--log-dE", "-1E+3", "--phase", "lib"), "below the float64 range"),
+    (("--log-dE", "-inf", "--phase", "lib"), "must be finite"),
+    (("--E", "-1e6"), "E must be >= 0"),
+    (("--E", "-.5"), "E must be >= 0"),
+])
+def test_negative_numbers_reach_the_library(args, reason):
+    """argparse alone reads only -123 and -1.5 as numbers; -1e6, -1E+3, -.5, -inf must reach the
+    energy validation and be refused there with its reason (not "expected at least one argument")."""
+    rc, out, err = run("trace", "pendulum", *args)
+    assert rc == 2 and reason in err and len(err.strip().splitlines()) == 1, err
+
+
+@requires_heyoka
+def test_negative_numbers_any_notation_computed():
+    """-.5 (float64) and -1E+3 (beyond float64, --digits 30) give the library's values for the same x."""
+    import rotorlib
+
+    rc, out, err = run("trace", "pendulum", "--log-dE", "-.5", "--phase", "lib", "--json")
+    assert rc == 0, err
+    assert json.loads(out)["trace"] == rotorlib.monodromy(rotorlib.pendulum(log_abs_dE=-0.5, phase="lib")).trace
+    rc, out, err = run("trace", "pendulum", "--log-dE", "-1E+3", "--phase", "rot", "--digits", "30", "--json")
+    assert rc == 0, err
+    rec = json.loads(out)
+    assert rec["log_abs_dE"] == "-1E+3" and rec["E"].startswith("4 + 5.0759588975494")
+    ref = rotorlib.monodromy(rotorlib.pendulum(log_abs_dE=-1000, phase="rot"), digits=30).trace_str
+    assert rec["trace"] == ref
+
+
+def test_E0_and_tiny_E_marginal_documented():
+    """E = 0 (1:1 resonance, M = identity) and E = 1e-300 (tr M = 4 - 2.9e-903) are 'marginal' with a note;
+    the command's help says what that means."""
+    rc, out, err = run("trace", "pendulum", "--E", "0", "1e-300", "--json")
+    assert rc == 0, err
+    r0, r1 = json.loads(out)
+    assert r0["stability"] == r1["stability"] == "marginal" and r0["trace"] == 4.0
+    assert "1:1 resonance" in r0["stability_note"] and "2.86e-903 > 0 (stable)" in r1["stability_note"]
+    assert r1["E"] == "1.0e-300"
+    rc, out, err = run("trace", "-h")
+    text = " ".join(out.split())
+    assert rc == 0 and "marginal" in text and "1:1 resonance" in text and "-1e4" in text

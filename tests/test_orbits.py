@@ -4,7 +4,7 @@ import math
 import mpmath as mp
 import numpy as np
 import pytest
-from scipy.integrate import quad, solve_ivp
+from scipy.integrate import solve_ivp
 
 import rotorlib
 from rotorlib.system import energy_alpha, rhs_alpha
@@ -107,11 +107,47 @@ def test_separatrix_state():
 
 @pytest.mark.parametrize("kw", [dict(E=-1.0), dict(E=4.0), dict(E=float("nan")), dict(E=float("inf")),
                                 dict(E="abc"), dict(log_abs_dE=2.0, phase="lib"), dict(log_abs_dE=-30.0),
-                                dict(log_abs_dE=-800.0, phase="rot"), dict(E=3.0, phase="rot"),
+                                dict(log_abs_dE="-inf", phase="rot"), dict(log_abs_dE="-1e400", phase="lib"),
+                                dict(E="1e-1000000", phase="lib"), dict(E=True), dict(E=3.0, phase="rot"),
                                 dict(E=1.0, log_abs_dE=-3.0, phase="lib"), dict(log_abs_dE=-3.0, phase="up")])
 def test_pendulum_bad_input(kw):
     with pytest.raises(ValueError):
         rotorlib.pendulum(**kw)
+
+
+@pytest.mark.parametrize("phase", ["lib", "rot"])
+def test_beyond_float64_range(phase):
+    """log|E-4| = -800: the energy is carried by its log; K, period (float64 view of the mpmath closed
+    form) follow the logarithmic asymptotics; the float64 state refuses (|E-4| is not a normal float)."""
+    o = rotorlib.pendulum(log_abs_dE=-800, phase=phase)
+    assert o.energy.eps < 1e-307 and o.energy.log_abs_dE == -800.0 and not o.energy.in_float64_range
+    # K = log(4/sqrt(m1)) + O(m1 log m1), m1 = eps/4 (lib) or eps/E (rot), E = 4 to 1e-347
+    K = math.log(4.0) - 0.5 * (-800.0 - math.log(4.0))
+    assert abs(o.K - K) < 1e-13 * K
+    per = 4 * K / math.sqrt(3) if phase == "lib" else 2 * K / math.sqrt(3)
+    assert abs(o.period - per) < 1e-13 * per
+    assert math.isinf(o.dperiod_dE)               # ~ 1/|E - 4|: beyond float64
+    with pytest.raises(ValueError, match="float64 range"):
+        o.state(0.0)
+    with pytest.raises(ValueError, match="float64 range"):
+        o.closed_form()
+
+
+def test_decimal_energy_read_exactly():
+    """A decimal with more digits than float64: E = 4 - 1e-20 keeps its distance (E itself rounds to 4.0)."""
+    o = rotorlib.pendulum(E="3.99999999999999999999")
+    assert o.energy.phase == "lib" and o.energy.E == 4.0 and o.energy.eps == 1e-20
+    assert abs(o.energy.log_abs_dE - math.log(1e-20)) < 1e-15 * 46
+    with mp.workdps(50):
+        v = o.energy.mp_values(40)
+        assert abs(v["eps"] / mp.mpf("1e-20") - 1) < mp.mpf("1e-39")          # correct to 40 digits
+        assert abs(v["E"] - mp.mpf("3.99999999999999999999")) < mp.mpf("4e-39")
+    b = rotorlib.breather(E="4.5000000000000000000000000001")
+    assert b.energy.family == "R" and b.energy.eps == 1e-28 and b.E == 4.5
+    with pytest.raises(ValueError, match="separatrix"):
+        rotorlib.pendulum(E="4.000000000000000000000000")
+    with pytest.raises(ValueError, match="separatrix"):
+        rotorlib.breather(E="4.50")
 
 
 @pytest.mark.parametrize("E,fam", [(4.5, None), (4.3, "R"), (5.0, "LG"), (3.9, "LD"), (-0.1, None),
@@ -119,3 +155,32 @@ def test_pendulum_bad_input(kw):
 def test_breather_bad_input(E, fam):
     with pytest.raises(ValueError):
         rotorlib.breather(E, fam)
+
+
+@pytest.mark.parametrize("make", [lambda: rotorlib.pendulum(E=1.0), lambda: rotorlib.pendulum(E=0.001),
+                                  lambda: rotorlib.pendulum(log_abs_dE=-30, phase="lib"),
+                                  lambda: rotorlib.pendulum(log_abs_dE=-30, phase="rot"),
+                                  lambda: rotorlib.breather(E=3.0, family="LG"),
+                                  lambda: rotorlib.breather(E=4.0, family="LG"),
+                                  lambda: rotorlib.breather(log_abs_dE=-30, family="LD"),
+                                  lambda: rotorlib.breather(E=9.0, family="R"),
+                                  lambda: rotorlib.breather(log_abs_dE=-30, family="R")])
+def test_closed_form_float64_against_mpmath(make):
+    """The float64 and the 40-digit closed forms are the same formulas: K, period, d(period)/dE agree
+    to float64 accuracy, and d(period)/dE agrees with a 40-digit numerical derivative of the period."""
+    o = make()
+    f = o.closed_form(derivative=True)
+    with mp.workdps(50):
+        g = o.closed_form(40, derivative=True)
+        for key in ("K", "period", "dperiod_dE"):
+            assert abs(f[key] / g[key] - 1) < 2e-14, key
+        # the 40-digit derivative against differentiation of the 40-digit period along the decimal E
+        E0, h = g["E"], min(g["E"] * mp.mpf("1e-12"), g["eps"] * mp.mpf("1e-6"))
+        fam = o.energy.family if o.family != "pendulum" else None
+
+        def period(E):
+            text = mp.nstr(E, 45)
+            orb = rotorlib.pendulum(E=text) if fam is None else rotorlib.breather(E=text, family=fam)
+            return orb.closed_form(45)["period"]
+        num = (period(E0 + h) - period(E0 - h)) / (2 * h)
+        assert abs(num / g["dperiod_dE"] - 1) < 1e-9

@@ -4,26 +4,44 @@ Examples
 --------
 ``python -m rotorlib trace pendulum --E 1 3.9 5 --json``
 ``python -m rotorlib trace pendulum --log-dE -60 --phase rot --digits 30``
+``python -m rotorlib trace pendulum --E 3.99999999999999999999 --digits 30`` (4 - 1e-20, read exactly)
+``python -m rotorlib trace pendulum --log-dE -1e4 --phase lib --digits 30`` (beyond float64)
 ``python -m rotorlib trace breather --E 9 20`` (rotational breather R)
-``python -m rotorlib trace breather --E 4.3 --family LD``
+``python -m rotorlib trace breather --log-dE -40 --family R --digits 30``
 """
 from __future__ import annotations
 
-import math
+import argparse
 
 from ..cli import emit
-from ..energy import as_float
 from ..monodromy import monodromy
 from ..orbits import breather, pendulum
+
+_DESCRIPTION = """\
+tr M (full 4x4) of pendula or isosceles breathers, with the precision that produced it.
+
+Energies are decimals read exactly: --E 3.99999999999999999999 is 4 - 1e-20 in every tier (the
+distance to the separatrix is carried, never E itself); only E equal to the separatrix (4, or
+4.5 for breathers) is refused. --log-dE is log|E - 4| (pendula) or log|E - 4.5| (breathers), any
+notation (-60, -1e4, -.5). Float64 covers |E - sep| >= 1.8e-307 (log >= -706.3); deeper energies
+need --digits > 15 (heyoka real128 to log|E - sep| ~ -11000, multiprecision beyond; the run time
+grows like |log|E - sep||: -1e4 takes ~1 s). Breather traces grow like |E - 4.5|^-2 and overflow
+float64 below log|E - 4.5| ~ -350 (the trace is then given as a decimal string).
+
+stability is stable (0 < tr M < 4), unstable, or marginal: tr M within the accuracy of the tier
+(1e-12 in float64, 10^(2 - digits) above) of 0 or 4, where the computed value cannot decide. E = 0
+is the equilibrium G: both normal modes have frequency sqrt(3) (1:1 resonance), M is the identity,
+tr M = 4: marginal (neutrally stable), with a note. For small E > 0 the pendulum has
+4 - tr M = pi^2 E^3/3456 (1 + O(E)) > 0 (stable), unresolved in float64 below E ~ 7e-4 (e.g.
+E = 1e-300): marginal, and the note gives the series value."""
 
 
 def register(sub):
     p = sub.add_parser("trace", help="trace of the monodromy matrix of pendula or breathers",
-                       description="tr M (full 4x4) of pendula or isosceles breathers. For breathers, "
-                                   "--log-dE is log|E - 4.5| (distance to the breather separatrix).")
+                       description=_DESCRIPTION, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("family", choices=["pendulum", "breather"])
     g = p.add_mutually_exclusive_group(required=True)
-    g.add_argument("--E", nargs="+", metavar="V", help="energies (m = g = r = 1)")
+    g.add_argument("--E", nargs="+", metavar="V", help="energies (m = g = r = 1), decimals read exactly")
     g.add_argument("--log-dE", nargs="+", metavar="V", dest="log_dE",
                    help="natural log of the distance to the separatrix (needs --phase or --family)")
     p.add_argument("--phase", choices=["lib", "rot"], help="libration or rotation")
@@ -39,17 +57,20 @@ def register(sub):
 def _record(M, digits):
     ext = M.precision != "float64"
     en = M.energy
+    log = en.given[1] if en.given[0] == "log_abs_dE" else repr(en.log_abs_dE)
     if M.family == "pendulum":
-        rec = {"family": "pendulum", "phase": en.phase, "E": en.decimal_E(max(17, digits or 0)),
-               "log_abs_dE": repr(en.log_abs_dE) if en.given[0] == "E" else en.given[1]}
+        rec = {"family": "pendulum", "phase": en.phase, "E": en.E_text(max(17, digits or 0)), "log_abs_dE": log}
     else:
-        rec = {"family": "breather", "breather_family": en.family, "phase": en.phase, "E": repr(en.E),
-               "log_abs_dE_4.5": repr(math.log(en.eps))}
+        rec = {"family": "breather", "breather_family": en.family, "phase": en.phase,
+               "E": en.E_text(max(17, digits or 0)), "log_abs_dE_4.5": log}
+    overflow = not ext and M.trace_str != repr(M.trace)
     rec.update({
-        "trace": M.trace_str if ext else M.trace,
+        "trace": M.trace_str if ext or overflow else M.trace,
         "trace_transverse": M.trace_transverse,
         "period": M.period_str if ext else M.period,
         "stable": M.stable,
+        "stability": M.stability,
+        "stability_note": M.stability_note,
         "multipliers": [[float(complex(z).real), float(complex(z).imag)] for z in M.multipliers],
         "precision": M.precision,
         "backend": M.backend,
@@ -67,17 +88,16 @@ def run(args):
         raise ValueError("--log-dE needs --phase lib or rot")
     records = []
     for text in values:
-        v = as_float(text, "log|E-4|" if by_log else "E")
         if args.family == "pendulum":
-            orb = pendulum(log_abs_dE=v, phase=args.phase) if by_log else pendulum(E=v, phase=args.phase)
+            orb = pendulum(log_abs_dE=text, phase=args.phase) if by_log else pendulum(E=text, phase=args.phase)
         else:
             fam = args.breather_family or {"lib": "LG", "rot": "R", None: None}[args.phase]
             if by_log:
                 if fam is None:
                     raise ValueError("--log-dE for breathers needs --phase or --family")
-                orb = breather(log_abs_dE=v, family=fam)
+                orb = breather(log_abs_dE=text, family=fam)
             else:
-                orb = breather(E=v, family=fam)
+                orb = breather(E=text, family=fam)
         records.append(_record(monodromy(orb, digits=args.digits, backend=args.backend), args.digits))
-    emit(records, args.json, ["family", "phase", "E", "trace", "period", "stable", "precision"])
+    emit(records, args.json, ["family", "phase", "E", "trace", "period", "stability", "precision"])
     return 0
