@@ -194,8 +194,9 @@ def to_section(x0, section: Section, t: Tier = FLOAT64, crossing=1, t_max=1e4,
                                              hy.taylor_outcome.success) else -10 ** 6
         if code < -1000 or code == -2:
             raise SectionNotReached(t_max, found)
-        if not _right_way(section, [t.from_hy(v) for v in ta.state[:4]], t):
-            continue
+        if abs(float(ta.time)) < 1e-9 or not _right_way(section, [
+                t.from_hy(v) for v in ta.state[:4]], t):
+            continue                    # a start point on the section is not a crossing
         found += 1
         if found == crossing:
             return (t.from_hy(ta.time), *_pack(_out(ta, t, variational), variational))
@@ -222,7 +223,8 @@ def crossings(x0, sections, t_max, t: Tier = FLOAT64):
     _set_levels(ta, t, sections)
     found.clear()
     ta.propagate_until(t.to_hy(t_max))
-    out = [(k, t.from_hy(tt), [t.from_hy(v) for v in x]) for k, tt, x in found]
+    out = [(k, t.from_hy(tt), [t.from_hy(v) for v in x]) for k, tt, x in found
+           if abs(float(tt)) >= 1e-9]                  # a start point on a section: no crossing
     found.clear()
     return [c for c in out if _right_way(sections[c[0]], c[2], t)]
 

@@ -56,7 +56,7 @@ from .periodic import PeriodicOrbit, periodic_orbit
 from .precision import FLOAT64, REAL128, Tier, tier
 from .shooting import ShootingProblem, StartSet, solve
 
-__all__ = ["FAMILIES", "FamilySpec", "family_spec", "FAMILY_REACH", "FamilyRangeError",
+__all__ = ["FAMILIES", "FAMILY_FLOAT64_DEPTH", "FamilySpec", "family_spec", "FAMILY_REACH", "FamilyRangeError",
            "family_range", "birth_member", "seed", "newborn_orbit", "newborn_family", "follow",
            "linear_orbit", "a1_structure", "trace_slope_at_birth"]
 
@@ -66,6 +66,11 @@ FAMILIES = tuple([f"IS^l_{n}" for n in range(1, 9)] + [f"PD^l_{n}" for n in rang
 
 #: float64 shooting is used while |E_n - 4| exceeds this (../shared/NUMERICS.md: fine to ~1e-8).
 FLOAT64_LIMIT = 3e-8
+#: Families are followed member by member (with tr M over a whole period) in float64 only while
+#: |E_n - 4| exceeds this (measured: float64 tr M of IS^l_3,4 and PD^l_2 at E = 4 within 6e-5
+#: of real128; of PD^l_3 (born at 1.5e-6) 0.04 off, of IS^l_5,6 (1.7e-7, 5.8e-8) wrong by O(1)
+#: to O(30)); deeper families in real128.
+FAMILY_FLOAT64_DEPTH = 1e-5
 
 _START = {"a1": StartSet("a1", a=(1.0, 0.0)), "p1": StartSet("p1", c=(1.0, 0.0))}
 _SECTION = {"turn": Section((0, 0, 0, 1), 0.0, -1), "a2_down": Section((0, 1, 0, 0), 0.0, -1),
@@ -352,10 +357,14 @@ def newborn_orbit(label, E, digits=None, steps=None) -> PeriodicOrbit:
 def newborn_family(label, E_end=None, n=12, digits=None) -> list:
     """Members from near birth to ``E_end`` spaced in ``sqrt(E - E_n)`` (default end: 4 for
     libration, ``E_n + 0.05`` rotation, or the top of :func:`family_range` if lower).
-    ``digits``: the tier of the whole continuation (default float64 while ``|E_n - 4| > 3e-8``,
-    else real128). Returns a list of :class:`PeriodicOrbit`, birth first."""
+    ``digits``: the tier of the whole continuation (default float64 while
+    ``|E_n - 4| > FAMILY_FLOAT64_DEPTH``, else real128). Returns a list of
+    :class:`PeriodicOrbit`, birth first."""
     spec = family_spec(label)
-    t = _tiers(spec, None)[0] if digits is None else tier(int(digits))
+    if digits is None:
+        t = FLOAT64 if spec.depth > FAMILY_FLOAT64_DEPTH else REAL128
+    else:
+        t = tier(int(digits))
     if E_end is None:
         E_end = 4.0 if spec.phase == "lib" else min(spec.E_birth + 0.05, family_range(spec)[1])
     if not (spec.E_birth < float(E_end) <= family_range(spec)[1]):

@@ -24,6 +24,7 @@ classes (brake, G, D, mirror of a transposition, mirror of a negated transpositi
 
 from __future__ import annotations
 
+import functools
 import itertools
 import math
 from dataclasses import dataclass
@@ -47,7 +48,8 @@ def _V(phi):
     return 3 - math.cos(f1) - math.cos(f2) - math.cos(f1 + f2)
 
 
-def symmetry_group() -> list:
+@functools.lru_cache(maxsize=None)
+def symmetry_group() -> tuple:
     """The integer 2x2 matrices ``g`` (acting on ``phi``) that preserve V and the metric."""
     rng = np.random.default_rng(1)
     pts = rng.uniform(0, 2 * math.pi, (20, 2))
@@ -58,7 +60,7 @@ def symmetry_group() -> list:
             continue
         if all(abs(_V(g @ p) - _V(p)) < 1e-12 for p in pts):
             out.append(g)
-    return out
+    return tuple(out)
 
 
 @dataclass(frozen=True)
@@ -74,7 +76,8 @@ class Reversor:
         return "time reversal" if tr == 2 else "point" if tr == -2 else "mirror"
 
 
-def reversors() -> list:
+@functools.lru_cache(maxsize=None)
+def reversors() -> tuple:
     """The eight reversing symmetries ``T g``, ``g^2 = 1``, named by what ``g`` does to
     ``(phi1, phi2, phi3)`` (``1``, ``-1``, ``(12)``, ``(13)``, ``(23)``, ``-(12)`` ...)."""
     perm = {(0, 1, 1, 0): "(12)", (-1, -1, 0, 1): "(13)", (1, 0, -1, -1): "(23)"}
@@ -88,7 +91,7 @@ def reversors() -> list:
                 perm.get(key) or "-" + perm[neg])
         out.append(Reversor(name, tuple(map(tuple, g.astype(int).tolist()))))
     order = ["1", "-1", "(12)", "(13)", "(23)", "-(12)", "-(13)", "-(23)"]
-    return sorted(out, key=lambda r: order.index(r.name))
+    return tuple(sorted(out, key=lambda r: order.index(r.name)))
 
 
 @dataclass(frozen=True)
@@ -133,7 +136,8 @@ def _mirror(g):
     return e, n, math.gcd(int(round(abs(v[0]))), int(round(abs(v[1]))))
 
 
-def fixed_sets() -> list:
+@functools.lru_cache(maxsize=None)
+def fixed_sets() -> tuple:
     """Every fixed-set component of the eight reversors (:class:`FixedSet`), as targets."""
     out = []
     for r in reversors():
@@ -155,7 +159,7 @@ def fixed_sets() -> list:
             out.append(FixedSet(f"Fix T{r.name}", r, Section(_alpha_form(n) + (0, 0), 0.0, 0,
                                                              2.0 / gv),
                                 Section((0, 0) + tuple(float(v) for v in m_alpha))))
-    return out
+    return tuple(out)
 
 
 def targets() -> list:
@@ -261,18 +265,23 @@ class MirrorSet:
         return (0.0, 2 * math.pi)
 
 
-def start_sets(E) -> list:
+def start_sets(E) -> tuple:
     """One start set per class of fixed sets under the group (every symmetric orbit meets one
     of them, up to a symmetry): brake points (``E < 4.5``), the circle at G, the circle at D1
     (``E > 4``), the mirror of (12) (the breathers' line ``phi1 = phi2``) and of -(12)."""
     E = float(E)
+    return _start_sets(0 if E < 4.0 else 1 if E < 4.5 else 2)
+
+
+@functools.lru_cache(maxsize=None)
+def _start_sets(regime) -> tuple:
     out = []
-    if E < 4.0:
+    if regime == 0:
         out.append(BrakeSet("Fix T (around G)", (0.0, 0.0)))
-    elif E < 4.5:
+    elif regime == 1:
         out.append(BrakeSet("Fix T (around T1)", (2 / 3, 2 / 3)))
     out.append(CircleSet("Fix T(-1) at G", (0.0, 0.0)))
-    if E > 4.0:
+    if regime > 0:
         out.append(CircleSet("Fix T(-1) at D1", tuple(A @ np.array([1.0, 1.0]))))
     for r in reversors():
         if r.name in ("(12)", "-(12)"):
@@ -284,4 +293,4 @@ def start_sets(E) -> list:
             line = StartSet(f"Fix T{r.name}", a=tuple(A @ e.astype(float)),
                             b=tuple(float(v) for v in b / np.max(np.abs(b))))
             out.append(MirrorSet(f"Fix T{r.name}", line))
-    return out
+    return tuple(out)

@@ -287,10 +287,7 @@ def trace_asymptotics(phase) -> TraceAsymptotics:
 
 # --------------------------------------------------------------------------- newborn curves for Fig. 3
 
-#: Births with ``|E_n - 4|`` above this are followed in float64, deeper ones in real128 (measured:
-#: float64 tr M of IS^l_3,4 and PD^l_2 at E = 4 within 6e-5 of real128; of PD^l_3 (born at 1.5e-6)
-#: 0.04 off, of IS^l_5,6 (1.7e-7, 5.8e-8) wrong by O(1) to O(30)).
-FAMILY_FLOAT64_DEPTH = 1e-5
+from .newborn import FAMILY_FLOAT64_DEPTH  # noqa: E402  (the one definition: newborn)
 
 
 @dataclass(frozen=True)
@@ -345,8 +342,6 @@ def family_curve(label, E_end, n=12, digits=None) -> FamilyCurve:
     kind, phase, _ = parse_label(label)
     tr = transition(label)
     d_birth = tr.energy.eps
-    if digits is None and d_birth <= FAMILY_FLOAT64_DEPTH:
-        digits = 30
     fam = newborn_family(label, E_end=E_end, n=n, digits=digits)
     prec = fam[0].precision
     side = -1.0 if phase == "lib" else 1.0          # the side of E = 4 the family is born on
