@@ -3,12 +3,19 @@
 Units m = g = r = 1. Each function returns the ``Figure`` it drew; the numbers are
 computed by the caller with :mod:`rotorlib`.
 """
+
 from __future__ import annotations
 
 import matplotlib.pyplot as plt
 import numpy as np
 
-__all__ = ["plot_band_traces", "plot_sections", "plot_fraction", "plot_ftle_histograms", "plot_rotational_branches"]
+__all__ = [
+    "plot_band_traces",
+    "plot_sections",
+    "plot_fraction",
+    "plot_ftle_histograms",
+    "plot_rotational_branches",
+]
 
 BAND = (5.33, 5.6)
 
@@ -22,12 +29,21 @@ def plot_band_traces(curves):
     stable window ``0 < tr M < 4`` shaded green and the band grey."""
     fig, ax = plt.subplots(figsize=(7, 4))
     _band(ax)
-    ax.axhspan(0.0, 4.0, color="C2", alpha=0.15, zorder=0, label=r"stable window $0 < \mathrm{tr}\,M < 4$")
+    ax.axhspan(
+        0.0,
+        4.0,
+        color="C2",
+        alpha=0.15,
+        zorder=0,
+        label=r"stable window $0 < \mathrm{tr}\,M < 4$",
+    )
     for lab, (E, tr) in curves.items():
         ax.plot(E, tr, label=lab)
     ax.set_yscale("symlog", linthresh=5.0, linscale=3.0)
     ticks = [-1e4, -1e2, 0, 4, 1e2, 1e4, 1e6, 1e8]
-    ax.set_yticks(ticks, ["$-10^4$", "$-10^2$", "0", "4", "$10^2$", "$10^4$", "$10^6$", "$10^8$"])
+    ax.set_yticks(
+        ticks, ["$-10^4$", "$-10^2$", "0", "4", "$10^2$", "$10^4$", "$10^6$", "$10^8$"]
+    )
     ax.set_xlabel(r"energy $E$ ($g$, with $m = g = r = 1$)")
     ax.set_ylabel(r"$\mathrm{tr}\,M$ (symmetric log scale)")
     ax.legend(fontsize=8, loc="center right")
@@ -39,7 +55,9 @@ def plot_sections(sections, ncols=3):
     """Poincaré sections (``rotorlib.chaos.PoincareSection``), one panel each."""
     n = len(sections)
     nrows = (n + ncols - 1) // ncols
-    fig, axes = plt.subplots(nrows, ncols, figsize=(4 * ncols, 3.4 * nrows), squeeze=False, dpi=80)
+    fig, axes = plt.subplots(
+        nrows, ncols, figsize=(4 * ncols, 3.4 * nrows), squeeze=False, dpi=80
+    )
     for ax, s in zip(axes.ravel(), sections):
         for k, (x, y) in enumerate(zip(s.phi2, s.P2)):
             ax.plot(x, y, ",", color=plt.cm.tab10(k % 10), antialiased=False)
@@ -57,8 +75,15 @@ def plot_fraction(cf):
     """Chaotic fraction ``f(E)`` with binomial error bars (``rotorlib.chaos.ChaoticFraction``)."""
     fig, ax = plt.subplots(figsize=(7, 3.6))
     _band(ax)
-    ax.errorbar(cf.E, cf.fraction, yerr=cf.stderr, fmt="o-", ms=3, capsize=2,
-                label=fr"FTLE $> {cf.threshold:g}$ (N = {cf.N}, T = {cf.T:g})")
+    ax.errorbar(
+        cf.E,
+        cf.fraction,
+        yerr=cf.stderr,
+        fmt="o-",
+        ms=3,
+        capsize=2,
+        label=rf"FTLE $> {cf.threshold:g}$ (N = {cf.N}, T = {cf.T:g})",
+    )
     ax.axvline(4.0, color="C3", lw=0.6, ls="--", label="E = 4 (pendulum separatrix)")
     ax.set_ylim(-0.03, 1.03)
     ax.set_xlabel(r"energy $E$ ($g$)")
@@ -75,7 +100,12 @@ def plot_ftle_histograms(cf, energies, threshold=None):
     for E in energies:
         k = int(np.argmin(np.abs(cf.E - E)))
         ax.hist(cf.ftles[k], bins=bins, histtype="step", label=f"E = {cf.E[k]:g}")
-    ax.axvline(threshold if threshold is not None else cf.threshold, color="k", ls=":", label="threshold")
+    ax.axvline(
+        threshold if threshold is not None else cf.threshold,
+        color="k",
+        ls=":",
+        label="threshold",
+    )
     ax.set_xlabel(r"finite-time Lyapunov exponent $\lambda_T$ (units $\sqrt{g/m r^2}$)")
     ax.set_ylabel("count")
     ax.legend(fontsize=8)
@@ -83,17 +113,25 @@ def plot_ftle_histograms(cf, energies, threshold=None):
     return fig
 
 
-def plot_rotational_branches(profiles, E_max=4.5, trace_cap=1e12):
-    """tr M against E along rotational newborn families followed in amplitude
-    (:class:`rotorlib.continuation.Branch` with traces), symmetric-log axis, with the band shaded and the energy
-    ``E_max`` (where the families end) marked. Members with ``|tr M| > trace_cap`` (float64 traces
-    there are only an order of magnitude) are not drawn."""
+def plot_rotational_branches(branches, E_max=4.5, trace_cap=1e12):
+    """tr M against E along rotational newborn families (:class:`rotorlib.continuation.Branch`
+    with traces, e.g. ``FamilyInBand.branch`` of :func:`rotorlib.chaos.band_families`),
+    symmetric-log axis, with the band shaded and the energy ``E_max`` (where the families
+    end) marked. Members with ``|tr M| > trace_cap`` (float64 traces there are only an
+    order of magnitude) are not drawn."""
     fig, ax = plt.subplots(figsize=(9, 4.4))
     _band(ax)
-    ax.axhspan(0.0, 4.0, color="C2", alpha=0.15, zorder=0, label=r"stable window $0 < \mathrm{tr}\,M < 4$")
-    for i, p in enumerate(profiles):
-        tr = np.where(np.abs(p.trace) <= trace_cap, p.trace, np.nan)
-        ax.plot(p.E, tr, ".-", ms=2, lw=1, color=f"C{i % 10}", label=f"${p.label}$")
+    ax.axhspan(
+        0.0,
+        4.0,
+        color="C2",
+        alpha=0.15,
+        zorder=0,
+        label=r"stable window $0 < \mathrm{tr}\,M < 4$",
+    )
+    for i, b in enumerate(branches):
+        tr = np.where(np.abs(b.trace) <= trace_cap, b.trace, np.nan)
+        ax.plot(b.E, tr, ".-", ms=2, lw=1, color=f"C{i % 10}", label=f"${b.label}$")
     ax.axvline(E_max, color="k", ls="--", lw=0.8, label=f"E = {E_max:g} (max of V)")
     ax.set_yscale("symlog", linthresh=5.0, linscale=2.0)
     ax.set_ylim(-2 * trace_cap, 2 * trace_cap)
