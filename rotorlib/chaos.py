@@ -320,7 +320,7 @@ class FamilyInBand:
     branch : rotorlib.continuation.Branch
         Members (``E``, ``u``, ``t1``, ``trace``) and special points (``IS``/``PD``: tr M = 4/0).
     E_max : float
-        Highest energy reached.
+        Highest energy reached (the located fold when there is one).
     reaches_band : bool
         Whether some member has ``E >= 5.33``.
     band_trace : ndarray
@@ -347,12 +347,12 @@ class FamilyInBand:
 def _band_one(args):
     from .newborn import family_spec, follow
 
-    label, dE_stop, digits, t1_grow = args
+    label, dE_stop, digits, t1_grow, energies = args
     spec = family_spec(label)
     t1_max = None if t1_grow is None else spec.period_birth / 2 + t1_grow
     deep = spec.depth < 3e-8
     b = follow(label, chart="K", E_max=4 + dE_stop, digits=digits, traces=True,
-               jump=0.05 if deep else None, t1_max=t1_max)
+               jump=0.05 if deep else None, t1_max=t1_max, energies=energies)
     E, tr = b.E, b.trace
     out = (tr < 0) | (tr > 4)
     noisy = not b.tier.extended and spec.depth < NOISY_BIRTH
@@ -369,18 +369,19 @@ def _band_one(args):
         if pts:
             exit_E, lev = float(pts[0].member.E), 4.0 if pts[0].kind == "IS" else 0.0
     inb = (E >= BAND[0]) & (E <= BAND[1])
-    return FamilyInBand(spec.label, b, float(E.max()), bool(np.any(E >= BAND[0])), tr[inb],
+    return FamilyInBand(spec.label, b, float(b.E_max), bool(np.any(E >= BAND[0])), tr[inb],
                         exit_E, lev, stays, float(after.min()) if len(after) else float("nan"))
 
 
-def band_families(labels, dE_stop=1.7, digits=None, t1_grow=None, executor=None,
-                  progress=False) -> list:
+def band_families(labels, dE_stop=1.7, digits=None, t1_grow=None, energies=(),
+                  executor=None, progress=False) -> list:
     """Follow newborn families (``IS^r_n``, ``PD^r_n``) with the engine from birth until
     ``E - 4 >= dE_stop`` or the family ends, with ``tr M`` of every member and the first exit
     from the stable window. One task per family through :func:`rotorlib.parallel.pmap`.
 
     ``digits``: the continuation's tier (default float64 while ``|E_n - 4| > 3e-8``, real128
     beyond: at PD^r_5,6 float64 ``tr M`` has the wrong size or sign at every member measured).
+    ``energies``: members located at these energies (special points of kind ``E``).
     ``t1_grow``: also stop once ``t1`` exceeds its birth value by this much (the families
     end on orbits asymptotic to ``V = 4.5``, where ``t1`` diverges).
 
@@ -394,5 +395,5 @@ def band_families(labels, dE_stop=1.7, digits=None, t1_grow=None, executor=None,
 
         if family_spec(lab).phase != "rot":
             raise ValueError(f"{lab}: band_families follows rotational families (IS^r_n, PD^r_n)")
-    tasks = [(lab, float(dE_stop), digits, t1_grow) for lab in labels]
+    tasks = [(lab, float(dE_stop), digits, t1_grow, tuple(energies)) for lab in labels]
     return pmap(_band_one, tasks, executor=executor, progress=progress, desc="families")

@@ -563,6 +563,8 @@ def _events(problem, t, branch_members, opts, alg):
                 try:
                     at, vb = _between(problem, t, pal, branch_members, k - 1, k, opts)
                     tol = 1e-14 if not t.extended else t.num(t.eps) * 4
+                    if t.extended and kind != "E":      # tr M has ~d - log10|M| digits
+                        tol = t.num(t.eps) ** t.num(0.5)
                     out.append(SpecialPoint(kind, _illinois(g, at, vb, g(a), g(b), tol), k - 1))
                 except (SectionNotReached, ValueError):
                     out.append(SpecialPoint(kind, b, k - 1, False))
