@@ -36,7 +36,14 @@ from .precision import FLOAT64, REAL128
 from .reversors import start_sets, targets
 from .shooting import ShootingProblem, residual, solve
 
-__all__ = ["AtlasOrbit", "Atlas", "census", "atlas", "budget_seconds", "BUDGET"]
+__all__ = ["AtlasOrbit", "Atlas", "AtlasFamily", "census", "atlas", "families", "budget_seconds",
+           "BUDGET", "E_DOMAIN"]
+
+#: Energies where the census is validated (``tests/test_atlas.py``). Below ``E = 0.1`` the
+#: two normal modes at G (pendulum and breather LG, periods ``-> 2 pi / sqrt 3``) differ by
+#: less than the closure test resolves (at ``E = 0.01`` one of them is missed); above
+#: ``E = 100`` the rotors are nearly free and every resonant torus is nearly degenerate.
+E_DOMAIN = (0.1, 100.0)
 
 #: Largest accepted cost of one census, in seconds of one core (estimated; see budget_seconds).
 BUDGET = 3600.0
@@ -111,19 +118,26 @@ class Atlas:
         return tuple(o for o in self.orbits if o.stable)
 
 
-def budget_seconds(E_values, t_max, grid=600) -> float:
-    """An estimate of a census's cost (core seconds): the scan integrates ``5 grid`` start
-    points for ``T_max / 2`` per energy (measured ~0.15 ms per unit of time with the
-    fixed-set events), the refinement ~50 shots per bracket, brackets growing like
-    ``T_max^2``."""
-    n = len(list(E_values))
-    return n * (5 * grid * 1.5e-4 * t_max / 2 * 12 + 3e-3 * (t_max ** 2) * 2)
+def budget_seconds(E_values, t_max, grid=300) -> float:
+    """An estimate of a census's cost (seconds of one core): ``45 s`` per energy at
+    ``T_max = 16``, ``grid = 300`` (measured at ``E = 5.45``, inside the band, the most
+    expensive energy), proportional to ``grid`` and growing like the number of orbits,
+    ``exp(h T_max)`` with ``h = 0.45`` (the growth rate measured in the band; it overestimates
+    the cost at energies with less chaos); above ``E = 5.45`` it grows like ``E`` (nearly
+    free rotors: the resonant orbits with ``T <= T_max`` grow like ``(T_max sqrt E)^2``)."""
+    return sum(45.0 * (grid / 300) * math.exp(0.45 * (t_max - 16)) * max(1.0, E / 5.45)
+               for E in E_values)
 
 
 def _check(E_values, t_max, grid):
     for E in E_values:
         if not (isinstance(E, (int, float)) and math.isfinite(E) and E > 0):
             raise ValueError(f"E must be a finite energy > 0, got {E!r}")
+        if not E_DOMAIN[0] <= E <= E_DOMAIN[1]:
+            raise ValueError(f"E = {E!r} is outside the atlas's domain {E_DOMAIN[0]} <= E <= "
+                             f"{E_DOMAIN[1]} (nearly integrable: the normal modes, or the free "
+                             f"rotations, are too close to degenerate for the census to tell "
+                             f"the orbits apart)")
     if not (math.isfinite(t_max) and t_max > 0):
         raise ValueError(f"T_max must be > 0, got {t_max!r}")
     if not (isinstance(grid, int) and grid >= 20):
@@ -329,7 +343,7 @@ def _finish(args):
         u = solve(prob, t.num(u), t.num(u) * (1 + t.num("1e-12")), E=str(E), t=t,
                   r_max=t.eps ** 0.6).x
         sh = residual(prob, u, str(E), t)
-        n = Fraction(round(T / (2 * float(sh.t1)) * 60), 60)   # T = 2 t1 n/m, exactly
+        n = Fraction(T / (2 * float(sh.t1))).limit_denominator(24)   # T = 2 t1 n/m
         Tm = 2 * sh.t1 * n.numerator / n.denominator
         M, xT, tr = monodromy_matrix(sh.x0, Tm, t)
         clo = max(abs(float(v)) for v in _lattice_shift([a - b for a, b in zip(xT, sh.x0)], t))
@@ -339,49 +353,69 @@ def _finish(args):
 
 # --------------------------------------------------------------------------- known families
 
-def _known(E, t_max):
-    """``[(label, period, action)]`` of the known families at ``E`` with period ``<= t_max``."""
+def _known_family(args):
+    """``{E: (label, period, action)}`` of one daughter family at each of ``energies``."""
+    from . import newborn as nb
+
+    lab, energies = args
+    spec = nb.family_spec(lab)
+    try:
+        b = nb.follow(lab, E_max=max(max(energies), nb.family_range(spec)[1]) + 0.05,
+                      energies=tuple(energies), max_steps=600)
+    except (ValueError, SectionNotReached):
+        return {}
+    out = {}
+    for pt in b.points("E"):
+        if pt.located:
+            m = pt.member
+            E = min(energies, key=lambda e: abs(e - float(m.E)))
+            T = float(b.problem.factor * m.t1)
+            out[E] = (spec.label, T, _invariants(list(b.state(m)), T, E)[1])
+    return out
+
+
+def _known(energies, t_max, executor=None):
+    """``{E: [(label, period, action)]}``: the known families at each energy with period
+    ``<= t_max`` (each daughter family followed once through all the energies)."""
     from . import newborn as nb
     from .breathers import DAUGHTER_E_MIN, breather_daughter
     from .orbits import breather, pendulum
 
-    out = []
+    out = {E: [] for E in energies}
 
-    def add(label, x0, T):
+    def add(E, label, x0, T):
         if T <= t_max * 1.001:
-            out.append((label, T, _invariants(list(x0), T, E)[1]))
+            out[E].append((label, T, _invariants(list(x0), T, E)[1]))
 
-    if E != 4.0:
-        p = pendulum(E)
-        add("pendulum", p.state0, p.period)
-    for fam in ("LG", "LD", "R"):
-        try:
-            b = breather(E, fam)
-        except ValueError:
-            continue
-        add(f"breather {fam}", b.state0, b.period)
+    for E in energies:
+        if E != 4.0:
+            p = pendulum(E)
+            add(E, "pendulum", p.state0, p.period)
+        for fam in ("LG", "LD", "R"):
+            try:
+                b = breather(E, fam)
+            except ValueError:
+                continue
+            add(E, f"breather {fam}", b.state0, b.period)
+        if DAUGHTER_E_MIN <= E < 8.968:
+            o = breather_daughter(E)
+            add(E, "PD^b", o.state0, o.period)
+    tasks = []
     for lab in nb.FAMILIES:
         spec = nb.family_spec(lab)
-        if spec.depth < 3e-8 or not spec.E_birth < E:
-            continue
-        try:
-            b = nb.follow(lab, E_max=max(E, nb.family_range(spec)[1]) + 0.05, energies=(E,),
-                          max_steps=600)
-        except (ValueError, SectionNotReached):
-            continue
-        for pt in b.points("E"):
-            if pt.located:
-                m = pt.member
-                add(spec.label, b.state(m), float(b.problem.factor * m.t1))
-    if DAUGHTER_E_MIN <= E < 8.968:
-        o = breather_daughter(E)
-        add("PD^b", o.state0, o.period)
+        es = [E for E in energies if spec.E_birth < E]
+        if spec.depth >= 3e-8 and es:
+            tasks.append((lab, es))
+    for found in pmap(_known_family, tasks, executor=executor, desc="known families"):
+        for E, (label, T, S) in found.items():
+            if T <= t_max * 1.001:
+                out[E].append((label, T, S))
     return out
 
 
 def _name(T, S, known):
     for label, Tk, Sk in known:
-        if abs(T - Tk) < 1e-6 * Tk and abs(S - Sk) < 1e-6 * max(1.0, abs(Sk)):
+        if abs(T - Tk) < 1e-6 * Tk and abs(S - Sk) < 1e-6 * Sk:
             return label
     return "new"
 
@@ -389,7 +423,7 @@ def _name(T, S, known):
 # --------------------------------------------------------------------------- front end
 
 def census(E, t_max=16.0, grid=300, depth=6, executor=None, progress=False, name=True,
-           digits=None) -> Atlas:
+           digits=None, known=None) -> Atlas:
     """Every symmetric periodic orbit with period ``<= t_max`` at energy ``E``.
 
     Parameters
@@ -412,6 +446,8 @@ def census(E, t_max=16.0, grid=300, depth=6, executor=None, progress=False, name
         ``None``: float64 results (traces from the float64 variational equations). ``D``:
         every orbit re-solved at ``E`` in the tier that delivers ``D`` digits (real128 for
         ``D <= 31``) and its state, period and trace given to ``D`` digits.
+    known : list, optional
+        The known families at ``E`` (computed by :func:`atlas` for all its energies at once).
 
     Returns
     -------
@@ -431,11 +467,12 @@ def census(E, t_max=16.0, grid=300, depth=6, executor=None, progress=False, name
     unique = []
     for f in sorted(found, key=lambda f: (f[5], f[0], f[1], f[2])):
         T, S = f[5], f[6]
-        if T > t_max or any(abs(T - g[5]) < 1e-7 * T and abs(S - g[6]) < 1e-6 * max(1, abs(S))
+        if T > t_max or any(abs(T - g[5]) < 1e-7 * T and abs(S - g[6]) < 1e-6 * S
                             for g in unique):
             continue
         unique.append(f)
-    known = _known(E, t_max) if name else []
+    if known is None:
+        known = _known([E], t_max, executor)[E] if name else []
     tg = targets()
     fin = pmap(_finish, [(si, j, k, E, t_half, u, x0, T, digits)
                          for si, j, k, u, x0, T, S in unique], executor=executor,
@@ -450,9 +487,126 @@ def census(E, t_max=16.0, grid=300, depth=6, executor=None, progress=False, name
     return Atlas(E, t_max, grid, tuple(orbits), len(jobs), time.perf_counter() - t0)
 
 
-def atlas(energies, t_max=16.0, grid=300, executor=None, progress=False, digits=None) -> list:
-    """:func:`census` at each energy (a list of :class:`Atlas`)."""
+# --------------------------------------------------------------------------- families
+
+@dataclass(frozen=True)
+class AtlasFamily:
+    """An atlas orbit followed in ``E`` through a window (:func:`families`).
+
+    Attributes
+    ----------
+    orbit : AtlasOrbit
+        The orbit it was started from.
+    E, period, trace : ndarray
+        Its members, in increasing ``E``.
+    points : tuple
+        ``(kind, E)`` where ``tr M`` crosses 4 (``IS``) or 0 (``PD``), located by the engine.
+    stops : tuple of str
+        Why it stopped below and above: ``'range'`` (the window's edge) or ``'end'`` (no
+        member one step further with a continuous period: a fold of the family, where
+        ``tr M -> 4``, or a member whose period grows beyond the census).
+    """
+
+    orbit: AtlasOrbit
+    E: np.ndarray
+    period: np.ndarray
+    trace: np.ndarray
+    points: tuple
+    stops: tuple
+
+    @property
+    def stable(self) -> bool:
+        """Whether some member, or some interval between two located points, is linearly
+        stable (``0 < tr M < 4``)."""
+        return bool(np.any((self.trace > 0) & (self.trace < 4))) or bool(self.points)
+
+
+def _segments(prob, m0, values, opts):
+    """Natural continuation in ``E`` through ``values`` from ``m0``; where the crossing count
+    of the target changes (a grazing crossing appears before ``t1``) the problem is re-indexed
+    to the crossing with a continuous ``t1``. Returns ``(members, points, why)``."""
+    from dataclasses import replace
+
+    from .continuation import FamilyEnd, Natural, continuation
+
+    members, points, values = [m0], [], list(values)
+
+    def attempt(pr, start):
+        try:
+            return continuation(pr, Natural("E", tuple(values)), opts, start), True
+        except FamilyEnd as end:
+            if len(end.members) <= len(start):
+                return None, False
+            return continuation(pr, Natural("E", ()), opts, end.members), False
+
+    while values:
+        start = members[-2:]
+        b, done = attempt(prob, start)
+        for dk in (() if b is not None else (1, -1, 2, -2)):
+            if prob.crossing + dk >= 1:
+                b, done = attempt(replace(prob, crossing=prob.crossing + dk), start)
+                if b is not None:
+                    prob = b.problem
+                    break
+        if b is None:
+            return members, points, "end"
+        points += [(p.kind, float(p.member.E)) for p in b.special_points
+                   if p.kind in ("IS", "PD") and p.index >= len(start) - 1]
+        members += b.members[len(start):]
+        if done:
+            return members, points, "range"
+        last = float(members[-1].E)
+        values = [v for v in values if (v - last) * (values[-1] - last) > 0]
+    return members, points, "range"
+
+
+def _family(args):
+    from dataclasses import replace
+
+    from .continuation import ContinuationOptions, member
+
+    o, lo, hi, step = args
+    s = residual(o.problem, o.u, o.E)
+    prob = replace(o.problem, factor=float(Fraction(o.period / float(s.t1)).limit_denominator(48)))
+    m0 = member(prob, o.u, o.E, traces=True)
+    opts = ContinuationOptions(traces=True, folds=False, jump=0.05)
+    n_up, n_down = int(math.floor((hi - o.E) / step + 1e-9)), int(math.floor((o.E - lo) / step + 1e-9))
+    up = [o.E + step * i for i in range(1, n_up + 1)] + ([hi] if o.E + step * n_up < hi else [])
+    down = [o.E - step * i for i in range(1, n_down + 1)] + ([lo] if o.E - step * n_down > lo else [])
+    mu, pu, wu = _segments(prob, m0, up, opts) if up else ([m0], [], "range")
+    md, pd, wd = _segments(prob, m0, down, opts) if down else ([m0], [], "range")
+    ms = md[::-1] + mu[1:]
+    return AtlasFamily(o, np.array([float(m.E) for m in ms]),
+                       np.array([float(prob.factor * m.t1) for m in ms]),
+                       np.array([float(m.trace) for m in ms]),
+                       tuple(sorted(pd + pu, key=lambda p: p[1])), (wd, wu))
+
+
+def families(census_at: Atlas, E_range, step=0.005, executor=None, progress=False) -> list:
+    """Every orbit of a census followed in ``E`` across ``E_range`` with the engine (natural
+    continuation, steps of ``step``, ``tr M`` of every member, its crossings of 4 and 0
+    located): the families of the atlas and their own bifurcations. One task per orbit
+    through :func:`rotorlib.parallel.pmap`.
+
+    Precision: float64 members (residual < 1e-8), events located to ~1e-14 in the local
+    parameter; a stable window narrower than ``step`` is found as a pair of located points
+    (``IS`` and ``PD``) between two unstable members.
+    """
+    lo, hi = (float(v) for v in E_range)
+    if not (math.isfinite(lo) and math.isfinite(hi) and 0 < lo <= census_at.E <= hi):
+        raise ValueError(f"E_range must contain E = {census_at.E} (got {E_range!r})")
+    if not step > 0:
+        raise ValueError(f"step must be > 0, got {step!r}")
+    return pmap(_family, [(o, lo, hi, float(step)) for o in census_at.orbits],
+                executor=executor, progress=progress, desc="families")
+
+
+def atlas(energies, t_max=16.0, grid=300, executor=None, progress=False, digits=None,
+          name=True) -> list:
+    """:func:`census` at each energy (a list of :class:`Atlas`); the known families are
+    followed once through all the energies."""
     energies = [float(E) for E in energies]
     _check(energies, t_max, grid)
-    return [census(E, t_max, grid, executor=executor, progress=progress, digits=digits)
-            for E in energies]
+    known = _known(energies, t_max, executor) if name else {E: [] for E in energies}
+    return [census(E, t_max, grid, executor=executor, progress=progress, digits=digits,
+                   known=known[E]) for E in energies]

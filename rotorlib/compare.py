@@ -6,8 +6,8 @@ verdict. The tolerance comes from the printing:
 * a value printed plainly (``'230.76'``, ``'2.8611e-11'``) claims its digits: ours must
   round to it (tolerance half a unit in its last digit). If it does not, the cause is
   classified: ``truncated`` (ours truncated, not rounded), ``last digit off by k``
-  (lower working precision), ``typo`` (one wrong digit, or two transposed), or
-  ``DIFFERS``;
+  (``|k| <= 3``: lower working precision), ``typo`` (two adjacent digits transposed, or
+  one wrong digit with the rest correct to one unit in the last), or ``DIFFERS``;
 * a value the paper marks ``≈`` (``rel=``) or states with an explicit tolerance
   (``tol=``) agrees when ``|paper - ours| <= tol``.
 
@@ -112,7 +112,7 @@ def _rounded(paper: str, ours):
         v, cause = "agrees", "correctly rounded"
     elif p == o_t:
         v, cause = "truncated", "the paper's value is ours truncated, not rounded"
-    elif abs(k) <= 3 or (abs(k) <= 9 and not swap):
+    elif abs(k) <= 3:
         v, cause = f"last digit off by {k:+d}", "lower working precision (or an inaccurate input)"
     elif swap:
         v, cause = "typo", "two adjacent digits transposed"
@@ -122,7 +122,7 @@ def _rounded(paper: str, ours):
             if i == len(a) - 1:
                 continue
             k2 = int((Decimal(a[:i] + b[i] + a[i + 1:]) * q * (-1 if p < 0 else 1) - o_r) / q)
-            if abs(k2) <= 9:
+            if abs(k2) <= 1:
                 v = "typo"
                 cause = f"digit {a[i]} printed for {b[i]}" + (
                     f", and last digit off by {k2:+d}" if k2 else "")
@@ -140,7 +140,7 @@ def claim(quantity, paper: str, ours, *, section="", rel=None, tol=None, note=""
     """Check one printed value ``paper`` (a string, as printed) against ``ours``.
 
     ``rel`` (the paper's ``≈``: tolerance ``rel |paper|``) or ``tol`` (absolute) make it a
-    tolerance comparison; otherwise the printed digits are the claim. ``ours=None``: not
+    tolerance comparison (an approximate claim); otherwise the printed digits are the claim. ``ours=None``: not
     evaluable. ``shown`` overrides how ours is displayed (default: rounded to the
     tolerance's digits).
     """
@@ -159,7 +159,7 @@ def claim(quantity, paper: str, ours, *, section="", rel=None, tol=None, note=""
     s = shown or (f"{float(ours):.{digits}f}" if abs(float(ours)) >= 1e-3 or float(ours) == 0
                   else f"{float(ours):.4e}")
     return Claim(section, quantity, paper, s, diff, t, "agrees" if ok else "DIFFERS",
-                 "within the tolerance" if ok else "outside the tolerance", rel is not None, note)
+                 "within the tolerance" if ok else "outside the tolerance", True, note)
 
 
 def check(diff: float, tol: float) -> str:
@@ -169,7 +169,18 @@ def check(diff: float, tol: float) -> str:
         else "DIFFERS"
 
 
+def _round_to(x: float, tol: float):
+    """``x`` to one digit below the decade of ``tol`` (digits that round-off cannot move)."""
+    if math.isnan(x):
+        return None
+    if not (tol > 0 and math.isfinite(tol)):
+        return float(f"{x:.3g}")
+    return round(x, 1 - int(math.floor(math.log10(tol))))
+
+
 def _cell(x) -> str:
+    """A table cell: floats (differences, tolerances) as ``.1e``; pass other numbers as
+    strings."""
     s = f"{x:.1e}" if isinstance(x, float) else str(x)
     return s.replace("|", "\\|").replace("nan", "-")
 
@@ -191,7 +202,7 @@ def records(claims, chapter: str) -> str:
     for c in claims:
         d = asdict(c)
         d.update(status=c.status, chapter=chapter,
-                 difference=None if math.isnan(c.difference) else float(f"{c.difference:.3g}"),
+                 difference=_round_to(c.difference, c.tolerance),
                  tolerance=None if math.isnan(c.tolerance) else float(f"{c.tolerance:.3g}"))
         rows.append(d)
     return json.dumps(rows, ensure_ascii=False, sort_keys=True)

@@ -156,9 +156,9 @@ class Natural:
     The predictor extrapolates the other unknown with a polynomial of degree ``order``
     through the last members in the coordinate ``s``: ``u^2`` for ``parameter='u'``
     (a fork is even in ``u``), ``sqrt|E - origin|`` for ``'E'`` (a fork has
-    ``u ~ sqrt|E - E_n|``). ``origin`` (with ``origin_other``) is a virtual member at
-    the bifurcation used by the first predictions. A failed step is halved in ``s``
-    (at most ``halvings`` times).
+    ``u ~ sqrt|E - E_n|``; ``E`` itself without ``origin``). ``origin`` (with
+    ``origin_other``) is a virtual member at the bifurcation used by the first predictions.
+    A failed step is halved in ``s`` (at most ``halvings`` times).
     """
 
     parameter: str
@@ -307,7 +307,9 @@ def _natural(problem, alg: Natural, opts, start, t: Tier):
     m = t.m
 
     def s_of(v):                                  # the predictor's coordinate
-        return v * v if par == "u" else m.sqrt(abs(v - alg.origin))
+        if par == "u":
+            return v * v
+        return v if alg.origin is None else m.sqrt(abs(v - alg.origin))
 
     members = list(start)
     with t.context():
@@ -328,6 +330,8 @@ def _natural(problem, alg: Natural, opts, start, t: Tier):
                 else:
                     root = solve(problem, guess, E=v, t=t, r_max=_r_max(opts, t))
                     new = member(problem, root.x, problem.w_at(root.x, v, t), t, opts.traces)
+                if opts.jump is not None and abs(new.t1 / members[-1].t1 - 1) > opts.jump:
+                    raise NoConvergence(problem.label, {par: v}, None, "t1 jumped")
             except (NoConvergence, SectionNotReached):
                 if halvings >= alg.halvings:
                     raise FamilyEnd(problem.label, members, float(v) if par == "E" else NAN,
@@ -338,7 +342,8 @@ def _natural(problem, alg: Natural, opts, start, t: Tier):
                     targets.insert(0, (prev + v) / 2)
                 else:
                     sm = (s_of(prev) + s_of(v)) / 2
-                    targets.insert(0, alg.origin + (1 if v > alg.origin else -1) * sm * sm)
+                    targets.insert(0, sm if alg.origin is None else
+                                   alg.origin + (1 if v > alg.origin else -1) * sm * sm)
                 continue
             members.append(new)
             xs.append(s_of(v))
