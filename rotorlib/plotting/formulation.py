@@ -7,6 +7,7 @@ numbers plotted are computed by the caller with :mod:`rotorlib`, except the
 potential V(phi1, phi2) on a grid, which is evaluated here with
 :func:`rotorlib.system.potential_phi`.
 """
+
 from __future__ import annotations
 
 import math
@@ -17,8 +18,14 @@ import numpy as np
 from ..system import potential_phi
 
 __all__ = [
-    "verdict", "format_table", "pendulum_lines", "breather_lines", "plot_fig1",
-    "plot_separatrix_approach", "plot_textbook_error", "plot_trace_vs_energy",
+    "verdict",
+    "format_table",
+    "pendulum_lines",
+    "breather_lines",
+    "plot_fig1",
+    "plot_separatrix_approach",
+    "plot_textbook_error",
+    "plot_trace_vs_energy",
 ]
 
 TWO_PI = 2.0 * math.pi
@@ -38,8 +45,11 @@ def format_table(header, rows) -> str:
     if any(len(r) != n for r in cells):
         raise ValueError("every row needs as many cells as the header")
     widths = [max(len(r[j]) for r in cells) for j in range(n)]
-    line = lambda r: "  ".join(c.ljust(w) for c, w in zip(r, widths)).rstrip()   # noqa: E731
-    return "\n".join([line(cells[0]), "  ".join("-" * w for w in widths)] + [line(r) for r in cells[1:]])
+    line = lambda r: "  ".join(c.ljust(w) for c, w in zip(r, widths)).rstrip()  # noqa: E731
+    return "\n".join(
+        [line(cells[0]), "  ".join("-" * w for w in widths)]
+        + [line(r) for r in cells[1:]]
+    )
 
 
 # --------------------------------------------------------------------------- Fig. 1
@@ -59,9 +69,11 @@ def pendulum_lines(n: int = 801) -> dict:
     """
     s = np.linspace(0.0, TWO_PI, n)
     z = np.zeros_like(s)
-    return {r"$\varphi_1 = 0$ (through $D_3$)": _wrapped(z, s),
-            r"$\varphi_2 = 0$ (through $D_2$)": _wrapped(s, z),
-            r"$\varphi_1 + \varphi_2 = 0$ (through $D_1$)": _wrapped(s, -s)}
+    return {
+        r"$\varphi_1 = 0$ (through $D_3$)": _wrapped(z, s),
+        r"$\varphi_2 = 0$ (through $D_2$)": _wrapped(s, z),
+        r"$\varphi_1 + \varphi_2 = 0$ (through $D_1$)": _wrapped(s, -s),
+    }
 
 
 def breather_lines(n: int = 1601) -> dict:
@@ -73,9 +85,11 @@ def breather_lines(n: int = 1601) -> dict:
     heteroclinic orbits between the maxima.
     """
     s = np.linspace(0.0, TWO_PI, n)
-    return {r"$\varphi_1 = \varphi_2$ (through $D_1$)": _wrapped(s, s),
-            r"$\varphi_1 + 2\varphi_2 = 0$ (through $D_3$)": _wrapped(-2 * s, s),
-            r"$2\varphi_1 + \varphi_2 = 0$ (through $D_2$)": _wrapped(s, -2 * s)}
+    return {
+        r"$\varphi_1 = \varphi_2$ (through $D_1$)": _wrapped(s, s),
+        r"$\varphi_1 + 2\varphi_2 = 0$ (through $D_3$)": _wrapped(-2 * s, s),
+        r"$2\varphi_1 + \varphi_2 = 0$ (through $D_2$)": _wrapped(s, -2 * s),
+    }
 
 
 def _equipotentials(ax, points, levels, grid):
@@ -85,7 +99,11 @@ def _equipotentials(ax, points, levels, grid):
     ax.contour(X, Y, V, levels=levels, colors="0.6", linewidths=0.6)
     ax.contour(X, Y, V, levels=[4.0], colors="tab:red", linewidths=0.8, alpha=0.5)
     ax.contour(X, Y, V, levels=[4.5], colors="tab:purple", linewidths=0.8, alpha=0.5)
-    style = {"minimum": ("o", "tab:green"), "maximum": ("^", "tab:red"), "saddle": ("s", "tab:blue")}
+    style = {
+        "minimum": ("o", "tab:green"),
+        "maximum": ("^", "tab:red"),
+        "saddle": ("s", "tab:blue"),
+    }
     for p in points:
         # draw every periodic copy that lies in the closed square
         for dx in (0.0, TWO_PI):
@@ -94,7 +112,14 @@ def _equipotentials(ax, points, levels, grid):
                 if x <= TWO_PI + 1e-9 and y <= TWO_PI + 1e-9:
                     mk, col = style[p.kind]
                     ax.plot(x, y, mk, color=col, ms=7, zorder=5)
-        ax.annotate(p.name, p.phi, textcoords="offset points", xytext=(6, 6), fontsize=11, zorder=6)
+        ax.annotate(
+            p.name,
+            p.phi,
+            textcoords="offset points",
+            xytext=(6, 6),
+            fontsize=11,
+            zorder=6,
+        )
     ticks = [0, math.pi / 2, math.pi, 3 * math.pi / 2, TWO_PI]
     labels = ["0", r"$\pi/2$", r"$\pi$", r"$3\pi/2$", r"$2\pi$"]
     ax.set_xticks(ticks, labels)
@@ -125,7 +150,13 @@ def plot_fig1(points, levels=None, grid: int = 301):
     for (lab, (x, y)), ls in zip(pendulum_lines().items(), (":", "--", "-")):
         axes[0].plot(x, y, ls, color="k", lw=2.2, label=lab)
         # the lines phi1 = 0 and phi2 = 0 lie on the edges: draw their copies on the opposite edges too
-        axes[0].plot(np.where(x == 0.0, TWO_PI, x), np.where(y == 0.0, TWO_PI, y), ls, color="k", lw=2.2)
+        axes[0].plot(
+            np.where(x == 0.0, TWO_PI, x),
+            np.where(y == 0.0, TWO_PI, y),
+            ls,
+            color="k",
+            lw=2.2,
+        )
     for (lab, (x, y)), ls in zip(breather_lines().items(), ("-", "--", ":")):
         axes[1].plot(x, y, ls, color="k", lw=2.0, label=lab)
     axes[0].set_title("(a) pendula on the E = 4 homoclinic orbits")
@@ -151,9 +182,15 @@ def plot_separatrix_approach(curves, period_marks=None, portrait_curves=None):
     fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 4.2), constrained_layout=True)
     for lab, t, st in curves:
         ax1.plot(t, st[..., 1], label=lab)
-    for lab, t, st in (portrait_curves or curves):
-        ax2.plot(np.mod(st[..., 1] + math.pi, TWO_PI) - math.pi, st[..., 3], ".", ms=1.5, label=lab)
-    for lab, T in (period_marks or []):
+    for lab, t, st in portrait_curves or curves:
+        ax2.plot(
+            np.mod(st[..., 1] + math.pi, TWO_PI) - math.pi,
+            st[..., 3],
+            ".",
+            ms=1.5,
+            label=lab,
+        )
+    for lab, T in period_marks or []:
         ax1.axvline(T, color="0.5", ls=":", lw=1)
     ax1.set_xlabel(r"time $\tilde t$ (units $\sqrt{m r^2/g}$)")
     ax1.set_ylabel(r"$\alpha_2 = \varphi_2$ (rad)")
@@ -165,7 +202,9 @@ def plot_separatrix_approach(curves, period_marks=None, portrait_curves=None):
 
 
 # --------------------------------------------------------------------------- chapter 2
-def plot_textbook_error(eps, err, label="textbook 4x4 (scipy DOP853, rtol 1e-12)", slope=-1.0):
+def plot_textbook_error(
+    eps, err, label="textbook 4x4 (scipy DOP853, rtol 1e-12)", slope=-1.0
+):
     """Log-log plot of |error of tr M| against |E - 4|, with a reference line of the given slope."""
     eps, err = np.asarray(eps, float), np.asarray(err, float)
     fig, ax = plt.subplots(figsize=(6.5, 4.5), constrained_layout=True)
@@ -184,7 +223,13 @@ def plot_textbook_error(eps, err, label="textbook 4x4 (scipy DOP853, rtol 1e-12)
 def plot_trace_vs_energy(E_lib, tr_lib, E_rot, tr_rot, ylim=(-1.0, 5.0)):
     """tr M of pendula against E on both sides of the separatrix, with the band 0 < tr M < 4 shaded."""
     fig, ax = plt.subplots(figsize=(8, 4.5), constrained_layout=True)
-    ax.axhspan(0.0, 4.0, color="tab:green", alpha=0.15, label=r"stable: $0 < \mathrm{tr}\,M < 4$")
+    ax.axhspan(
+        0.0,
+        4.0,
+        color="tab:green",
+        alpha=0.15,
+        label=r"stable: $0 < \mathrm{tr}\,M < 4$",
+    )
     ax.plot(E_lib, tr_lib, color="tab:blue", label="libration (E < 4)")
     ax.plot(E_rot, tr_rot, color="tab:orange", label="rotation (E > 4)")
     ax.axvline(4.0, color="0.4", ls=":", lw=1)
