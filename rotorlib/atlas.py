@@ -304,6 +304,70 @@ def _invariants(x0, T, E):
     return T, 2 * (E * T - simpson(potential_alpha(st[:, 0], st[:, 1]), x=ts))
 
 
+#: Two orbits with the same period and action are the same orbit when an image of one's start
+#: state under the group (and time reversal) lies within this distance of the other orbit
+#: (float64 states from Brent to 1e-15; a pair born at a pitchfork closer than this in phase
+#: space, ``|tr M - 4| < ~1e-10``, would count once).
+SAME_ORBIT = 1e-6
+
+
+def _group_images():
+    """The 24 linear maps of the state ``(a1, a2, p1, p2)``: the group (12) and time reversal."""
+    from .reversors import A, symmetry_group
+
+    Ai = np.linalg.inv(A)
+    out = []
+    for g in symmetry_group():
+        q = A @ g @ Ai
+        for s in (1.0, -1.0):
+            m = np.zeros((4, 4))
+            m[:2, :2], m[2:, 2:] = q, s * np.linalg.inv(q).T
+            out.append(m)
+    return np.array(out)
+
+
+class _Curve:
+    """An orbit sampled densely, for :func:`_distance`."""
+
+    def __init__(self, x0, T, n=4000):
+        self.x0, self.states, self.ts = list(x0), *sample(x0, T, n)
+
+
+def _distance(c: _Curve, y0) -> float:
+    """The phase-space distance (configuration modulo the lattice) from the nearest image of
+    ``y0`` under the group to the orbit ``c``: every local minimum of the distance to the
+    samples below 0.05 refined by Newton on the time along the orbit (short integrations)."""
+    from .flow import _integrator, _start
+    from .system import rhs_alpha
+
+    def gap(y, x):
+        d = np.array(y) - x
+        d[:2] = _lattice_shift(d[:2])
+        return d
+
+    ta, _ = _integrator(FLOAT64, None, False)
+    best = math.inf
+    for y in _group_images() @ np.asarray(y0, float):
+        d = c.states - y
+        n1 = np.round(d[:, 0] / math.pi)
+        d[:, 0] -= n1 * math.pi
+        d[:, 1] -= n1 * math.pi
+        d[:, 1] -= 2 * math.pi * np.round(d[:, 1] / (2 * math.pi))
+        dist = np.max(np.abs(d), axis=1)
+        best = min(best, float(dist.min()))
+        near = np.flatnonzero((dist < 0.05) & (dist <= np.roll(dist, 1))
+                              & (dist <= np.roll(dist, -1)))
+        for i in near:
+            x = c.states[i]
+            for _ in range(4):
+                v = np.asarray(rhs_alpha(0.0, x), float)
+                _start(ta, FLOAT64, list(x), False)
+                ta.propagate_for(float(gap(y, x) @ v / (v @ v)))
+                x = np.array(ta.state, float)
+            best = min(best, float(np.max(np.abs(gap(y, x)))))
+    return best
+
+
 def _refine(args):
     """One bracket: the root in ``u`` (Brent), its verification and invariants, or ``None``."""
     from scipy.optimize import brentq
@@ -422,7 +486,7 @@ def _name(T, S, known):
 
 # --------------------------------------------------------------------------- front end
 
-def census(E, t_max=16.0, grid=300, depth=6, executor=None, progress=False, name=True,
+def census(E, t_max=16.0, grid=300, depth=10, executor=None, progress=False, name=True,
            digits=None, known=None) -> Atlas:
     """Every symmetric periodic orbit with period ``<= t_max`` at energy ``E``.
 
@@ -435,7 +499,9 @@ def census(E, t_max=16.0, grid=300, depth=6, executor=None, progress=False, name
         Start points per fixed-set class on the first pass (refine until the census no longer
         changes).
     depth : int
-        Intervals whose crossing structure changes are bisected up to ``depth`` times.
+        Intervals whose crossing structure changes are bisected up to ``depth`` times (the
+        residual of an orbit with ``|tr M| ~ 1e7`` changes sign within ``~1e-3`` of the grid
+        spacing, beside a change of structure: depth 6 misses some at ``T_max = 16``).
     executor : concurrent.futures.Executor, optional
         For the scan and the refinement (:func:`rotorlib.parallel.pmap`).
     progress : bool
@@ -464,13 +530,15 @@ def census(E, t_max=16.0, grid=300, depth=6, executor=None, progress=False, name
                  for i, j, k in _brackets(us, rows, t_half)]
     found = [f for f in pmap(_refine, jobs, executor=executor, progress=progress,
                              desc="refine", chunksize=8) if f is not None]
-    unique = []
+    unique, curves = [], []
     for f in sorted(found, key=lambda f: (f[5], f[0], f[1], f[2])):
         T, S = f[5], f[6]
         if T > t_max or any(abs(T - g[5]) < 1e-7 * T and abs(S - g[6]) < 1e-6 * S
-                            for g in unique):
+                            and _distance(c, f[4]) < SAME_ORBIT
+                            for g, c in zip(unique, curves)):
             continue
         unique.append(f)
+        curves.append(_Curve(f[4], T))
     if known is None:
         known = _known([E], t_max, executor)[E] if name else []
     tg = targets()
