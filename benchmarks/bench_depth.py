@@ -8,6 +8,7 @@ and K. Accuracy at these depths is tested in ``tests/test_extremes.py`` and
 
 This module imports ``rotorlib``; ``rotorlib`` never imports it.
 """
+
 from __future__ import annotations
 
 import argparse
@@ -15,14 +16,28 @@ import time
 
 import rotorlib as rl
 
-CASES = (("pendulum", "lib", -60), ("pendulum", "rot", -60), ("pendulum", "lib", -700), ("pendulum", "lib", -800),
-         ("pendulum", "rot", -800), ("pendulum", "lib", -10000), ("pendulum", "rot", -10000),
-         ("breather", "R", -20), ("breather", "R", -40), ("breather", "R", -200), ("breather", "LG", -200),
-         ("breather", "R", -800))
+CASES = (
+    ("pendulum", "lib", -60),
+    ("pendulum", "rot", -60),
+    ("pendulum", "lib", -700),
+    ("pendulum", "lib", -800),
+    ("pendulum", "rot", -800),
+    ("pendulum", "lib", -10000),
+    ("pendulum", "rot", -10000),
+    ("breather", "R", -20),
+    ("breather", "R", -40),
+    ("breather", "R", -200),
+    ("breather", "LG", -200),
+    ("breather", "R", -800),
+)
 
 
 def _orbit(kind, ph, x):
-    return rl.pendulum(log_abs_dE=x, phase=ph) if kind == "pendulum" else rl.breather(log_abs_dE=x, family=ph)
+    return (
+        rl.pendulum(log_abs_dE=x, phase=ph)
+        if kind == "pendulum"
+        else rl.breather(log_abs_dE=x, family=ph)
+    )
 
 
 def timed(orbit, digits, repeats):
@@ -39,10 +54,16 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeats", type=int, default=3)
     args = ap.parse_args(argv)
-    print(f"{'orbit':<10}{'':4}{'log|E-sep|':>11}{'K':>10}{'float64 [s]':>13}{'real128 [s]':>13}")
+    print(
+        f"{'orbit':<10}{'':4}{'log|E-sep|':>11}{'K':>10}{'float64 [s]':>13}{'real128 [s]':>13}"
+    )
     for kind, ph, x in CASES:
         o = _orbit(kind, ph, x)
-        t64 = f"{timed(o, None, args.repeats):.4f}" if o.energy.in_float64_range else "refused"
+        t64 = (
+            f"{timed(o, None, args.repeats):.4f}"
+            if o.energy.in_float64_range
+            else "refused"
+        )
         t128 = timed(o, 30, args.repeats)
         print(f"{kind:<10}{ph:4}{x:>11}{o.K:>10.1f}{t64:>13}{t128:>13.3f}")
 

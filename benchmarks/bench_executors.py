@@ -11,6 +11,7 @@ also times Dask's own ``executor.map`` (which ignores ``chunksize``)::
 
     .venv/bin/python benchmarks/bench_executors.py [--n 2000] [--repeat 3] [--scheduler tcp://127.0.0.1:8786]
 """
+
 from __future__ import annotations
 
 import argparse
@@ -38,36 +39,66 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--n", type=int, default=2000)
     ap.add_argument("--repeat", type=int, default=3)
-    ap.add_argument("--scheduler", help="time this running Dask cluster instead of a LocalCluster")
+    ap.add_argument(
+        "--scheduler", help="time this running Dask cluster instead of a LocalCluster"
+    )
     args = ap.parse_args()
     n, rep = args.n, args.repeat
     items = range(n)
     rows = [("serial", per_item(lambda: pmap(noop, items), n, rep))]
     t = time.perf_counter()
     with executor_for(workers=2) as ex:
-        pmap(noop, range(4), executor=ex)                    # start the processes
+        pmap(noop, range(4), executor=ex)  # start the processes
         start_pool = time.perf_counter() - t
         for cs in (1, 50):
-            rows.append((f"ProcessPoolExecutor(2), chunksize={cs}",
-                         per_item(lambda: pmap(noop, items, executor=ex, chunksize=cs), n, rep)))
+            rows.append(
+                (
+                    f"ProcessPoolExecutor(2), chunksize={cs}",
+                    per_item(
+                        lambda: pmap(noop, items, executor=ex, chunksize=cs), n, rep
+                    ),
+                )
+            )
     t = time.perf_counter()
     with contextlib.ExitStack() as stack:
         if args.scheduler:
             address, name = args.scheduler, "Dask " + args.scheduler
         else:
             from distributed import LocalCluster
-            cluster = stack.enter_context(LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
-                                                       dashboard_address=None))
+
+            cluster = stack.enter_context(
+                LocalCluster(
+                    n_workers=2,
+                    threads_per_worker=1,
+                    processes=True,
+                    dashboard_address=None,
+                )
+            )
             address, name = cluster.scheduler_address, "Dask LocalCluster(2x1)"
         ex = stack.enter_context(executor_for(scheduler=address))
         pmap(noop, range(4), executor=ex)
         start_dask = time.perf_counter() - t
         for cs in (1, 50):
-            rows.append((f"{name}, chunksize={cs}",
-                         per_item(lambda: pmap(noop, items, executor=ex, chunksize=cs), n, rep)))
-        rows.append((f"{name}, executor.map", per_item(lambda: list(ex.map(noop, items)), n, rep)))
-    print(f"{n} items of a function that returns its argument; 2 workers; min of {rep} repeats")
-    print(f"start-up: process pool {start_pool:.2f} s, Dask (cluster and) client {start_dask:.2f} s")
+            rows.append(
+                (
+                    f"{name}, chunksize={cs}",
+                    per_item(
+                        lambda: pmap(noop, items, executor=ex, chunksize=cs), n, rep
+                    ),
+                )
+            )
+        rows.append(
+            (
+                f"{name}, executor.map",
+                per_item(lambda: list(ex.map(noop, items)), n, rep),
+            )
+        )
+    print(
+        f"{n} items of a function that returns its argument; 2 workers; min of {rep} repeats"
+    )
+    print(
+        f"start-up: process pool {start_pool:.2f} s, Dask (cluster and) client {start_dask:.2f} s"
+    )
     for label, dt in rows:
         print(f"{label:48s} {dt * 1e6:9.1f} us per item")
 

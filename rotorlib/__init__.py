@@ -33,20 +33,63 @@ lame_functions App. B Lamé functions and the trace of M
 parallel      --      sweeps on a process pool or a Dask cluster (pmap)
 ============  ======  ======================================================================
 """
+
 from .energy import BreatherEnergy, PendulumEnergy, breather_energy, pendulum_energy
 from .hill import heyoka_available, precision_tier
-from .monodromy import (Monodromy, VariationalResult, monodromy, multipliers_from_trace, textbook_monodromy,
-                        trace_monodromy, variational_monodromy)
-from .orbits import BreatherOrbit, PendulumOrbit, breather, pendulum, separatrix_pendulum_state
-from .system import (BREATHER_SEPARATRIX_ENERGY, SEPARATRIX_ENERGY, CriticalPoint, critical_points,
-                     energy_alpha, potential_alpha, potential_phi, rhs_alpha)
+from .monodromy import (
+    Monodromy,
+    VariationalResult,
+    monodromy,
+    multipliers_from_trace,
+    textbook_monodromy,
+    trace_monodromy,
+    variational_monodromy,
+)
+from .orbits import (
+    BreatherOrbit,
+    PendulumOrbit,
+    breather,
+    pendulum,
+    separatrix_pendulum_state,
+)
+from .system import (
+    BREATHER_SEPARATRIX_ENERGY,
+    SEPARATRIX_ENERGY,
+    CriticalPoint,
+    critical_points,
+    energy_alpha,
+    potential_alpha,
+    potential_phi,
+    rhs_alpha,
+)
 
 __version__ = "0.1.0"
 
 __all__ = [
-    "BreatherEnergy", "PendulumEnergy", "breather_energy", "pendulum_energy", "heyoka_available",
-    "precision_tier", "Monodromy", "VariationalResult", "monodromy", "multipliers_from_trace",
-    "trace_monodromy", "variational_monodromy", "textbook_monodromy", "BreatherOrbit", "PendulumOrbit", "breather", "pendulum",
-    "separatrix_pendulum_state", "BREATHER_SEPARATRIX_ENERGY", "SEPARATRIX_ENERGY", "CriticalPoint",
-    "critical_points", "energy_alpha", "potential_alpha", "potential_phi", "rhs_alpha",
+    "BreatherEnergy",
+    "PendulumEnergy",
+    "breather_energy",
+    "pendulum_energy",
+    "heyoka_available",
+    "precision_tier",
+    "Monodromy",
+    "VariationalResult",
+    "monodromy",
+    "multipliers_from_trace",
+    "trace_monodromy",
+    "variational_monodromy",
+    "textbook_monodromy",
+    "BreatherOrbit",
+    "PendulumOrbit",
+    "breather",
+    "pendulum",
+    "separatrix_pendulum_state",
+    "BREATHER_SEPARATRIX_ENERGY",
+    "SEPARATRIX_ENERGY",
+    "CriticalPoint",
+    "critical_points",
+    "energy_alpha",
+    "potential_alpha",
+    "potential_phi",
+    "rhs_alpha",
 ]

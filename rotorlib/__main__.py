@@ -1,4 +1,5 @@
 """``python -m rotorlib``: see :mod:`rotorlib.cli`."""
+
 import sys
 
 from .cli import main

@@ -30,6 +30,7 @@ heyoka real128 (~32 digits) and checks a few with the textbook 4x4
 variational equations in 256-bit arithmetic. ``transition(label, digits=30)``
 returns a root refined in real128.
 """
+
 from __future__ import annotations
 
 import dataclasses
@@ -44,8 +45,23 @@ from .hill import HillProblem, hill_problem, solve_hill
 from .orbits import pendulum
 from .parallel import pmap
 
-__all__ = ["Transition", "parse_label", "transition", "transitions", "delta", "delta_mp", "trace_of_delta",
-           "trace_curve", "refine_mp", "SQRT3_PI", "LOG_DELTA_LIB", "LOG_DELTA_ROT", "CLASSES", "transition_class", "X_MIN"]
+__all__ = [
+    "Transition",
+    "parse_label",
+    "transition",
+    "transitions",
+    "delta",
+    "delta_mp",
+    "trace_of_delta",
+    "trace_curve",
+    "refine_mp",
+    "SQRT3_PI",
+    "LOG_DELTA_LIB",
+    "LOG_DELTA_ROT",
+    "CLASSES",
+    "transition_class",
+    "X_MIN",
+]
 
 #: ``sqrt(3) pi``: predicted ``log delta^l``; ``log delta^r = 2 sqrt(3) pi``.
 SQRT3_PI = math.sqrt(3.0) * math.pi
@@ -62,13 +78,22 @@ _KINDS = ("IS", "PD")
 _PHASE_LETTER = {"lib": "l", "rot": "r"}
 
 #: Targets of Delta for each (kind, phase).
-_TARGETS = {("IS", "lib"): (2.0, -2.0), ("PD", "lib"): (0.0,), ("IS", "rot"): (2.0,), ("PD", "rot"): (-2.0,)}
+_TARGETS = {
+    ("IS", "lib"): (2.0, -2.0),
+    ("PD", "lib"): (0.0,),
+    ("IS", "rot"): (2.0,),
+    ("PD", "rot"): (-2.0,),
+}
 
 #: The seven classes of §5 (name -> (kind, phase, parity or None)).
 CLASSES = {
-    "IS^l_odd": ("IS", "lib", 1), "IS^l_even": ("IS", "lib", 0), "PD^l": ("PD", "lib", None),
-    "IS^r_odd": ("IS", "rot", 1), "IS^r_even": ("IS", "rot", 0),
-    "PD^r_odd": ("PD", "rot", 1), "PD^r_even": ("PD", "rot", 0),
+    "IS^l_odd": ("IS", "lib", 1),
+    "IS^l_even": ("IS", "lib", 0),
+    "PD^l": ("PD", "lib", None),
+    "IS^r_odd": ("IS", "rot", 1),
+    "IS^r_even": ("IS", "rot", 0),
+    "PD^r_odd": ("PD", "rot", 1),
+    "PD^r_even": ("PD", "rot", 0),
 }
 
 
@@ -129,7 +154,10 @@ class Transition:
     def to_record(self) -> dict:
         """JSON-serialisable dict (the ``bifurcations --json`` output)."""
         return {
-            "label": self.label, "kind": self.kind, "phase": self.phase, "n": self.n,
+            "label": self.label,
+            "kind": self.kind,
+            "phase": self.phase,
+            "n": self.n,
             "class": self.cls,
             "log_abs_dE": self.log_abs_dE_str,
             "E": self.energy.decimal_E(15),
@@ -148,7 +176,9 @@ def transition_class(kind: str, phase: str, n: int) -> str:
     return f"{kind}^{_PHASE_LETTER[phase]}_{'odd' if n % 2 else 'even'}"
 
 
-_LABEL_RE = re.compile(r"^\s*(IS|PD)\s*\^?\s*(l|r|ℓ)\s*_?\s*(\{\s*(\d+)\s*\}|(\d+))\s*$", re.IGNORECASE)
+_LABEL_RE = re.compile(
+    r"^\s*(IS|PD)\s*\^?\s*(l|r|ℓ)\s*_?\s*(\{\s*(\d+)\s*\}|(\d+))\s*$", re.IGNORECASE
+)
 
 
 def parse_label(text) -> tuple:
@@ -168,10 +198,14 @@ def parse_label(text) -> tuple:
         Anything else (``XYl1``, ``ISl0``, ``ISq2``, non-strings).
     """
     if not isinstance(text, str):
-        raise ValueError(f"a transition label must be a string like 'IS^l_3', got {text!r}")
+        raise ValueError(
+            f"a transition label must be a string like 'IS^l_3', got {text!r}"
+        )
     mt = _LABEL_RE.match(text)
     if not mt:
-        raise ValueError(f"not a transition label: {text!r} (expected e.g. 'IS^l_3', 'PD^r_2', 'ISl3')")
+        raise ValueError(
+            f"not a transition label: {text!r} (expected e.g. 'IS^l_3', 'PD^r_2', 'ISl3')"
+        )
     kind = mt.group(1).upper()
     phase = "rot" if mt.group(2).lower() == "r" else "lib"
     n = int(mt.group(4) or mt.group(5))
@@ -185,6 +219,7 @@ def _label(kind, phase, n):
 
 
 # --------------------------------------------------------------------------- Delta(x)
+
 
 def delta(x: float, phase: str) -> float:
     """``Delta`` at ``x = log|E - 4|`` in float64 (~1e-13 absolute; heyoka, else scipy)."""
@@ -209,7 +244,9 @@ def _mp_problem(x, phase, dps):
     """The Hill problem at an mpmath ``x = log|E-4|`` (no float64 rounding of the energy)."""
     import mpmath as mp
 
-    dps = dps + int(max(0.0, -float(x) / math.log(10))) + 10      # m = 1 - O(eps) needs the extra digits
+    dps = (
+        dps + int(max(0.0, -float(x) / math.log(10))) + 10
+    )  # m = 1 - O(eps) needs the extra digits
     with mp.workdps(dps):
         x = mp.mpf(x)
         eps = mp.exp(x)
@@ -221,8 +258,17 @@ def _mp_problem(x, phase, dps):
             m1, m = eps / E, 4 / E
         K = mp.ellipk(m)
         du_dt = math.sqrt(3.0) if phase == "lib" else math.sqrt(3.0 / float(m))
-        return HillProblem("pendulum-" + phase, +m, +m1, +K, 2 * m / 3, 0.0, 2 if phase == "lib" else 1,
-                           du_dt, 2.0)
+        return HillProblem(
+            "pendulum-" + phase,
+            +m,
+            +m1,
+            +K,
+            2 * m / 3,
+            0.0,
+            2 if phase == "lib" else 1,
+            du_dt,
+            2.0,
+        )
 
 
 def delta_mp(x, phase: str, digits: int = 30):
@@ -256,6 +302,7 @@ def _period_mp(x, phase, dps):
 
 # --------------------------------------------------------------------------- scanning
 
+
 def _scan_chunk(args):
     """Delta on a grid: module-level so process pools can pickle it."""
     phase, xs = args
@@ -265,7 +312,7 @@ def _scan_chunk(args):
 def _refine(phase, c, a, b, fa, fb):
     from scipy.optimize import brentq
 
-    f = lambda x: delta(x, phase) - c   # noqa: E731
+    f = lambda x: delta(x, phase) - c  # noqa: E731
     if fa == 0.0:
         return a
     if fb == 0.0:
@@ -303,12 +350,19 @@ def _find(phase, kinds, n_max, executor=None, progress=False):
     """Roots (x, target, kind) in one phase with n <= n_max for each kind."""
     x_lo = _depth(phase, kinds, n_max)
     if x_lo < X_MIN:
-        raise ValueError(f"n_max = {n_max} needs log|E-4| down to about {x_lo:.0f} in {phase}, beyond the "
-                         f"float64 range of |E-4| (log|E-4| >= {X_MIN:.0f}); use a smaller n_max")
+        raise ValueError(
+            f"n_max = {n_max} needs log|E-4| down to about {x_lo:.0f} in {phase}, beyond the "
+            f"float64 range of |E-4| (log|E-4| >= {X_MIN:.0f}); use a smaller n_max"
+        )
     xs = np.arange(X_START[phase], x_lo - _GRID_STEP, -_GRID_STEP)
     chunks = np.array_split(xs, max(1, min(16, len(xs) // 200)))
-    parts = pmap(_scan_chunk, [(phase, c) for c in chunks], executor=executor, progress=progress,
-                 desc=f"scan {phase}")
+    parts = pmap(
+        _scan_chunk,
+        [(phase, c) for c in chunks],
+        executor=executor,
+        progress=progress,
+        desc=f"scan {phase}",
+    )
     ds = np.concatenate(parts)
     roots = []
     for kind in kinds:
@@ -318,14 +372,16 @@ def _find(phase, kinds, n_max, executor=None, progress=False):
             idx = np.nonzero(np.sign(g[:-1]) * np.sign(g[1:]) <= 0)[0]
             for i in idx:
                 if g[i] == 0.0 and i > 0 and (g[i - 1] * g[i + 1] > 0):
-                    continue                      # grid point at a tangency; not a crossing
+                    continue  # grid point at a tangency; not a crossing
                 if g[i + 1] == 0.0 and i + 1 < len(g) - 1:
-                    continue                      # counted in the next interval
+                    continue  # counted in the next interval
                 found.append((kind, c, xs[i], xs[i + 1], ds[i], ds[i + 1]))
         found.sort(key=lambda r: -r[2])
         roots.extend(found[:n_max])
         if len(found) < n_max:
-            raise RuntimeError(f"found only {len(found)} {kind} roots in {phase} down to x = {x_lo}")
+            raise RuntimeError(
+                f"found only {len(found)} {kind} roots in {phase} down to x = {x_lo}"
+            )
     return roots, xs, ds
 
 
@@ -344,14 +400,35 @@ def _make(kind, phase, n, x, c, x_str=None, precision="float64", period_str=""):
         dtr_dE = 0.0
         dtr_dx = 0.0
     elif kind == "IS":
-        sense = "stable->unstable" if dtr_dE > 0 else "unstable->stable"   # tr M crosses 4
+        sense = (
+            "stable->unstable" if dtr_dE > 0 else "unstable->stable"
+        )  # tr M crosses 4
     else:
-        sense = "unstable->stable" if dtr_dE > 0 else "stable->unstable"   # tr M crosses 0
-    return Transition(_label(kind, phase, n), kind, phase, n, float(x), x_str, en.E, en, orb.period, c, sense,
-                      float(dtr_dE), float(dtr_dx), period_str, precision)
+        sense = (
+            "unstable->stable" if dtr_dE > 0 else "stable->unstable"
+        )  # tr M crosses 0
+    return Transition(
+        _label(kind, phase, n),
+        kind,
+        phase,
+        n,
+        float(x),
+        x_str,
+        en.E,
+        en,
+        orb.period,
+        c,
+        sense,
+        float(dtr_dE),
+        float(dtr_dx),
+        period_str,
+        precision,
+    )
 
 
-def transitions(phase="both", n_max=20, kinds=("IS", "PD"), executor=None, progress=False) -> list:
+def transitions(
+    phase="both", n_max=20, kinds=("IS", "PD"), executor=None, progress=False
+) -> list:
     """All transitions with ``n <= n_max`` of the requested kinds and phases.
 
     Parameters
@@ -377,12 +454,16 @@ def transitions(phase="both", n_max=20, kinds=("IS", "PD"), executor=None, progr
         kinds = (kinds,)
     kinds = tuple(k.upper() if isinstance(k, str) else k for k in kinds)
     if not kinds or any(k not in _KINDS for k in kinds):
-        raise ValueError(f"kinds must be a non-empty subset of ('IS', 'PD'), got {kinds!r}")
+        raise ValueError(
+            f"kinds must be a non-empty subset of ('IS', 'PD'), got {kinds!r}"
+        )
     if isinstance(n_max, bool) or not isinstance(n_max, (int, np.integer)) or n_max < 1:
         raise ValueError(f"n_max must be an integer >= 1, got {n_max!r}")
     out = []
     for ph in phases:
-        roots, _, _ = _find(ph, tuple(k for k in _KINDS if k in kinds), int(n_max), executor, progress)
+        roots, _, _ = _find(
+            ph, tuple(k for k in _KINDS if k in kinds), int(n_max), executor, progress
+        )
         for kind in _KINDS:
             rk = [r for r in roots if r[0] == kind]
             for n, (_, c, a, b, fa, fb) in enumerate(rk, start=1):
@@ -402,8 +483,19 @@ def trace_curve(xs, phase, executor=None, progress=False):
         raise ValueError(f"phase must be 'lib' or 'rot', got {phase!r}")
     xs = np.asarray(xs, dtype=float)
     chunks = np.array_split(xs, max(1, min(16, len(xs) // 200)))
-    ds = np.concatenate(pmap(_scan_chunk, [(phase, c) for c in chunks], executor=executor, progress=progress,
-                             desc=f"tr M {phase}")) if len(xs) else np.zeros(0)
+    ds = (
+        np.concatenate(
+            pmap(
+                _scan_chunk,
+                [(phase, c) for c in chunks],
+                executor=executor,
+                progress=progress,
+                desc=f"tr M {phase}",
+            )
+        )
+        if len(xs)
+        else np.zeros(0)
+    )
     per = np.array([pendulum(log_abs_dE=float(x), phase=phase).period for x in xs])
     return trace_of_delta(ds, phase), per
 
@@ -445,7 +537,9 @@ def refine_mp(x0, phase, target, digits=30, maxiter=10):
             step = f / slope
             x = x - step
             if abs(x - mp.mpf(x0)) > mp.mpf("1e-6"):
-                raise RuntimeError(f"root refinement left the neighbourhood of {x0!r} ({phase})")
+                raise RuntimeError(
+                    f"root refinement left the neighbourhood of {x0!r} ({phase})"
+                )
             if abs(step) < tol:
                 break
             f = delta_mp(x, phase, digits) - target
@@ -471,8 +565,12 @@ def transition(label, digits=None) -> Transition:
         Bad label, or a transition beyond the float64 range of ``|E - 4|``.
     """
     kind, phase, n = parse_label(label)
-    if digits is not None and (isinstance(digits, bool) or not isinstance(digits, (int, np.integer))
-                               or digits < 1 or digits > 200):
+    if digits is not None and (
+        isinstance(digits, bool)
+        or not isinstance(digits, (int, np.integer))
+        or digits < 1
+        or digits > 200
+    ):
         raise ValueError(f"digits must be an integer from 1 to 200, got {digits!r}")
     roots, _, _ = _find(phase, (kind,), n)
     _, c, a, b, fa, fb = roots[n - 1]

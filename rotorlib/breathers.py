@@ -37,6 +37,7 @@ is accurate to ~1e-9; :func:`breather_daughter` with ``digits=D`` re-solves the 
 the tier that delivers ``D`` digits. ``tests/test_breathers.py`` checks both against
 independent integrators.
 """
+
 from __future__ import annotations
 
 import functools
@@ -56,10 +57,23 @@ from .shooting import ShootingProblem, StartSet, solve
 from .system import alpha_to_beta, beta_to_alpha, potential_beta
 
 __all__ = [
-    "BreatherTransition", "breather_transitions", "pd_transition", "pd_eigenstructure",
-    "PDEigenstructure", "breather_trace", "DAUGHTER", "daughter_orbit",
-    "daughter_by_er_minimisation", "daughter_family", "DaughterFamily", "breather_daughter",
-    "DAUGHTER_E_MIN", "er_function", "daughter_trajectory", "half_map_trace", "DEFAULT_DELTAS",
+    "BreatherTransition",
+    "breather_transitions",
+    "pd_transition",
+    "pd_eigenstructure",
+    "PDEigenstructure",
+    "breather_trace",
+    "DAUGHTER",
+    "daughter_orbit",
+    "daughter_by_er_minimisation",
+    "daughter_family",
+    "DaughterFamily",
+    "breather_daughter",
+    "DAUGHTER_E_MIN",
+    "er_function",
+    "daughter_trajectory",
+    "half_map_trace",
+    "DEFAULT_DELTAS",
 ]
 
 TWO_PI = 2.0 * math.pi
@@ -67,7 +81,9 @@ TWO_PI = 2.0 * math.pi
 DAUGHTER_E_MIN = 5.3
 #: The grid of energies scanned for the transition of R.
 #: Default continuation amplitudes b2(0) of the daughter family.
-DEFAULT_DELTAS = np.concatenate([np.linspace(0.02, 0.12, 6), np.linspace(0.15, 5.65, 111), [5.67, 5.69]])
+DEFAULT_DELTAS = np.concatenate(
+    [np.linspace(0.02, 0.12, 6), np.linspace(0.15, 5.65, 111), [5.67, 5.69]]
+)
 _SCAN = np.concatenate([np.linspace(4.55, 20.0, 160), np.geomspace(20.0, 1e4, 40)[1:]])
 
 
@@ -80,6 +96,7 @@ def breather_trace(E, family="R", digits=None):
 # ----------------------------------------------------------------------------------------------
 # the transition
 # ----------------------------------------------------------------------------------------------
+
 
 @dataclass(frozen=True)
 class BreatherTransition:
@@ -120,10 +137,19 @@ class BreatherTransition:
 
     def to_record(self) -> dict:
         """JSON-serialisable record (the ``bifurcations --family breather`` output)."""
-        return {"label": self.label, "kind": self.kind, "family": self.family, "phase": "rot", "n": 1,
-                "E": self.E_str, "log_abs_dE_4.5": repr(math.log(abs(self.E - 4.5))),
-                "period": self.period_str, "transition": self.transition, "slope": self.slope,
-                "precision": self.precision}
+        return {
+            "label": self.label,
+            "kind": self.kind,
+            "family": self.family,
+            "phase": "rot",
+            "n": 1,
+            "E": self.E_str,
+            "log_abs_dE_4.5": repr(math.log(abs(self.E - 4.5))),
+            "period": self.period_str,
+            "transition": self.transition,
+            "slope": self.slope,
+            "precision": self.precision,
+        }
 
 
 def _trace_slope(E, family="R", h=1e-5):
@@ -149,7 +175,11 @@ def breather_transitions(family="R", digits=None, E_max=1e4):
     if family not in ("R", "LG", "LD"):
         raise ValueError(f"breather family must be R, LG or LD; got {family!r}")
     if family != "R":
-        grid = np.linspace(0.05, 4.45, 45) if family == "LG" else np.linspace(4.01, 4.49, 25)
+        grid = (
+            np.linspace(0.05, 4.45, 45)
+            if family == "LG"
+            else np.linspace(4.01, 4.49, 25)
+        )
     else:
         grid = _SCAN[_SCAN <= E_max]
     tr = np.array([breather_trace(E, family) for E in grid])
@@ -157,8 +187,10 @@ def breather_transitions(family="R", digits=None, E_max=1e4):
     for level, kind in ((0.0, "PD"), (4.0, "IS")):
         s = np.sign(tr - level)
         for i in np.nonzero(s[:-1] * s[1:] < 0)[0]:
-            f = lambda E: breather_trace(E, family) - level     # noqa: E731
-            E = optimize.brentq(f, grid[i], grid[i + 1], xtol=1e-15, rtol=8.9e-16, maxiter=200)
+            f = lambda E: breather_trace(E, family) - level  # noqa: E731
+            E = optimize.brentq(
+                f, grid[i], grid[i + 1], xtol=1e-15, rtol=8.9e-16, maxiter=200
+            )
             out.append(_make_transition(E, kind, level, family, digits))
     return sorted(out, key=lambda t: t.E)
 
@@ -166,22 +198,47 @@ def breather_transitions(family="R", digits=None, E_max=1e4):
 def _make_transition(E, kind, level, family, digits):
     slope = _trace_slope(E, family)
     period = breather(E, family).period
-    direction = ("unstable->stable" if slope > 0 else "stable->unstable") if kind == "PD" else \
-        ("stable->unstable" if slope > 0 else "unstable->stable")
+    direction = (
+        ("unstable->stable" if slope > 0 else "stable->unstable")
+        if kind == "PD"
+        else ("stable->unstable" if slope > 0 else "unstable->stable")
+    )
     if digits is None or digits <= 15:
-        return BreatherTransition("PD^b" if kind == "PD" else "IS^b", kind, family, E, repr(E), period,
-                                  repr(period), direction, slope, "float64")
+        return BreatherTransition(
+            "PD^b" if kind == "PD" else "IS^b",
+            kind,
+            family,
+            E,
+            repr(E),
+            period,
+            repr(period),
+            direction,
+            slope,
+            "float64",
+        )
     import mpmath as mp
 
     M = monodromy(breather(E, family), digits=digits)
     dT = breather(E, family).dperiod_dE
     with mp.workdps(digits + 10):
         corr = -(mp.mpf(M.trace_str) - level) / mp.mpf(slope)
-        E_ext = mp.mpf(repr(E)) + corr          # the extended trace is evaluated at the decimal repr(E)
+        E_ext = (
+            mp.mpf(repr(E)) + corr
+        )  # the extended trace is evaluated at the decimal repr(E)
         per = mp.mpf(M.period_str) + mp.mpf(dT) * corr
         E_str, per_str = mp.nstr(E_ext, digits - 5), mp.nstr(per, digits - 5)
-    return BreatherTransition("PD^b" if kind == "PD" else "IS^b", kind, family, float(E_ext), E_str,
-                              float(per), per_str, direction, slope, M.precision)
+    return BreatherTransition(
+        "PD^b" if kind == "PD" else "IS^b",
+        kind,
+        family,
+        float(E_ext),
+        E_str,
+        float(per),
+        per_str,
+        direction,
+        slope,
+        M.precision,
+    )
 
 
 def pd_transition(digits=None) -> BreatherTransition:
@@ -229,7 +286,9 @@ def pd_eigenstructure(E=None, tol=1e-8) -> PDEigenstructure:
     for lam in (1, -1):
         _, s, vh = np.linalg.svd(A - lam * np.eye(4))
         null = vh[s < tol * max(1.0, s[0])].T
-        null = null * np.sign(null[np.argmax(np.abs(null), axis=0), range(null.shape[1])])
+        null = null * np.sign(
+            null[np.argmax(np.abs(null), axis=0), range(null.shape[1])]
+        )
         vecs[lam], mult[lam], svals[lam] = null, null.shape[1], s
     ev = np.linalg.eigvals(A)
     return PDEigenstructure(np.sort_complex(ev), vecs, mult, svals, A, M.basis)
@@ -242,18 +301,27 @@ def pd_eigenstructure(E=None, tol=1e-8) -> PDEigenstructure:
 #: The daughter ``PD^b`` as a shooting problem: start ``(b1, b2, q1, q2) = (0, delta, q1, 0)``
 #: (``a1 = delta/4``, ``a2 = -delta/4``, ``p1 = p2 = q1``), section ``b1 = a1 + a2 = 2 pi``,
 #: condition ``b2 = 3 a1 - a2 = 0``, period ``4 t1``, closing on ``(a1, a2) + (2 pi, 6 pi)``.
-DAUGHTER = ShootingProblem("PD^b", StartSet("b1 = 0, q2 = 0", a=(0.25, -0.25), b=(1.0, 1.0)),
-                           Section((1, 1, 0, 0), 2.0, 1), Section((3, -1, 0, 0)), 1, 4,
-                           (2.0, 6.0), trivial=0.0, t_max=100.0,
-                           abort=Section((0, 0, 0.5, 1.5), 0.0, -1))     # b1 turning back
+DAUGHTER = ShootingProblem(
+    "PD^b",
+    StartSet("b1 = 0, q2 = 0", a=(0.25, -0.25), b=(1.0, 1.0)),
+    Section((1, 1, 0, 0), 2.0, 1),
+    Section((3, -1, 0, 0)),
+    1,
+    4,
+    (2.0, 6.0),
+    trivial=0.0,
+    t_max=100.0,
+    abort=Section((0, 0, 0.5, 1.5), 0.0, -1),
+)  # b1 turning back
 
 
 def _beta(x):
     return alpha_to_beta(np.array([float(v) for v in x]))
 
 
-def daughter_orbit(E, delta, t=FLOAT64, method="symmetric shooting (quarter period)",
-                   digits=None) -> PeriodicOrbit:
+def daughter_orbit(
+    E, delta, t=FLOAT64, method="symmetric shooting (quarter period)", digits=None
+) -> PeriodicOrbit:
     """The daughter orbit of the member ``(delta, E)`` (:data:`DAUGHTER`), integrated in tier
     ``t``: monodromy over the full period; ``alpha1_max = alpha2_max = max|b2| / 4`` (the
     largest excursion of ``a1`` and ``a2`` from the parent's line ``a2 = 3 a1`` at fixed
@@ -269,9 +337,16 @@ def _finish(x0, T, E, tq, xq, t, method, extra=None, digits=None):
     o = orbit_from_state("PD^b", x0, T, t, DAUGHTER.lattice, E, digits=digits)
     traj = _beta_traj(x0, float(T), 401)
     b2max = float(np.max(np.abs(traj[:, 1])))
-    ex = dict(o.extra, method=method, delta_b2=float(_beta(x0)[1]), q1_0=float(x0[2]),
-              quarter_period=float(tq), beta2_max=b2max,
-              symmetric_residual=abs(float(_beta(xq)[1])), **(extra or {}))
+    ex = dict(
+        o.extra,
+        method=method,
+        delta_b2=float(_beta(x0)[1]),
+        q1_0=float(x0[2]),
+        quarter_period=float(tq),
+        beta2_max=b2max,
+        symmetric_residual=abs(float(_beta(xq)[1])),
+        **(extra or {}),
+    )
     from dataclasses import replace
 
     return replace(o, alpha1_max=b2max / 4, alpha2_max=b2max / 4, extra=ex)
@@ -335,22 +410,37 @@ def daughter_family(deltas=None, E_PD=None, delta_fit=0.12) -> DaughterFamily:
     E_PD = pd_transition().E if E_PD is None else float(E_PD)
     deltas = np.asarray(DEFAULT_DELTAS if deltas is None else deltas, float)
     first, _ = switch(DAUGHTER, float(deltas[0]), E_PD, -1e-4)
-    alg = Natural("u", tuple(float(d) for d in deltas[1:]), order=1, origin=0.0,
-                  origin_other=E_PD)
-    b = continuation(DAUGHTER, alg, ContinuationOptions(traces=True, folds=False), [first])
+    alg = Natural(
+        "u", tuple(float(d) for d in deltas[1:]), order=1, origin=0.0, origin_other=E_PD
+    )
+    b = continuation(
+        DAUGHTER, alg, ContinuationOptions(traces=True, folds=False), [first]
+    )
     Es, trs, per = b.E, b.trace, b.period
     sel = deltas <= delta_fit
     s = deltas[sel] ** 2
     pE, pT = np.polyfit(s, Es[sel], 2), np.polyfit(s, trs[sel], 2)
     parent = _trace_slope(E_PD)
     E_unst, which = float("nan"), "none"
-    for p in b.special_points:                     # the first exit from the window, E falling
+    for p in b.special_points:  # the first exit from the window, E falling
         if p.located and float(b.members[p.index].u) > 0.05 and math.isnan(E_unst):
-            E_unst, which = float(p.member.E), "tr M = 4" if p.kind == "IS" else "tr M = 0"
-    return DaughterFamily(deltas, Es, per, trs, E_PD, float((pT[-2] / pE[-2]) / parent),
-                          float(parent), E_unst, which,
-                          {"E_fit": pE, "trace_fit": pT, "E_at_birth": pE[-1],
-                           "trace_at_birth": pT[-1]}, b)
+            E_unst, which = (
+                float(p.member.E),
+                "tr M = 4" if p.kind == "IS" else "tr M = 0",
+            )
+    return DaughterFamily(
+        deltas,
+        Es,
+        per,
+        trs,
+        E_PD,
+        float((pT[-2] / pE[-2]) / parent),
+        float(parent),
+        E_unst,
+        which,
+        {"E_fit": pE, "trace_fit": pT, "E_at_birth": pE[-1], "trace_at_birth": pT[-1]},
+        b,
+    )
 
 
 def daughter_by_er_minimisation(delta, q1_guess, width=0.05) -> PeriodicOrbit:
@@ -360,15 +450,26 @@ def daughter_by_er_minimisation(delta, q1_guess, width=0.05) -> PeriodicOrbit:
     ``b1 = 8 pi``) and ``extra['Er']``; nothing assumes the symmetry, and
     ``extra['symmetric_residual'] = |b2|`` at ``b1 = 2 pi`` tells whether the minimiser
     found the symmetric daughter (~0) or another orbit through the same line."""
-    res = optimize.minimize_scalar(er_function, bracket=(q1_guess - width, q1_guess,
-                                                         q1_guess + width),
-                                   args=(delta,), tol=1e-12)
+    res = optimize.minimize_scalar(
+        er_function,
+        bracket=(q1_guess - width, q1_guess, q1_guess + width),
+        args=(delta,),
+        tol=1e-12,
+    )
     q1 = float(res.x)
     x0 = list(beta_to_alpha(np.array([0.0, delta, q1, 0.0])))
     t_star, _ = to_section(x0, Section((1, 1, 0, 0), 8.0, 1), t_max=100.0)
     tq, xq = to_section(x0, DAUGHTER.section, t_max=100.0)
-    return _finish(x0, t_star, q1 * q1 + float(potential_beta(0.0, delta)), tq, xq, FLOAT64,
-                   "Er minimisation (paper)", {"Er": float(res.fun)})
+    return _finish(
+        x0,
+        t_star,
+        q1 * q1 + float(potential_beta(0.0, delta)),
+        tq,
+        xq,
+        FLOAT64,
+        "Er minimisation (paper)",
+        {"Er": float(res.fun)},
+    )
 
 
 def er_function(q1_0, delta):
@@ -401,12 +502,16 @@ def breather_daughter(E, digits=None) -> PeriodicOrbit:
     Ef = as_float(E, "E")
     fam = _branch_table()
     if not (DAUGHTER_E_MIN <= Ef < fam.E_PD):
-        raise ValueError(f"the breather daughter family PD^b exists for E < E_PD = "
-                         f"{fam.E_PD:.12f} (computed for {DAUGHTER_E_MIN} <= E < "
-                         f"{fam.E_PD:.12f}); got E = {E!r}")
-    i = int(np.searchsorted(-fam.E, -Ef))          # fam.E[i - 1] > E >= fam.E[i]
+        raise ValueError(
+            f"the breather daughter family PD^b exists for E < E_PD = "
+            f"{fam.E_PD:.12f} (computed for {DAUGHTER_E_MIN} <= E < "
+            f"{fam.E_PD:.12f}); got E = {E!r}"
+        )
+    i = int(np.searchsorted(-fam.E, -Ef))  # fam.E[i - 1] > E >= fam.E[i]
     if i >= len(fam.E):
-        raise ValueError(f"E = {E!r} is below the computed branch (E >= {fam.E[-1]:.6f})")
+        raise ValueError(
+            f"E = {E!r} is below the computed branch (E >= {fam.E[-1]:.6f})"
+        )
     lo, hi = (1e-3 if i == 0 else fam.delta[i - 1]), fam.delta[i]
     Eh = fam.E[i - 1] if i else fam.E_PD
     guess = lo + (hi - lo) * (Eh - Ef) / (Eh - fam.E[i])
@@ -414,7 +519,9 @@ def breather_daughter(E, digits=None) -> PeriodicOrbit:
     t = FLOAT64 if digits is None or digits <= 15 else tier(int(digits))
     if t.extended:
         with t.context():
-            d = solve(DAUGHTER, t.num(d), t.num(d) * (1 + t.num("1e-12")), E=str(E), t=t).x
+            d = solve(
+                DAUGHTER, t.num(d), t.num(d) * (1 + t.num("1e-12")), E=str(E), t=t
+            ).x
     return daughter_orbit(str(E) if t.extended else Ef, d, t, digits=digits)
 
 
@@ -431,6 +538,6 @@ def half_map_trace(orbit: PeriodicOrbit) -> float:
     (tr N - 2)^2``: ``tr M`` of this family can touch 0 but never go below it.
     """
     _, Phi = flow(orbit.state0, 0.5 * orbit.period, variational=True)
-    A = np.array([alpha_to_beta(e) for e in np.eye(4)]).T        # alpha state -> beta state
+    A = np.array([alpha_to_beta(e) for e in np.eye(4)]).T  # alpha state -> beta state
     Pb = A @ np.array(Phi, float) @ np.linalg.inv(A)
     return float(np.trace(np.diag([1.0, -1.0, 1.0, -1.0]) @ Pb))

@@ -29,6 +29,7 @@ Precision: FTLEs are statistical estimates; the integrator's own error (~1e-10
 relative per unit time) is far below the finite-time spread (order 1/sqrt(T)
 for chaotic orbits, ~log(T)/T for regular ones).
 """
+
 from __future__ import annotations
 
 import functools
@@ -41,9 +42,20 @@ from .energy import as_float
 from .parallel import pmap
 from .system import potential_alpha, potential_phi
 
-__all__ = ["PoincareSection", "poincare_section", "sample_energy_shell", "ftle", "ChaoticFraction",
-           "chaotic_fraction", "section_initial_conditions", "BAND", "NOISY_BIRTH",
-           "amplitude_branch", "FamilyInBand", "band_families"]
+__all__ = [
+    "PoincareSection",
+    "poincare_section",
+    "sample_energy_shell",
+    "ftle",
+    "ChaoticFraction",
+    "chaotic_fraction",
+    "section_initial_conditions",
+    "BAND",
+    "NOISY_BIRTH",
+    "amplitude_branch",
+    "FamilyInBand",
+    "band_families",
+]
 
 
 def _check_E(E):
@@ -57,13 +69,19 @@ def _check_E(E):
 # Poincaré sections
 # ----------------------------------------------------------------------------------------------
 
-@functools.lru_cache(maxsize=None)
+
+@functools.cache
 def _section_integrator():
     import heyoka as hy
 
     f1, f2, P1, P2 = hy.make_vars("f1", "f2", "P1", "P2")
     s12 = hy.sin(f1 + f2)
-    sys = [(f1, 2.0 * P1 - P2), (f2, 2.0 * P2 - P1), (P1, -(hy.sin(f1) + s12)), (P2, -(hy.sin(f2) + s12))]
+    sys = [
+        (f1, 2.0 * P1 - P2),
+        (f2, 2.0 * P2 - P1),
+        (P1, -(hy.sin(f1) + s12)),
+        (P2, -(hy.sin(f2) + s12)),
+    ]
     hits = []
 
     def cb(ta, t, d_sgn):
@@ -88,14 +106,19 @@ def section_initial_conditions(E, n_phi=6, n_p=4, seed=None):
     rng = np.random.default_rng(seed)
     out = []
     for i in range(n_phi):
-        f2 = 2 * np.pi * (i + 0.5 + (rng.uniform(-0.3, 0.3) if seed is not None else 0.0)) / n_phi
+        f2 = (
+            2
+            * np.pi
+            * (i + 0.5 + (rng.uniform(-0.3, 0.3) if seed is not None else 0.0))
+            / n_phi
+        )
         K = E - potential_phi(0.0, f2)
         if K <= 0:
             continue
         pmax = math.sqrt(4 * K / 3)
         for j in range(n_p):
             P2 = pmax * (-1 + 2 * (j + 0.5) / n_p) * 0.95
-            v = math.sqrt(max(4 * K - 3 * P2 * P2, 0.0))       # phi1' = 2 P1 - P2 > 0
+            v = math.sqrt(max(4 * K - 3 * P2 * P2, 0.0))  # phi1' = 2 P1 - P2 > 0
             P1 = 0.5 * (v + P2)
             out.append([0.0, f2, P1, P2])
     return np.array(out)
@@ -137,7 +160,9 @@ class PoincareSection:
     energy_error: float
 
 
-def poincare_section(E, n_phi=6, n_p=4, n_hits=300, t_max=5e3, seed=None, executor=None, progress=False):
+def poincare_section(
+    E, n_phi=6, n_p=4, n_hits=300, t_max=5e3, seed=None, executor=None, progress=False
+):
     """The section at energy ``E`` from a grid of initial conditions on it (see module docstring).
 
     Parameters
@@ -152,17 +177,27 @@ def poincare_section(E, n_phi=6, n_p=4, n_hits=300, t_max=5e3, seed=None, execut
     """
     E = _check_E(E)
     ics = section_initial_conditions(E, n_phi, n_p, seed)
-    res = pmap(_section_one, [(x, int(n_hits), float(t_max)) for x in ics], executor=executor,
-               progress=progress, desc=f"section E={E:g}")
+    res = pmap(
+        _section_one,
+        [(x, int(n_hits), float(t_max)) for x in ics],
+        executor=executor,
+        progress=progress,
+        desc=f"section E={E:g}",
+    )
     from .system import energy_phi
 
-    err = max((float(np.max(np.abs(energy_phi(h) - E))) for h in res if len(h)), default=0.0)
-    return PoincareSection(E, [np.mod(h[:, 1], 2 * np.pi) for h in res], [h[:, 3] for h in res], err)
+    err = max(
+        (float(np.max(np.abs(energy_phi(h) - E))) for h in res if len(h)), default=0.0
+    )
+    return PoincareSection(
+        E, [np.mod(h[:, 1], 2 * np.pi) for h in res], [h[:, 3] for h in res], err
+    )
 
 
 # ----------------------------------------------------------------------------------------------
 # the energy shell and finite-time Lyapunov exponents
 # ----------------------------------------------------------------------------------------------
+
 
 def sample_energy_shell(E, n, seed=0):
     """``n`` states ``[a1, a2, p1, p2]`` distributed microcanonically on ``H = E``.
@@ -182,21 +217,39 @@ def sample_energy_shell(E, n, seed=0):
     a1, a2 = pts[:n, 0], pts[:n, 1]
     K = E - potential_alpha(a1, a2)
     th = rng.uniform(0.0, 2 * np.pi, n)
-    return np.stack([a1, a2, 2.0 * np.sqrt(K) * np.cos(th), 2.0 / math.sqrt(3.0) * np.sqrt(K) * np.sin(th)], -1)
+    return np.stack(
+        [
+            a1,
+            a2,
+            2.0 * np.sqrt(K) * np.cos(th),
+            2.0 / math.sqrt(3.0) * np.sqrt(K) * np.sin(th),
+        ],
+        -1,
+    )
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def _tangent_integrator():
     import heyoka as hy
 
-    a1, a2, p1, p2, d1, d2, e1, e2 = hy.make_vars("a1", "a2", "p1", "p2", "d1", "d2", "e1", "e2")
+    a1, a2, p1, p2, d1, d2, e1, e2 = hy.make_vars(
+        "a1", "a2", "p1", "p2", "d1", "d2", "e1", "e2"
+    )
     cm, cp = hy.cos(a2 - a1), hy.cos(a1 + a2)
     sm, sp = hy.sin(a2 - a1), hy.sin(a1 + a2)
     v11 = 4.0 * hy.cos(2.0 * a1) + cm + cp
     v12 = cp - cm
     v22 = cm + cp
-    sys = [(a1, 0.5 * p1), (a2, 1.5 * p2), (p1, -(2.0 * hy.sin(2.0 * a1) - sm + sp)), (p2, -(sm + sp)),
-           (d1, 0.5 * e1), (d2, 1.5 * e2), (e1, -(v11 * d1 + v12 * d2)), (e2, -(v12 * d1 + v22 * d2))]
+    sys = [
+        (a1, 0.5 * p1),
+        (a2, 1.5 * p2),
+        (p1, -(2.0 * hy.sin(2.0 * a1) - sm + sp)),
+        (p2, -(sm + sp)),
+        (d1, 0.5 * e1),
+        (d2, 1.5 * e2),
+        (e1, -(v11 * d1 + v12 * d2)),
+        (e2, -(v12 * d1 + v22 * d2)),
+    ]
     return hy.taylor_adaptive(sys, [0.0] * 8, tol=1e-12)
 
 
@@ -231,7 +284,10 @@ def ftle(states, T=200.0, renorm=5.0, executor=None, progress=False, chunk=50, s
     states = np.atleast_2d(np.asarray(states, float))
     if T <= 0 or renorm <= 0:
         raise ValueError("T and renorm must be > 0")
-    chunks = [(states[i:i + chunk], float(T), float(renorm), seed + i) for i in range(0, len(states), chunk)]
+    chunks = [
+        (states[i : i + chunk], float(T), float(renorm), seed + i)
+        for i in range(0, len(states), chunk)
+    ]
     res = pmap(_ftle_chunk, chunks, executor=executor, progress=progress, desc="FTLE")
     return np.concatenate(res) if res else np.empty(0)
 
@@ -263,19 +319,47 @@ class ChaoticFraction:
     ftles: list
 
 
-def chaotic_fraction(energies, N=200, T=200.0, threshold=0.05, renorm=5.0, seed=0, executor=None,
-                     progress=False, chunk=50):
+def chaotic_fraction(
+    energies,
+    N=200,
+    T=200.0,
+    threshold=0.05,
+    renorm=5.0,
+    seed=0,
+    executor=None,
+    progress=False,
+    chunk=50,
+):
     """``f(E)``: fraction of ``N`` microcanonical points per energy with FTLE ``> threshold``."""
     energies = [_check_E(E) for E in np.atleast_1d(energies)]
     if not 0 < threshold:
         raise ValueError("threshold must be > 0")
-    samples = [sample_energy_shell(E, N, seed=seed + 7919 * k) for k, E in enumerate(energies)]
+    samples = [
+        sample_energy_shell(E, N, seed=seed + 7919 * k) for k, E in enumerate(energies)
+    ]
     allx = np.concatenate(samples)
-    lam = ftle(allx, T=T, renorm=renorm, executor=executor, progress=progress, chunk=chunk, seed=seed)
+    lam = ftle(
+        allx,
+        T=T,
+        renorm=renorm,
+        executor=executor,
+        progress=progress,
+        chunk=chunk,
+        seed=seed,
+    )
     per = np.split(lam, np.cumsum([len(s) for s in samples])[:-1])
     f = np.array([np.mean(x > threshold) for x in per])
-    return ChaoticFraction(np.array(energies), f, np.sqrt(f * (1 - f) / N), np.array([np.median(x) for x in per]),
-                           int(N), float(T), float(renorm), float(threshold), per)
+    return ChaoticFraction(
+        np.array(energies),
+        f,
+        np.sqrt(f * (1 - f) / N),
+        np.array([np.median(x) for x in per]),
+        int(N),
+        float(T),
+        float(renorm),
+        float(threshold),
+        per,
+    )
 
 
 # ----------------------------------------------------------------------------------------------
@@ -296,7 +380,13 @@ def amplitude_branch(label, E_start, du_rel=0.03, n_max=30):
     folds in ``E`` are passed), with ``tr M`` of every member, until ``tr M`` leaves
     ``[0, 4]`` (the crossing is then an ``IS``/``PD`` point of the branch). Float64 (for
     ``|E - 4| > 1e-3``). Returns a :class:`rotorlib.continuation.Branch`."""
-    from .continuation import ContinuationOptions, FamilyEnd, Natural, continuation, member
+    from .continuation import (
+        ContinuationOptions,
+        FamilyEnd,
+        Natural,
+        continuation,
+        member,
+    )
     from .newborn import family_spec, newborn_orbit
 
     spec = family_spec(label)
@@ -306,7 +396,7 @@ def amplitude_branch(label, E_start, du_rel=0.03, n_max=30):
     opts = ContinuationOptions(traces=True, folds=False, stop_on=("IS", "PD"))
     try:
         return continuation(spec.problem, Natural("u", us, order=1), opts, [m0])
-    except FamilyEnd as end:                        # the family ends before any exit
+    except FamilyEnd as end:  # the family ends before any exit
         return continuation(spec.problem, Natural("u", ()), opts, end.members)
 
 
@@ -351,13 +441,21 @@ def _band_one(args):
     spec = family_spec(label)
     t1_max = None if t1_grow is None else spec.period_birth / 2 + t1_grow
     deep = spec.depth < 3e-8
-    b = follow(label, chart="K", E_max=4 + dE_stop, digits=digits, traces=True,
-               jump=0.05 if deep else None, t1_max=t1_max, energies=energies)
+    b = follow(
+        label,
+        chart="K",
+        E_max=4 + dE_stop,
+        digits=digits,
+        traces=True,
+        jump=0.05 if deep else None,
+        t1_max=t1_max,
+        energies=energies,
+    )
     E, tr = b.E, b.trace
     out = (tr < 0) | (tr > 4)
     noisy = not b.tier.extended and spec.depth < NOISY_BIRTH
     exit_E = lev = float("nan")
-    if noisy:                       # float64 tr M is noise near birth: judge E - 4 > 1e-4 only
+    if noisy:  # float64 tr M is noise near birth: judge E - 4 > 1e-4 only
         far = E - 4 > 1e-4
         stays, after = bool(np.all(out[far])), tr[far]
     elif out[0]:
@@ -369,12 +467,28 @@ def _band_one(args):
         if pts:
             exit_E, lev = float(pts[0].member.E), 4.0 if pts[0].kind == "IS" else 0.0
     inb = (E >= BAND[0]) & (E <= BAND[1])
-    return FamilyInBand(spec.label, b, float(b.E_max), bool(np.any(E >= BAND[0])), tr[inb],
-                        exit_E, lev, stays, float(after.min()) if len(after) else float("nan"))
+    return FamilyInBand(
+        spec.label,
+        b,
+        float(b.E_max),
+        bool(np.any(E >= BAND[0])),
+        tr[inb],
+        exit_E,
+        lev,
+        stays,
+        float(after.min()) if len(after) else float("nan"),
+    )
 
 
-def band_families(labels, dE_stop=1.7, digits=None, t1_grow=None, energies=(),
-                  executor=None, progress=False) -> list:
+def band_families(
+    labels,
+    dE_stop=1.7,
+    digits=None,
+    t1_grow=None,
+    energies=(),
+    executor=None,
+    progress=False,
+) -> list:
     """Follow newborn families (``IS^r_n``, ``PD^r_n``) with the engine from birth until
     ``E - 4 >= dE_stop`` or the family ends, with ``tr M`` of every member and the first exit
     from the stable window. One task per family through :func:`rotorlib.parallel.pmap`.
@@ -394,6 +508,8 @@ def band_families(labels, dE_stop=1.7, digits=None, t1_grow=None, energies=(),
         from .newborn import family_spec
 
         if family_spec(lab).phase != "rot":
-            raise ValueError(f"{lab}: band_families follows rotational families (IS^r_n, PD^r_n)")
+            raise ValueError(
+                f"{lab}: band_families follows rotational families (IS^r_n, PD^r_n)"
+            )
     tasks = [(lab, float(dE_stop), digits, t1_grow, tuple(energies)) for lab in labels]
     return pmap(_band_one, tasks, executor=executor, progress=progress, desc="families")

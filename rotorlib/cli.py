@@ -5,6 +5,7 @@ Each command lives in :mod:`rotorlib.commands` as a module with
 the input (``ValueError``) and in the arguments print one line on stderr and
 exit with status 2; there is never a traceback for bad input.
 """
+
 from __future__ import annotations
 
 import argparse
@@ -19,7 +20,9 @@ COMMANDS = ("trace", "bifurcations", "orbit", "atlas")
 
 #: A negative number in any notation (-5, -1.5, -.5, -1e6, -1E+3, -inf, -nan). argparse's own matcher
 #: knows only -123 and -1.5 and takes "-1e6" for an option ("expected at least one argument").
-NEGATIVE_NUMBER = re.compile(r"^-(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?$|^-(inf|infinity|nan)$", re.IGNORECASE)
+NEGATIVE_NUMBER = re.compile(
+    r"^-(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?$|^-(inf|infinity|nan)$", re.IGNORECASE
+)
 
 
 class _OneLineParser(argparse.ArgumentParser):
@@ -36,9 +39,13 @@ class _OneLineParser(argparse.ArgumentParser):
 
 
 def build_parser() -> argparse.ArgumentParser:
-    parser = _OneLineParser(prog="python -m rotorlib",
-                            description="The 3-rotor bifurcation cascade (Krishnaswami & Yadav 2023), recomputed.")
-    sub = parser.add_subparsers(dest="command", parser_class=_OneLineParser, metavar="COMMAND")
+    parser = _OneLineParser(
+        prog="python -m rotorlib",
+        description="The 3-rotor bifurcation cascade (Krishnaswami & Yadav 2023), recomputed.",
+    )
+    sub = parser.add_subparsers(
+        dest="command", parser_class=_OneLineParser, metavar="COMMAND"
+    )
     sub.required = True
     for name in COMMANDS:
         try:
@@ -76,10 +83,13 @@ def main(argv=None) -> int:
     except KeyboardInterrupt:
         print("rotorlib: interrupted", file=sys.stderr)
         return 130
-    except BrokenPipeError:                 # output piped into head & co: stop quietly
+    except BrokenPipeError:  # output piped into head & co: stop quietly
         sys.stderr.close()
         return 141
     except Exception as exc:  # a bug, not bad input: still one line, never a traceback
         msg = str(exc).splitlines()[0] if str(exc) else ""
-        print(f"rotorlib: internal error: {exc.__class__.__name__}: {msg} (please report)", file=sys.stderr)
+        print(
+            f"rotorlib: internal error: {exc.__class__.__name__}: {msg} (please report)",
+            file=sys.stderr,
+        )
         return 1

@@ -97,7 +97,10 @@ def _rounded(paper: str, ours):
     d = _decimals(paper)
     q = Decimal(1).scaleb(-d)
     p, o = Decimal(paper.strip()), _dec(ours)
-    o_r, o_t = o.quantize(q, rounding=ROUND_HALF_EVEN), o.quantize(q, rounding=ROUND_DOWN)
+    o_r, o_t = (
+        o.quantize(q, rounding=ROUND_HALF_EVEN),
+        o.quantize(q, rounding=ROUND_DOWN),
+    )
     k = int((p - o_r) / q)
 
     def digits(x):
@@ -106,26 +109,39 @@ def _rounded(paper: str, ours):
     a, b = digits(p), digits(o_r)
     same = len(a) == len(b) and (p < 0) == (o_r < 0)
     diffs = [i for i, (x, y) in enumerate(zip(a, b)) if x != y] if same else []
-    swap = (len(diffs) == 2 and diffs[1] == diffs[0] + 1 and a[diffs[0]] == b[diffs[1]]
-            and a[diffs[1]] == b[diffs[0]])
+    swap = (
+        len(diffs) == 2
+        and diffs[1] == diffs[0] + 1
+        and a[diffs[0]] == b[diffs[1]]
+        and a[diffs[1]] == b[diffs[0]]
+    )
     if p == o_r:
         v, cause = "agrees", "correctly rounded"
     elif p == o_t:
         v, cause = "truncated", "the paper's value is ours truncated, not rounded"
     elif abs(k) <= 3:
-        v, cause = f"last digit off by {k:+d}", "lower working precision (or an inaccurate input)"
+        v, cause = (
+            f"last digit off by {k:+d}",
+            "lower working precision (or an inaccurate input)",
+        )
     elif swap:
         v, cause = "typo", "two adjacent digits transposed"
     else:
         v, cause = "DIFFERS", "not explained by rounding or a single typo"
-        for i in diffs:        # one wrong digit (not the last), maybe with the last off a few units
+        for i in (
+            diffs
+        ):  # one wrong digit (not the last), maybe with the last off a few units
             if i == len(a) - 1:
                 continue
-            k2 = int((Decimal(a[:i] + b[i] + a[i + 1:]) * q * (-1 if p < 0 else 1) - o_r) / q)
+            k2 = int(
+                (Decimal(a[:i] + b[i] + a[i + 1 :]) * q * (-1 if p < 0 else 1) - o_r)
+                / q
+            )
             if abs(k2) <= 1:
                 v = "typo"
                 cause = f"digit {a[i]} printed for {b[i]}" + (
-                    f", and last digit off by {k2:+d}" if k2 else "")
+                    f", and last digit off by {k2:+d}" if k2 else ""
+                )
                 break
     if "e" in paper.lower():
         mant = len(paper.lower().split("e")[0].replace("-", "").replace(".", "")) - 1
@@ -135,8 +151,9 @@ def _rounded(paper: str, ours):
     return v, cause, shown, float(q) / 2
 
 
-def claim(quantity, paper: str, ours, *, section="", rel=None, tol=None, note="",
-          shown=None) -> Claim:
+def claim(
+    quantity, paper: str, ours, *, section="", rel=None, tol=None, note="", shown=None
+) -> Claim:
     """Check one printed value ``paper`` (a string, as printed) against ``ours``.
 
     ``rel`` (the paper's ``≈``: tolerance ``rel |paper|``) or ``tol`` (absolute) make it a
@@ -146,27 +163,55 @@ def claim(quantity, paper: str, ours, *, section="", rel=None, tol=None, note=""
     """
     paper = str(paper).strip()
     if ours is None:
-        return Claim(section, quantity, paper, "-", math.nan, math.nan, "not evaluable",
-                     note or "not evaluable", rel is not None, note)
+        return Claim(
+            section,
+            quantity,
+            paper,
+            "-",
+            math.nan,
+            math.nan,
+            "not evaluable",
+            note or "not evaluable",
+            rel is not None,
+            note,
+        )
     p = float(paper)
     diff = float(_dec(paper) - _dec(ours))
     if rel is None and tol is None:
         v, cause, s, t = _rounded(paper, ours)
-        return Claim(section, quantity, paper, shown or s, diff, t, v, cause, False, note)
+        return Claim(
+            section, quantity, paper, shown or s, diff, t, v, cause, False, note
+        )
     t = abs(p) * float(rel) if rel is not None else float(tol)
     ok = math.isfinite(diff) and abs(diff) <= t
     digits = max(0, 2 - int(math.floor(math.log10(t)))) if t > 0 else 6
-    s = shown or (f"{float(ours):.{digits}f}" if abs(float(ours)) >= 1e-3 or float(ours) == 0
-                  else f"{float(ours):.4e}")
-    return Claim(section, quantity, paper, s, diff, t, "agrees" if ok else "DIFFERS",
-                 "within the tolerance" if ok else "outside the tolerance", True, note)
+    s = shown or (
+        f"{float(ours):.{digits}f}"
+        if abs(float(ours)) >= 1e-3 or float(ours) == 0
+        else f"{float(ours):.4e}"
+    )
+    return Claim(
+        section,
+        quantity,
+        paper,
+        s,
+        diff,
+        t,
+        "agrees" if ok else "DIFFERS",
+        "within the tolerance" if ok else "outside the tolerance",
+        True,
+        note,
+    )
 
 
 def check(diff: float, tol: float) -> str:
     """``'agrees'`` when ``|diff| <= tol`` (both finite), else ``'DIFFERS'``: the rule for our
     numbers against an independent computation."""
-    return "agrees" if math.isfinite(diff) and math.isfinite(tol) and abs(diff) <= tol \
+    return (
+        "agrees"
+        if math.isfinite(diff) and math.isfinite(tol) and abs(diff) <= tol
         else "DIFFERS"
+    )
 
 
 def _round_to(x: float, tol: float):
@@ -188,7 +233,15 @@ def _cell(x) -> str:
 def markdown(rows, columns=None) -> str:
     """A Markdown (GFM) table of claims, or of any rows given with ``columns``."""
     if columns is None:
-        columns = ["section", "quantity", "paper", "ours", "difference", "tolerance", "verdict"]
+        columns = [
+            "section",
+            "quantity",
+            "paper",
+            "ours",
+            "difference",
+            "tolerance",
+            "verdict",
+        ]
         rows = [[getattr(c, k) for k in columns] for c in rows]
     out = ["| " + " | ".join(columns) + " |", "|" + "---|" * len(columns)]
     out += ["| " + " | ".join(_cell(v) for v in r) + " |" for r in rows]
@@ -201,8 +254,11 @@ def records(claims, chapter: str) -> str:
     rows = []
     for c in claims:
         d = asdict(c)
-        d.update(status=c.status, chapter=chapter,
-                 difference=_round_to(c.difference, c.tolerance),
-                 tolerance=None if math.isnan(c.tolerance) else float(f"{c.tolerance:.3g}"))
+        d.update(
+            status=c.status,
+            chapter=chapter,
+            difference=_round_to(c.difference, c.tolerance),
+            tolerance=None if math.isnan(c.tolerance) else float(f"{c.tolerance:.3g}"),
+        )
         rows.append(d)
     return json.dumps(rows, ensure_ascii=False, sort_keys=True)

@@ -33,10 +33,20 @@ from dataclasses import dataclass, replace
 
 from .flow import SectionNotReached, monodromy_matrix
 from .precision import FLOAT64, Tier
-from .shooting import NoConvergence, ShootingProblem, residual, secant, solve
+from .shooting import NoConvergence, ShootingProblem, residual, solve
 
-__all__ = ["Member", "SpecialPoint", "Branch", "Natural", "PALC", "ContinuationOptions",
-           "continuation", "member", "switch", "switch_branch"]
+__all__ = [
+    "Member",
+    "SpecialPoint",
+    "Branch",
+    "Natural",
+    "PALC",
+    "ContinuationOptions",
+    "continuation",
+    "member",
+    "switch",
+    "switch_branch",
+]
 
 NAN = float("nan")
 
@@ -230,21 +240,30 @@ class ContinuationOptions:
 
 
 def _r_max(opts, t: Tier):
-    return opts.r_max if opts.r_max is not None else (1e-8 if not t.extended else t.eps ** (2 / 3))
+    return (
+        opts.r_max
+        if opts.r_max is not None
+        else (1e-8 if not t.extended else t.eps ** (2 / 3))
+    )
 
 
-def member(problem: ShootingProblem, u, w, t: Tier = FLOAT64, traces=False, shot=None) -> Member:
+def member(
+    problem: ShootingProblem, u, w, t: Tier = FLOAT64, traces=False, shot=None
+) -> Member:
     """The :class:`Member` at ``(u, w)`` (``tr M`` over the full period with ``traces``)."""
     with t.context():
         s = shot or residual(problem, u, w, t)
         tr = NAN
         if traces:
             tr = monodromy_matrix(s.x0, problem.factor * s.t1, t)[2]
-        return Member(t.num(u), t.num(w), problem.energy(u, w, t), s.t1, s.r, tr, tuple(s.x1))
+        return Member(
+            t.num(u), t.num(w), problem.energy(u, w, t), s.t1, s.r, tr, tuple(s.x1)
+        )
 
 
-def switch(problem: ShootingProblem, u, E_birth, dE, t: Tier = FLOAT64, tol=None,
-           r_max=None):
+def switch(
+    problem: ShootingProblem, u, E_birth, dE, t: Tier = FLOAT64, tol=None, r_max=None
+):
     """The member of ``problem`` (a daughter family whose parent is its ``trivial`` root,
     divided out of the residual) with amplitude ``u``, by a secant in ``w`` from the
     bifurcation energy ``E_birth`` and ``E_birth + dE`` (the paper's "adjust one quantity").
@@ -256,8 +275,14 @@ def switch(problem: ShootingProblem, u, E_birth, dE, t: Tier = FLOAT64, tol=None
         return replace(member(problem, u, root.x, t), r=root.residual), root.iterations
 
 
-def switch_branch(branch: Branch, point: SpecialPoint, daughter: ShootingProblem, amplitude,
-                  algorithm=None, options=None) -> Branch:
+def switch_branch(
+    branch: Branch,
+    point: SpecialPoint,
+    daughter: ShootingProblem,
+    amplitude,
+    algorithm=None,
+    options=None,
+) -> Branch:
     """Branch switching at a bifurcation ``point`` (``IS`` or ``PD``) of ``branch`` onto the
     family of ``daughter``: the parent (``u = u*`` there) is divided out of the daughter's
     residual, the first member is found at ``u* + amplitude`` with the energy adjusted from
@@ -276,15 +301,18 @@ def switch_branch(branch: Branch, point: SpecialPoint, daughter: ShootingProblem
             except (NoConvergence, SectionNotReached) as exc:
                 last = exc
         else:
-            raise NoConvergence(daughter.label, {"E": p.E}, why=f"no daughter near u* ({last})")
+            raise NoConvergence(
+                daughter.label, {"E": p.E}, why=f"no daughter near u* ({last})"
+            )
         return continuation(d, algorithm or PALC(E_ref=float(p.E)), options, [first], t)
 
 
 # --------------------------------------------------------------------------- natural
 
+
 def _extrapolate(xs, ys, x, order, t: Tier):
     """Lagrange extrapolation through the last ``order + 1`` points (duplicates dropped)."""
-    pts = list(zip(xs, ys))[-(order + 1):]
+    pts = list(zip(xs, ys))[-(order + 1) :]
     while len(pts) > 1 and len({p[0] for p in pts}) < len(pts):
         pts = pts[1:]
     if len(pts) == 1:
@@ -306,7 +334,7 @@ def _natural(problem, alg: Natural, opts, start, t: Tier):
         raise ValueError(f"Natural: parameter must be 'u' or 'E', got {par!r}")
     m = t.m
 
-    def s_of(v):                                  # the predictor's coordinate
+    def s_of(v):  # the predictor's coordinate
         if par == "u":
             return v * v
         return v if alg.origin is None else m.sqrt(abs(v - alg.origin))
@@ -329,21 +357,31 @@ def _natural(problem, alg: Natural, opts, start, t: Tier):
                     new = member(problem, v, root.x, t, opts.traces)
                 else:
                     root = solve(problem, guess, E=v, t=t, r_max=_r_max(opts, t))
-                    new = member(problem, root.x, problem.w_at(root.x, v, t), t, opts.traces)
-                if opts.jump is not None and abs(new.t1 / members[-1].t1 - 1) > opts.jump:
+                    new = member(
+                        problem, root.x, problem.w_at(root.x, v, t), t, opts.traces
+                    )
+                if (
+                    opts.jump is not None
+                    and abs(new.t1 / members[-1].t1 - 1) > opts.jump
+                ):
                     raise NoConvergence(problem.label, {par: v}, None, "t1 jumped")
             except (NoConvergence, SectionNotReached):
                 if halvings >= alg.halvings:
-                    raise FamilyEnd(problem.label, members, float(v) if par == "E" else NAN,
-                                    par) from None
+                    raise FamilyEnd(
+                        problem.label, members, float(v) if par == "E" else NAN, par
+                    ) from None
                 halvings += 1
                 prev = members[-1].u if par == "u" else members[-1].E
                 if par == "u":
                     targets.insert(0, (prev + v) / 2)
                 else:
                     sm = (s_of(prev) + s_of(v)) / 2
-                    targets.insert(0, sm if alg.origin is None else
-                                   alg.origin + (1 if v > alg.origin else -1) * sm * sm)
+                    targets.insert(
+                        0,
+                        sm
+                        if alg.origin is None
+                        else alg.origin + (1 if v > alg.origin else -1) * sm * sm,
+                    )
                 continue
             members.append(new)
             xs.append(s_of(v))
@@ -383,11 +421,13 @@ class FamilyEnd(ValueError):
         super().__init__(
             f"{label}: the family was not found beyond E = {E_reached!r} (a fold in {par}, or "
             f"the orbit stops reaching its section)"
-            + (f"; asked for E = {E_asked!r}" if E_asked == E_asked else ""))
+            + (f"; asked for E = {E_asked!r}" if E_asked == E_asked else "")
+        )
         self.label, self.E_reached, self.E_asked = label, E_reached, E_asked
 
 
 # --------------------------------------------------------------------------- PALC
+
 
 class _Local:
     """Coordinates centred on a reference member and scaled by it,
@@ -416,8 +456,11 @@ class _Local:
         ``change``). Raises NoConvergence or SectionNotReached."""
         t = self.t
         tol = 1e-13 if not t.extended else t.num(t.eps) * 8
-        x1 = guess + max(abs(change) * t.num("1e-4"), abs(guess) * t.num(t.eps) ** t.num(0.5),
-                         (self.sw if k == 0 else self.su) * tol)
+        x1 = guess + max(
+            abs(change) * t.num("1e-4"),
+            abs(guess) * t.num(t.eps) ** t.num(0.5),
+            (self.sw if k == 0 else self.su) * tol,
+        )
         kw = dict(t=t, tol=tol, r_max=_r_max(self.opts, t))
         if k == 0:
             root = solve(self.p, guess, x1, u=value, floor=self.sw, **kw)
@@ -470,8 +513,11 @@ def _palc(problem, alg: PALC, opts, start, t: Tier, on_member):
                 if len(members) >= 2:
                     guess = _predict(members, k, value, alg.order, t)
                 else:
-                    other = (d[1] / d[0]) * (value - ref.u) / loc.su * loc.sw if k == 0 else \
-                        (d[0] / d[1]) * (value - ref.w) / loc.sw * loc.su
+                    other = (
+                        (d[1] / d[0]) * (value - ref.u) / loc.su * loc.sw
+                        if k == 0
+                        else (d[0] / d[1]) * (value - ref.w) / loc.sw * loc.su
+                    )
                     guess = (ref.w if k == 0 else ref.u) + other
                 change = guess - (ref.w if k == 0 else ref.u)
                 try:
@@ -481,8 +527,14 @@ def _palc(problem, alg: PALC, opts, start, t: Tier, on_member):
                 if mb is not None:
                     # a correction far beyond the predicted change may be another family (they lie
                     # close in (u, w) near E = 4), unless t1 moved continuously
-                    got, dt1 = mb.w if k == 0 else mb.u, abs(mb.t1 - ref.t1) / abs(ref.t1)
-                    far = abs(got - guess) > abs(change) / 5 + abs(got) * 1e-10 and dt1 > 0.01
+                    got, dt1 = (
+                        mb.w if k == 0 else mb.u,
+                        abs(mb.t1 - ref.t1) / abs(ref.t1),
+                    )
+                    far = (
+                        abs(got - guess) > abs(change) / 5 + abs(got) * 1e-10
+                        and dt1 > 0.01
+                    )
                     jump = opts.jump is not None and dt1 > opts.jump
                     if not far and not jump:
                         new = mb
@@ -502,6 +554,7 @@ def _palc(problem, alg: PALC, opts, start, t: Tier, on_member):
 
 # --------------------------------------------------------------------------- events
 
+
 def _between(problem, t, alg, members, i, j, opts):
     """``(at, vb)``: members between ``members[i]`` and ``members[j]``, parametrised by the
     coordinate held by the step (:func:`_held`), ``v`` from 0 at ``i`` to ``vb`` at ``j``,
@@ -510,7 +563,7 @@ def _between(problem, t, alg, members, i, j, opts):
     loc = _Local(problem, t, alg, a, opts)
     Xb = loc.X(b)
     k = _held(Xb)
-    known = list(members[max(0, i - 1):j + 2])          # interpolation through the neighbours
+    known = list(members[max(0, i - 1) : j + 2])  # interpolation through the neighbours
 
     def at(v):
         value = a.u + v * loc.su if k == 0 else a.w + v * loc.sw
@@ -568,9 +621,11 @@ def _events(problem, t, branch_members, opts, alg):
                 try:
                     at, vb = _between(problem, t, pal, branch_members, k - 1, k, opts)
                     tol = 1e-14 if not t.extended else t.num(t.eps) * 4
-                    if t.extended and kind != "E":      # tr M has ~d - log10|M| digits
+                    if t.extended and kind != "E":  # tr M has ~d - log10|M| digits
                         tol = t.num(t.eps) ** t.num(0.5)
-                    out.append(SpecialPoint(kind, _illinois(g, at, vb, g(a), g(b), tol), k - 1))
+                    out.append(
+                        SpecialPoint(kind, _illinois(g, at, vb, g(a), g(b), tol), k - 1)
+                    )
                 except (SectionNotReached, ValueError):
                     out.append(SpecialPoint(kind, b, k - 1, False))
             if opts.folds and k < len(branch_members) - 1:
@@ -578,11 +633,16 @@ def _events(problem, t, branch_members, opts, alg):
                 if not (b.E - a.E) * (c.E - b.E) < 0:
                     continue
                 try:
-                    at, vc = _between(problem, t, pal, branch_members, k - 1, k + 1, opts)
+                    at, vc = _between(
+                        problem, t, pal, branch_members, k - 1, k + 1, opts
+                    )
                     sign = 1 if b.E > a.E else -1
-                    res = minimize_scalar(lambda v: -sign * float(at(v).E), method="bounded",
-                                          bounds=sorted((0.0, float(vc))),
-                                          options={"xatol": 1e-10 * abs(float(vc))})
+                    res = minimize_scalar(
+                        lambda v: -sign * float(at(v).E),
+                        method="bounded",
+                        bounds=sorted((0.0, float(vc))),
+                        options={"xatol": 1e-10 * abs(float(vc))},
+                    )
                     out.append(SpecialPoint("fold", at(t.num(res.x)), k))
                 except (SectionNotReached, ValueError):
                     out.append(SpecialPoint("fold", b, k, False))
@@ -591,8 +651,14 @@ def _events(problem, t, branch_members, opts, alg):
 
 # --------------------------------------------------------------------------- front end
 
-def continuation(problem: ShootingProblem, algorithm, options: ContinuationOptions = None,
-                 start=(), t: Tier = FLOAT64) -> Branch:
+
+def continuation(
+    problem: ShootingProblem,
+    algorithm,
+    options: ContinuationOptions = None,
+    start=(),
+    t: Tier = FLOAT64,
+) -> Branch:
     """Follow the family of ``problem`` from the members ``start`` (see the module docstring).
 
     Parameters
@@ -612,8 +678,12 @@ def continuation(problem: ShootingProblem, algorithm, options: ContinuationOptio
     opts = options or ContinuationOptions()
     if not start:
         raise ValueError("continuation needs at least one starting member")
-    start = [m if not opts.traces or m.trace == m.trace else member(
-        problem, m.u, m.w, t, True) for m in start]
+    start = [
+        m
+        if not opts.traces or m.trace == m.trace
+        else member(problem, m.u, m.w, t, True)
+        for m in start
+    ]
 
     def on_member(members):
         m = members[-1]
@@ -636,9 +706,13 @@ def continuation(problem: ShootingProblem, algorithm, options: ContinuationOptio
 def with_traces(branch: Branch) -> Branch:
     """The same branch with ``tr M`` of every member and its ``IS``/``PD`` points."""
     opts = ContinuationOptions(traces=True, folds=False)
-    mem = tuple(member(branch.problem, m.u, m.w, branch.tier, True) for m in branch.members)
+    mem = tuple(
+        member(branch.problem, m.u, m.w, branch.tier, True) for m in branch.members
+    )
     extra = _events(branch.problem, branch.tier, mem, opts, PALC())
-    return replace(branch, members=mem, special_points=branch.special_points + tuple(extra))
+    return replace(
+        branch, members=mem, special_points=branch.special_points + tuple(extra)
+    )
 
 
 __all__ += ["FamilyEnd", "with_traces"]

@@ -18,12 +18,21 @@ to 1e-300 (see ``tests/test_elliptic.py``). ``scipy.special.ellipj`` is *not*
 used: for ``m >= 1 - 1e-10`` it switches to an approximation valid only for
 ``u < K`` (scipy issue #8480).
 """
+
 from __future__ import annotations
 
 import numpy as np
 from scipy import special
 
-__all__ = ["ellipk_m1", "ellipe_m1", "dK_dm", "jacobi_sncndn", "jacobi_am", "mp_ellipk_m1", "mp_dK_dm"]
+__all__ = [
+    "ellipk_m1",
+    "ellipe_m1",
+    "dK_dm",
+    "jacobi_sncndn",
+    "jacobi_am",
+    "mp_ellipk_m1",
+    "mp_dK_dm",
+]
 
 
 def ellipk_m1(m1: float) -> float:
@@ -79,7 +88,12 @@ def mp_dK_dm(m, m1):
 
     if abs(m) >= 0.5:
         return (mp.ellipe(m) - m1 * mp_ellipk_m1(m1)) / (2 * m * m1)
-    a, total, n, mn = mp.mpf(1), mp.mpf(0), 0, mp.mpf(1)      # a = (2n)!/(2^(2n) n!^2), mn = m^(n-1)
+    a, total, n, mn = (
+        mp.mpf(1),
+        mp.mpf(0),
+        0,
+        mp.mpf(1),
+    )  # a = (2n)!/(2^(2n) n!^2), mn = m^(n-1)
     tiny = mp.mpf(2) ** (-mp.mp.prec - 4)
     while True:
         n += 1
@@ -107,7 +121,7 @@ def _agm_sncndn(u, m, m1):
         a.append(an)
         c.append(cn)
     n = len(a) - 1
-    phi = (2.0 ** n) * a[-1] * u
+    phi = (2.0**n) * a[-1] * u
     prev = phi
     for j in range(n, 0, -1):
         prev = phi
@@ -127,7 +141,11 @@ def _asinh_c_sinh(c, psi):
         return direct
     # log y = log c + psi - log 2 ; arcsinh(y) = log y + log(1 + sqrt(1 + y**-2))
     logy = np.log(c) + np.where(big, psi, 0.0) - np.log(2.0)
-    tail = np.where(logy > 40.0, np.log(2.0), np.log1p(np.sqrt(1.0 + np.exp(-2.0 * np.minimum(logy, 40.0)))))
+    tail = np.where(
+        logy > 40.0,
+        np.log(2.0),
+        np.log1p(np.sqrt(1.0 + np.exp(-2.0 * np.minimum(logy, 40.0)))),
+    )
     viaLog = np.where(logy < -40.0, np.exp(logy), logy + tail)
     return np.where(big, viaLog, direct)
 
@@ -154,11 +172,11 @@ def _agm_sncndn_imag(u, m, m1):
         a.append(an)
         c.append(cn)
         n = len(a) - 1
-        psi_top = (2.0 ** n) * an * umax
+        psi_top = (2.0**n) * an * umax
         if cn == 0.0 or np.log(cn / an) + min(psi_top, 1e300) < np.log(1e-18):
             break
     n = len(a) - 1
-    psi = (2.0 ** n) * a[-1] * u
+    psi = (2.0**n) * a[-1] * u
     prev = psi
     for j in range(n, 0, -1):
         prev = psi

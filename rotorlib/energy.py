@@ -27,6 +27,7 @@ Depth: any ``log|E - sep|`` is accepted. Below ``|E - sep| = 1.8e-307``
 :meth:`mp_values` only, and the float64 closed forms refuse them
 (:meth:`require_float64`, ``ValueError`` naming the extended tiers).
 """
+
 from __future__ import annotations
 
 import math
@@ -37,8 +38,14 @@ from decimal import Context, Decimal, InvalidOperation
 
 from .system import BREATHER_SEPARATRIX_ENERGY, SEPARATRIX_ENERGY
 
-__all__ = ["PendulumEnergy", "BreatherEnergy", "pendulum_energy", "breather_energy", "as_float",
-           "FLOAT64_MIN_EPS"]
+__all__ = [
+    "PendulumEnergy",
+    "BreatherEnergy",
+    "pendulum_energy",
+    "breather_energy",
+    "as_float",
+    "FLOAT64_MIN_EPS",
+]
 
 _PHASES = ("lib", "rot")
 _FAMILIES = ("LG", "LD", "R")
@@ -64,6 +71,7 @@ def as_float(value, name: str) -> float:
 
 # --------------------------------------------------------------------------- decimal input (shared)
 
+
 def _decimal_text(value, name: str) -> str:
     """The decimal text of an input: a string as typed, a float as its ``repr``.
 
@@ -76,9 +84,9 @@ def _decimal_text(value, name: str) -> str:
     elif isinstance(value, numbers.Integral):
         text = str(int(value))
     elif isinstance(value, numbers.Real) and not isinstance(value, Decimal):
-        text = repr(float(value))               # float, numpy floats: shortest round-trip decimal
+        text = repr(float(value))  # float, numpy floats: shortest round-trip decimal
     else:
-        text = str(value)                      # Decimal, mpmath mpf (its digits at the current dps)
+        text = str(value)  # Decimal, mpmath mpf (its digits at the current dps)
     try:
         d = Decimal(text)
     except (InvalidOperation, ValueError):
@@ -93,9 +101,11 @@ def _exact_distance(text: str, sep: Decimal):
     d = Decimal(text)
     top = max(d.adjusted(), sep.adjusted(), 0)
     low = min(d.as_tuple().exponent, sep.as_tuple().exponent)
-    prec = top - low + 3                       # enough digits for the exact difference
+    prec = top - low + 3  # enough digits for the exact difference
     if prec > _MAX_DIGITS:
-        raise ValueError(f"E = {text!r} has too many digits (its distance to {sep} needs {prec} > {_MAX_DIGITS})")
+        raise ValueError(
+            f"E = {text!r} has too many digits (its distance to {sep} needs {prec} > {_MAX_DIGITS})"
+        )
     ctx = Context(prec=prec, Emax=999_999_999, Emin=-999_999_999)
     diff = ctx.subtract(d, sep)
     return (diff > 0) - (diff < 0), abs(diff)
@@ -110,10 +120,12 @@ class _Distance:
     log_abs_dE: float
     E: float
     given: tuple
-    E_exact: object = None                     # the Decimal E for E input (family checks)
+    E_exact: object = None  # the Decimal E for E input (family checks)
 
 
-def _distance(sep: Decimal, E=None, log_abs_dE=None, side=None, what="E-4") -> _Distance:
+def _distance(
+    sep: Decimal, E=None, log_abs_dE=None, side=None, what="E-4"
+) -> _Distance:
     """Parse ``E`` or ``log|E - sep|`` (with ``side``) into a :class:`_Distance`; shared by both energies."""
     if (E is None) == (log_abs_dE is None):
         raise ValueError(f"give exactly one of E and log|{what}|")
@@ -124,7 +136,11 @@ def _distance(sep: Decimal, E=None, log_abs_dE=None, side=None, what="E-4") -> _
         if s == 0:
             return _Distance(0, 0.0, -math.inf, fsep, ("E", text), Decimal(text))
         eps = float(dist)
-        x = math.log(eps) if eps >= sys.float_info.min else float(dist.ln(Context(prec=25)))
+        x = (
+            math.log(eps)
+            if eps >= sys.float_info.min
+            else float(dist.ln(Context(prec=25)))
+        )
         Ef = float(Decimal(text))
         if not math.isfinite(Ef):
             raise ValueError(f"E = {text} is beyond the float64 range")
@@ -132,10 +148,12 @@ def _distance(sep: Decimal, E=None, log_abs_dE=None, side=None, what="E-4") -> _
     text = _decimal_text(log_abs_dE, f"log|{what}|")
     x = float(Decimal(text))
     if not math.isfinite(x):
-        raise ValueError(f"log|{what}| = {text} is beyond the float64 range of the logarithm")
+        raise ValueError(
+            f"log|{what}| = {text} is beyond the float64 range of the logarithm"
+        )
     if x > 700.0:
         raise ValueError(f"log|{what}| = {text} is too large (|E| would exceed 1e304)")
-    eps = math.exp(x)                            # 0.0 or subnormal below -745 / -708: see require_float64
+    eps = math.exp(x)  # 0.0 or subnormal below -745 / -708: see require_float64
     return _Distance(side, eps, x, fsep + side * eps, ("log_abs_dE", text))
 
 
@@ -161,7 +179,8 @@ class _SeparatrixDistance:
             raise ValueError(
                 f"|{self._NAME}| = exp({self.log_abs_dE:.6g}) is below the float64 range "
                 f"(|{self._NAME}| >= {FLOAT64_MIN_EPS:.2g}, log >= {math.log(FLOAT64_MIN_EPS):.1f}): "
-                "use the extended precision tiers (digits > 15)")
+                "use the extended precision tiers (digits > 15)"
+            )
 
     def mp_E_eps(self, dps: int):
         """``(E, eps)`` as mpmath numbers rounded to ``dps`` digits, from the decimal input.
@@ -211,8 +230,8 @@ class _SeparatrixDistance:
 def _pendulum_m(phase, E, eps):
     """``(m, m1)`` of the closed-form pendulum; float64 or mpmath (same formulas)."""
     if phase == "lib":
-        return E / 4, eps / 4                  # k^2 = E/4
-    return 4 / E, eps / E                      # kappa^2 = 4/E
+        return E / 4, eps / 4  # k^2 = E/4
+    return 4 / E, eps / E  # kappa^2 = 4/E
 
 
 @dataclass(frozen=True)
@@ -295,18 +314,24 @@ def pendulum_energy(E=None, log_abs_dE=None, phase=None) -> PendulumEnergy:
     d = _distance(Decimal(4), E=E, log_abs_dE=log_abs_dE, side=side)
     if E is not None:
         if d.E_exact < 0:
-            raise ValueError(f"E must be >= 0 (the minimum of V is 0), got {d.given[1]}")
+            raise ValueError(
+                f"E must be >= 0 (the minimum of V is 0), got {d.given[1]}"
+            )
         if d.side == 0:
-            raise ValueError("E = 4 is the separatrix (homoclinic orbit): the period diverges; "
-                             "give log|E-4| and a phase instead")
+            raise ValueError(
+                "E = 4 is the separatrix (homoclinic orbit): the period diverges; "
+                "give log|E-4| and a phase instead"
+            )
         ph = "lib" if d.side < 0 else "rot"
         if phase is not None and phase != ph:
             raise ValueError(f"E = {d.given[1]} is in the {ph} phase, not {phase!r}")
     else:
         ph = phase
         if ph == "lib" and d.log_abs_dE > math.log(SEPARATRIX_ENERGY):
-            raise ValueError(f"libration has E = 4 - exp(log|E-4|) >= 0, so log|E-4| <= log 4 = "
-                             f"{math.log(SEPARATRIX_ENERGY):.6f}; got {d.given[1]}")
+            raise ValueError(
+                f"libration has E = 4 - exp(log|E-4|) >= 0, so log|E-4| <= log 4 = "
+                f"{math.log(SEPARATRIX_ENERGY):.6f}; got {d.given[1]}"
+            )
     m, m1 = _pendulum_m(ph, d.E, d.eps)
     return PendulumEnergy(ph, d.eps, d.log_abs_dE, d.E, m, m1, d.given)
 
@@ -379,20 +404,32 @@ def breather_energy(E=None, family=None, log_abs_dE=None) -> BreatherEnergy:
         if d.E_exact < 0:
             raise ValueError(f"E must be >= 0, got {text}")
         if d.side == 0:
-            raise ValueError("E = 4.5 is the breather separatrix (heteroclinic orbit between the maxima T): "
-                             "the period diverges; give log|E-4.5| and a family instead")
+            raise ValueError(
+                "E = 4.5 is the breather separatrix (heteroclinic orbit between the maxima T): "
+                "the period diverges; give log|E-4.5| and a family instead"
+            )
         fam = family or ("R" if d.side > 0 else "LG")
         if fam == "R" and d.side < 0:
-            raise ValueError(f"the rotational breather R exists only for E > 4.5; got E = {text}")
+            raise ValueError(
+                f"the rotational breather R exists only for E > 4.5; got E = {text}"
+            )
         if fam in ("LG", "LD") and d.side > 0:
-            raise ValueError(f"the librational breather {fam} exists only for E < 4.5; got E = {text}")
+            raise ValueError(
+                f"the librational breather {fam} exists only for E < 4.5; got E = {text}"
+            )
         if fam == "LD" and d.E_exact < 4:
-            raise ValueError(f"the breather LD (libration about D) exists only for 4 <= E < 4.5; got E = {text}")
+            raise ValueError(
+                f"the breather LD (libration about D) exists only for 4 <= E < 4.5; got E = {text}"
+            )
     else:
         fam = family
         x = d.log_abs_dE
         if fam == "LG" and x > math.log(BREATHER_SEPARATRIX_ENERGY):
-            raise ValueError(f"LG has E = 4.5 - exp(log|E-4.5|) >= 0, so log|E-4.5| <= log 4.5; got {d.given[1]}")
+            raise ValueError(
+                f"LG has E = 4.5 - exp(log|E-4.5|) >= 0, so log|E-4.5| <= log 4.5; got {d.given[1]}"
+            )
         if fam == "LD" and x > math.log(0.5):
-            raise ValueError(f"LD has E = 4.5 - exp(log|E-4.5|) >= 4, so log|E-4.5| <= log 0.5; got {d.given[1]}")
+            raise ValueError(
+                f"LD has E = 4.5 - exp(log|E-4.5|) >= 4, so log|E-4.5| <= log 0.5; got {d.given[1]}"
+            )
     return BreatherEnergy(fam, d.E, d.eps, d.log_abs_dE, d.given)

@@ -26,8 +26,16 @@ import numpy as np
 
 from .precision import FLOAT64, Tier
 
-__all__ = ["Section", "SectionNotReached", "to_section", "crossings", "flow", "monodromy_matrix",
-           "sample", "extrema"]
+__all__ = [
+    "Section",
+    "SectionNotReached",
+    "to_section",
+    "crossings",
+    "flow",
+    "monodromy_matrix",
+    "sample",
+    "extrema",
+]
 
 
 @dataclass(frozen=True)
@@ -61,8 +69,12 @@ def _system(hy):
     a1, a2, p1, p2 = hy.make_vars("a1", "a2", "p1", "p2")
     s_m, s_p = hy.sin(a2 - a1), hy.sin(a1 + a2)
     two, half, three_halves = (hy.expression(v) for v in (2.0, 0.5, 1.5))
-    return [(a1, half * p1), (a2, three_halves * p2),
-            (p1, -(two * hy.sin(two * a1) - s_m + s_p)), (p2, -(s_m + s_p))]
+    return [
+        (a1, half * p1),
+        (a2, three_halves * p2),
+        (p1, -(two * hy.sin(two * a1) - s_m + s_p)),
+        (p2, -(s_m + s_p)),
+    ]
 
 
 def _rhs(x):
@@ -91,8 +103,14 @@ def _integrator(t: Tier, sections, variational: bool, terminal=True):
 
 def _event_expr(hy, section, k):
     """The event function of ``section`` with parameters ``par[2k]``, ``par[2k + 1]``."""
-    lin = sum((hy.expression(float(ci)) * v for ci, v in zip(section.c, hy.make_vars(
-        "a1", "a2", "p1", "p2")) if ci), hy.expression(0.0))
+    lin = sum(
+        (
+            hy.expression(float(ci)) * v
+            for ci, v in zip(section.c, hy.make_vars("a1", "a2", "p1", "p2"))
+            if ci
+        ),
+        hy.expression(0.0),
+    )
     if section.period is None:
         d = {1: hy.event_direction.positive, -1: hy.event_direction.negative}
         return lin - hy.par[2 * k], d.get(section.direction, hy.event_direction.any)
@@ -116,17 +134,31 @@ def _build(t: Tier, sections, variational, terminal):
         if terminal:
             events.append(hy.t_event(expr, direction=d, **ev_kw))
         else:
+
             def cb(ta, time, d_sgn, k=k):
                 ta.update_d_output(time)
                 found.append((k, time, ta.d_output[:4].copy()))
+
             events.append(hy.nt_event(expr, cb, direction=d, **ev_kw))
     ev = {"t_events" if terminal else "nt_events": events}
     n = 20 if variational else 4
-    ta = hy.taylor_adaptive(sys, t.hy_array([0.0] * (4 if variational else n)),
-                            pars=t.hy_array([0.0] * max([2 * k + (1 if s.period is None else 2)
-                                                         for k, s in enumerate(sections or ())]
-                                                        or [0])),
-                            compact_mode=variational or t.extended, **ev, **kw)
+    ta = hy.taylor_adaptive(
+        sys,
+        t.hy_array([0.0] * (4 if variational else n)),
+        pars=t.hy_array(
+            [0.0]
+            * max(
+                [
+                    2 * k + (1 if s.period is None else 2)
+                    for k, s in enumerate(sections or ())
+                ]
+                or [0]
+            )
+        ),
+        compact_mode=variational or t.extended,
+        **ev,
+        **kw,
+    )
     return ta, found
 
 
@@ -153,7 +185,7 @@ def _out(ta, t: Tier, variational):
     s = [t.from_hy(v) for v in ta.state]
     if not variational:
         return s
-    return s[:4], [s[4 + 4 * i: 8 + 4 * i] for i in range(4)]
+    return s[:4], [s[4 + 4 * i : 8 + 4 * i] for i in range(4)]
 
 
 class SectionNotReached(RuntimeError):
@@ -167,13 +199,21 @@ class SectionNotReached(RuntimeError):
     """
 
     def __init__(self, t_max, crossings):
-        super().__init__(f"section not reached before t = {float(t_max):g} "
-                         f"({crossings} crossings)")
+        super().__init__(
+            f"section not reached before t = {float(t_max):g} ({crossings} crossings)"
+        )
         self.t_max, self.crossings = t_max, crossings
 
 
-def to_section(x0, section: Section, t: Tier = FLOAT64, crossing=1, t_max=1e4,
-               variational=False, abort: Section | None = None):
+def to_section(
+    x0,
+    section: Section,
+    t: Tier = FLOAT64,
+    crossing=1,
+    t_max=1e4,
+    variational=False,
+    abort: Section | None = None,
+):
     """Integrate from ``x0`` at ``t = 0`` to the ``crossing``-th crossing of ``section``.
 
     Returns ``(t1, x1)`` or, with ``variational``, ``(t1, x1, Phi)`` where ``Phi`` is the
@@ -190,13 +230,17 @@ def to_section(x0, section: Section, t: Tier = FLOAT64, crossing=1, t_max=1e4,
     found, tmax = 0, t.to_hy(t_max)
     while True:
         res = ta.propagate_until(tmax)
-        code = int(res[0]) if res[0] not in (hy.taylor_outcome.time_limit,
-                                             hy.taylor_outcome.success) else -10 ** 6
+        code = (
+            int(res[0])
+            if res[0] not in (hy.taylor_outcome.time_limit, hy.taylor_outcome.success)
+            else -(10**6)
+        )
         if code < -1000 or code == -2:
             raise SectionNotReached(t_max, found)
-        if abs(float(ta.time)) < 1e-9 or not _right_way(section, [
-                t.from_hy(v) for v in ta.state[:4]], t):
-            continue                    # a start point on the section is not a crossing
+        if abs(float(ta.time)) < 1e-9 or not _right_way(
+            section, [t.from_hy(v) for v in ta.state[:4]], t
+        ):
+            continue  # a start point on the section is not a crossing
         found += 1
         if found == crossing:
             return (t.from_hy(ta.time), *_pack(_out(ta, t, variational), variational))
@@ -223,8 +267,11 @@ def crossings(x0, sections, t_max, t: Tier = FLOAT64):
     _set_levels(ta, t, sections)
     found.clear()
     ta.propagate_until(t.to_hy(t_max))
-    out = [(k, t.from_hy(tt), [t.from_hy(v) for v in x]) for k, tt, x in found
-           if abs(float(tt)) >= 1e-9]                  # a start point on a section: no crossing
+    out = [
+        (k, t.from_hy(tt), [t.from_hy(v) for v in x])
+        for k, tt, x in found
+        if abs(float(tt)) >= 1e-9
+    ]  # a start point on a section: no crossing
     found.clear()
     return [c for c in out if _right_way(sections[c[0]], c[2], t)]
 
@@ -275,4 +322,6 @@ def extrema(x0, period, t: Tier = FLOAT64):
     if a2s:
         return a1m, max(a2s)
     st, _ = sample(x0, period, 4001)
-    return a1m, float(np.max(np.abs(st[:, 1] - 2 * math.pi * np.round(st[:, 1] / (2 * math.pi)))))
+    return a1m, float(
+        np.max(np.abs(st[:, 1] - 2 * math.pi * np.round(st[:, 1] / (2 * math.pi))))
+    )

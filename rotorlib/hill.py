@@ -38,6 +38,7 @@ Precision (``tests/test_monodromy.py``, ``tests/test_extremes.py``,
   ``K ~ |log|E - sep||/2`` (``log|E - 4| = -10000``: ~1 s in real128).
 * mpmath's Taylor integrator as the slow independent reference.
 """
+
 from __future__ import annotations
 
 import contextlib
@@ -47,7 +48,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["HillProblem", "hill_problem", "solve_hill", "HillSolution", "heyoka_available", "precision_tier"]
+__all__ = [
+    "HillProblem",
+    "hill_problem",
+    "solve_hill",
+    "HillSolution",
+    "heyoka_available",
+    "precision_tier",
+]
 
 KINDS = ("pendulum-lib", "pendulum-rot", "breather-LG", "breather-LD", "breather-R")
 
@@ -70,13 +78,17 @@ def precision_tier(digits=None, backend=None) -> tuple:
         Backend (``heyoka``, ``scipy``, ``mpmath``) and precision label
         (``float64``, ``real128``, ``mp<bits>`` or ``mpmath<dps>``).
     """
-    if digits is not None and (not isinstance(digits, (int, np.integer)) or digits < 1 or digits > 1000):
+    if digits is not None and (
+        not isinstance(digits, (int, np.integer)) or digits < 1 or digits > 1000
+    ):
         raise ValueError(f"digits must be an integer from 1 to 1000, got {digits!r}")
     hy = heyoka_available()
     if backend not in (None, "heyoka", "scipy", "mpmath"):
         raise ValueError(f"backend must be heyoka, scipy or mpmath, got {backend!r}")
     if backend == "heyoka" and not hy:
-        raise ValueError("backend 'heyoka' requested but heyoka is not installed (Linux only)")
+        raise ValueError(
+            "backend 'heyoka' requested but heyoka is not installed (Linux only)"
+        )
     if digits is None or digits <= 15:
         if backend == "mpmath":
             return "mpmath", "mpmath20"
@@ -84,7 +96,9 @@ def precision_tier(digits=None, backend=None) -> tuple:
             backend = "heyoka" if hy else "scipy"
         return backend, "float64"
     if backend == "scipy":
-        raise ValueError(f"scipy integrates in float64 only; digits = {digits} needs heyoka or mpmath")
+        raise ValueError(
+            f"scipy integrates in float64 only; digits = {digits} needs heyoka or mpmath"
+        )
     if backend is None:
         backend = "heyoka" if hy else "mpmath"
     if backend == "mpmath":
@@ -154,12 +168,31 @@ def hill_problem(orbit, dps=None) -> HillProblem:
         with ctx:
             c3 = 2 * m / 3
         du_dt = math.sqrt(3.0) if phase == "lib" else math.sqrt(3.0 / float(m))
-        return HillProblem("pendulum-" + phase, m, m1, K, c3, 0.0, 2 if phase == "lib" else 1, du_dt, 2.0)
+        return HillProblem(
+            "pendulum-" + phase,
+            m,
+            m1,
+            K,
+            c3,
+            0.0,
+            2 if phase == "lib" else 1,
+            du_dt,
+            2.0,
+        )
     fam = orbit.energy.family
     with ctx:
         c3 = 3 / cf["nu"] ** 2
-    return HillProblem("breather-" + fam, m, m1, K, c3, cf["shape"], 1 if fam == "R" else 2, float(cf["nu"]),
-                       1.0 / 6.0)
+    return HillProblem(
+        "breather-" + fam,
+        m,
+        m1,
+        K,
+        c3,
+        cf["shape"],
+        1 if fam == "R" else 2,
+        float(cf["nu"]),
+        1.0 / 6.0,
+    )
 
 
 def _coefficient(kind, sp, cp, m, c3, shape, sign):
@@ -177,7 +210,7 @@ def _coefficient(kind, sp, cp, m, c3, shape, sign):
     if kind == "breather-LD":
         v2 = shape * cp * cp
         return c3 * (v2 - 1.0) / (v2 + 1.0)
-    ct = sign * sp                                   # cos(theta)
+    ct = sign * sp  # cos(theta)
     return c3 * ((1.0 + ct) - shape * (1.0 - ct)) / ((1.0 + ct) + shape * (1.0 - ct))
 
 
@@ -214,7 +247,13 @@ class HillSolution:
 def _segment_scipy(prob, sign, rtol=None):
     from scipy.integrate import solve_ivp
 
-    m, m1, c3, shape, kind = float(prob.m), float(prob.m1), float(prob.c3), float(prob.shape), prob.kind
+    m, m1, c3, shape, kind = (
+        float(prob.m),
+        float(prob.m1),
+        float(prob.c3),
+        float(prob.shape),
+        prob.kind,
+    )
 
     def rhs(u, x):
         sp, cp = math.sin(x[0]), math.cos(x[0])
@@ -224,9 +263,21 @@ def _segment_scipy(prob, sign, rtol=None):
     # rtol=None is the verified default 1e-13; a looser rtol (work-precision
     # studies) scales the absolute tolerances by the same factor.
     scale = 1.0 if rtol is None else rtol / 1e-13
-    atol = [scale * max(1e-300, 1e-17 * math.sqrt(m1)), scale * 1e-16, scale * 1e-16, scale * 1e-16, scale * 1e-16]
-    sol = solve_ivp(rhs, (0.0, float(prob.K)), [math.pi / 2, 1.0, 0.0, 0.0, 1.0], method="DOP853",
-                    rtol=1e-13 if rtol is None else rtol, atol=atol)
+    atol = [
+        scale * max(1e-300, 1e-17 * math.sqrt(m1)),
+        scale * 1e-16,
+        scale * 1e-16,
+        scale * 1e-16,
+        scale * 1e-16,
+    ]
+    sol = solve_ivp(
+        rhs,
+        (0.0, float(prob.K)),
+        [math.pi / 2, 1.0, 0.0, 0.0, 1.0],
+        method="DOP853",
+        rtol=1e-13 if rtol is None else rtol,
+        atol=atol,
+    )
     if not sol.success:
         raise RuntimeError(f"transverse integration failed: {sol.message}")
     x = sol.y[:, -1]
@@ -254,26 +305,53 @@ def _build_heyoka_integrator(kind, precision, tol=None):
     m, m1, c3, shape, sign = (hy.par[i] for i in range(5))
     sp, cp = hy.sin(psi), hy.cos(psi)
     q = _coefficient(kind, sp, cp, m, c3, shape, sign)
-    sys = [(psi, -hy.sqrt(m1 + m * sp * sp)), (y1, z1), (z1, -q * y1), (y2, z2), (z2, -q * y2)]
+    sys = [
+        (psi, -hy.sqrt(m1 + m * sp * sp)),
+        (y1, z1),
+        (z1, -q * y1),
+        (y2, z2),
+        (z2, -q * y2),
+    ]
     npar = _NPARS[kind]
     # tol=None: heyoka's default, the machine epsilon of the precision (verified tiers).
     if precision == "float64":
         kw = {} if tol is None else {"tol": float(tol)}
-        return hy.taylor_adaptive(sys, [0.0] * 5, pars=[0.0] * npar, compact_mode=False, **kw)
+        return hy.taylor_adaptive(
+            sys, [0.0] * 5, pars=[0.0] * npar, compact_mode=False, **kw
+        )
     if precision == "real128":
         kw = {} if tol is None else {"tol": hy.real128(repr(float(tol)))}
         z = np.zeros(5, dtype=hy.real128)
-        return hy.taylor_adaptive(sys, z, pars=np.zeros(npar, dtype=hy.real128), fp_type=hy.real128,
-                                  compact_mode=True, **kw)
+        return hy.taylor_adaptive(
+            sys,
+            z,
+            pars=np.zeros(npar, dtype=hy.real128),
+            fp_type=hy.real128,
+            compact_mode=True,
+            **kw,
+        )
     bits = int(precision[2:])
     kw = {} if tol is None else {"tol": hy.real(repr(float(tol)), bits)}
     z = np.array([hy.real(0, bits)] * 5)
-    return hy.taylor_adaptive(sys, z, pars=np.array([hy.real(0, bits)] * npar), fp_type=hy.real, prec=bits,
-                              compact_mode=True, **kw)
+    return hy.taylor_adaptive(
+        sys,
+        z,
+        pars=np.array([hy.real(0, bits)] * npar),
+        fp_type=hy.real,
+        prec=bits,
+        compact_mode=True,
+        **kw,
+    )
 
 
 #: heyoka parameters used by each kind: (m, m1[, c3, shape[, sign]]).
-_NPARS = {"pendulum-lib": 3, "pendulum-rot": 3, "breather-LG": 4, "breather-LD": 4, "breather-R": 5}
+_NPARS = {
+    "pendulum-lib": 3,
+    "pendulum-rot": 3,
+    "breather-LG": 4,
+    "breather-LD": 4,
+    "breather-R": 5,
+}
 
 
 def _segment_heyoka(prob, sign, precision, tol=None):
@@ -284,6 +362,7 @@ def _segment_heyoka(prob, sign, precision, tol=None):
     if precision == "float64":
         conv = float
     elif precision == "real128":
+
         def conv(v):
             return hy.real128(mp.nstr(mp.mpf(v), 40))
     else:
@@ -291,8 +370,15 @@ def _segment_heyoka(prob, sign, precision, tol=None):
 
         def conv(v):
             return hy.real(mp.nstr(mp.mpf(v), int(bits / 3.3) + 5), bits)
+
     with mp.workdps(120):
-        pars = [conv(prob.m), conv(prob.m1), conv(prob.c3), conv(prob.shape), conv(sign)][:_NPARS[prob.kind]]
+        pars = [
+            conv(prob.m),
+            conv(prob.m1),
+            conv(prob.c3),
+            conv(prob.shape),
+            conv(sign),
+        ][: _NPARS[prob.kind]]
         x0 = [conv(mp.pi / 2), conv(1), conv(0), conv(0), conv(1)]
         K = conv(prob.K)
     ta.time = conv(0)
@@ -302,8 +388,14 @@ def _segment_heyoka(prob, sign, precision, tol=None):
     if res[0] != hy.taylor_outcome.time_limit:
         raise RuntimeError(f"transverse integration stopped early: {res[0]}")
     x = ta.state.copy()
-    return np.array([[x[1], x[3]], [x[2], x[4]]], dtype=object if precision != "float64" else float), \
-        abs(float(x[0])), int(res[3])
+    return (
+        np.array(
+            [[x[1], x[3]], [x[2], x[4]]],
+            dtype=object if precision != "float64" else float,
+        ),
+        abs(float(x[0])),
+        int(res[3]),
+    )
 
 
 def _segment_mpmath(prob, sign, dps):
@@ -357,14 +449,20 @@ def _compose_mp(P1, P2, dps):
     import mpmath as mp
 
     def conv(P):
-        return None if P is None else [[mp.mpf(str(P[i][j])) for j in range(2)] for i in range(2)]
+        return (
+            None
+            if P is None
+            else [[mp.mpf(str(P[i][j])) for j in range(2)] for i in range(2)]
+        )
 
     with mp.workdps(dps):
         C = _coefficient_map(_half_map(conv(P1), conv(P2)))
         return C, 2 * C[0][0]
 
 
-def solve_hill(prob: HillProblem, backend: str, precision: str, tol=None) -> HillSolution:
+def solve_hill(
+    prob: HillProblem, backend: str, precision: str, tol=None
+) -> HillSolution:
     """Integrate the reduced transverse problem and return the coefficient-period map.
 
     ``tol`` (optional) loosens or tightens the integrator: scipy's ``rtol``
@@ -386,9 +484,11 @@ def solve_hill(prob: HillProblem, backend: str, precision: str, tol=None) -> Hil
 
     two = prob.kind == "breather-R"
     if backend == "scipy":
+
         def seg(sign):
             return _segment_scipy(prob, sign, tol)
     elif backend == "heyoka":
+
         def seg(sign):
             return _segment_heyoka(prob, sign, precision, tol)
     else:
@@ -397,10 +497,16 @@ def solve_hill(prob: HillProblem, backend: str, precision: str, tol=None) -> Hil
         def seg(sign):
             P, r, n = _segment_mpmath(prob, sign, dps)
             return [[P[0, 0], P[0, 1]], [P[1, 0], P[1, 1]]], r, n
+
     P1, r1, n1 = seg(1.0)
     P2, r2, n2 = seg(-1.0) if two else (None, 0.0, 0)
     if precision == "float64":
-        fl = lambda P: None if P is None else [[float(P[i][j]) for j in range(2)] for i in range(2)]  # noqa: E731
+
+        def fl(P):
+            if P is None:
+                return None
+            return [[float(P[i][j]) for j in range(2)] for i in range(2)]
+
         C = _coefficient_map(_half_map(fl(P1), fl(P2)))
         dexact = 2.0 * C[0][0]
         dstr = repr(dexact)
@@ -415,7 +521,9 @@ def solve_hill(prob: HillProblem, backend: str, precision: str, tol=None) -> Hil
         C, dexact = _compose_mp(P1, P2, dps + 5)
         dstr = mp.nstr(dexact, dps - 2 if backend == "heyoka" else dps - 5)
     Cf = np.array([[float(C[i][j]) for j in range(2)] for i in range(2)])
-    return HillSolution(Cf, float(dexact), dstr, max(r1, r2), backend, precision, n1 + n2, dexact)
+    return HillSolution(
+        Cf, float(dexact), dstr, max(r1, r2), backend, precision, n1 + n2, dexact
+    )
 
 
 #: Smallest m1 the real128 tier accepts (real128 normals reach 3.4e-4932; psi decays to ~sqrt(m1)).
@@ -426,5 +534,7 @@ def _check_real128_range(prob):
     import mpmath as mp
 
     if mp.mpf(prob.m1) < mp.mpf(REAL128_MIN_M1):
-        raise ValueError(f"m1 = {mp.nstr(mp.mpf(prob.m1), 3)} is below the real128 range (m1 >= {REAL128_MIN_M1}, "
-                         "|E - sep| > ~1e-4800, log > -11050): use digits > 31 (multiprecision)")
+        raise ValueError(
+            f"m1 = {mp.nstr(mp.mpf(prob.m1), 3)} is below the real128 range (m1 >= {REAL128_MIN_M1}, "
+            "|E - sep| > ~1e-4800, log > -11050): use digits > 31 (multiprecision)"
+        )

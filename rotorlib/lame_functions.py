@@ -21,6 +21,7 @@ These are direct integrations (scipy DOP853, rtol 1e-12, Jacobi sn from
 :func:`rotorlib.monodromy.monodromy`. Accuracy ~1e-10 away from ``E = 4`` (this is the
 textbook route; do not use it near the separatrix).
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -31,8 +32,14 @@ from scipy.integrate import solve_ivp
 from .elliptic import ellipk_m1, jacobi_sncndn
 from .energy import pendulum_energy
 
-__all__ = ["LameSolutions", "lame_parameters", "lame_solutions", "trace_from_lame", "mathieu_solutions",
-           "N_N1"]
+__all__ = [
+    "LameSolutions",
+    "lame_parameters",
+    "lame_solutions",
+    "trace_from_lame",
+    "mathieu_solutions",
+    "N_N1",
+]
 
 #: n(n+1) of the pendulum's Lamé equation.
 N_N1 = 2.0 / 3.0
@@ -77,8 +84,14 @@ class LameSolutions:
 
 
 def _integrate(coef, w, y0):
-    sol = solve_ivp(lambda z, y: [y[1], -coef(z) * y[0], y[3], -coef(z) * y[2]], (0.0, w), y0,
-                    method="DOP853", rtol=1e-12, atol=1e-14)
+    sol = solve_ivp(
+        lambda z, y: [y[1], -coef(z) * y[0], y[3], -coef(z) * y[2]],
+        (0.0, w),
+        y0,
+        method="DOP853",
+        rtol=1e-12,
+        atol=1e-14,
+    )
     return sol.y[:, -1]
 
 
@@ -96,10 +109,14 @@ def lame_solutions(h, k2, w, m1=None, c_norm=2.0, s_norm=3.0) -> LameSolutions:
 
 def mathieu_solutions(a, q, w, c_norm=2.0, s_norm=3.0) -> LameSolutions:
     """The Mathieu cosine/sine solutions of ``y'' + (a - 2 q cos 2z) y = 0`` to ``w``."""
-    y = _integrate(lambda z: a - 2.0 * q * np.cos(2.0 * z), w, [c_norm, 0.0, 0.0, s_norm])
+    y = _integrate(
+        lambda z: a - 2.0 * q * np.cos(2.0 * z), w, [c_norm, 0.0, 0.0, s_norm]
+    )
     return LameSolutions(c_norm, 0.0, 0.0, s_norm, y[0], y[1], y[2], y[3], w)
 
 
 def trace_from_lame(L: LameSolutions) -> float:
     """The paper's Appendix-B formula for ``tr M_perp``."""
-    return (L.Ls0 * L.dLcw - L.dLs0 * L.Lcw - L.dLsw * L.Lc0 + L.Lsw * L.dLc0) / L.wronskian
+    return (
+        L.Ls0 * L.dLcw - L.dLs0 * L.Lcw - L.dLsw * L.Lc0 + L.Lsw * L.dLc0
+    ) / L.wronskian

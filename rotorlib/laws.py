@@ -46,6 +46,7 @@ amplitudes on the symmetric quarter period; :func:`rotational_ratios` forms the
 paper's ratios. Every rotational family followed (IS^r_1..4, PD^r_2..6) ends at
 ``E -> 4.5``, the maximum of the potential, with a diverging period.
 """
+
 from __future__ import annotations
 
 import math
@@ -53,11 +54,35 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-__all__ = ["SQRT3_PI", "DELTA_L", "SQRT_DELTA_L", "SlopeLaw", "fork_fit", "pendulum_slope",
-           "pendulum_dtrace_dx", "newborn_slope", "slope_law", "expected_ratio", "fan_prediction",
-           "fan_traces", "amplitudes", "ratios", "asymptotic_a1", "asymptotic_a2_deficit",
-           "DualPair", "dual_label", "duality_pairs", "fit_rate", "dual_lame", "RotationalMember",
-           "NotReached", "rotational_member", "RotationalRatio", "rotational_ratios", "dE_str"]
+__all__ = [
+    "SQRT3_PI",
+    "DELTA_L",
+    "SQRT_DELTA_L",
+    "SlopeLaw",
+    "fork_fit",
+    "pendulum_slope",
+    "pendulum_dtrace_dx",
+    "newborn_slope",
+    "slope_law",
+    "expected_ratio",
+    "fan_prediction",
+    "fan_traces",
+    "amplitudes",
+    "ratios",
+    "asymptotic_a1",
+    "asymptotic_a2_deficit",
+    "DualPair",
+    "dual_label",
+    "duality_pairs",
+    "fit_rate",
+    "dual_lame",
+    "RotationalMember",
+    "NotReached",
+    "rotational_member",
+    "RotationalRatio",
+    "rotational_ratios",
+    "dE_str",
+]
 
 #: ``sqrt(3) pi``; ``delta^l = e^{sqrt3 pi}`` (230.76), ``sqrt(delta^l) = e^{sqrt3 pi / 2}`` (15.19).
 SQRT3_PI = math.sqrt(3.0) * math.pi
@@ -66,6 +91,7 @@ SQRT_DELTA_L = math.exp(SQRT3_PI / 2)
 
 
 # --------------------------------------------------------------------------- slope theorems (§7.3)
+
 
 @dataclass(frozen=True)
 class SlopeLaw:
@@ -126,14 +152,19 @@ def fork_fit(E, trace, u, E_birth, trace_birth=4.0, degree=2):
     if len(s) < degree + 1:
         raise ValueError(f"fork_fit needs at least {degree + 1} members, got {len(s)}")
     if np.any(s <= 0):
-        raise ValueError("amplitudes must be nonzero (the members must lie on the new family)")
-    A = np.column_stack([s ** k for k in range(1, degree + 1)])
+        raise ValueError(
+            "amplitudes must be nonzero (the members must lie on the new family)"
+        )
+    A = np.column_stack([s**k for k in range(1, degree + 1)])
     sc = s.max()
     cE, *_ = np.linalg.lstsq(A / sc ** np.arange(1, degree + 1), E, rcond=None)
     cT, *_ = np.linalg.lstsq(A / sc ** np.arange(1, degree + 1), y, rcond=None)
     cE = cE / sc ** np.arange(1, degree + 1)
     cT = cT / sc ** np.arange(1, degree + 1)
-    res = max(np.max(np.abs(A @ cE - E)) / np.ptp(E), np.max(np.abs(A @ cT - y)) / max(np.ptp(y), 1e-300))
+    res = max(
+        np.max(np.abs(A @ cE - E)) / np.ptp(E),
+        np.max(np.abs(A @ cT - y)) / max(np.ptp(y), 1e-300),
+    )
     return float(cT[0] / cE[0]), float(cE[0]), float(cT[0]), float(res)
 
 
@@ -143,7 +174,9 @@ def expected_ratio(label) -> float:
 
     kind, phase, _ = parse_label(label)
     if kind == "PD" and phase == "lib":
-        raise ValueError("PD^l: tr M of pendulum and new family both have a double zero (no slope law)")
+        raise ValueError(
+            "PD^l: tr M of pendulum and new family both have a double zero (no slope law)"
+        )
     return -2.0 if kind == "IS" else 8.0
 
 
@@ -173,11 +206,32 @@ def slope_law(label, E, trace, u) -> SlopeLaw:
     """:class:`SlopeLaw` from given members ``(E, trace, u)`` of the family born at ``label``."""
     from .bifurcations import transition
 
+    return _law(label, transition(label).E, E, trace, u, E)
+
+
+def _law(label, x0, x, trace, u, E) -> SlopeLaw:
+    """The fork fit of ``(x, trace, u)`` about ``x0``, with members at energies ``E``."""
+    from .bifurcations import transition
+
     t = transition(label)
-    s_new, c, d, res = fork_fit(E, trace, u, t.E)
+    s_new, c, d, res = fork_fit(x, trace, u, x0)
     s_p = pendulum_slope(label)
-    return SlopeLaw(t.label, t.E, s_p, float(t.dtrace_dE), s_new, s_new / s_p, expected_ratio(label), c, d, res,
-                    tuple(float(v) for v in E), tuple(float(v) for v in trace), tuple(float(v) for v in u))
+    as_tuple = lambda v: tuple(float(w) for w in v)  # noqa: E731
+    return SlopeLaw(
+        t.label,
+        t.E,
+        s_p,
+        float(t.dtrace_dE),
+        s_new,
+        s_new / s_p,
+        expected_ratio(label),
+        c,
+        d,
+        res,
+        as_tuple(E),
+        as_tuple(trace),
+        as_tuple(u),
+    )
 
 
 def newborn_slope(label, rel=(2e-4, 5e-4, 1e-3, 2e-3, 4e-3), digits=None) -> SlopeLaw:
@@ -198,17 +252,18 @@ def newborn_slope(label, rel=(2e-4, 5e-4, 1e-3, 2e-3, 4e-3), digits=None) -> Slo
         eps = mp.e ** mp.mpf(t.log_abs_dE_str)
         Es = [mp.nstr(4 + sign * eps + mp.mpf(r) * eps, 36) for r in rel]
         dE = [float(mp.mpf(r) * eps) for r in rel]
-    orbs = [newborn_orbit(label, E if digits is None or digits > 15 else float(E), digits=digits)
-            for E in Es]
+    orbs = [
+        newborn_orbit(
+            label, E if digits is None or digits > 15 else float(E), digits=digits
+        )
+        for E in Es
+    ]
     amp = [abs(float(o.extra.get("u", o.alpha1_max))) for o in orbs]
-    tr = [o.trace for o in orbs]
-    s_new, c, d, res = fork_fit(dE, tr, amp, 0.0)
-    s_p = pendulum_slope(label)
-    return SlopeLaw(t.label, t.E, s_p, float(t.dtrace_dE), s_new, s_new / s_p, expected_ratio(label), c, d, res,
-                    tuple(float(o.E) for o in orbs), tuple(tr), tuple(amp))
+    return _law(label, 0.0, dE, [o.trace for o in orbs], amp, [o.E for o in orbs])
 
 
 # --------------------------------------------------------------------------- fans (§7.4)
+
 
 def fan_prediction(label) -> float:
     """Backward linear extrapolation of a rotational family to E = 4 using the slope theorem.
@@ -228,6 +283,7 @@ def fan_traces(labels, E=4.0) -> dict:
 
 # --------------------------------------------------------------------------- scaling of shapes (§7.5)
 
+
 def amplitudes(orbit) -> tuple:
     """``(a1max, pi - a2max)`` of a librational newborn orbit, its turning points located in
     real128 from its 32-digit state (``pi - a2max`` formed in mpmath: no cancellation).
@@ -238,8 +294,12 @@ def amplitudes(orbit) -> tuple:
     st = orbit.extra.get("state0_str")
     if st is None:
         return float(orbit.alpha1_max), float(math.pi - orbit.alpha2_max)
-    hits = flow.crossings(st, (flow.Section((0, 0, 1, 0)), flow.Section((0, 0, 0, 1))),
-                          orbit.extra.get("period_str", orbit.period), REAL128)
+    hits = flow.crossings(
+        st,
+        (flow.Section((0, 0, 1, 0)), flow.Section((0, 0, 0, 1))),
+        orbit.extra.get("period_str", orbit.period),
+        REAL128,
+    )
     with REAL128.context():
         a1 = max(abs(x[0]) for k, _, x in hits if k == 0)
         a2 = max(abs(x[1]) for k, _, x in hits if k == 1)
@@ -274,6 +334,7 @@ def asymptotic_a2_deficit(label) -> float:
 
 
 # --------------------------------------------------------------------------- duality (§7.6)
+
 
 @dataclass(frozen=True)
 class DualPair:
@@ -319,15 +380,26 @@ def duality_pairs(n_max=20, digits=None) -> list:
         rot = {t.label: t for t in transitions("rot", n_max // 2 + 3)}
         get_l, get_r = lib.__getitem__, rot.__getitem__
     else:
-        get_l = get_r = (lambda lab: transition(lab, digits=digits))
+        get_l = get_r = lambda lab: transition(lab, digits=digits)
     out = []
     with mp.workdps(40):
         for n in range(1, n_max + 1):
             tl, tr = get_l(f"IS^l_{n}"), get_r(dual_label(n))
             xl, xr = mp.mpf(tl.log_abs_dE_str), mp.mpf(tr.log_abs_dE_str)
-            k2m2 = (mp.e ** xr - mp.e ** xl) / 4      # E_r/4 + E_l/4 - 2 with E_l = 4 - e^xl, E_r = 4 + e^xr
-            out.append(DualPair(tl.label, tr.label, float(xl), float(xr), float(xl - xr), float(2 + k2m2),
-                                float(k2m2)))
+            k2m2 = (
+                mp.e**xr - mp.e**xl
+            ) / 4  # E_r/4 + E_l/4 - 2 with E_l = 4 - e^xl, E_r = 4 + e^xr
+            out.append(
+                DualPair(
+                    tl.label,
+                    tr.label,
+                    float(xl),
+                    float(xr),
+                    float(xl - xr),
+                    float(2 + k2m2),
+                    float(k2m2),
+                )
+            )
     return out
 
 
@@ -360,12 +432,22 @@ def dual_lame(lib_label="IS^l_1", rot_label="IS^r_1", n=2001):
     t1, y1, _ = linear_orbit(lib_label, [1.0, 0.0, 0.0, 0.0], tl.period, n)
     t2, y2, _ = linear_orbit(rot_label, [1.0, 0.0, 0.0, 0.0], 2 * tr.period, n)
     w = np.linspace(0.0, 1.0, n)
-    return {"w": w, "lib": y1, "rot": y2, "closure_lib": abs(y1[-1] - 1.0), "closure_rot": abs(y2[-1] - 1.0),
-            "k2_lib": tl.E / 4.0, "k2_rot": tr.E / 4.0, "max_diff": float(np.max(np.abs(y1 - y2))),
-            "zmax_lib": math.sqrt(3.0) * tl.period, "zmax_rot": math.sqrt(3.0 * tr.E / 4.0) * 2 * tr.period}
+    return {
+        "w": w,
+        "lib": y1,
+        "rot": y2,
+        "closure_lib": abs(y1[-1] - 1.0),
+        "closure_rot": abs(y2[-1] - 1.0),
+        "k2_lib": tl.E / 4.0,
+        "k2_rot": tr.E / 4.0,
+        "max_diff": float(np.max(np.abs(y1 - y2))),
+        "zmax_lib": math.sqrt(3.0) * tl.period,
+        "zmax_rot": math.sqrt(3.0 * tr.E / 4.0) * 2 * tr.period,
+    }
 
 
 # --------------------------------------------------------------------------- rotational scaling (§7.5)
+
 
 @dataclass(frozen=True)
 class RotationalMember:
@@ -426,9 +508,16 @@ class NotReached(ValueError):
     """
 
     def __init__(self, label, dE, dE_max, stop):
-        self.label, self.dE, self.dE_max, self.stop = label, float(dE), float(dE_max), stop
-        super().__init__(f"{label} does not reach E - 4 = {self.dE:.6g} along its amplitude "
-                         f"branch: highest E - 4 = {self.dE_max:.6g} ({stop})")
+        self.label, self.dE, self.dE_max, self.stop = (
+            label,
+            float(dE),
+            float(dE_max),
+            stop,
+        )
+        super().__init__(
+            f"{label} does not reach E - 4 = {self.dE:.6g} along its amplitude "
+            f"branch: highest E - 4 = {self.dE_max:.6g} ({stop})"
+        )
 
 
 def _member_props(prob, m, t, tp=None):
@@ -442,11 +531,22 @@ def _member_props(prob, m, t, tp=None):
         a1m = max([abs(x0[0]), abs(m.x1[0])] + [abs(x[0]) for _, _, x in hits])
         o = orbit_from_state(prob.label, x0, prob.factor * m.t1, t, prob.lattice, m.E)
         dE = m.E - 4
-        return RotationalMember(prob.label, t.name, float(dE), t.text(dE, 30) if t.extended
-                                else repr(float(dE)), float(m.u), float(m.w),
-                                float(prob.factor * m.t1), np.array([float(v) for v in x0]),
-                                float(a1m), float(1.5 * m.x1[3]), o.trace, o.residual,
-                                float(abs(m.r)), tp or t.name)
+        return RotationalMember(
+            prob.label,
+            t.name,
+            float(dE),
+            t.text(dE, 30) if t.extended else repr(float(dE)),
+            float(m.u),
+            float(m.w),
+            float(prob.factor * m.t1),
+            np.array([float(v) for v in x0]),
+            float(a1m),
+            float(1.5 * m.x1[3]),
+            o.trace,
+            o.residual,
+            float(abs(m.r)),
+            tp or t.name,
+        )
 
 
 def rotational_member(label, dE, digits=None) -> RotationalMember:
@@ -471,8 +571,15 @@ def rotational_member(label, dE, digits=None) -> RotationalMember:
     if not target > 0:
         raise ValueError(f"dE must be > 0, got {dE!r}")
     deep = spec.depth < 3e-8
-    b = follow(label, chart="K", E_max=4 + target * 1.01, energies=(_four_plus(dE, deep),),
-               digits=digits, jump=0.05 if deep else None, ds_max=0.5)
+    b = follow(
+        label,
+        chart="K",
+        E_max=4 + target * 1.01,
+        energies=(_four_plus(dE, deep),),
+        digits=digits,
+        jump=0.05 if deep else None,
+        ds_max=0.5,
+    )
     pts = b.points("E")
     if not pts:
         raise NotReached(spec.label, target, b.E_max - 4, b.stop)
@@ -489,8 +596,14 @@ def rotational_member(label, dE, digits=None) -> RotationalMember:
         t = REAL128
         with t.context():
             E = 4 + t.num(dE)
-            u = solve(b.problem, t.num(m.u), t.num(m.u) * (1 + t.num("1e-12")), E=E, t=t,
-                      r_max=1e-18).x
+            u = solve(
+                b.problem,
+                t.num(m.u),
+                t.num(m.u) * (1 + t.num("1e-12")),
+                E=E,
+                t=t,
+                r_max=1e-18,
+            ).x
             m = member(b.problem, u, b.problem.w_at(u, E, t), t)
     return _member_props(b.problem, m, t)
 
@@ -557,16 +670,30 @@ def rotational_ratios(specs, executor=None, progress=False) -> list:
     specs = [(str(k), int(n)) for k, n in specs]
     for k, n in specs:
         if k not in ("IS", "PD") or n < 3:
-            raise ValueError(f"need kind 'IS' or 'PD' and n >= 3 (E_(n-2) must exist), "
-                             f"got {(k, n)!r}")
+            raise ValueError(
+                f"need kind 'IS' or 'PD' and n >= 3 (E_(n-2) must exist), "
+                f"got {(k, n)!r}"
+            )
     tasks = []
     for k, n in specs:
-        for task in ((f"{k}^r_{n}", dE_str(f"{k}^r_{n - 2}")),
-                     (f"{k}^r_{n + 2}", dE_str(f"{k}^r_{n}"))):
+        for task in (
+            (f"{k}^r_{n}", dE_str(f"{k}^r_{n - 2}")),
+            (f"{k}^r_{n + 2}", dE_str(f"{k}^r_{n}")),
+        ):
             if task not in tasks:
                 tasks.append(task)
-    res = dict(zip(tasks, pmap(_member_task, tasks, executor=executor, progress=progress,
-                               desc="rotational members")))
+    res = dict(
+        zip(
+            tasks,
+            pmap(
+                _member_task,
+                tasks,
+                executor=executor,
+                progress=progress,
+                desc="rotational members",
+            ),
+        )
+    )
     out = []
     with mp.workdps(40):
         for k, n in specs:
@@ -576,10 +703,30 @@ def rotational_ratios(specs, executor=None, progress=False) -> list:
             den = res[(f"{k}^r_{n + 2}", dE_str(f"{k}^r_{n}"))]
             bad = [m for m in (num, den) if isinstance(m, str)]
             if bad:
-                out.append(RotationalRatio(k, n, None if isinstance(num, str) else num,
-                                           None if isinstance(den, str) else den, math.nan,
-                                           math.nan, ap, bp, "; ".join(bad)))
+                out.append(
+                    RotationalRatio(
+                        k,
+                        n,
+                        None if isinstance(num, str) else num,
+                        None if isinstance(den, str) else den,
+                        math.nan,
+                        math.nan,
+                        ap,
+                        bp,
+                        "; ".join(bad),
+                    )
+                )
             else:
-                out.append(RotationalRatio(k, n, num, den, num.a1_max / den.a1_max,
-                                           num.a2dot_min / den.a2dot_min, ap, bp))
+                out.append(
+                    RotationalRatio(
+                        k,
+                        n,
+                        num,
+                        den,
+                        num.a1_max / den.a1_max,
+                        num.a2dot_min / den.a2dot_min,
+                        ap,
+                        bp,
+                    )
+                )
     return out

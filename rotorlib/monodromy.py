@@ -19,6 +19,7 @@ breather blocks ``(b1, q1 | b2, q2)`` = (longitudinal | transverse), as in the
 paper. :meth:`Monodromy.in_alpha_state_order` gives the matrix in the state
 order ``[a1, a2, p1, p2]`` used everywhere else.
 """
+
 from __future__ import annotations
 
 import math
@@ -29,10 +30,17 @@ import numpy as np
 
 from .hill import hill_problem, precision_tier, solve_hill
 from .orbits import BreatherOrbit, PendulumOrbit, breather, pendulum
-from .system import _A, _Ainv, _B, _Binv, jacobian_alpha, rhs_alpha
+from .system import _A, _B, _Ainv, _Binv, jacobian_alpha, rhs_alpha
 
-__all__ = ["Monodromy", "monodromy", "trace_monodromy", "variational_monodromy", "VariationalResult", "textbook_monodromy",
-           "multipliers_from_trace"]
+__all__ = [
+    "Monodromy",
+    "monodromy",
+    "trace_monodromy",
+    "variational_monodromy",
+    "VariationalResult",
+    "textbook_monodromy",
+    "multipliers_from_trace",
+]
 
 
 def multipliers_from_trace(t: float):
@@ -120,7 +128,9 @@ class Monodromy:
         """M in the state order ``[a1, a2, p1, p2]`` (pendulum variables)."""
         if self.family == "pendulum":
             P = np.zeros((4, 4))
-            for new, old in enumerate((0, 2, 1, 3)):   # a1, a2, p1, p2 <- (a1, p1, a2, p2)
+            for new, old in enumerate(
+                (0, 2, 1, 3)
+            ):  # a1, a2, p1, p2 <- (a1, p1, a2, p2)
                 P[new, old] = 1.0
             return P @ self.matrix @ P.T
         # breather basis (b1, q1, b2, q2) -> state order (b1, b2, q1, q2) -> alpha
@@ -147,8 +157,17 @@ def _as_orbit(orbit=None, E=None, log_abs_dE=None, phase=None, family="pendulum"
     return breather(E=E, family=fam, log_abs_dE=log_abs_dE)
 
 
-def monodromy(orbit=None, *, E=None, log_abs_dE=None, phase=None, family="pendulum", digits=None,
-              backend=None, tol=None) -> Monodromy:
+def monodromy(
+    orbit=None,
+    *,
+    E=None,
+    log_abs_dE=None,
+    phase=None,
+    family="pendulum",
+    digits=None,
+    backend=None,
+    tol=None,
+) -> Monodromy:
     """Monodromy matrix of a pendulum or breather.
 
     Parameters
@@ -189,9 +208,11 @@ def monodromy(orbit=None, *, E=None, log_abs_dE=None, phase=None, family="pendul
     sol = solve_hill(prob, be, prec, tol=tol)
     C = sol.coefficient_map
     d = np.array([1.0, prob.momentum_scale * prob.du_dt])
-    with np.errstate(over="ignore", invalid="ignore"):      # inf/nan entries when tr M overflows float64
+    with np.errstate(
+        over="ignore", invalid="ignore"
+    ):  # inf/nan entries when tr M overflows float64
         Phi = C @ C if prob.repeats == 2 else C
-        Mperp = (Phi * d[:, None]) * (1.0 / d)[None, :]      # D Phi D^-1
+        Mperp = (Phi * d[:, None]) * (1.0 / d)[None, :]  # D Phi D^-1
     delta = sol.delta
     tr_perp = delta * delta - 2.0 if prob.repeats == 2 else delta
     shown = max(5, digits or 20)
@@ -228,10 +249,30 @@ def monodromy(orbit=None, *, E=None, log_abs_dE=None, phase=None, family="pendul
         M[:2, :2], M[2:, 2:] = Mpar, Mperp
     tr = tr_perp + 2.0
     # stability from the value with every computed digit (the float64 view of 4 - 1e-18 is 4.0)
-    stability, note = _stability(tr_exact, 1e-12 if prec == "float64" else 10.0 ** (2 - (digits or 20)), orbit)
-    return Monodromy(orbit.family, orbit.E, period, M, basis, Mperp, Mpar, tr, tr_perp, tr_str,
-                     multipliers_from_trace(tr_perp), bool(0 < tr_exact < 4), prec, be, sol.psi_end,
-                     orbit.energy, period_str, stability, note)
+    stability, note = _stability(
+        tr_exact, 1e-12 if prec == "float64" else 10.0 ** (2 - (digits or 20)), orbit
+    )
+    return Monodromy(
+        orbit.family,
+        orbit.E,
+        period,
+        M,
+        basis,
+        Mperp,
+        Mpar,
+        tr,
+        tr_perp,
+        tr_str,
+        multipliers_from_trace(tr_perp),
+        bool(0 < tr_exact < 4),
+        prec,
+        be,
+        sol.psi_end,
+        orbit.energy,
+        period_str,
+        stability,
+        note,
+    )
 
 
 def _stability(tr, tol: float, orbit) -> tuple:
@@ -244,15 +285,26 @@ def _stability(tr, tol: float, orbit) -> tuple:
         return ("stable" if 0 < tr < 4 else "unstable"), ""
     en = orbit.energy
     if en.given[0] == "E" and Decimal(en.given[1]) == 0:
-        return "marginal", ("E = 0 is the equilibrium G: both normal modes have frequency sqrt(3) (1:1 resonance), "
-                            "M is the identity and all multipliers are 1: neutrally stable, not a transition")
-    note = (f"|tr M - {edge}| <= {tol:.0e}, the accuracy of this precision tier: on the stability edge "
-            f"tr M = {edge} within rounding, the computed value cannot tell stable from unstable")
-    if isinstance(orbit, PendulumOrbit) and en.phase == "lib" and orbit.E < 1e-2 and edge == 4:
+        return "marginal", (
+            "E = 0 is the equilibrium G: both normal modes have frequency sqrt(3) (1:1 resonance), "
+            "M is the identity and all multipliers are 1: neutrally stable, not a transition"
+        )
+    note = (
+        f"|tr M - {edge}| <= {tol:.0e}, the accuracy of this precision tier: on the stability edge "
+        f"tr M = {edge} within rounding, the computed value cannot tell stable from unstable"
+    )
+    if (
+        isinstance(orbit, PendulumOrbit)
+        and en.phase == "lib"
+        and orbit.E < 1e-2
+        and edge == 4
+    ):
         import mpmath as mp
 
         with mp.workdps(20):
-            gap = mp.nstr(mp.pi ** 2 * en.mp_E_eps(20)[0] ** 3 / 3456, 3)      # underflows float64 for E < 1e-100
+            gap = mp.nstr(
+                mp.pi**2 * en.mp_E_eps(20)[0] ** 3 / 3456, 3
+            )  # underflows float64 for E < 1e-100
         note += f"; the small-E series gives 4 - tr M = pi^2 E^3/3456 (1 + O(E)) = {gap} > 0 (stable)"
     return "marginal", note
 
@@ -303,7 +355,9 @@ def _unwind(dx):
     return dx
 
 
-def variational_monodromy(state0, period, *, method="scipy", rtol=1e-12, precision="float64") -> VariationalResult:
+def variational_monodromy(
+    state0, period, *, method="scipy", rtol=1e-12, precision="float64"
+) -> VariationalResult:
     """The textbook monodromy: nonlinear flow + 4x4 variational equations over one period.
 
     Parameters
@@ -336,12 +390,22 @@ def variational_monodromy(state0, period, *, method="scipy", rtol=1e-12, precisi
             return np.concatenate([rhs_alpha(t, x), (jacobian_alpha(x) @ Phi).ravel()])
 
         z0 = np.concatenate([x0, np.eye(4).ravel()])
-        sol = solve_ivp(rhs, (0.0, float(period)), z0, method="DOP853", rtol=rtol, atol=rtol * 1e-3)
+        sol = solve_ivp(
+            rhs, (0.0, float(period)), z0, method="DOP853", rtol=rtol, atol=rtol * 1e-3
+        )
         z = sol.y[:, -1]
         Mv = z[4:].reshape(4, 4)
         tr = float(np.trace(Mv))
-        return VariationalResult(Mv, tr, repr(tr), z[:4], float(np.max(np.abs(_unwind(z[:4] - x0)))),
-                                 "scipy-DOP853", f"float64 rtol={rtol:g}", len(sol.t) - 1)
+        return VariationalResult(
+            Mv,
+            tr,
+            repr(tr),
+            z[:4],
+            float(np.max(np.abs(_unwind(z[:4] - x0)))),
+            "scipy-DOP853",
+            f"float64 rtol={rtol:g}",
+            len(sol.t) - 1,
+        )
     if method != "heyoka":
         raise ValueError(f"method must be 'scipy' or 'heyoka', got {method!r}")
     import heyoka as hy
@@ -349,24 +413,42 @@ def variational_monodromy(state0, period, *, method="scipy", rtol=1e-12, precisi
 
     a1, a2, p1, p2 = hy.make_vars("a1", "a2", "p1", "p2")
     s_m, s_p = hy.sin(a2 - a1), hy.sin(a1 + a2)
-    sys = [(a1, 0.5 * p1), (a2, 1.5 * p2), (p1, -(2.0 * hy.sin(2.0 * a1) - s_m + s_p)), (p2, -(s_m + s_p))]
+    sys = [
+        (a1, 0.5 * p1),
+        (a2, 1.5 * p2),
+        (p1, -(2.0 * hy.sin(2.0 * a1) - s_m + s_p)),
+        (p2, -(s_m + s_p)),
+    ]
     vsys = hy.var_ode_sys(sys, hy.var_args.vars, order=1)
     if precision == "float64":
         kw, conv, dps = {}, float, 17
     elif precision == "real128":
         kw, dps = {"fp_type": hy.real128}, 34
-        conv = lambda v: hy.real128(mp.nstr(mp.mpf(v), 40))   # noqa: E731
+        conv = lambda v: hy.real128(mp.nstr(mp.mpf(v), 40))  # noqa: E731
     else:
         bits = int(precision[2:])
         dps = int(bits / 3.33)
         kw = {"fp_type": hy.real, "prec": bits}
-        conv = lambda v: hy.real(mp.nstr(mp.mpf(v), dps + 5), bits)   # noqa: E731
+        conv = lambda v: hy.real(mp.nstr(mp.mpf(v), dps + 5), bits)  # noqa: E731
     with mp.workdps(dps + 10):
         # float(v): numpy float64 is a float whose repr is 'np.float64(...)' under numpy 2
-        x0 = [conv(mp.mpf(v) if not isinstance(v, float) else mp.mpf(repr(float(v)))) for v in state0]
-        T = conv(mp.mpf(period) if not isinstance(period, float) else mp.mpf(repr(float(period))))
-    dtype = object if precision.startswith("mp") else (hy.real128 if precision == "real128" else float)
-    ta = hy.taylor_adaptive(vsys, np.array(x0, dtype=dtype), compact_mode=precision != "float64", **kw)
+        x0 = [
+            conv(mp.mpf(v) if not isinstance(v, float) else mp.mpf(repr(float(v))))
+            for v in state0
+        ]
+        T = conv(
+            mp.mpf(period)
+            if not isinstance(period, float)
+            else mp.mpf(repr(float(period)))
+        )
+    dtype = (
+        object
+        if precision.startswith("mp")
+        else (hy.real128 if precision == "real128" else float)
+    )
+    ta = hy.taylor_adaptive(
+        vsys, np.array(x0, dtype=dtype), compact_mode=precision != "float64", **kw
+    )
     res = ta.propagate_until(T)
     st = ta.state
     Mv_exact = [[st[4 + 4 * i + j] for j in range(4)] for i in range(4)]
@@ -375,9 +457,16 @@ def variational_monodromy(state0, period, *, method="scipy", rtol=1e-12, precisi
         tr_str = mp.nstr(tr_exact, dps - 3)
     Mv = np.array([[float(Mv_exact[i][j]) for j in range(4)] for i in range(4)])
     xf = np.array([float(v) for v in st[:4]])
-    return VariationalResult(Mv, float(tr_exact), tr_str, xf,
-                             float(np.max(np.abs(_unwind(xf - np.array([float(v) for v in x0]))))),
-                             "heyoka-taylor", precision, int(res[3]))
+    return VariationalResult(
+        Mv,
+        float(tr_exact),
+        tr_str,
+        xf,
+        float(np.max(np.abs(_unwind(xf - np.array([float(v) for v in x0]))))),
+        "heyoka-taylor",
+        precision,
+        int(res[3]),
+    )
 
 
 def textbook_monodromy(orbit, bits: int = 256) -> VariationalResult:
@@ -399,8 +488,11 @@ def textbook_monodromy(orbit, bits: int = 256) -> VariationalResult:
         if isinstance(orbit, PendulumOrbit):
             v = orbit.energy.mp_values(dps)
             E, m = v["E"], v["m"]
-            period = (4 * mp.ellipk(m) / mp.sqrt(3) if orbit.energy.phase == "lib"
-                      else 2 * mp.sqrt(m) * mp.ellipk(m) / mp.sqrt(3))
+            period = (
+                4 * mp.ellipk(m) / mp.sqrt(3)
+                if orbit.energy.phase == "lib"
+                else 2 * mp.sqrt(m) * mp.ellipk(m) / mp.sqrt(3)
+            )
             state0 = [mp.mpf(0), mp.mpf(0), mp.mpf(0), mp.sqrt(4 * E / 3)]
         elif isinstance(orbit, BreatherOrbit) and orbit.energy.family == "R":
             E = orbit.energy.mp_values(dps)["E"]
@@ -408,5 +500,9 @@ def textbook_monodromy(orbit, bits: int = 256) -> VariationalResult:
             period = 4 * mp.ellipk((Q - E + 6) / (2 * Q)) / mp.sqrt(Q)
             state0 = [mp.mpf(0), mp.mpf(0), mp.sqrt(E), mp.sqrt(E)]
         else:
-            raise ValueError("textbook_monodromy supports pendula and the rotational breather R")
-        return variational_monodromy(state0, period, method="heyoka", precision=f"mp{bits}")
+            raise ValueError(
+                "textbook_monodromy supports pendula and the rotational breather R"
+            )
+        return variational_monodromy(
+            state0, period, method="heyoka", precision=f"mp{bits}"
+        )

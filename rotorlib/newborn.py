@@ -49,20 +49,45 @@ from dataclasses import dataclass
 import mpmath as mp
 import numpy as np
 
-from .continuation import (ContinuationOptions, FamilyEnd, Natural, PALC, continuation, member,
-                           switch)
+from .continuation import (
+    PALC,
+    ContinuationOptions,
+    FamilyEnd,
+    Natural,
+    continuation,
+    member,
+    switch,
+)
 from .flow import Section
 from .periodic import PeriodicOrbit, periodic_orbit
 from .precision import FLOAT64, REAL128, Tier, tier
 from .shooting import ShootingProblem, StartSet, solve
 
-__all__ = ["FAMILIES", "FAMILY_FLOAT64_DEPTH", "FamilySpec", "family_spec", "FAMILY_REACH", "FamilyRangeError",
-           "family_range", "birth_member", "seed", "newborn_orbit", "newborn_family", "follow",
-           "linear_orbit", "a1_structure", "trace_slope_at_birth"]
+__all__ = [
+    "FAMILIES",
+    "FAMILY_FLOAT64_DEPTH",
+    "FamilySpec",
+    "family_spec",
+    "FAMILY_REACH",
+    "FamilyRangeError",
+    "family_range",
+    "birth_member",
+    "seed",
+    "newborn_orbit",
+    "newborn_family",
+    "follow",
+    "linear_orbit",
+    "a1_structure",
+    "trace_slope_at_birth",
+]
 
 #: The families this module follows (paper Fig. 4-6 and Tables III-IV).
-FAMILIES = tuple([f"IS^l_{n}" for n in range(1, 9)] + [f"PD^l_{n}" for n in range(1, 5)]
-                 + [f"IS^r_{n}" for n in range(1, 5)] + [f"PD^r_{n}" for n in range(1, 7)])
+FAMILIES = tuple(
+    [f"IS^l_{n}" for n in range(1, 9)]
+    + [f"PD^l_{n}" for n in range(1, 5)]
+    + [f"IS^r_{n}" for n in range(1, 5)]
+    + [f"PD^r_{n}" for n in range(1, 7)]
+)
 
 #: float64 shooting is used while |E_n - 4| exceeds this (../shared/NUMERICS.md: fine to ~1e-8).
 FLOAT64_LIMIT = 3e-8
@@ -73,8 +98,11 @@ FLOAT64_LIMIT = 3e-8
 FAMILY_FLOAT64_DEPTH = 1e-5
 
 _START = {"a1": StartSet("a1", a=(1.0, 0.0)), "p1": StartSet("p1", c=(1.0, 0.0))}
-_SECTION = {"turn": Section((0, 0, 0, 1), 0.0, -1), "a2_down": Section((0, 1, 0, 0), 0.0, -1),
-            "a2_up": Section((0, 1, 0, 0), 1.0, 1)}
+_SECTION = {
+    "turn": Section((0, 0, 0, 1), 0.0, -1),
+    "a2_down": Section((0, 1, 0, 0), 0.0, -1),
+    "a2_up": Section((0, 1, 0, 0), 1.0, 1),
+}
 _CONDITION = {"a1": Section((1, 0, 0, 0)), "p1": Section((0, 0, 1, 0))}
 _OTHER = {"a1": "p1", "p1": "a1"}
 
@@ -132,22 +160,31 @@ class FamilySpec:
         lattice = (0.0, 0.0) if self.phase == "lib" else (0.0, 2.0 * self.factor / 2)
         # a rotation that turns back (p2 = 0) before a2 = pi has failed: the shot ends there
         abort = Section((0, 0, 0, 1), 0.0, -1) if self.phase == "rot" else None
-        return ShootingProblem(self.label, _START[self.start], _SECTION[self.event],
-                               _CONDITION[self.end], 1, self.factor, lattice, trivial=0.0,
-                               t_max=4 * self.period_birth + 200.0, abort=abort)
+        return ShootingProblem(
+            self.label,
+            _START[self.start],
+            _SECTION[self.event],
+            _CONDITION[self.end],
+            1,
+            self.factor,
+            lattice,
+            trivial=0.0,
+            t_max=4 * self.period_birth + 200.0,
+            abort=abort,
+        )
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def family_spec(label) -> FamilySpec:
     """The family born at ``label`` (``IS^l_2``, ``ISl2``, ``PD^r_3`` ...)."""
     from .bifurcations import parse_label, transition
 
     kind, phase, n = parse_label(label)
     tr = transition(label)
-    up = tr.transition.startswith("unstable")     # unstable -> stable with increasing E
+    up = tr.transition.startswith("unstable")  # unstable -> stable with increasing E
     if phase == "lib" and kind == "IS":
         start = "p1" if up else "a1"
-        plus = ((n + 1) // 2) % 2 == 1              # Delta = +2 for IS^l_{1,2,5,6}
+        plus = ((n + 1) // 2) % 2 == 1  # Delta = +2 for IS^l_{1,2,5,6}
         event, end, factor = "turn", _OTHER[start] if plus else start, 4
     elif phase == "lib":
         start, event, end, factor = "a1", "a2_down", "a1", 4
@@ -155,8 +192,20 @@ def family_spec(label) -> FamilySpec:
         start = "a1" if up else "p1"
         event, factor = "a2_up", 2 if kind == "IS" else 4
         end = _OTHER[start] if kind == "IS" else start
-    return FamilySpec(tr.label, kind, phase, n, start, event, end, factor, tr.E, tr.log_abs_dE,
-                      tr.period, tr.transition)
+    return FamilySpec(
+        tr.label,
+        kind,
+        phase,
+        n,
+        start,
+        event,
+        end,
+        factor,
+        tr.E,
+        tr.log_abs_dE,
+        tr.period,
+        tr.transition,
+    )
 
 
 #: Where each family was followed to, measured by :func:`follow` (``tests/test_newborn.py``
@@ -166,14 +215,27 @@ def family_spec(label) -> FamilySpec:
 #: growing period; ``'followed'``: checked up to there. Extended-precision families: the energies
 #: at which they were checked (E = 4 for libration, ``E_n + 1000 |E_n - 4|`` for rotation).
 FAMILY_REACH = {
-    "IS^l_1": (4.4999101, "E = 4.5"), "IS^l_2": (4.48, "E = 4.5"), "IS^l_3": (5.4889383, "fold"),
-    "IS^l_4": (4.49, "E = 4.5"), "IS^l_5": (4.0016721, "followed"),
-    "IS^l_6": (4.0012564, "followed"), "IS^l_7": (4.0, "followed"), "IS^l_8": (4.0, "followed"),
-    "PD^l_1": (4.45, "E = 4.5"), "PD^l_2": (4.4870156, "E = 4.5"), "PD^l_3": (4.45, "E = 4.5"),
-    "PD^l_4": (4.0, "followed"), "IS^r_1": (4.49, "E = 4.5"), "IS^r_2": (4.4980101, "E = 4.5"),
-    "IS^r_3": (4.0034066, "followed"), "IS^r_4": (4.02, "followed"),
-    "PD^r_1": (5.9831001, "fold"), "PD^r_2": (4.5516743, "fold"),
-    "PD^r_3": (4.4681256, "E = 4.5"), "PD^r_4": (4.2, "followed"), "PD^r_5": ("1000", "followed"),
+    "IS^l_1": (4.4999101, "E = 4.5"),
+    "IS^l_2": (4.48, "E = 4.5"),
+    "IS^l_3": (5.4889383, "fold"),
+    "IS^l_4": (4.49, "E = 4.5"),
+    "IS^l_5": (4.0016721, "followed"),
+    "IS^l_6": (4.0012564, "followed"),
+    "IS^l_7": (4.0, "followed"),
+    "IS^l_8": (4.0, "followed"),
+    "PD^l_1": (4.45, "E = 4.5"),
+    "PD^l_2": (4.4870156, "E = 4.5"),
+    "PD^l_3": (4.45, "E = 4.5"),
+    "PD^l_4": (4.0, "followed"),
+    "IS^r_1": (4.49, "E = 4.5"),
+    "IS^r_2": (4.4980101, "E = 4.5"),
+    "IS^r_3": (4.0034066, "followed"),
+    "IS^r_4": (4.02, "followed"),
+    "PD^r_1": (5.9831001, "fold"),
+    "PD^r_2": (4.5516743, "fold"),
+    "PD^r_3": (4.4681256, "E = 4.5"),
+    "PD^r_4": (4.2, "followed"),
+    "PD^r_5": ("1000", "followed"),
     "PD^r_6": ("1000", "followed"),
 }
 
@@ -196,22 +258,28 @@ class FamilyRangeError(ValueError):
         lo, hi = family_range(spec)
         self.label, self.E_min, self.E_max, self.E = spec.label, lo, hi, float(E)
         self.how = FAMILY_REACH[spec.label][1]
-        why = {"fold": f"at E = {hi!r} the family folds back to lower energies (no member "
-                       f"above it)",
-               "E = 4.5": f"it was followed from birth to E = {hi!r}; continued further in "
-                          f"amplitude it runs towards E = 4.5 (the maxima of V) with a growing "
-                          f"period",
-               "followed": f"it was followed from birth to E = {hi!r}"}[self.how]
-        super().__init__(f"{spec.label} exists for {lo!r} < E <= {hi!r} (born at E_n = {lo!r}; "
-                         f"{why}); got E = {float(E)!r}")
+        why = {
+            "fold": f"at E = {hi!r} the family folds back to lower energies (no member "
+            f"above it)",
+            "E = 4.5": f"it was followed from birth to E = {hi!r}; continued further in "
+            f"amplitude it runs towards E = 4.5 (the maxima of V) with a growing "
+            f"period",
+            "followed": f"it was followed from birth to E = {hi!r}",
+        }[self.how]
+        super().__init__(
+            f"{spec.label} exists for {lo!r} < E <= {hi!r} (born at E_n = {lo!r}; "
+            f"{why}); got E = {float(E)!r}"
+        )
 
 
 def family_range(spec: FamilySpec) -> tuple:
     """``(E_n, E_max)``: every family is born at ``E_n`` and exists just above it (forward
     fork); ``E_max`` from :data:`FAMILY_REACH`."""
     if spec.label not in FAMILY_REACH:
-        raise ValueError(f"no newborn family {spec.label} is followed here "
-                         f"(families: {', '.join(FAMILIES)})")
+        raise ValueError(
+            f"no newborn family {spec.label} is followed here "
+            f"(families: {', '.join(FAMILIES)})"
+        )
     top = FAMILY_REACH[spec.label][0]
     if isinstance(top, str):
         top = spec.E_birth + float(top) * spec.depth
@@ -220,7 +288,8 @@ def family_range(spec: FamilySpec) -> tuple:
 
 # --------------------------------------------------------------------------- birth and seed
 
-@functools.lru_cache(maxsize=None)
+
+@functools.cache
 def _birth(spec: FamilySpec, name: str):
     """``E_n`` in a tier: float64, or from the 30-digit transition (extended)."""
     if name == "float64":
@@ -243,7 +312,11 @@ def birth_member(spec: FamilySpec, u, t: Tier = FLOAT64, tol=None):
     """
     with t.context():
         E0 = _birth(spec, t.name)
-        dE = 1e-3 * max(spec.depth, 1e-12) if not t.extended else t.num("1e-3") * abs(E0 - 4)
+        dE = (
+            1e-3 * max(spec.depth, 1e-12)
+            if not t.extended
+            else t.num("1e-3") * abs(E0 - 4)
+        )
         tol = tol if tol is not None else (1e-15 if not t.extended else t.num("1e-32"))
         m, it = switch(spec.problem, t.num(u), E0, dE, t, tol=tol, r_max=math.inf)
         return m.E, it
@@ -274,22 +347,33 @@ def _path(spec: FamilySpec, E_target, t: Tier, steps=None):
     with t.context():
         E_target = t.num(E_target)
         if (c > 0) != (E_target > spec.E_birth):
-            raise ValueError(f"{spec.label} exists only for E {'>' if c > 0 else '<'} E_n = "
-                             f"{spec.E_birth!r}")
+            raise ValueError(
+                f"{spec.label} exists only for E {'>' if c > 0 else '<'} E_n = "
+                f"{spec.E_birth!r}"
+            )
         En = _birth(spec, t.name)
         s_s, s_t = t.m.sqrt(abs(m0.E - En)), t.m.sqrt(abs(E_target - En))
         if steps is None:
-            steps = int(min(40, max(4, math.ceil(2 * math.log(float(s_t / s_s) + 1.0) + 6))))
+            steps = int(
+                min(40, max(4, math.ceil(2 * math.log(float(s_t / s_s) + 1.0) + 6)))
+            )
         sign = 1 if c > 0 else -1
-        vals = [En + sign * (s_s + (s_t - s_s) * i / steps) ** 2 for i in range(1, steps)]
-        alg = Natural("E", tuple(vals) + (E_target,), order=1, origin=En, origin_other=0.0)
+        vals = [
+            En + sign * (s_s + (s_t - s_s) * i / steps) ** 2 for i in range(1, steps)
+        ]
+        alg = Natural(
+            "E", tuple(vals) + (E_target,), order=1, origin=En, origin_other=0.0
+        )
         return continuation(spec.problem, alg, start=[m0], t=t).members
 
 
 def _tiers(spec: FamilySpec, digits):
     """(continuation tier, result tier) for ``digits`` (see the module docstring)."""
-    cont = FLOAT64 if spec.depth > FLOAT64_LIMIT or (digits is not None and digits <= 15) \
+    cont = (
+        FLOAT64
+        if spec.depth > FLOAT64_LIMIT or (digits is not None and digits <= 15)
         else REAL128
+    )
     if digits is None:
         return cont, REAL128 if spec.depth < 0.05 else cont
     if digits <= 15:
@@ -328,8 +412,10 @@ def newborn_orbit(label, E, digits=None, steps=None) -> PeriodicOrbit:
     if not (lo <= float(E) <= hi):
         raise FamilyRangeError(spec, E)
     if float(E) == spec.E_birth:
-        raise ValueError(f"{spec.label}: E = E_n is the bifurcation itself (the new orbit is "
-                         f"the pendulum there)")
+        raise ValueError(
+            f"{spec.label}: E = E_n is the bifurcation itself (the new orbit is "
+            f"the pendulum there)"
+        )
     t_cont, t_out = _tiers(spec, digits)
     t0 = time.perf_counter()
     E_in = str(E) if t_cont.extended else float(E)
@@ -348,10 +434,21 @@ def newborn_orbit(label, E, digits=None, steps=None) -> PeriodicOrbit:
         u = solve(spec.problem, u, u * (1 + t_out.num("1e-9")), E=str(E), t=t_out).x
     with t_out.context():
         w = spec.problem.w_at(u, str(E) if t_out.extended else float(E), t_out)
-    return periodic_orbit(spec.problem, u, w, t_out, extra={
-        "start": spec.start, "section": spec.event, "condition": f"{spec.end} = 0",
-        "phase": spec.phase, "steps": len(path) - 1, "seconds": time.perf_counter() - t0},
-        digits=digits if digits and digits > 15 else None)
+    return periodic_orbit(
+        spec.problem,
+        u,
+        w,
+        t_out,
+        extra={
+            "start": spec.start,
+            "section": spec.event,
+            "condition": f"{spec.end} = 0",
+            "phase": spec.phase,
+            "steps": len(path) - 1,
+            "seconds": time.perf_counter() - t0,
+        },
+        digits=digits if digits and digits > 15 else None,
+    )
 
 
 def newborn_family(label, E_end=None, n=12, digits=None) -> list:
@@ -366,15 +463,32 @@ def newborn_family(label, E_end=None, n=12, digits=None) -> list:
     else:
         t = tier(int(digits))
     if E_end is None:
-        E_end = 4.0 if spec.phase == "lib" else min(spec.E_birth + 0.05, family_range(spec)[1])
+        E_end = (
+            4.0
+            if spec.phase == "lib"
+            else min(spec.E_birth + 0.05, family_range(spec)[1])
+        )
     if not (spec.E_birth < float(E_end) <= family_range(spec)[1]):
         raise FamilyRangeError(spec, E_end)
     path = _path(spec, str(E_end) if t.extended else float(E_end), t, steps=n)
     return [periodic_orbit(spec.problem, m.u, m.w, t) for m in path]
 
 
-def follow(label, *, E_max=None, E_min=None, t1_max=None, digits=None, traces=False,
-           energies=(), chart="E", jump=None, ds=0.3, ds_max=1.0, max_steps=2000):
+def follow(
+    label,
+    *,
+    E_max=None,
+    E_min=None,
+    t1_max=None,
+    digits=None,
+    traces=False,
+    energies=(),
+    chart="E",
+    jump=None,
+    ds=0.3,
+    ds_max=1.0,
+    max_steps=2000,
+):
     """The family born at ``label`` followed in pseudo-arclength from its seed: passes folds.
 
     Parameters
@@ -406,7 +520,11 @@ def follow(label, *, E_max=None, E_min=None, t1_max=None, digits=None, traces=Fa
     spec = family_spec(label)
     t = _tiers(spec, None)[0] if digits is None else tier(int(digits))
     d = spec.depth
-    E_max = E_max if E_max is not None else (4.2 if spec.phase == "lib" else spec.E_birth + 6)
+    E_max = (
+        E_max
+        if E_max is not None
+        else (4.2 if spec.phase == "lib" else spec.E_birth + 6)
+    )
     E_min = E_min if E_min is not None else spec.E_birth - 2 * d
     T_birth = spec.period_birth * (2 if spec.kind == "PD" else 1)
     t1_max = t1_max if t1_max is not None else 12 * T_birth / spec.factor
@@ -414,18 +532,34 @@ def follow(label, *, E_max=None, E_min=None, t1_max=None, digits=None, traces=Fa
     prob = spec.problem if chart == "E" else spec.problem.chart(4.0)
     if chart == "K":
         m0 = member(prob, m0.u, prob.w_at(m0.u, m0.E, t), t)
-    alg = PALC(ds=ds, ds_max=ds_max, E_ref=spec.E_birth if chart == "E" else 4.0,
-               u_floor=1e-3 * math.sqrt(d), w_floor=1e-3 * d)
+    alg = PALC(
+        ds=ds,
+        ds_max=ds_max,
+        E_ref=spec.E_birth if chart == "E" else 4.0,
+        u_floor=1e-3 * math.sqrt(d),
+        w_floor=1e-3 * d,
+    )
     # accepted residual: the shooting amplifies round-off like 1/|E_n - 4| (the K chart's
     # members sit in a channel where a2 barely passes the barrier: 1e-6 in float64, as measured)
-    r_max = (1e-6 if chart == "K" else 1e-8) if not t.extended else max(
-        t.eps ** (2 / 3), 1e4 * t.eps / d)
-    opts = ContinuationOptions(max_steps=max_steps, E_range=(E_min, E_max), t1_max=t1_max,
-                               jump=jump, traces=traces, energies=tuple(energies), r_max=r_max)
+    r_max = (
+        (1e-6 if chart == "K" else 1e-8)
+        if not t.extended
+        else max(t.eps ** (2 / 3), 1e4 * t.eps / d)
+    )
+    opts = ContinuationOptions(
+        max_steps=max_steps,
+        E_range=(E_min, E_max),
+        t1_max=t1_max,
+        jump=jump,
+        traces=traces,
+        energies=tuple(energies),
+        r_max=r_max,
+    )
     return continuation(prob, alg, opts, [m0], t)
 
 
 # --------------------------------------------------------------------------- shapes (Fig. 5, Tables III-IV)
+
 
 def linear_orbit(label, x0, period, n=801):
     """The linearised orbit of Fig. 5: ``a2`` the pendulum at the bifurcation, ``a1`` from the
@@ -444,8 +578,15 @@ def linear_orbit(label, x0, period, n=801):
     def rhs(tt, y):
         return [0.5 * y[1], -2.0 * (2.0 + math.cos(pend.state(tt)[1])) * y[0]]
 
-    sol = solve_ivp(rhs, (0.0, float(period)), [float(x0[0]), float(x0[2])], method="DOP853",
-                    rtol=1e-11, atol=1e-14, t_eval=t)
+    sol = solve_ivp(
+        rhs,
+        (0.0, float(period)),
+        [float(x0[0]), float(x0[2])],
+        method="DOP853",
+        rtol=1e-11,
+        atol=1e-14,
+        t_eval=t,
+    )
     return t, sol.y[0], np.array([pend.state(tt)[1] for tt in t])
 
 
@@ -463,17 +604,26 @@ def a1_structure(orbit: PeriodicOrbit, spec: FamilySpec = None, n=4000) -> dict:
     tau = orbit.period / (2 if spec.kind == "PD" else 1)
     st, _ = flow.sample(orbit.state0, orbit.period, n + 1)
     mid = 0.5 * (st[1:, 0] + st[:-1, 0])
-    nodes = int(np.sum(np.sign(mid[1:]) != np.sign(mid[:-1])) + (np.sign(mid[0]) != np.sign(
-        mid[-1])))
+    nodes = int(
+        np.sum(np.sign(mid[1:]) != np.sign(mid[:-1]))
+        + (np.sign(mid[0]) != np.sign(mid[-1]))
+    )
     amp = np.max(np.abs(st[:, 0]))
     per = None
     for frac in (0.5, 1.0, 2.0):
         x = flow.flow(orbit.state0, frac * tau)
-        if abs(x[0] - orbit.state0[0]) < 1e-6 * amp and abs(x[2] - orbit.state0[2]) < 4e-6 * amp:
+        if (
+            abs(x[0] - orbit.state0[0]) < 1e-6 * amp
+            and abs(x[2] - orbit.state0[2]) < 4e-6 * amp
+        ):
             per = frac
             break
-    return {"period_of_a1": per, "nodes": nodes, "m": nodes / (2 if spec.kind == "IS" else 4),
-            "lame": ("Ec" if spec.start == "a1" else "Es")}
+    return {
+        "period_of_a1": per,
+        "nodes": nodes,
+        "m": nodes / (2 if spec.kind == "IS" else 4),
+        "lame": ("Ec" if spec.start == "a1" else "Es"),
+    }
 
 
 def trace_slope_at_birth(label, rel=(1e-3, 2e-3), digits=None):

@@ -31,6 +31,7 @@ period and its derivative in mpmath at ``dps`` digits from the decimal input,
 at any depth; the float64 ``K``, ``period`` and ``dperiod_dE`` use it beyond
 the float64 range of ``eps``.
 """
+
 from __future__ import annotations
 
 import contextlib
@@ -42,7 +43,13 @@ import numpy as np
 from .elliptic import dK_dm, ellipk_m1, jacobi_am, jacobi_sncndn, mp_dK_dm, mp_ellipk_m1
 from .energy import BreatherEnergy, PendulumEnergy, breather_energy, pendulum_energy
 
-__all__ = ["PendulumOrbit", "BreatherOrbit", "pendulum", "breather", "separatrix_pendulum_state"]
+__all__ = [
+    "PendulumOrbit",
+    "BreatherOrbit",
+    "pendulum",
+    "breather",
+    "separatrix_pendulum_state",
+]
 
 SQRT3 = math.sqrt(3.0)
 #: Digits used for the float64 view of K, period and d(period)/dE beyond the float64 range of eps.
@@ -136,12 +143,23 @@ class PendulumOrbit(_ClosedForm):
         with ctx:
             K = ellipk(m1)
             kappa = sqrt(m)
-            out = dict(E=E, eps=eps, m=m, m1=m1, K=K,
-                       period=4 * K / sqrt(3) if en.phase == "lib" else 2 * kappa * K / sqrt(3))
+            out = dict(
+                E=E,
+                eps=eps,
+                m=m,
+                m1=m1,
+                K=K,
+                period=4 * K / sqrt(3)
+                if en.phase == "lib"
+                else 2 * kappa * K / sqrt(3),
+            )
             if derivative:
                 dk = dkdm(m, m1)
-                out["dperiod_dE"] = (dk / sqrt(3) if en.phase == "lib"                          # m = E/4
-                                     else 2 / sqrt(3) * (dk * kappa + K / (2 * kappa)) * (-m / E))  # m = 4/E
+                out["dperiod_dE"] = (
+                    dk / sqrt(3)
+                    if en.phase == "lib"  # m = E/4
+                    else 2 / sqrt(3) * (dk * kappa + K / (2 * kappa)) * (-m / E)
+                )  # m = 4/E
             return out
 
     @property
@@ -160,7 +178,9 @@ class PendulumOrbit(_ClosedForm):
         if en.phase == "lib":
             k = math.sqrt(en.m)
             s, c, d = jacobi_sncndn(SQRT3 * t, en.m, en.m1)
-            a2 = 2.0 * np.arctan2(k * s, d)          # cos(a2/2) = dn: exact at the turning point
+            a2 = 2.0 * np.arctan2(
+                k * s, d
+            )  # cos(a2/2) = dn: exact at the turning point
             p2 = 4.0 / SQRT3 * k * c
         else:
             kappa = math.sqrt(en.m)
@@ -201,10 +221,10 @@ def _breather_params(family, E, eps, sqrt) -> dict:
         den = (1 + S) * (3 + S)
         p = dict(m=4 * E * (E - 4) / (den * den), m1=8 * S / den, nu=sqrt(den / 2) / 2)
         if family == "LG":
-            p["shape"] = 2 * E / den                    # A^2 = (3 - S)/(1 + S)
+            p["shape"] = 2 * E / den  # A^2 = (3 - S)/(1 + S)
             p["A"] = sqrt(p["shape"])
         else:
-            p["shape"] = 2 * (E - 4) / den              # D^2 = (1 - S)/(3 + S)
+            p["shape"] = 2 * (E - 4) / den  # D^2 = (1 - S)/(3 + S)
             p["D"] = sqrt(p["shape"])
         return p
     Q = sqrt(E * (E - 4))
@@ -212,7 +232,7 @@ def _breather_params(family, E, eps, sqrt) -> dict:
         m, m1 = (Q - E + 6) / (2 * Q), 4 * eps / (Q * (Q + 6 - E))
     else:
         m, m1 = 4 * eps / (Q * (Q + E - 6)), (Q + E - 6) / (2 * Q)
-    shape = sqrt(E / (E - 4))                           # lam^2
+    shape = sqrt(E / (E - 4))  # lam^2
     return dict(m=m, m1=m1, nu=sqrt(Q), shape=shape, lam=sqrt(shape))
 
 
@@ -278,16 +298,16 @@ class BreatherOrbit(_ClosedForm):
             if en.family in ("LG", "LD"):
                 S = sqrt(2 * eps)
                 D = (1 + S) * (3 + S)
-                dS = -1 / S                                     # S = sqrt(9 - 2E)
+                dS = -1 / S  # S = sqrt(9 - 2E)
                 dD = 2 * S + 4
-                dN = 2 * S - 4                                  # N = (1 - S)(3 - S) = m D
+                dN = 2 * S - 4  # N = (1 - S)(3 - S) = m D
                 dm = (dN * D - m * D * dD) / (D * D) * dS
-                dnu = dD / (8 * sqrt(D / 2)) * dS               # nu = sqrt(D/2)/2
+                dnu = dD / (8 * sqrt(D / 2)) * dS  # nu = sqrt(D/2)/2
             else:
                 Q = sqrt(E * (E - 4))
                 dQ = (E - 2) / Q
-                dm = (-Q - (6 - E) * dQ) / (2 * Q * Q)          # m = 1/2 + (6 - E)/(2Q)
-                dnu = dQ / (2 * sqrt(Q))                        # nu = sqrt(Q)
+                dm = (-Q - (6 - E) * dQ) / (2 * Q * Q)  # m = 1/2 + (6 - E)/(2Q)
+                dnu = dQ / (2 * sqrt(Q))  # nu = sqrt(Q)
             p["dperiod_dE"] = 4 * (dkdm(m, p["m1"]) * dm * nu - K * dnu) / (nu * nu)
             return p
 
@@ -303,18 +323,23 @@ class BreatherOrbit(_ClosedForm):
             return 2.0 * np.arctan(w), 2.0 * p["A"] * p["nu"] * c * d / (1.0 + w * w)
         if fam == "LD":
             v = p["D"] * s
-            return np.pi - 2.0 * np.arctan(v), -2.0 * p["D"] * p["nu"] * c * d / (1.0 + v * v)
+            return np.pi - 2.0 * np.arctan(v), -2.0 * p["D"] * p["nu"] * c * d / (
+                1.0 + v * v
+            )
         lam, K = p["lam"], self.K
         j = np.round(u / (4.0 * K))
-        r = u - 4.0 * K * j                          # theta = am(r) in [-pi, pi]
+        r = u - 4.0 * K * j  # theta = am(r) in [-pi, pi]
         far = np.abs(r) > K
         # for |r| > K use v = 2K - |r|: sn(r) = sign(r) sn(v), 1 + cn(r) = sn(v)^2 / (1 + cn(v))
         v = np.where(far, 2.0 * K - np.abs(r), r)
         s, c, d = jacobi_sncndn(v, p["m"], p["m1"])
-        onep = np.where(far, s * s / (1.0 + c), 1.0 + c)     # 1 + cos(theta)
-        onem = np.where(far, 1.0 + c, 1.0 - c)               # 1 - cos(theta)
-        half = np.where(far, np.sign(r) * (np.pi / 2 - np.arctan2(np.abs(s), lam * (1.0 + c))),
-                        np.arctan2(lam * s, 1.0 + c))
+        onep = np.where(far, s * s / (1.0 + c), 1.0 + c)  # 1 + cos(theta)
+        onem = np.where(far, 1.0 + c, 1.0 - c)  # 1 - cos(theta)
+        half = np.where(
+            far,
+            np.sign(r) * (np.pi / 2 - np.arctan2(np.abs(s), lam * (1.0 + c))),
+            np.arctan2(lam * s, 1.0 + c),
+        )
         dphi = 2.0 * lam * p["nu"] * d / (onep + lam * lam * onem)
         return 2.0 * np.pi * j + 2.0 * half, dphi
 

@@ -15,6 +15,7 @@ dies are rescheduled on the others (a task is given up, with
 ``distributed.scheduler.allowed-failures`` = 3 dying workers), so a scan
 returns the same result; tasks must therefore be pure functions of their input.
 """
+
 from __future__ import annotations
 
 import contextlib
@@ -40,7 +41,7 @@ def _bar(total, desc, progress):
         return _NoBar()
     try:
         from tqdm.auto import tqdm
-    except ImportError:        # tqdm is optional
+    except ImportError:  # tqdm is optional
         return _NoBar()
     return tqdm(total=total, desc=desc)
 
@@ -93,12 +94,12 @@ def pmap(func, items, *, executor=None, progress=False, desc=None, chunksize=1):
                 out.append(func(x))
                 bar.update()
             return out
-        chunks = [items[i:i + chunksize] for i in range(0, len(items), chunksize)]
+        chunks = [items[i : i + chunksize] for i in range(0, len(items), chunksize)]
         futures = [executor.submit(_call_chunk, func, c) for c in chunks]
         size = {f: len(c) for f, c in zip(futures, chunks)}
         try:
             for f in as_completed(futures):
-                f.result()                     # raises the task's exception, if any
+                f.result()  # raises the task's exception, if any
                 bar.update(size[f])
         except BaseException:
             for f in futures:
@@ -170,31 +171,39 @@ def executor_for(workers=None, scheduler=None, *, timeout=10.0):
     if workers is not None:
         raise ValueError("give either workers or scheduler, not both")
     if not isinstance(scheduler, str) or not scheduler.strip():
-        raise ValueError(f"scheduler must be an address such as tcp://127.0.0.1:8786, not {scheduler!r}")
+        raise ValueError(
+            f"scheduler must be an address such as tcp://127.0.0.1:8786, not {scheduler!r}"
+        )
     try:
         from distributed import Client
         from distributed.comm import parse_address, resolve_address
     except ImportError:
-        raise ValueError("--scheduler needs Dask: pip install 'dask[distributed]'") from None
+        raise ValueError(
+            "--scheduler needs Dask: pip install 'dask[distributed]'"
+        ) from None
     try:
         # Checked first: Client leaves a half-started client behind (noise and a delay at exit) on
         # malformed addresses, but not on unreachable ones.
         if parse_address(scheduler)[0] != "tcp":
             raise ValueError("only tcp://HOST:PORT addresses are supported")
-        resolve_address(scheduler)                  # host and port present, host name known
+        resolve_address(scheduler)  # host and port present, host name known
         client = Client(scheduler, timeout=timeout, set_as_default=False)
-    except (OSError, ValueError, TypeError) as exc:   # OSError includes timeouts
+    except (OSError, ValueError, TypeError) as exc:  # OSError includes timeouts
         reason = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
-        raise ValueError(f"cannot connect to Dask scheduler {scheduler}: {reason}") from None
+        raise ValueError(
+            f"cannot connect to Dask scheduler {scheduler}: {reason}"
+        ) from None
     try:
         try:
             client.wait_for_workers(1, timeout=timeout)
         except (OSError, TimeoutError):
-            raise ValueError(f"Dask scheduler {scheduler} has no worker after {timeout:g} s") from None
+            raise ValueError(
+                f"Dask scheduler {scheduler} has no worker after {timeout:g} s"
+            ) from None
         ex = client.get_executor(pure=False)
         try:
             yield ex
         finally:
-            ex.shutdown(wait=False)            # cancels whatever an interrupted scan left running
+            ex.shutdown(wait=False)  # cancels whatever an interrupted scan left running
     finally:
         client.close()

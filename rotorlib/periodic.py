@@ -65,19 +65,42 @@ class PeriodicOrbit:
 
     def to_record(self) -> dict:
         """A JSON-serialisable dict (the ``orbit`` command's ``--json`` output)."""
-        rec = {"label": self.label, "E": repr(float(self.E)),
-               "log_abs_dE": repr(float(self.log_abs_dE)), "period": float(self.period),
-               "state0": [float(v) for v in self.state0], "trace": float(self.trace),
-               "alpha1_max": float(self.alpha1_max), "alpha2_max": float(self.alpha2_max),
-               "residual": float(self.residual), "energy_residual": float(self.energy_residual),
-               "precision": self.precision,
-               "monodromy": [[float(v) for v in row] for row in np.asarray(self.monodromy)]}
-        rec.update({k: v for k, v in self.extra.items() if isinstance(v, (str, int, float, list))})
+        rec = {
+            "label": self.label,
+            "E": repr(float(self.E)),
+            "log_abs_dE": repr(float(self.log_abs_dE)),
+            "period": float(self.period),
+            "state0": [float(v) for v in self.state0],
+            "trace": float(self.trace),
+            "alpha1_max": float(self.alpha1_max),
+            "alpha2_max": float(self.alpha2_max),
+            "residual": float(self.residual),
+            "energy_residual": float(self.energy_residual),
+            "precision": self.precision,
+            "monodromy": [
+                [float(v) for v in row] for row in np.asarray(self.monodromy)
+            ],
+        }
+        rec.update(
+            {
+                k: v
+                for k, v in self.extra.items()
+                if isinstance(v, (str, int, float, list))
+            }
+        )
         return rec
 
 
-def orbit_from_state(label, x0, period, t: Tier = FLOAT64, lattice=(0.0, 0.0), E=None,
-                     extra=None, digits=None) -> PeriodicOrbit:
+def orbit_from_state(
+    label,
+    x0,
+    period,
+    t: Tier = FLOAT64,
+    lattice=(0.0, 0.0),
+    E=None,
+    extra=None,
+    digits=None,
+) -> PeriodicOrbit:
     """A :class:`PeriodicOrbit` from its initial state and period, integrated in tier ``t``:
     the monodromy from the 4x4 variational equations over one period, the closure against the
     lattice vector ``lattice`` (units of pi); extended tiers add the state, period, trace and
@@ -93,27 +116,64 @@ def orbit_from_state(label, x0, period, t: Tier = FLOAT64, lattice=(0.0, 0.0), E
         if E is not None:
             E = t.num(E)
         else:
-            E = x0[2] ** 2 / 4 + 3 * x0[3] ** 2 / 4 + 3 - t.m.cos(2 * x0[0]) - t.m.cos(
-                x0[1] - x0[0]) - t.m.cos(x0[0] + x0[1])
+            E = (
+                x0[2] ** 2 / 4
+                + 3 * x0[3] ** 2 / 4
+                + 3
+                - t.m.cos(2 * x0[0])
+                - t.m.cos(x0[1] - x0[0])
+                - t.m.cos(x0[0] + x0[1])
+            )
         eps = abs(E - 4)
         xf = np.array([float(v) for v in x0])
         a1m, a2m = extrema(xf, float(T), FLOAT64)
         ex = dict(extra or {})
         if t.extended:
             d = digits or t.dps - 8
-            ex.update(state0_str=[t.text(v, d) for v in x0], period_str=t.text(T, d),
-                      trace_str=t.text(tr, d if digits else d - 7), E_str=t.text(E, d))
-        return PeriodicOrbit(label, float(E), float(T), xf, M, float(tr), closure,
-                             abs(float(energy_alpha(xf)) - float(E)), t.name, a1m, a2m,
-                             float(mp.log(eps)) if eps else math.nan, ex)
+            ex.update(
+                state0_str=[t.text(v, d) for v in x0],
+                period_str=t.text(T, d),
+                trace_str=t.text(tr, d if digits else d - 7),
+                E_str=t.text(E, d),
+            )
+        return PeriodicOrbit(
+            label,
+            float(E),
+            float(T),
+            xf,
+            M,
+            float(tr),
+            closure,
+            abs(float(energy_alpha(xf)) - float(E)),
+            t.name,
+            a1m,
+            a2m,
+            float(mp.log(eps)) if eps else math.nan,
+            ex,
+        )
 
 
-def periodic_orbit(problem: ShootingProblem, u, w, t: Tier = FLOAT64, label=None, extra=None,
-                   digits=None) -> PeriodicOrbit:
+def periodic_orbit(
+    problem: ShootingProblem,
+    u,
+    w,
+    t: Tier = FLOAT64,
+    label=None,
+    extra=None,
+    digits=None,
+) -> PeriodicOrbit:
     """The :class:`PeriodicOrbit` of ``problem`` at ``(u, w)`` (:func:`orbit_from_state`)."""
     with t.context():
         s = residual(problem, u, w, t)
         ex = {"u": float(u), "t1": float(s.t1)}
         ex.update(extra or {})
-        return orbit_from_state(label or problem.label, s.x0, problem.factor * s.t1, t,
-                                problem.lattice, problem.energy(u, w, t), ex, digits)
+        return orbit_from_state(
+            label or problem.label,
+            s.x0,
+            problem.factor * s.t1,
+            t,
+            problem.lattice,
+            problem.energy(u, w, t),
+            ex,
+            digits,
+        )

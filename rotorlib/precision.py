@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from functools import lru_cache
+from functools import cache
 
 import mpmath as mp
 import numpy as np
@@ -34,7 +34,9 @@ class Tier:
             self.name.startswith("mp") and self.name[2:].isdigit()
         )
         if not ok:
-            raise ValueError(f"precision must be float64, real128 or mp<bits>, got {self.name!r}")
+            raise ValueError(
+                f"precision must be float64, real128 or mp<bits>, got {self.name!r}"
+            )
 
     @property
     def bits(self) -> int:
@@ -44,8 +46,13 @@ class Tier:
     @property
     def dps(self) -> int:
         """mpmath working digits for quantities carried between integrations."""
-        return 17 if self.name == "float64" else 40 if self.name == "real128" else int(
-            self.bits / 3.32) + 8
+        return (
+            17
+            if self.name == "float64"
+            else 40
+            if self.name == "real128"
+            else int(self.bits / 3.32) + 8
+        )
 
     @property
     def eps(self) -> float:
@@ -135,7 +142,7 @@ FLOAT64 = Tier("float64")
 REAL128 = Tier("real128")
 
 
-@lru_cache(maxsize=None)
+@cache
 def tier(digits=None, extra=0) -> Tier:
     """The tier that delivers ``digits`` significant digits after losing ``extra``.
 
@@ -147,8 +154,10 @@ def tier(digits=None, extra=0) -> Tier:
     """
     if digits is None:
         return FLOAT64
-    if isinstance(digits, bool) or not isinstance(digits, (int, np.integer)) or not (
-        1 <= digits <= 1000
+    if (
+        isinstance(digits, bool)
+        or not isinstance(digits, (int, np.integer))
+        or not (1 <= digits <= 1000)
     ):
         raise ValueError(f"digits must be an integer from 1 to 1000, got {digits!r}")
     d = int(digits) + max(0, int(math.ceil(extra)))

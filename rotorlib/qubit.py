@@ -19,13 +19,20 @@ rotor side from the rotor angles ``theta_i`` directly (``sum m r^2 theta_i'^2 / 
 minus the centre-of-mass part), so the comparison is between two independent
 formulas. Everything is exact arithmetic up to rounding (~1e-15 relative).
 """
+
 from __future__ import annotations
 
 import numpy as np
 
 from .system import phi_to_theta
 
-__all__ = ["josephson_energy", "charging_energy", "rotor_energies", "qubit_energies", "theta_from_phi"]
+__all__ = [
+    "josephson_energy",
+    "charging_energy",
+    "rotor_energies",
+    "qubit_energies",
+    "theta_from_phi",
+]
 
 
 def josephson_energy(phi1, phi2, Ej=1.0, alpha=1.0, f=0.0, mooij_sign=False):
@@ -35,14 +42,27 @@ def josephson_energy(phi1, phi2, Ej=1.0, alpha=1.0, f=0.0, mooij_sign=False):
     uses the paper's reversed ``phi2`` (``cos(2 pi f + phi1 + phi2)``).
     """
     s = -1.0 if mooij_sign else 1.0
-    return Ej * (2.0 + alpha - np.cos(phi1) - np.cos(phi2) - alpha * np.cos(2 * np.pi * f + phi1 + s * phi2))
+    return Ej * (
+        2.0
+        + alpha
+        - np.cos(phi1)
+        - np.cos(phi2)
+        - alpha * np.cos(2 * np.pi * f + phi1 + s * phi2)
+    )
 
 
-def charging_energy(dphi1, dphi2, C=1.0, alpha=1.0, gamma=0.0, hbar_over_2e=1.0, mooij_sign=False):
+def charging_energy(
+    dphi1, dphi2, C=1.0, alpha=1.0, gamma=0.0, hbar_over_2e=1.0, mooij_sign=False
+):
     """Charging energy ``(C/2)(hbar/2e)^2 phidot^T Cmat phidot`` (up to the additive constant)."""
     off = -alpha if mooij_sign else alpha
     d = 1.0 + alpha + gamma
-    return 0.5 * C * hbar_over_2e ** 2 * (d * dphi1 ** 2 + 2.0 * off * dphi1 * dphi2 + d * dphi2 ** 2)
+    return (
+        0.5
+        * C
+        * hbar_over_2e**2
+        * (d * dphi1**2 + 2.0 * off * dphi1 * dphi2 + d * dphi2**2)
+    )
 
 
 def rotor_energies(theta, theta_dot, m=1.0, r=1.0, g=1.0):
@@ -54,19 +74,31 @@ def rotor_energies(theta, theta_dot, m=1.0, r=1.0, g=1.0):
     theta = np.asarray(theta, float)
     w = np.asarray(theta_dot, float)
     t1, t2, t3 = np.moveaxis(theta, -1, 0)
-    T = 0.5 * m * r * r * np.sum(w * w, axis=-1) - 1.5 * m * r * r * np.mean(w, axis=-1) ** 2
+    T = (
+        0.5 * m * r * r * np.sum(w * w, axis=-1)
+        - 1.5 * m * r * r * np.mean(w, axis=-1) ** 2
+    )
     V = g * (3.0 - np.cos(t1 - t2) - np.cos(t2 - t3) - np.cos(t3 - t1))
     return T, V
 
 
-def qubit_energies(phi, phi_dot, m=1.0, r=1.0, g=1.0, alpha=1.0, f=0.0, gamma=0.0, hbar_over_2e=1.0):
+def qubit_energies(
+    phi, phi_dot, m=1.0, r=1.0, g=1.0, alpha=1.0, f=0.0, gamma=0.0, hbar_over_2e=1.0
+):
     """``(T, U)`` of the qubit at relative angles ``phi = (phi1, phi2)`` and their rates,
     with ``Ej = g`` and ``C = m r^2 / (3 (hbar/2e)^2)`` (the paper's identification)."""
-    C = m * r * r / (3.0 * hbar_over_2e ** 2)
+    C = m * r * r / (3.0 * hbar_over_2e**2)
     phi = np.asarray(phi, float)
     phi_dot = np.asarray(phi_dot, float)
     U = josephson_energy(phi[..., 0], phi[..., 1], Ej=g, alpha=alpha, f=f)
-    T = charging_energy(phi_dot[..., 0], phi_dot[..., 1], C=C, alpha=alpha, gamma=gamma, hbar_over_2e=hbar_over_2e)
+    T = charging_energy(
+        phi_dot[..., 0],
+        phi_dot[..., 1],
+        C=C,
+        alpha=alpha,
+        gamma=gamma,
+        hbar_over_2e=hbar_over_2e,
+    )
     return T, U
 
 

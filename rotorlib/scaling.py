@@ -11,6 +11,7 @@
 
 Numerics only (no matplotlib). Works with floats or mpmath numbers.
 """
+
 from __future__ import annotations
 
 import math
@@ -20,18 +21,38 @@ import numpy as np
 
 from .bifurcations import CLASSES
 
-__all__ = ["class_sequences", "log_delta_sequence", "asymptotic_distance", "fit_convergence",
-           "TransverseEigen", "transverse_eigenstructure",
-           "HarmonicFit", "fit_harmonic", "separatrix_transmission", "TraceAsymptotics", "trace_asymptotics",
-           "FamilyCurve", "family_curve", "FAMILY_FLOAT64_DEPTH"]
+__all__ = [
+    "class_sequences",
+    "log_delta_sequence",
+    "asymptotic_distance",
+    "fit_convergence",
+    "TransverseEigen",
+    "transverse_eigenstructure",
+    "HarmonicFit",
+    "fit_harmonic",
+    "separatrix_transmission",
+    "TraceAsymptotics",
+    "trace_asymptotics",
+    "FamilyCurve",
+    "family_curve",
+    "FAMILY_FLOAT64_DEPTH",
+]
 
 
 def class_sequences(trs) -> dict:
     """``{class name: [transitions ordered by n]}`` for the seven classes of §5 (empty classes dropped)."""
     out = {}
     for name, (kind, phase, parity) in CLASSES.items():
-        seq = sorted((t for t in trs if t.kind == kind and t.phase == phase
-                      and (parity is None or t.n % 2 == parity)), key=lambda t: t.n)
+        seq = sorted(
+            (
+                t
+                for t in trs
+                if t.kind == kind
+                and t.phase == phase
+                and (parity is None or t.n % 2 == parity)
+            ),
+            key=lambda t: t.n,
+        )
         if seq:
             out[name] = seq
     return out
@@ -56,7 +77,7 @@ def asymptotic_distance(tau, phase):
 
         if isinstance(tau, mp.mpf):
             return 64 * mp.exp(-mp.sqrt(3) / (2 if phase == "lib" else 1) * tau)
-    except ImportError:       # pragma: no cover
+    except ImportError:  # pragma: no cover
         pass
     return 64.0 * math.exp(-c * float(tau))
 
@@ -128,19 +149,25 @@ def transverse_eigenstructure(t, rel_tol=1e-8) -> TransverseEigen:
             i = int(np.argmax(np.abs(v)))
             v = v * np.sign(v[i])
             vecs.append(np.array([v[0], v[1], 0.0, 0.0]))
-    if len(vecs) == 2:                     # the whole plane: use the coordinate basis
+    if len(vecs) == 2:  # the whole plane: use the coordinate basis
         vecs = [np.array([1.0, 0, 0, 0]), np.array([0, 1.0, 0, 0])]
     L = M.longitudinal - np.eye(2)
     lon = np.array([0.0, 0.0, 1.0, 0.0])
     assert np.max(np.abs(L @ np.array([1.0, 0.0]))) == 0.0
-    res = max([float(np.max(np.abs((M.matrix - mu * np.eye(4)) @ v))) for v in vecs] or [float("nan")])
+    res = max(
+        [float(np.max(np.abs((M.matrix - mu * np.eye(4)) @ v))) for v in vecs]
+        or [float("nan")]
+    )
     from .monodromy import multipliers_from_trace
 
-    ev = np.concatenate([np.asarray(multipliers_from_trace(M.trace_transverse)), [1.0, 1.0]])
+    ev = np.concatenate(
+        [np.asarray(multipliers_from_trace(M.trace_transverse)), [1.0, 1.0]]
+    )
     return TransverseEigen(ev, mu, s, vecs, lon, res)
 
 
 # --------------------------------------------------------------------------- tr M_perp asymptotics
+
 
 @dataclass(frozen=True)
 class HarmonicFit:
@@ -191,18 +218,31 @@ def fit_harmonic(tau, y, tau_min=-np.inf, tau_max=np.inf) -> HarmonicFit:
     tau = np.asarray(tau, dtype=float)
     y = np.asarray(y, dtype=float)
     if tau.shape != y.shape or tau.ndim != 1:
-        raise ValueError(f"tau and y must be 1-d arrays of the same shape, got {tau.shape} and {y.shape}")
+        raise ValueError(
+            f"tau and y must be 1-d arrays of the same shape, got {tau.shape} and {y.shape}"
+        )
     sel = (tau >= tau_min) & (tau <= tau_max)
     if int(sel.sum()) < 3:
-        raise ValueError(f"need at least 3 samples with {tau_min} <= tau <= {tau_max}, got {int(sel.sum())}")
+        raise ValueError(
+            f"need at least 3 samples with {tau_min} <= tau <= {tau_max}, got {int(sel.sum())}"
+        )
     t, v = tau[sel], y[sel]
     if not (np.all(np.isfinite(t)) and np.all(np.isfinite(v))):
         raise ValueError("tau and y must be finite in the window")
     A = np.column_stack([np.ones_like(t), np.cos(t), np.sin(t)])
     (c0, c1, s1), *_ = np.linalg.lstsq(A, v, rcond=None)
     res = float(np.max(np.abs(A @ np.array([c0, c1, s1]) - v)))
-    return HarmonicFit(float(c0), float(c1), float(s1), float(math.hypot(c1, s1)), float(math.atan2(-s1, c1)),
-                       res, float(t.min()), float(t.max()), int(t.size))
+    return HarmonicFit(
+        float(c0),
+        float(c1),
+        float(s1),
+        float(math.hypot(c1, s1)),
+        float(math.atan2(-s1, c1)),
+        res,
+        float(t.min()),
+        float(t.max()),
+        int(t.size),
+    )
 
 
 def separatrix_transmission(digits=None):
@@ -344,12 +384,20 @@ def family_curve(label, E_end, n=12, digits=None) -> FamilyCurve:
     d_birth = tr.energy.eps
     fam = newborn_family(label, E_end=E_end, n=n, digits=digits)
     prec = fam[0].precision
-    side = -1.0 if phase == "lib" else 1.0          # the side of E = 4 the family is born on
+    side = -1.0 if phase == "lib" else 1.0  # the side of E = 4 the family is born on
 
-    def dE(o):                                      # librational families may continue past E = 4
+    def dE(o):  # librational families may continue past E = 4
         if not math.isfinite(o.log_abs_dE):
             return o.E - 4.0
         return math.copysign(math.exp(o.log_abs_dE), o.E - 4.0 if o.E != 4.0 else side)
 
-    return FamilyCurve(tr.label, kind, phase, side * d_birth, np.array([dE(o) for o in fam]),
-                       np.array([o.trace for o in fam]), prec, float(max(o.residual for o in fam)))
+    return FamilyCurve(
+        tr.label,
+        kind,
+        phase,
+        side * d_birth,
+        np.array([dE(o) for o in fam]),
+        np.array([o.trace for o in fam]),
+        prec,
+        float(max(o.residual for o in fam)),
+    )

@@ -25,9 +25,19 @@ from .precision import FLOAT64, REAL128, Tier
 from .shooting import residual
 from .system import energy_alpha, potential_alpha
 
-__all__ = ["periodicity_defect", "PaperSearchResult", "paper_search", "SearchComparison",
-           "default_amplitude", "compare_searches", "WorkPrecision", "work_precision",
-           "DefectLandscape", "defect_landscape", "residual_scan"]
+__all__ = [
+    "periodicity_defect",
+    "PaperSearchResult",
+    "paper_search",
+    "SearchComparison",
+    "default_amplitude",
+    "compare_searches",
+    "WorkPrecision",
+    "work_precision",
+    "DefectLandscape",
+    "defect_landscape",
+    "residual_scan",
+]
 
 _TURN, _UP = Section((0, 0, 0, 1), 0.0, -1), Section((0, 1, 0, 0), 0.0, 1)
 
@@ -78,7 +88,9 @@ class PaperSearchResult:
     at_bound: bool
 
 
-def paper_search(label, u, E_guess, width=None, xatol=1e-16, maxiter=500) -> PaperSearchResult:
+def paper_search(
+    label, u, E_guess, width=None, xatol=1e-16, maxiter=500
+) -> PaperSearchResult:
     """Paper §6 as written: minimise ``d(p2(0))`` (:func:`periodicity_defect`) at fixed ``u``
     with Brent's bounded minimiser (:func:`scipy.optimize.minimize_scalar`), over the ``p2``
     of the energies ``E_guess -+ width`` (default ``width = |E_guess - E_n| / 2``).
@@ -94,7 +106,9 @@ def paper_search(label, u, E_guess, width=None, xatol=1e-16, maxiter=500) -> Pap
     u, E_guess = float(u), float(E_guess)
     w = 0.5 * abs(E_guess - spec.E_birth) if width is None else float(width)
     if not (w > 0 and math.isfinite(w)):
-        raise ValueError(f"the bracket half-width must be > 0, got {w!r} (E_guess = E_n?)")
+        raise ValueError(
+            f"the bracket half-width must be > 0, got {w!r} (E_guess = E_n?)"
+        )
     neval = [0]
 
     def d(p2):
@@ -103,14 +117,26 @@ def paper_search(label, u, E_guess, width=None, xatol=1e-16, maxiter=500) -> Pap
 
     prob = spec.problem
     lo, hi = (prob.state(u, E_guess - w)[3], prob.state(u, E_guess + w)[3])
-    res = minimize_scalar(d, bounds=(lo, hi), method="bounded",
-                          options={"xatol": xatol, "maxiter": maxiter})
+    res = minimize_scalar(
+        d,
+        bounds=(lo, hi),
+        method="bounded",
+        options={"xatol": xatol, "maxiter": maxiter},
+    )
     p2 = float(res.x)
     x0 = _with_p2(spec, u, p2)
     dmin, tstar = periodicity_defect(spec.label, x0)
     edge = 1e-3 * (hi - lo) + 3 * (math.sqrt(np.finfo(float).eps) * abs(p2) + xatol)
-    return PaperSearchResult(spec.label, u, p2, float(energy_alpha(np.array(x0))), dmin,
-                             neval[0], tstar, bool(min(p2 - lo, hi - p2) < edge))
+    return PaperSearchResult(
+        spec.label,
+        u,
+        p2,
+        float(energy_alpha(np.array(x0))),
+        dmin,
+        neval[0],
+        tstar,
+        bool(min(p2 - lo, hi - p2) < edge),
+    )
 
 
 @dataclass(frozen=True)
@@ -149,7 +175,9 @@ def default_amplitude(label, rel=0.1):
 
 def _float64_only(spec, what):
     if spec.depth < FLOAT64_LIMIT:
-        raise ValueError(f"{spec.label}: {what} is float64 only (|E_n - 4| > {FLOAT64_LIMIT})")
+        raise ValueError(
+            f"{spec.label}: {what} is float64 only (|E_n - 4| > {FLOAT64_LIMIT})"
+        )
 
 
 def _guess_E(spec, u):
@@ -176,8 +204,22 @@ def compare_searches(label, u=None, xatol=1e-16, tol=None) -> SearchComparison:
     span = float(residual(spec.problem, u, float(E_s)).t1)
     with mp.workdps(40):
         err_p, err_s = (float(abs(mp.mpf(repr(float(x))) - E_ref)) for x in (ps.E, E_s))
-    return SearchComparison(spec.label, u, float(E_ref), ps, err_p, d_p, ps.t_star, float(E_s),
-                            err_s, d_s, it + 2, span, t1 - t0, t2 - t1)
+    return SearchComparison(
+        spec.label,
+        u,
+        float(E_ref),
+        ps,
+        err_p,
+        d_p,
+        ps.t_star,
+        float(E_s),
+        err_s,
+        d_s,
+        it + 2,
+        span,
+        t1 - t0,
+        t2 - t1,
+    )
 
 
 @dataclass(frozen=True)
@@ -204,10 +246,16 @@ def work_precision(label, u=None, tolerances_paper=None, tolerances_shooting=Non
     ``tol = 1e-2 ... 1e-15``), scored against real128 (:class:`WorkPrecision`)."""
     spec = family_spec(label)
     u = default_amplitude(label) if u is None else float(u)
-    tp = np.array(tolerances_paper if tolerances_paper is not None else
-                  [10.0 ** -k for k in range(2, 17)])
-    ts = np.array(tolerances_shooting if tolerances_shooting is not None else
-                  [10.0 ** -k for k in range(2, 16)])
+    tp = np.array(
+        tolerances_paper
+        if tolerances_paper is not None
+        else [10.0**-k for k in range(2, 17)]
+    )
+    ts = np.array(
+        tolerances_shooting
+        if tolerances_shooting is not None
+        else [10.0**-k for k in range(2, 16)]
+    )
     if np.any(tp <= 0) or np.any(ts <= 0):
         raise ValueError("tolerances must be > 0")
     E_ref = birth_member(spec, u, REAL128)[0]
@@ -215,7 +263,9 @@ def work_precision(label, u=None, tolerances_paper=None, tolerances_shooting=Non
     rows = {"ep": [], "ip": [], "rp": [], "es": [], "is": [], "rs": []}
     with mp.workdps(40):
         for xa in tp:
-            ps = paper_search(label, u, Eg, width=0.5 * abs(Eg - spec.E_birth), xatol=float(xa))
+            ps = paper_search(
+                label, u, Eg, width=0.5 * abs(Eg - spec.E_birth), xatol=float(xa)
+            )
             rows["ep"].append(ps.n_evaluations)
             rows["ip"].append(ps.n_evaluations * ps.t_star / tau)
             rows["rp"].append(float(abs(mp.mpf(repr(float(ps.E))) - E_ref)))
@@ -226,8 +276,9 @@ def work_precision(label, u=None, tolerances_paper=None, tolerances_shooting=Non
             rows["is"].append((it + 2) * span / tau)
             rows["rs"].append(float(abs(mp.mpf(repr(float(E_s))) - E_ref)))
     r = {k: np.array(v) for k, v in rows.items()}
-    return WorkPrecision(spec.label, u, tp, ts, r["ep"], r["es"], r["ip"], r["is"], r["rp"],
-                         r["rs"])
+    return WorkPrecision(
+        spec.label, u, tp, ts, r["ep"], r["es"], r["ip"], r["is"], r["rp"], r["rs"]
+    )
 
 
 @dataclass(frozen=True)
@@ -274,8 +325,11 @@ def residual_scan(label, E, n=2001):
     if spec.start == "p1":
         umax = 2.0 * math.sqrt(E)
     else:
-        umax = math.pi / 2 if E >= 4.0 else brentq(
-            lambda a: float(potential_alpha(a, 0.0)) - E, 0.0, math.pi / 2)
+        umax = (
+            math.pi / 2
+            if E >= 4.0
+            else brentq(lambda a: float(potential_alpha(a, 0.0)) - E, 0.0, math.pi / 2)
+        )
     u = np.linspace(0.0, umax, n + 1)[1:] * (1 - 1e-12)
     r = np.full(u.size, np.nan)
     for i, ui in enumerate(u):

@@ -28,8 +28,16 @@ from dataclasses import dataclass, replace
 from .flow import Section, SectionNotReached, to_section
 from .precision import FLOAT64, Tier
 
-__all__ = ["StartSet", "ShootingProblem", "Shot", "Root", "NoConvergence", "residual",
-           "secant", "solve"]
+__all__ = [
+    "StartSet",
+    "ShootingProblem",
+    "Shot",
+    "Root",
+    "NoConvergence",
+    "residual",
+    "secant",
+    "solve",
+]
 
 
 def _kin(p):
@@ -60,12 +68,20 @@ class StartSet:
 
     def __post_init__(self):
         if self.c[0] * self.b[0] / 4 + 3 * self.c[1] * self.b[1] / 4:
-            raise ValueError(f"{self.name}: c and b must be orthogonal in the kinetic metric")
+            raise ValueError(
+                f"{self.name}: c and b must be orthogonal in the kinetic metric"
+            )
 
     def _q(self, u, t: Tier):
         pi = t.pi
-        return [self.q0[0] * pi + u * self.a[0] if self.q0[0] or t.extended else u * self.a[0],
-                self.q0[1] * pi + u * self.a[1] if self.q0[1] or t.extended else u * self.a[1]]
+        return [
+            self.q0[0] * pi + u * self.a[0]
+            if self.q0[0] or t.extended
+            else u * self.a[0],
+            self.q0[1] * pi + u * self.a[1]
+            if self.q0[1] or t.extended
+            else u * self.a[1],
+        ]
 
     def _v(self, q, t: Tier):
         if t.extended:
@@ -91,12 +107,16 @@ class StartSet:
         with t.context():
             u, K = t.num(u), t.num(K)
             if K < 0:
-                raise ValueError(f"{self.name}: u = {float(u)!r} is outside the energy shell")
+                raise ValueError(
+                    f"{self.name}: u = {float(u)!r} is outside the energy shell"
+                )
             s = t.m.sqrt(K / _kin(self.b))
             q = self._q(u, t)
             zero = t.num(0)
-            return q + [u * self.c[0] + s * self.b[0] if self.b[0] or self.c[0] else zero,
-                        u * self.c[1] + s * self.b[1] if self.b[1] or self.c[1] else zero]
+            return q + [
+                u * self.c[0] + s * self.b[0] if self.b[0] or self.c[0] else zero,
+                u * self.c[1] + s * self.b[1] if self.b[1] or self.c[1] else zero,
+            ]
 
 
 @dataclass(frozen=True)
@@ -140,7 +160,7 @@ class ShootingProblem:
     t_max: float = 1e3
     abort: Section | None = None
 
-    def chart(self, K_ref=None) -> "ShootingProblem":
+    def chart(self, K_ref=None) -> ShootingProblem:
         """The same problem with the second unknown ``E`` (``K_ref=None``) or ``K - K_ref``."""
         return replace(self, K_ref=K_ref)
 
@@ -202,7 +222,9 @@ def _cond(section: Section, x, t: Tier):
     return t.m.sin(k * y) / k, t.m.cos(k * y)
 
 
-def residual(problem: ShootingProblem, u, w, t: Tier = FLOAT64, derivative=False) -> Shot:
+def residual(
+    problem: ShootingProblem, u, w, t: Tier = FLOAT64, derivative=False
+) -> Shot:
     """The residual at ``(u, w)`` in tier ``t``; raises SectionNotReached or ValueError.
 
     With ``derivative``, the variational equations give ``dx1/dx0 = (I - f s^T/(s.f)) Phi``
@@ -212,13 +234,22 @@ def residual(problem: ShootingProblem, u, w, t: Tier = FLOAT64, derivative=False
     with t.context():
         u, w = t.num(u), t.num(w)
         x0 = problem.state(u, w, t)
-        out = to_section(x0, problem.section, t, problem.crossing, problem.t_max, derivative,
-                         problem.abort)
+        out = to_section(
+            x0,
+            problem.section,
+            t,
+            problem.crossing,
+            problem.t_max,
+            derivative,
+            problem.abort,
+        )
         t1, x1 = out[0], out[1]
         g, dg = _cond(problem.condition, x1, t)
         d = 1 if problem.trivial is None else u - t.num(problem.trivial)
         if problem.trivial is not None and d == 0:
-            raise ValueError(f"{problem.label}: u = {problem.trivial} is the parent orbit")
+            raise ValueError(
+                f"{problem.label}: u = {problem.trivial} is the parent orbit"
+            )
         r = g / d
         if not derivative:
             return Shot(r, t1, x0, x1)
@@ -240,18 +271,32 @@ def _gradient(problem, u, w, Phi, x1, t: Tier):
     if isinstance(st, StartSet):
         x0 = problem.state(u, w, t)
         K = (x0[2] * x0[2] / 4 + 3 * x0[3] * x0[3] / 4) - u * u * _kin(st.c)
-        dp_dK = [bi / (2 * t.m.sqrt(K * _kin(st.b))) for bi in st.b] if K > 0 else [0, 0]
+        dp_dK = (
+            [bi / (2 * t.m.sqrt(K * _kin(st.b))) for bi in st.b] if K > 0 else [0, 0]
+        )
         f0 = _rhs(x0)
-        dK_du = 0 if problem.K_ref is not None else (  # K = E - V(q(u)) - u^2 K(c)
-            (f0[2] * st.a[0] + f0[3] * st.a[1]) - 2 * u * _kin(st.c))
-        cols = [[st.a[0], st.a[1], st.c[0] + dp_dK[0] * dK_du, st.c[1] + dp_dK[1] * dK_du],
-                [0, 0, dp_dK[0], dp_dK[1]]]
+        dK_du = (
+            0
+            if problem.K_ref is not None
+            # K = E - V(q(u)) - u^2 K(c)
+            else ((f0[2] * st.a[0] + f0[3] * st.a[1]) - 2 * u * _kin(st.c))
+        )
+        cols = [
+            [st.a[0], st.a[1], st.c[0] + dp_dK[0] * dK_du, st.c[1] + dp_dK[1] * dK_du],
+            [0, 0, dp_dK[0], dp_dK[1]],
+        ]
     else:
         h = t.num(t.eps) ** (t.num(1) / 3)
-        cols = [[(a - b) / (2 * h) for a, b in zip(problem.state(u + h, w, t),
-                                                   problem.state(u - h, w, t))],
-                [(a - b) / (2 * h) for a, b in zip(problem.state(u, w + h, t),
-                                                   problem.state(u, w - h, t))]]
+        cols = [
+            [
+                (a - b) / (2 * h)
+                for a, b in zip(problem.state(u + h, w, t), problem.state(u - h, w, t))
+            ],
+            [
+                (a - b) / (2 * h)
+                for a, b in zip(problem.state(u, w + h, t), problem.state(u, w - h, t))
+            ],
+        ]
     f = _rhs(x1)
     s = problem.section.c
     sf = sum(si * fi for si, fi in zip(s, f))
@@ -287,9 +332,15 @@ class NoConvergence(ValueError):
 
     def __init__(self, label, fixed, best=None, why=""):
         where = ", ".join(f"{k} = {float(v)!r}" for k, v in fixed.items())
-        super().__init__(f"{label}: the shooting did not converge at {where}" + (
-            f" ({why})" if why else ""))
-        self.label, self.fixed, self.best = label, {k: float(v) for k, v in fixed.items()}, best
+        super().__init__(
+            f"{label}: the shooting did not converge at {where}"
+            + (f" ({why})" if why else "")
+        )
+        self.label, self.fixed, self.best = (
+            label,
+            {k: float(v) for k, v in fixed.items()},
+            best,
+        )
 
 
 def secant(f, x0, x1, tol, floor=0.0, maxiter=40) -> Root:
@@ -336,8 +387,19 @@ def secant(f, x0, x1, tol, floor=0.0, maxiter=40) -> Root:
     return Root(best[1], best[0], it + 1, False)
 
 
-def solve(problem: ShootingProblem, x0, x1=None, *, u=None, w=None, E=None,
-          t: Tier = FLOAT64, tol=None, floor=0.0, r_max=None) -> Root:
+def solve(
+    problem: ShootingProblem,
+    x0,
+    x1=None,
+    *,
+    u=None,
+    w=None,
+    E=None,
+    t: Tier = FLOAT64,
+    tol=None,
+    floor=0.0,
+    r_max=None,
+) -> Root:
     """The member with amplitude ``u`` (solving for ``w``), or with second unknown ``w`` or
     energy ``E`` (solving for ``u``).
 
@@ -350,8 +412,14 @@ def solve(problem: ShootingProblem, x0, x1=None, *, u=None, w=None, E=None,
     if sum(v is not None for v in (u, w, E)) != 1:
         raise ValueError("give exactly one of u, w and E")
     with t.context():
-        tol = tol if tol is not None else (4e-15 if not t.extended else t.num(t.eps) * 8)
-        r_max = r_max if r_max is not None else (1e-8 if not t.extended else t.eps ** (2 / 3))
+        tol = (
+            tol if tol is not None else (4e-15 if not t.extended else t.num(t.eps) * 8)
+        )
+        r_max = (
+            r_max
+            if r_max is not None
+            else (1e-8 if not t.extended else t.eps ** (2 / 3))
+        )
         x0 = t.num(x0)
         if u is not None:
             u = t.num(u)
@@ -368,10 +436,13 @@ def solve(problem: ShootingProblem, x0, x1=None, *, u=None, w=None, E=None,
 
             def f(uu):
                 return residual(problem, uu, problem.w_at(uu, E, t), t).r
+
         if x1 is None:
             x1 = x0 * (1 + (1e-4 if not t.extended else t.num("1e-9")))
         root = secant(f, x0, t.num(x1), tol, floor)
         if not root.residual < r_max:
-            fixed = {"u": u} if u is not None else {"w": w} if w is not None else {"E": E}
+            fixed = (
+                {"u": u} if u is not None else {"w": w} if w is not None else {"E": E}
+            )
             raise NoConvergence(problem.label, fixed, root)
         return root

@@ -21,6 +21,7 @@ A state in pendulum variables is ordered ``[a1, a2, p1, p2]`` throughout
 All linear maps between them are exact (matrices with entries 0, ±1/2, ±1, 2),
 so they introduce no error beyond one rounding.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -29,11 +30,28 @@ import numpy as np
 from scipy import optimize
 
 __all__ = [
-    "potential_phi", "potential_alpha", "potential_beta", "potential_theta",
-    "energy_alpha", "energy_phi", "energy_beta", "rhs_alpha", "rhs_beta",
-    "rhs_phi", "jacobian_alpha", "alpha_to_phi", "phi_to_alpha", "phi_to_beta",
-    "beta_to_phi", "alpha_to_beta", "beta_to_alpha", "theta_to_phi",
-    "phi_to_theta", "CriticalPoint", "critical_points", "SEPARATRIX_ENERGY",
+    "potential_phi",
+    "potential_alpha",
+    "potential_beta",
+    "potential_theta",
+    "energy_alpha",
+    "energy_phi",
+    "energy_beta",
+    "rhs_alpha",
+    "rhs_beta",
+    "rhs_phi",
+    "jacobian_alpha",
+    "alpha_to_phi",
+    "phi_to_alpha",
+    "phi_to_beta",
+    "beta_to_phi",
+    "alpha_to_beta",
+    "beta_to_alpha",
+    "theta_to_phi",
+    "phi_to_theta",
+    "CriticalPoint",
+    "critical_points",
+    "SEPARATRIX_ENERGY",
     "BREATHER_SEPARATRIX_ENERGY",
 ]
 
@@ -51,7 +69,12 @@ def potential_phi(phi1, phi2):
 
 def potential_theta(theta1, theta2, theta3):
     """V in rotor angles: 3 - cos(t1 - t2) - cos(t2 - t3) - cos(t3 - t1)."""
-    return 3.0 - np.cos(theta1 - theta2) - np.cos(theta2 - theta3) - np.cos(theta3 - theta1)
+    return (
+        3.0
+        - np.cos(theta1 - theta2)
+        - np.cos(theta2 - theta3)
+        - np.cos(theta3 - theta1)
+    )
 
 
 def potential_alpha(a1, a2):
@@ -67,7 +90,7 @@ def potential_beta(b1, b2):
 def energy_alpha(state):
     """Relative energy of a state ``[a1, a2, p1, p2]`` (last axis)."""
     a1, a2, p1, p2 = np.moveaxis(np.asarray(state, dtype=float), -1, 0)
-    return 0.25 * p1 ** 2 + 0.75 * p2 ** 2 + potential_alpha(a1, a2)
+    return 0.25 * p1**2 + 0.75 * p2**2 + potential_alpha(a1, a2)
 
 
 def energy_phi(state):
@@ -76,13 +99,13 @@ def energy_phi(state):
     The kinetic energy (phi1'^2 + phi2'^2 + phi1' phi2')/3 in momenta is P1^2 - P1 P2 + P2^2.
     """
     f1, f2, P1, P2 = np.moveaxis(np.asarray(state, dtype=float), -1, 0)
-    return P1 ** 2 - P1 * P2 + P2 ** 2 + potential_phi(f1, f2)
+    return P1**2 - P1 * P2 + P2**2 + potential_phi(f1, f2)
 
 
 def energy_beta(state):
     """Relative energy of a state ``[b1, b2, q1, q2]``."""
     b1, b2, q1, q2 = np.moveaxis(np.asarray(state, dtype=float), -1, 0)
-    return q1 ** 2 + 3.0 * q2 ** 2 + potential_beta(b1, b2)
+    return q1**2 + 3.0 * q2**2 + potential_beta(b1, b2)
 
 
 def rhs_alpha(t, state):
@@ -90,12 +113,14 @@ def rhs_alpha(t, state):
     a1, a2, p1, p2 = state
     s_m = np.sin(a2 - a1)
     s_p = np.sin(a1 + a2)
-    return np.array([
-        0.5 * p1,
-        1.5 * p2,
-        -(2.0 * np.sin(2.0 * a1) - s_m + s_p),
-        -(s_m + s_p),
-    ])
+    return np.array(
+        [
+            0.5 * p1,
+            1.5 * p2,
+            -(2.0 * np.sin(2.0 * a1) - s_m + s_p),
+            -(s_m + s_p),
+        ]
+    )
 
 
 def jacobian_alpha(state):
@@ -103,15 +128,17 @@ def jacobian_alpha(state):
     a1, a2 = state[0], state[1]
     c_m = np.cos(a2 - a1)
     c_p = np.cos(a1 + a2)
-    v11 = 4.0 * np.cos(2.0 * a1) + c_m + c_p      # d2V/da1^2
-    v12 = -c_m + c_p                              # d2V/da1 da2
-    v22 = c_m + c_p                               # d2V/da2^2
-    return np.array([
-        [0.0, 0.0, 0.5, 0.0],
-        [0.0, 0.0, 0.0, 1.5],
-        [-v11, -v12, 0.0, 0.0],
-        [-v12, -v22, 0.0, 0.0],
-    ])
+    v11 = 4.0 * np.cos(2.0 * a1) + c_m + c_p  # d2V/da1^2
+    v12 = -c_m + c_p  # d2V/da1 da2
+    v22 = c_m + c_p  # d2V/da2^2
+    return np.array(
+        [
+            [0.0, 0.0, 0.5, 0.0],
+            [0.0, 0.0, 0.0, 1.5],
+            [-v11, -v12, 0.0, 0.0],
+            [-v12, -v22, 0.0, 0.0],
+        ]
+    )
 
 
 def rhs_beta(t, state):
@@ -119,19 +146,23 @@ def rhs_beta(t, state):
     b1, b2, q1, q2 = state
     sp = np.sin(0.5 * (b1 + b2))
     sm = np.sin(0.5 * (b1 - b2))
-    return np.array([2.0 * q1, 6.0 * q2, -0.5 * (sp + sm + 2.0 * np.sin(b1)), -0.5 * (sp - sm)])
+    return np.array(
+        [2.0 * q1, 6.0 * q2, -0.5 * (sp + sm + 2.0 * np.sin(b1)), -0.5 * (sp - sm)]
+    )
 
 
 def rhs_phi(t, state):
     """Hamilton's equations in relative variables ``[phi1, phi2, P1, P2]``."""
     f1, f2, P1, P2 = state
     s12 = np.sin(f1 + f2)
-    return np.array([
-        2.0 * P1 - P2,
-        2.0 * P2 - P1,
-        -(np.sin(f1) + s12),
-        -(np.sin(f2) + s12),
-    ])
+    return np.array(
+        [
+            2.0 * P1 - P2,
+            2.0 * P2 - P1,
+            -(np.sin(f1) + s12),
+            -(np.sin(f2) + s12),
+        ]
+    )
 
 
 def _lin(state, Q, Pm):
@@ -179,15 +210,33 @@ def theta_to_phi(theta, theta_dot):
     d1, d2 = w1 - w2, w2 - w3
     P1 = (2.0 * d1 + d2) / 3.0
     P2 = (d1 + 2.0 * d2) / 3.0
-    return (t1 + t2 + t3) / 3.0, (w1 + w2 + w3) / 3.0, np.stack([f1, f2, P1, P2], axis=-1)
+    return (
+        (t1 + t2 + t3) / 3.0,
+        (w1 + w2 + w3) / 3.0,
+        np.stack([f1, f2, P1, P2], axis=-1),
+    )
 
 
 def phi_to_theta(phi0, phi0_dot, state):
     """Inverse of :func:`theta_to_phi`: returns ``(theta, theta_dot)``."""
     f1, f2, P1, P2 = np.moveaxis(np.asarray(state, dtype=float), -1, 0)
     d1, d2 = 2.0 * P1 - P2, 2.0 * P2 - P1
-    theta = np.stack([phi0 + (2 * f1 + f2) / 3.0, phi0 + (f2 - f1) / 3.0, phi0 - (f1 + 2 * f2) / 3.0], -1)
-    vel = np.stack([phi0_dot + (2 * d1 + d2) / 3.0, phi0_dot + (d2 - d1) / 3.0, phi0_dot - (d1 + 2 * d2) / 3.0], -1)
+    theta = np.stack(
+        [
+            phi0 + (2 * f1 + f2) / 3.0,
+            phi0 + (f2 - f1) / 3.0,
+            phi0 - (f1 + 2 * f2) / 3.0,
+        ],
+        -1,
+    )
+    vel = np.stack(
+        [
+            phi0_dot + (2 * d1 + d2) / 3.0,
+            phi0_dot + (d2 - d1) / 3.0,
+            phi0_dot - (d1 + 2 * d2) / 3.0,
+        ],
+        -1,
+    )
     return theta, vel
 
 
@@ -244,7 +293,9 @@ def critical_points(grid: int = 16):
     pts = np.linspace(0, 2 * np.pi, grid, endpoint=False) + 0.05
     for x0 in pts:
         for y0 in pts:
-            sol = optimize.root(_grad_phi, [x0, y0], jac=_hess_phi, method="lm", tol=1e-15)
+            sol = optimize.root(
+                _grad_phi, [x0, y0], jac=_hess_phi, method="lm", tol=1e-15
+            )
             if not sol.success or np.max(np.abs(_grad_phi(sol.x))) > 1e-12:
                 continue
             x = np.mod(sol.x, 2 * np.pi)
@@ -258,18 +309,31 @@ def critical_points(grid: int = 16):
         out.append((x, float(potential_phi(*x)), tuple(float(e) for e in ev), kind))
     names = []
     for x, e, ev, kind in out:
-        near = lambda a, b: abs(np.mod(a - b + np.pi, 2 * np.pi) - np.pi) < 1e-8
+
+        def near(a, b):
+            return abs(np.mod(a - b + np.pi, 2 * np.pi) - np.pi) < 1e-8
+
         if kind == "minimum":
             names.append("G")
         elif kind == "saddle":
-            names.append("D1" if near(x[0], np.pi) and near(x[1], np.pi) else
-                         "D2" if near(x[0], np.pi) else "D3")
+            names.append(
+                "D1"
+                if near(x[0], np.pi) and near(x[1], np.pi)
+                else "D2"
+                if near(x[0], np.pi)
+                else "D3"
+            )
         else:
             names.append("T")
-    tmax = sorted([i for i, n in enumerate(names) if n == "T"], key=lambda i: out[i][0][0])
+    tmax = sorted(
+        [i for i, n in enumerate(names) if n == "T"], key=lambda i: out[i][0][0]
+    )
     for j, i in enumerate(tmax):
         names[i] = f"T{j + 1}"
-    pts = [CriticalPoint(n, (float(x[0]), float(x[1])), e, ev, kind) for n, (x, e, ev, kind) in zip(names, out)]
+    pts = [
+        CriticalPoint(n, (float(x[0]), float(x[1])), e, ev, kind)
+        for n, (x, e, ev, kind) in zip(names, out)
+    ]
     return sorted(pts, key=lambda p: (p.energy, p.name))
 
 

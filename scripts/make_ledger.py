@@ -74,7 +74,9 @@ def render() -> str:
         "*wrong* otherwise; a value the paper marks ≈ is reproduced within the stated",
         "tolerance. The list of disagreements, with their causes, is the {doc}`errata`.",
         "",
-        f"**{len(rows)} claims**: " + ", ".join(f"{counts[s]} {s}" for s in STATUSES) + ".",
+        f"**{len(rows)} claims**: "
+        + ", ".join(f"{counts[s]} {s}" for s in STATUSES)
+        + ".",
         "",
         "| status | count |",
         "|---|---:|",
@@ -91,8 +93,15 @@ def render() -> str:
             "| "
             + " | ".join(
                 cell(c[k])
-                for k in ("section", "quantity", "paper", "ours", "tolerance", "status",
-                          "verdict")
+                for k in (
+                    "section",
+                    "quantity",
+                    "paper",
+                    "ours",
+                    "tolerance",
+                    "status",
+                    "verdict",
+                )
             )
             + f" | {link} |"
         )

@@ -7,6 +7,7 @@ symmetry-reduced Hill route that ``rotorlib.monodromy`` uses (different
 variables, different equations, different integrator settings); its closure
 after one period also checks the closed-form period.
 """
+
 from __future__ import annotations
 
 import functools
@@ -16,10 +17,12 @@ import pytest
 
 import rotorlib
 
-requires_heyoka = pytest.mark.skipif(not rotorlib.heyoka_available(), reason="heyoka not installed")
+requires_heyoka = pytest.mark.skipif(
+    not rotorlib.heyoka_available(), reason="heyoka not installed"
+)
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def textbook_reference(kind: str, value: float, phase_or_family: str, bits: int = 256):
     """(trace as mpf, closure) of the textbook monodromy at ``bits`` of precision.
 

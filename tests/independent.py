@@ -10,6 +10,7 @@ at enough digits that it does not matter), and the nonlinear flow plus the
 route loses about ``2 log10(1/|E - sep|)`` digits near a separatrix, so
 ``bits`` must exceed ``3.33 (2 log10(1/|E - sep|) + digits wanted)``.
 """
+
 from __future__ import annotations
 
 import functools
@@ -28,7 +29,7 @@ def _run(state, period, bits, dps):
         return mp.mpf(res.trace_str), mp.mpf(T), res.closure
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def textbook_pendulum(x: str, phase: str, bits: int = 512):
     """(tr M, period, closure) of the pendulum at ``log|E - 4| = x`` (decimal string)."""
     dps = int(bits / 3.33) + 30
@@ -43,7 +44,7 @@ def textbook_pendulum(x: str, phase: str, bits: int = 512):
     return _run(state, period, bits, dps)
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def textbook_breather_R(x: str, bits: int = 384):
     """(tr M, period, closure) of the rotational breather R at ``log|E - 4.5| = x`` (decimal string).
 

@@ -1,4 +1,5 @@
 """Appendix A (flux qubit = 3 rotors) and Appendix B (tr M_perp from Lamé solutions)."""
+
 import numpy as np
 import pytest
 
@@ -9,7 +10,12 @@ from rotorlib import qubit as q
 
 def _random_states(n, seed=0):
     rng = np.random.default_rng(seed)
-    return (rng.uniform(-10, 10, (n, 2)), rng.normal(0, 2, (n, 2)), rng.uniform(-5, 5, n), rng.normal(0, 1, n))
+    return (
+        rng.uniform(-10, 10, (n, 2)),
+        rng.normal(0, 2, (n, 2)),
+        rng.uniform(-5, 5, n),
+        rng.normal(0, 1, n),
+    )
 
 
 def test_qubit_energies_equal_rotor_energies():
@@ -20,7 +26,9 @@ def test_qubit_energies_equal_rotor_energies():
         T_q, U_q = q.qubit_energies(phi, dphi, m=m, r=r, g=g, hbar_over_2e=h)
         assert np.max(np.abs(T_rot - T_q)) < 1e-12 * max(1, np.max(T_rot))
         assert np.max(np.abs(V_rot - U_q)) < 1e-12
-        assert np.max(np.abs(V_rot / g - rl.potential_phi(phi[:, 0], phi[:, 1]))) < 1e-12
+        assert (
+            np.max(np.abs(V_rot / g - rl.potential_phi(phi[:, 0], phi[:, 1]))) < 1e-12
+        )
 
 
 def test_identification_fails_off_the_special_point():
@@ -40,7 +48,10 @@ def test_lame_trace_formula_matches_monodromy(E):
     h, k2, m1, w = lf.lame_parameters(E)
     L = lf.lame_solutions(h, k2, w, m1, c_norm=1.7, s_norm=0.4)
     assert abs(L.Ls0) == 0 and abs(L.dLc0) == 0
-    assert abs(lf.trace_from_lame(L) - rl.monodromy(rl.pendulum(E)).trace_transverse) < 1e-9
+    assert (
+        abs(lf.trace_from_lame(L) - rl.monodromy(rl.pendulum(E)).trace_transverse)
+        < 1e-9
+    )
 
 
 def test_mathieu_limit():

@@ -11,6 +11,7 @@ Independent checks:
   the located energy: tr M = 4 (IS) or M_perp = -I (PD^l) or tr M = 0 (PD^r);
 * E and the period against mpmath's K(m) from the decimal energy.
 """
+
 import functools
 import json
 import math
@@ -20,16 +21,15 @@ import sys
 import mpmath as mp
 import numpy as np
 import pytest
+from conftest import requires_heyoka
 
 import rotorlib
 from rotorlib import bifurcations as bf
 
-from conftest import requires_heyoka
-
 pytestmark = requires_heyoka
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def all80():
     return tuple(bf.transitions(phase="both", n_max=20))
 
@@ -40,16 +40,27 @@ def by_label():
 
 # ----------------------------------------------------------------------------- labels
 
-@pytest.mark.parametrize("text,expected", [
-    ("IS^l_3", ("IS", "lib", 3)), ("ISl3", ("IS", "lib", 3)), ("IS^l_{3}", ("IS", "lib", 3)),
-    ("PDr2", ("PD", "rot", 2)), ("pd^r_12", ("PD", "rot", 12)), ("is^L_1", ("IS", "lib", 1)),
-    (" PD^ℓ_4 ", ("PD", "lib", 4)),
-])
+
+@pytest.mark.parametrize(
+    "text,expected",
+    [
+        ("IS^l_3", ("IS", "lib", 3)),
+        ("ISl3", ("IS", "lib", 3)),
+        ("IS^l_{3}", ("IS", "lib", 3)),
+        ("PDr2", ("PD", "rot", 2)),
+        ("pd^r_12", ("PD", "rot", 12)),
+        ("is^L_1", ("IS", "lib", 1)),
+        (" PD^ℓ_4 ", ("PD", "lib", 4)),
+    ],
+)
 def test_parse_label_accepts(text, expected):
     assert bf.parse_label(text) == expected
 
 
-@pytest.mark.parametrize("text", ["XYl1", "ISl0", "ISq2", "IS", "IS^l_", "IS^l_-1", "IS^l_1.5", "", "PD r", 3, None])
+@pytest.mark.parametrize(
+    "text",
+    ["XYl1", "ISl0", "ISq2", "IS", "IS^l_", "IS^l_-1", "IS^l_1.5", "", "PD r", 3, None],
+)
 def test_parse_label_rejects(text):
     with pytest.raises(ValueError):
         bf.parse_label(text)
@@ -59,7 +70,7 @@ def test_transition_rejects_bad_input():
     with pytest.raises(ValueError):
         bf.transition("ISl0")
     with pytest.raises(ValueError):
-        bf.transition("PD^l_140")                  # beyond the float64 range of |E - 4|
+        bf.transition("PD^l_140")  # beyond the float64 range of |E - 4|
     with pytest.raises(ValueError):
         bf.transitions(phase="up")
     with pytest.raises(ValueError):
@@ -71,8 +82,18 @@ def test_transition_rejects_bad_input():
 # ----------------------------------------------------------------------------- the 80 roots
 
 # The paper's leading values (Tables I, II; the brief of issue 3), 4 decimals, to pin the numbering.
-PAPER_X = {"IS^l_1": -4.6658, "IS^l_2": -5.7819, "IS^l_3": -10.1183, "PD^l_1": -2.4268, "PD^l_2": -7.9522,
-           "PD^r_1": 0.4682, "PD^r_2": -0.7395, "PD^r_3": -10.1185, "IS^r_2": -5.7927, "IS^r_3": -15.5598}
+PAPER_X = {
+    "IS^l_1": -4.6658,
+    "IS^l_2": -5.7819,
+    "IS^l_3": -10.1183,
+    "PD^l_1": -2.4268,
+    "PD^l_2": -7.9522,
+    "PD^r_1": 0.4682,
+    "PD^r_2": -0.7395,
+    "PD^r_3": -10.1185,
+    "IS^r_2": -5.7927,
+    "IS^r_3": -15.5598,
+}
 
 
 def test_numbering_and_structure():
@@ -86,22 +107,36 @@ def test_numbering_and_structure():
             seq = [t for t in trs if t.kind == kind and t.phase == phase]
             assert [t.n for t in seq] == list(range(1, 21))
             xs = [t.log_abs_dE for t in seq]
-            assert all(a > b for a, b in zip(xs, xs[1:])), (kind, phase)      # n increases towards E = 4
+            assert all(a > b for a, b in zip(xs, xs[1:])), (
+                kind,
+                phase,
+            )  # n increases towards E = 4
             for t in seq:
                 assert t.label == f"{kind}^{'l' if phase == 'lib' else 'r'}_{t.n}"
-                assert float(t.log_abs_dE_str) == t.log_abs_dE and len(t.log_abs_dE_str.lstrip("-0.")) >= 15
+                assert (
+                    float(t.log_abs_dE_str) == t.log_abs_dE
+                    and len(t.log_abs_dE_str.lstrip("-0.")) >= 15
+                )
                 assert t.energy.phase == phase and t.energy.log_abs_dE == t.log_abs_dE
     # stability directions (paper Tables I, II headers) and the value of Delta
     for t in trs:
         if t.phase == "lib" and t.kind == "PD":
             assert t.transition == "stable->stable" and t.delta_target == 0.0
         elif t.phase == "lib":
-            assert t.transition == ("stable->unstable" if t.n % 2 else "unstable->stable")
+            assert t.transition == (
+                "stable->unstable" if t.n % 2 else "unstable->stable"
+            )
             assert abs(t.delta_target) == 2.0
         elif t.kind == "IS":
-            assert t.transition == ("unstable->stable" if t.n % 2 else "stable->unstable") and t.delta_target == 2
+            assert (
+                t.transition == ("unstable->stable" if t.n % 2 else "stable->unstable")
+                and t.delta_target == 2
+            )
         else:
-            assert t.transition == ("unstable->stable" if t.n % 2 else "stable->unstable") and t.delta_target == -2
+            assert (
+                t.transition == ("unstable->stable" if t.n % 2 else "stable->unstable")
+                and t.delta_target == -2
+            )
 
 
 def test_roots_satisfy_the_condition_and_slopes():
@@ -111,11 +146,15 @@ def test_roots_satisfy_the_condition_and_slopes():
         target = 4.0 if t.kind == "IS" else 0.0
         assert abs(M.trace - target) < 1e-11, t.label
         if not (t.kind == "PD" and t.phase == "lib"):
-            h = 1e-6                               # tr M one step on either side in x
+            h = 1e-6  # tr M one step on either side in x
             up = rotorlib.monodromy(log_abs_dE=t.log_abs_dE + h, phase=t.phase).trace
             dn = rotorlib.monodromy(log_abs_dE=t.log_abs_dE - h, phase=t.phase).trace
-            assert abs((up - dn) / (2 * h) - t.dtrace_dx) < 1e-5 * max(1, abs(t.dtrace_dx)), t.label
-            assert math.copysign(1, t.dtrace_dE) == math.copysign(1, t.dtrace_dx) * (1 if t.phase == "rot" else -1)
+            assert abs((up - dn) / (2 * h) - t.dtrace_dx) < 1e-5 * max(
+                1, abs(t.dtrace_dx)
+            ), t.label
+            assert math.copysign(1, t.dtrace_dE) == math.copysign(1, t.dtrace_dx) * (
+                1 if t.phase == "rot" else -1
+            )
 
 
 def test_no_missed_roots_between_grid_points():
@@ -123,12 +162,16 @@ def test_no_missed_roots_between_grid_points():
     trs = all80()
     for phase in ("lib", "rot"):
         for target in (2.0, -2.0, 0.0):
-            xs = sorted(t.log_abs_dE for t in trs if t.phase == phase and t.delta_target == target)
+            xs = sorted(
+                t.log_abs_dE
+                for t in trs
+                if t.phase == phase and t.delta_target == target
+            )
             if len(xs) > 1:
                 assert min(np.diff(xs)) > 1.0
     # libration near E = 0: Delta + 2 ~ 7e-4 E^3 > 0 (stable) on (0, 0.1], below where the scan starts
     for E in (1e-3, 0.01, 0.05, 0.1):
-        assert 3e-4 * E ** 3 < bf.delta(math.log(4 - E), "lib") + 2.0 < 1e-3 * E ** 3
+        assert 3e-4 * E**3 < bf.delta(math.log(4 - E), "lib") + 2.0 < 1e-3 * E**3
     # rotation at high energy: Delta < 2 and increasing towards 2 (no transition above the scan start)
     ds = [bf.delta(x, "rot") for x in (8.0, 10.0, 14.0, 20.0)]
     assert all(d < 2.0 for d in ds) and all(a < b for a, b in zip(ds, ds[1:]))
@@ -158,12 +201,16 @@ def test_all_80_against_real128_relocation():
         with mp.workdps(45):
             x, per = bf.refine_mp(t.log_abs_dE, t.phase, t.delta_target, digits=30)
             # the real128 root satisfies the condition to ~1e-25
-            assert abs(bf.delta_mp(x, t.phase, 30) - t.delta_target) < mp.mpf("1e-24"), t.label
+            assert abs(bf.delta_mp(x, t.phase, 30) - t.delta_target) < mp.mpf(
+                "1e-24"
+            ), t.label
             ex = abs(float(x) - t.log_abs_dE) / abs(float(x))
             ep = abs(float(per) - t.period) / float(per)
         assert ex < 1e-12 and ep < 1e-12, (t.label, ex, ep)
         worst_x, worst_p = max(worst_x, ex), max(worst_p, ep)
-    assert worst_x < 1e-14 and worst_p < 1e-14      # what we actually reach (documented in the module)
+    assert (
+        worst_x < 1e-14 and worst_p < 1e-14
+    )  # what we actually reach (documented in the module)
 
 
 def test_transition_digits30_is_refined():
@@ -173,11 +220,15 @@ def test_transition_digits30_is_refined():
         x = mp.mpf(t.log_abs_dE_str)
         assert abs(float(x) - by_label()["IS^l_3"].log_abs_dE) < 1e-13
         assert abs(bf.delta_mp(x, "lib", 30) + 2) < mp.mpf("1e-26")
-        assert abs(mp.mpf(t.period_str) - 4 * mp.ellipk(1 - mp.exp(x) / 4) / mp.sqrt(3)) < mp.mpf("1e-27")
+        assert abs(
+            mp.mpf(t.period_str) - 4 * mp.ellipk(1 - mp.exp(x) / 4) / mp.sqrt(3)
+        ) < mp.mpf("1e-27")
     assert t.energy.given == ("log_abs_dE", t.log_abs_dE_str)
 
 
-@pytest.mark.parametrize("label", ["PD^l_1", "IS^l_1", "IS^l_2", "PD^r_1", "IS^r_2", "IS^l_3"])
+@pytest.mark.parametrize(
+    "label", ["PD^l_1", "IS^l_1", "IS^l_2", "PD^r_1", "IS^r_2", "IS^l_3"]
+)
 def test_textbook_variational_at_located_roots(label):
     """The 4x4 variational equations of the full flow in 256-bit arithmetic (independent of the Hill
     reduction) at the root refined in real128: tr M = 4 (IS), 0 (PD^r), M_perp = -I (PD^l, double zero)."""
@@ -186,10 +237,12 @@ def test_textbook_variational_at_located_roots(label):
         x, per = bf.refine_mp(t.log_abs_dE, t.phase, t.delta_target, digits=30)
         E = 4 - mp.exp(x) if t.phase == "lib" else 4 + mp.exp(x)
         state0 = ["0", "0", "0", mp.nstr(mp.sqrt(4 * E / 3), 45)]
-        v = rotorlib.variational_monodromy(state0, mp.nstr(per, 45), method="heyoka", precision="mp256")
+        v = rotorlib.variational_monodromy(
+            state0, mp.nstr(per, 45), method="heyoka", precision="mp256"
+        )
         tr = mp.mpf(v.trace_str)
     assert v.closure < 1e-25
-    M = v.matrix                                     # state order a1, a2, p1, p2
+    M = v.matrix  # state order a1, a2, p1, p2
     Mperp = M[np.ix_([0, 2], [0, 2])]
     if t.kind == "IS":
         assert abs(tr - 4) < mp.mpf("1e-24")
@@ -201,16 +254,28 @@ def test_textbook_variational_at_located_roots(label):
     mu = 1.0 if t.kind == "IS" else -1.0
     if not (t.kind == "PD" and t.phase == "lib"):
         N = Mperp - mu * np.eye(2)
-        expect = (1, 0) if ((t.phase == "lib") == (t.transition == "stable->unstable")) else (0, 1)
+        expect = (
+            (1, 0)
+            if ((t.phase == "lib") == (t.transition == "stable->unstable"))
+            else (0, 1)
+        )
         v_null = np.array(expect, dtype=float)
-        assert np.max(np.abs(N @ v_null)) < 1e-20                  # (1,0) or (0,1) is in the null space
-        assert np.max(np.abs(N @ v_null[::-1])) > 0.1              # and the block is not -/+ I: rank 1
+        assert np.max(np.abs(N @ v_null)) < 1e-20  # (1,0) or (0,1) is in the null space
+        assert (
+            np.max(np.abs(N @ v_null[::-1])) > 0.1
+        )  # and the block is not -/+ I: rank 1
 
 
 # ----------------------------------------------------------------------------- CLI
 
+
 def run(*args):
-    p = subprocess.run([sys.executable, "-m", "rotorlib", *args], capture_output=True, text=True, timeout=300)
+    p = subprocess.run(
+        [sys.executable, "-m", "rotorlib", *args],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
     return p.returncode, p.stdout, p.stderr
 
 
@@ -221,23 +286,51 @@ def test_cli_json_matches_library():
     assert isinstance(recs, list) and len(recs) == 12
     d = by_label()
     for r in recs:
-        for key in ("label", "kind", "phase", "n", "log_abs_dE", "E", "period", "transition"):
+        for key in (
+            "label",
+            "kind",
+            "phase",
+            "n",
+            "log_abs_dE",
+            "E",
+            "period",
+            "transition",
+        ):
             assert key in r
         t = d[r["label"]]
         assert r["kind"] == t.kind and r["phase"] == t.phase and r["n"] == t.n
-        assert isinstance(r["log_abs_dE"], str) and float(r["log_abs_dE"]) == t.log_abs_dE
+        assert (
+            isinstance(r["log_abs_dE"], str) and float(r["log_abs_dE"]) == t.log_abs_dE
+        )
         assert len(r["log_abs_dE"].lstrip("-0.")) >= 15
         with mp.workdps(40):
-            assert abs(mp.mpf(r["E"]) - 4 - (1 if t.phase == "rot" else -1) * mp.exp(t.log_abs_dE)) < 1e-14 * t.energy.eps
+            assert (
+                abs(
+                    mp.mpf(r["E"])
+                    - 4
+                    - (1 if t.phase == "rot" else -1) * mp.exp(t.log_abs_dE)
+                )
+                < 1e-14 * t.energy.eps
+            )
         assert float(r["period"]) == t.period and r["transition"] == t.transition
-    rc, out, err = run("bifurcations", "--phase", "rot", "--kind", "PD", "--n-max", "1", "--json")
+    rc, out, err = run(
+        "bifurcations", "--phase", "rot", "--kind", "PD", "--n-max", "1", "--json"
+    )
     assert rc == 0, err
     recs = json.loads(out)
     assert [r["label"] for r in recs] == ["PD^r_1"]
 
 
-@pytest.mark.parametrize("args", [("--n-max", "0"), ("--n-max", "201"), ("--phase", "up"), ("--kind", "XY"),
-                                  ("--n-max", "150")])
+@pytest.mark.parametrize(
+    "args",
+    [
+        ("--n-max", "0"),
+        ("--n-max", "201"),
+        ("--phase", "up"),
+        ("--kind", "XY"),
+        ("--n-max", "150"),
+    ],
+)
 def test_cli_bad_input_one_line(args):
     rc, out, err = run("bifurcations", *args)
     assert rc == 2 and err.count("\n") == 1 and "Traceback" not in err
@@ -252,7 +345,9 @@ def test_cli_breather_family():
         return
     assert rc == 0, err
     recs = json.loads(out)
-    assert isinstance(recs, list) and all("E" in r and "period" in r and "kind" in r for r in recs)
+    assert isinstance(recs, list) and all(
+        "E" in r and "period" in r and "kind" in r for r in recs
+    )
 
 
 # ----------------------------------------------------------------------------- tr M_perp asymptotics (paper §5.2)
@@ -264,18 +359,25 @@ def test_fit_harmonic_recovers_coefficients():
     tau = np.linspace(0.0, 20.0, 400)
     y = 0.3 + 1.7 * np.cos(tau) - 0.4 * np.sin(tau)
     f = sc.fit_harmonic(tau, y, 5.0, 5.0 + 2 * np.pi)
-    assert abs(f.c0 - 0.3) < 1e-12 and abs(f.c1 - 1.7) < 1e-12 and abs(f.s1 + 0.4) < 1e-12
+    assert (
+        abs(f.c0 - 0.3) < 1e-12 and abs(f.c1 - 1.7) < 1e-12 and abs(f.s1 + 0.4) < 1e-12
+    )
     assert abs(f.amplitude - math.hypot(1.7, 0.4)) < 1e-12 and f.max_residual < 1e-12
     assert np.allclose(f.c0 + f.amplitude * np.cos(tau + f.phase), y, atol=1e-12)
-    assert 5.0 <= f.tau_min < f.tau_max <= 5.0 + 2 * np.pi and f.n == int(((tau >= 5) & (tau <= 5 + 2 * np.pi)).sum())
+    assert 5.0 <= f.tau_min < f.tau_max <= 5.0 + 2 * np.pi and f.n == int(
+        ((tau >= 5) & (tau <= 5 + 2 * np.pi)).sum()
+    )
 
 
-@pytest.mark.parametrize("tau,y,lo,hi", [
-    (np.arange(5.0), np.arange(4.0), -np.inf, np.inf),                 # shapes differ
-    (np.arange(10.0), np.arange(10.0), 2.0, 3.5),                      # 2 samples in the window
-    (np.arange(10.0), np.r_[np.arange(9.0), np.nan], -np.inf, np.inf),  # not finite
-    (np.ones((3, 3)), np.ones((3, 3)), -np.inf, np.inf),               # not 1-d
-])
+@pytest.mark.parametrize(
+    "tau,y,lo,hi",
+    [
+        (np.arange(5.0), np.arange(4.0), -np.inf, np.inf),  # shapes differ
+        (np.arange(10.0), np.arange(10.0), 2.0, 3.5),  # 2 samples in the window
+        (np.arange(10.0), np.r_[np.arange(9.0), np.nan], -np.inf, np.inf),  # not finite
+        (np.ones((3, 3)), np.ones((3, 3)), -np.inf, np.inf),  # not 1-d
+    ],
+)
 def test_fit_harmonic_rejects_bad_input(tau, y, lo, hi):
     with pytest.raises(ValueError):
         sc.fit_harmonic(tau, y, lo, hi)
@@ -291,11 +393,22 @@ def test_separatrix_transmission_against_direct_scattering():
         k = 1 / 3 + (2 / 3) / math.cosh(z) ** 2
         return [Y[1], -k * Y[0], Y[3], -k * Y[2]]
 
-    sol = solve_ivp(rhs, (-40.0, 40.0), [1.0, 0.0, 0.0, 1.0], method="DOP853", rtol=1e-13, atol=1e-15)
+    sol = solve_ivp(
+        rhs,
+        (-40.0, 40.0),
+        [1.0, 0.0, 0.0, 1.0],
+        method="DOP853",
+        rtol=1e-13,
+        atol=1e-15,
+    )
     y1, dy1, y2, dy2 = sol.y[:, -1]
-    S = np.array([[y1, q * y2], [dy1 / q, dy2]])          # in (y, y'/q), where free motion is a rotation
+    S = np.array(
+        [[y1, q * y2], [dy1 / q, dy2]]
+    )  # in (y, y'/q), where free motion is a rotation
     assert abs(np.linalg.det(S) - 1) < 1e-10
-    T_direct = 4.0 / ((S[0, 0] + S[1, 1]) ** 2 + (S[0, 1] - S[1, 0]) ** 2)   # amplitude of tr(R(theta) S) = 2/|t|
+    T_direct = 4.0 / (
+        (S[0, 0] + S[1, 1]) ** 2 + (S[0, 1] - S[1, 0]) ** 2
+    )  # amplitude of tr(R(theta) S) = 2/|t|
     T = sc.separatrix_transmission()
     assert abs(T_direct - T) < 1e-9 and 0.9 < T < 0.901
     assert abs(float(sc.separatrix_transmission(30)) - T) < 1e-15
@@ -308,16 +421,28 @@ def test_trace_asymptotics_against_the_80_roots_and_a_deep_fit():
     T = by_label()
     rot, lib = sc.trace_asymptotics("rot"), sc.trace_asymptotics("lib")
     t = math.sqrt(rot.transmission)
-    assert rot.amplitude == 2 / t and rot.c0 == 0 and abs(lib.amplitude - 2 / t**2) < 1e-15
-    assert abs(lib.c0 - (lib.amplitude - 2)) < 1e-15 and abs(lib.window_width - 2 * rot.window_width) < 1e-15
+    assert (
+        rot.amplitude == 2 / t and rot.c0 == 0 and abs(lib.amplitude - 2 / t**2) < 1e-15
+    )
+    assert (
+        abs(lib.c0 - (lib.amplitude - 2)) < 1e-15
+        and abs(lib.window_width - 2 * rot.window_width) < 1e-15
+    )
     # the unstable windows keep the width 2 arccos|t| (rotation) and 4 arccos|t| (libration)
-    for a, b, w in (("IS^r_19", "IS^r_20", rot.window_width), ("PD^r_19", "PD^r_20", rot.window_width),
-                    ("IS^l_19", "IS^l_20", lib.window_width)):
+    for a, b, w in (
+        ("IS^r_19", "IS^r_20", rot.window_width),
+        ("PD^r_19", "PD^r_20", rot.window_width),
+        ("IS^l_19", "IS^l_20", lib.window_width),
+    ):
         assert abs(T[b].period - T[a].period - w) < 1e-11
     # the fitted amplitude of tr M_perp on one period deep in rotation (log|E - 4| from -26 to -37)
     tr, tau = bf.trace_curve(np.linspace(-26.0, -37.0, 800), "rot")
     f = sc.fit_harmonic(tau, tr - 2.0)
-    assert abs(f.amplitude - rot.amplitude) < 1e-9 and abs(f.c0) < 1e-9 and f.max_residual < 1e-8
+    assert (
+        abs(f.amplitude - rot.amplitude) < 1e-9
+        and abs(f.c0) < 1e-9
+        and f.max_residual < 1e-8
+    )
     with pytest.raises(ValueError):
         sc.trace_asymptotics("both")
 
@@ -325,13 +450,32 @@ def test_trace_asymptotics_against_the_80_roots_and_a_deep_fit():
 def test_family_curve_float64_and_default_precision():
     c = sc.family_curve("IS^l_1", 4.0, n=4)
     T = by_label()
-    assert c.precision == "float64" and c.kind == "IS" and c.phase == "lib" and len(c.dE) == len(c.trace) == 5
-    assert c.dE_birth == -T["IS^l_1"].energy.eps and c.dE[-1] == 0.0 and np.all(np.diff(c.dE) > 0)
-    assert abs(c.trace[0] - 4.0) < 0.01 and abs(c.trace[-1] - 1.5082) < 1e-3 and c.max_residual < 1e-10
-    deep = sc.family_curve("IS^l_7", 4.0, n=2)               # born at 4 - E = 7.6e-10: real128 by default
+    assert (
+        c.precision == "float64"
+        and c.kind == "IS"
+        and c.phase == "lib"
+        and len(c.dE) == len(c.trace) == 5
+    )
+    assert (
+        c.dE_birth == -T["IS^l_1"].energy.eps
+        and c.dE[-1] == 0.0
+        and np.all(np.diff(c.dE) > 0)
+    )
+    assert (
+        abs(c.trace[0] - 4.0) < 0.01
+        and abs(c.trace[-1] - 1.5082) < 1e-3
+        and c.max_residual < 1e-10
+    )
+    deep = sc.family_curve(
+        "IS^l_7", 4.0, n=2
+    )  # born at 4 - E = 7.6e-10: real128 by default
     # closure measured in real128 over a full period: eps / |E - 4| ~ 1e-25, times the orbit's growth
-    assert deep.precision == "real128" and abs(deep.trace[-1] - 1.5211) < 1e-3 and deep.max_residual < 1e-21
-    past = sc.family_curve("IS^l_1", 4.02, n=6)               # continued past the separatrix energy
+    assert (
+        deep.precision == "real128"
+        and abs(deep.trace[-1] - 1.5211) < 1e-3
+        and deep.max_residual < 1e-21
+    )
+    past = sc.family_curve("IS^l_1", 4.02, n=6)  # continued past the separatrix energy
     assert past.dE[0] < 0 < past.dE[-1] and abs(past.dE[-1] - 0.02) < 1e-12
     for args in (("XY^l_1", 4.0), ("IS^l_1", 6.0), ("IS^l_1", 3.0), ("IS^r_1", 3.9)):
         with pytest.raises(ValueError):

@@ -25,6 +25,7 @@ Skipped, with the reason, when the book is not built or chromium/playwright is
 missing -- except under CI=true, where either is a failure.
 Build first: bash scripts/build_book.sh
 """
+
 from __future__ import annotations
 
 import functools
@@ -44,12 +45,22 @@ import yaml
 pytestmark = pytest.mark.slow
 
 ROOT = Path(__file__).resolve().parents[1]
-HTML = Path(os.environ.get("BOOK_HTML", ROOT / "_build" / "html"))  # override for testing
+HTML = Path(
+    os.environ.get("BOOK_HTML", ROOT / "_build" / "html")
+)  # override for testing
 SHOTS = ROOT / "_build" / "screenshots"
 CHROMIUM = os.environ.get("CHROMIUM", "/usr/bin/chromium")
 IN_CI = os.environ.get("CI", "").lower() == "true"
-CHROMIUM_ARGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
-                 "--disable-background-networking", "--disable-component-update", "--disable-sync"]
+CHROMIUM_ARGS = [
+    "--headless",
+    "--no-sandbox",
+    "--disable-gpu",
+    "--disable-quic",
+    "--no-first-run",
+    "--disable-background-networking",
+    "--disable-component-update",
+    "--disable-sync",
+]
 
 
 def _unavailable(reason: str):
@@ -62,7 +73,11 @@ def _pages() -> list[str]:
     if not (HTML / "index.html").is_file():
         return []
     skip = {"_static", "_sources", "_images"}
-    return sorted(str(p.relative_to(HTML)) for p in HTML.rglob("*.html") if not skip & set(p.relative_to(HTML).parts))
+    return sorted(
+        str(p.relative_to(HTML))
+        for p in HTML.rglob("*.html")
+        if not skip & set(p.relative_to(HTML).parts)
+    )
 
 
 PAGES = _pages()
@@ -71,7 +86,9 @@ PAGES = _pages()
 @pytest.fixture(scope="module")
 def server():
     if not (HTML / "index.html").is_file():
-        _unavailable(f"the book is not built ({HTML / 'index.html'} missing; run bash scripts/build_book.sh)")
+        _unavailable(
+            f"the book is not built ({HTML / 'index.html'} missing; run bash scripts/build_book.sh)"
+        )
     handler = functools.partial(_QuietHandler, directory=str(HTML))
     httpd = http.server.ThreadingHTTPServer(("127.0.0.1", 0), handler)
     thread = threading.Thread(target=httpd.serve_forever, daemon=True)
@@ -93,13 +110,20 @@ def browser_context():
     try:
         from playwright.sync_api import sync_playwright
     except ImportError:
-        _unavailable("the playwright Python package is not installed (see environment.txt)")
+        _unavailable(
+            "the playwright Python package is not installed (see environment.txt)"
+        )
     profile = tempfile.mkdtemp(prefix="book-chromium-")
     blocked: list[str] = []
     with sync_playwright() as pw:
         context = pw.chromium.launch_persistent_context(
-            profile, executable_path=CHROMIUM, headless=True, args=CHROMIUM_ARGS,
-            viewport={"width": 1280, "height": 900}, service_workers="block")
+            profile,
+            executable_path=CHROMIUM,
+            headless=True,
+            args=CHROMIUM_ARGS,
+            viewport={"width": 1280, "height": 900},
+            service_workers="block",
+        )
 
         def guard(route):
             url = route.request.url
@@ -112,7 +136,7 @@ def browser_context():
 
         context.route("**/*", guard)
         context.blocked = blocked
-        context.visits = {}   # page path -> _visit's result (each page is loaded once)
+        context.visits = {}  # page path -> _visit's result (each page is loaded once)
         yield context
         context.close()
     shutil.rmtree(profile, ignore_errors=True)
@@ -126,7 +150,7 @@ def _local_target(url: str) -> tuple[Path, str]:
     return path, urllib.parse.unquote(parts.fragment)
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def _ids(path: Path) -> frozenset[str]:
     text = path.read_text(encoding="utf-8", errors="replace")
     return frozenset(re.findall(r'\b(?:id|name)="([^"]+)"', text))
@@ -229,7 +253,9 @@ function codeOverflow(article) {
   return result;
 }
 """
-_PAGE_STATE_JS = _PAGE_STATE_JS.replace("async () => {", "async () => {\n" + _CODE_OVERFLOW_JS, 1)
+_PAGE_STATE_JS = _PAGE_STATE_JS.replace(
+    "async () => {", "async () => {\n" + _CODE_OVERFLOW_JS, 1
+)
 
 
 def _visit(server, context, page_path: str) -> dict:
@@ -242,27 +268,48 @@ def _visit(server, context, page_path: str) -> dict:
     if page_path in visits:
         return visits[page_path]
     html = (HTML / page_path).read_text(encoding="utf-8", errors="replace")
-    refresh = re.search(r'http-equiv="refresh"\s+content="\d+;\s*url=([^"]+)"', html, re.I)
-    if refresh:   # a redirect page (index.html -> book/intro.html)
-        visits[page_path] = {"redirect": refresh.group(1), "errors": [], "blocked": [], "state": None}
+    refresh = re.search(
+        r'http-equiv="refresh"\s+content="\d+;\s*url=([^"]+)"', html, re.I
+    )
+    if refresh:  # a redirect page (index.html -> book/intro.html)
+        visits[page_path] = {
+            "redirect": refresh.group(1),
+            "errors": [],
+            "blocked": [],
+            "state": None,
+        }
         return visits[page_path]
     errors: list[str] = []
     page = context.new_page()
     page.set_default_timeout(30_000)
-    page.on("console", lambda msg: errors.append(f"console {msg.type}: {msg.text}")
-            if msg.type == "error" else None)
+    page.on(
+        "console",
+        lambda msg: (
+            errors.append(f"console {msg.type}: {msg.text}")
+            if msg.type == "error"
+            else None
+        ),
+    )
     page.on("pageerror", lambda exc: errors.append(f"uncaught exception: {exc}"))
     n_blocked = len(context.blocked)
     try:
         response = page.goto(server + page_path, wait_until="load", timeout=30_000)
-        assert response is not None and response.ok, f"{page_path}: HTTP {response and response.status}"
-        page.evaluate("async () => { await document.fonts.ready; }")   # code widths need the final font
+        assert response is not None and response.ok, (
+            f"{page_path}: HTTP {response and response.status}"
+        )
+        page.evaluate(
+            "async () => { await document.fonts.ready; }"
+        )  # code widths need the final font
         state = page.evaluate(_PAGE_STATE_JS)
-        page.wait_for_timeout(100)   # late console errors
+        page.wait_for_timeout(100)  # late console errors
     finally:
         page.close()
-    visits[page_path] = {"redirect": None, "errors": errors, "blocked": context.blocked[n_blocked:],
-                         "state": state}
+    visits[page_path] = {
+        "redirect": None,
+        "errors": errors,
+        "blocked": context.blocked[n_blocked:],
+        "state": state,
+    }
     return visits[page_path]
 
 
@@ -271,17 +318,25 @@ def test_page(server, browser_context, page_path):
     if page_path not in PAGES:
         _unavailable("the book is not built")
     visit = _visit(server, browser_context, page_path)
-    if visit["redirect"]:   # a redirect page (index.html -> book/intro.html): its target must exist
-        target = (HTML / page_path).parent / urllib.parse.unquote(visit["redirect"].split("#")[0])
+    if visit[
+        "redirect"
+    ]:  # a redirect page (index.html -> book/intro.html): its target must exist
+        target = (HTML / page_path).parent / urllib.parse.unquote(
+            visit["redirect"].split("#")[0]
+        )
         assert target.is_file(), f"{page_path} redirects to missing {visit['redirect']}"
         return
     state = visit["state"]
     problems = list(visit["errors"])
     blocked = visit["blocked"]
     if blocked:
-        problems.append(f"requests leaving 127.0.0.1 (blocked): {sorted(set(blocked))[:10]}")
+        problems.append(
+            f"requests leaving 127.0.0.1 (blocked): {sorted(set(blocked))[:10]}"
+        )
     if state["mathSource"] and not state["mathTypeset"]:
-        problems.append(f"{state['mathSource']} math elements but nothing typeset by MathJax")
+        problems.append(
+            f"{state['mathSource']} math elements but nothing typeset by MathJax"
+        )
     if state["mathErrors"]:
         problems.append(f"MathJax errors: {state['mathErrors']}")
     if state["badImages"]:
@@ -296,7 +351,9 @@ def test_page(server, browser_context, page_path):
         if not target.is_file():
             problems.append(f"broken link {href} -> {target.relative_to(HTML)} missing")
         elif fragment and target.suffix == ".html" and fragment not in _ids(target):
-            problems.append(f"broken anchor {href} (no id {fragment!r} in {target.relative_to(HTML)})")
+            problems.append(
+                f"broken anchor {href} (no id {fragment!r} in {target.relative_to(HTML)})"
+            )
     assert not problems, f"{page_path}:\n  " + "\n  ".join(problems)
 
 
@@ -316,13 +373,19 @@ def test_code_blocks_fit(server, browser_context, page_path):
     if not code["overflowing"]:
         return
     n_lines = sum(len(b["lines"]) for b in code["overflowing"])
-    msg = [f"{page_path}: {len(code['overflowing'])} of {code['blocks']} code blocks overflow "
-           f"horizontally ({n_lines} lines too wide):"]
+    msg = [
+        f"{page_path}: {len(code['overflowing'])} of {code['blocks']} code blocks overflow "
+        f"horizontally ({n_lines} lines too wide):"
+    ]
     for b in code["overflowing"]:
-        msg.append(f"  {b['where']}: scrollWidth {b['scrollWidth']} > clientWidth {b['clientWidth']} + 1 "
-                   f"(room for {b['avail']} px of text)")
+        msg.append(
+            f"  {b['where']}: scrollWidth {b['scrollWidth']} > clientWidth {b['clientWidth']} + 1 "
+            f"(room for {b['avail']} px of text)"
+        )
         for ln in b["lines"]:
-            msg.append(f"    line {ln['line']} ({ln['chars']} chars, {ln['px']} px): {_clip(ln['text'])!r}")
+            msg.append(
+                f"    line {ln['line']} ({ln['chars']} chars, {ln['px']} px): {_clip(ln['text'])!r}"
+            )
     pytest.fail("\n".join(msg), pytrace=False)
 
 
@@ -338,7 +401,9 @@ TOC_CHAPTERS = _toc_chapters()
 
 
 def test_toc_has_chapters():
-    assert len(TOC_CHAPTERS) >= 2, f"_toc.yml names too few chapter notebooks: {TOC_CHAPTERS}"
+    assert len(TOC_CHAPTERS) >= 2, (
+        f"_toc.yml names too few chapter notebooks: {TOC_CHAPTERS}"
+    )
 
 
 @pytest.mark.parametrize("chapter", TOC_CHAPTERS)
@@ -351,8 +416,12 @@ def test_chapter_shows_table(server, browser_context, chapter):
     state = _visit(server, browser_context, page_path)["state"]
     assert state["tables"] >= 1, (
         f"{page_path}: no rendered table (<table> with a header and a row) in the main content"
-        + (f"; {state['printedTables']} output(s) print a plain-text table instead"
-           if state["printedTables"] else ""))
+        + (
+            f"; {state['printedTables']} output(s) print a plain-text table instead"
+            if state["printedTables"]
+            else ""
+        )
+    )
 
 
 def _chapters() -> list[str]:
@@ -372,14 +441,24 @@ def test_screenshots_and_buttons(server, browser_context):
     try:
         for chapter in chapters[:2]:
             page.goto(server + chapter, wait_until="load")
-            page.evaluate("async () => { if (window.MathJax && MathJax.startup) await MathJax.startup.promise; }")
+            page.evaluate(
+                "async () => { if (window.MathJax && MathJax.startup) await MathJax.startup.promise; }"
+            )
             name = Path(chapter).stem
             page.screenshot(path=str(SHOTS / f"{name}.png"), full_page=True)
             # Download (.ipynb) and launch (Binder, Colab) links are in the page's header.
-            hrefs = page.eval_on_selector_all("a[href]", "els => els.map(e => e.getAttribute('href'))")
-            assert any(h.endswith(f"{name}.ipynb") for h in hrefs), f"{chapter}: no .ipynb download link"
-            assert any("mybinder.org" in h for h in hrefs), f"{chapter}: no Binder launch link"
-            assert any("colab.research.google.com" in h for h in hrefs), f"{chapter}: no Colab launch link"
+            hrefs = page.eval_on_selector_all(
+                "a[href]", "els => els.map(e => e.getAttribute('href'))"
+            )
+            assert any(h.endswith(f"{name}.ipynb") for h in hrefs), (
+                f"{chapter}: no .ipynb download link"
+            )
+            assert any("mybinder.org" in h for h in hrefs), (
+                f"{chapter}: no Binder launch link"
+            )
+            assert any("colab.research.google.com" in h for h in hrefs), (
+                f"{chapter}: no Colab launch link"
+            )
         # The launch menu opened, to show the buttons in a screenshot.
         launch = page.locator(".dropdown-launch-buttons button").first
         if launch.count():

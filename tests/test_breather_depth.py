@@ -17,6 +17,7 @@ Before the fix the float64 tr M of R was wrong in every digit by -20 (the
 composition divided by a determinant computed with cancellation), and the
 30-digit tier read E through float64 (relative error 3.7e-7 at -20).
 """
+
 import json
 import math
 import subprocess
@@ -24,11 +25,13 @@ import sys
 
 import mpmath as mp
 import pytest
-
-import rotorlib as rl
 from independent import textbook_breather_R
 
-needs_heyoka = pytest.mark.skipif(not rl.heyoka_available(), reason="heyoka not installed")
+import rotorlib as rl
+
+needs_heyoka = pytest.mark.skipif(
+    not rl.heyoka_available(), reason="heyoka not installed"
+)
 
 
 def rel(a, b):
@@ -40,7 +43,7 @@ def rel(a, b):
 @pytest.mark.parametrize("x,bits", [("-20", 256), ("-40", 384)])
 def test_R_against_independent_textbook(x, bits):
     ref, period, closure = textbook_breather_R(x, bits)
-    assert closure < 1e-14                            # the reference's own period and state close the orbit
+    assert closure < 1e-14  # the reference's own period and state close the orbit
     o = rl.breather(log_abs_dE=x, family="R")
     assert rel(rl.monodromy(o).trace, ref) < 1e-10
     M30 = rl.monodromy(o, digits=30)
@@ -53,15 +56,33 @@ def test_R_against_independent_textbook(x, bits):
 @needs_heyoka
 def test_cli_R_digits30_against_independent_textbook():
     """``trace breather --log-dE -20 -40 --family R --digits 30``: 20 digits at least (measured 30)."""
-    p = subprocess.run([sys.executable, "-m", "rotorlib", "trace", "breather", "--log-dE", "-20", "-40",
-                        "--family", "R", "--digits", "30", "--json"], capture_output=True, text=True, timeout=300)
+    p = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "rotorlib",
+            "trace",
+            "breather",
+            "--log-dE",
+            "-20",
+            "-40",
+            "--family",
+            "R",
+            "--digits",
+            "30",
+            "--json",
+        ],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
     assert p.returncode == 0, p.stderr
     recs = json.loads(p.stdout)
     for rec, (x, bits) in zip(recs, (("-20", 256), ("-40", 384))):
         ref, period, _ = textbook_breather_R(x, bits)
         assert rec["precision"] == "real128" and rec["breather_family"] == "R"
         assert rel(rec["trace"], ref) < 1e-20 and rel(rec["period"], period) < 1e-20
-        with mp.workdps(60):                          # E - 4.5 = e^x visible in the decimal E
+        with mp.workdps(60):  # E - 4.5 = e^x visible in the decimal E
             assert abs((mp.mpf(rec["E"]) - mp.mpf("4.5")) / mp.exp(int(x)) - 1) < 1e-28
 
 
@@ -73,7 +94,7 @@ def test_float64_relative_at_depth(family, x):
     ref = rl.monodromy(o, digits=30).trace_str
     M = rl.monodromy(o)
     assert math.isfinite(M.trace) and rel(M.trace, ref) < 1e-10
-    assert abs(math.log(abs(M.trace)) + 2 * x) < 12        # tr M ~ |E - 4.5|^-2
+    assert abs(math.log(abs(M.trace)) + 2 * x) < 12  # tr M ~ |E - 4.5|^-2
 
 
 @needs_heyoka
@@ -93,7 +114,7 @@ def test_beyond_float64_range_extended_only():
     with pytest.raises(ValueError, match="float64 range"):
         rl.monodromy(o)
     a = rl.monodromy(o, digits=30).trace_str
-    b = rl.monodromy(o, digits=40).trace_str            # heyoka multiprecision
+    b = rl.monodromy(o, digits=40).trace_str  # heyoka multiprecision
     assert rel(a, b) < 1e-25
     with mp.workdps(30):
         assert abs(mp.log(abs(mp.mpf(a))) - 1600) < 12
@@ -111,12 +132,21 @@ def test_closed_form_parameters_without_cancellation(family, x):
         E = mp.mpf(9) / 2 + (1 if family == "R" else -1) * mp.exp(x)
         if family == "R":
             Q = mp.sqrt(E * (E - 4))
-            ref = dict(m=(Q - E + 6) / (2 * Q), m1=(Q + E - 6) / (2 * Q), nu=mp.sqrt(Q), shape=mp.sqrt(E / (E - 4)))
+            ref = dict(
+                m=(Q - E + 6) / (2 * Q),
+                m1=(Q + E - 6) / (2 * Q),
+                nu=mp.sqrt(Q),
+                shape=mp.sqrt(E / (E - 4)),
+            )
         else:
             S = mp.sqrt(9 - 2 * E)
             den = (1 + S) * (3 + S)
-            ref = dict(m=(1 - S) * (3 - S) / den, m1=8 * S / den, nu=mp.sqrt(den / 2) / 2,
-                       shape=(3 - S) / (1 + S) if family == "LG" else (1 - S) / (3 + S))
+            ref = dict(
+                m=(1 - S) * (3 - S) / den,
+                m1=8 * S / den,
+                nu=mp.sqrt(den / 2) / 2,
+                shape=(3 - S) / (1 + S) if family == "LG" else (1 - S) / (3 + S),
+            )
         for key, v in ref.items():
             assert abs(p[key] / v - 1) < tol, key
 
@@ -141,8 +171,13 @@ def test_breather_energy_carries_distance():
         assert abs(v["E"] - 4.5 - mp.exp(-40)) < mp.mpf("1e-44")
     en = rl.breather_energy(E="4.49999999999999999999", family="LD")
     assert en.family == "LD" and en.eps == 1e-20 and en.E == 4.5
-    for bad in (dict(E="4.5"), dict(E="4.50000", family="R"), dict(log_abs_dE=-0.5, family="LD"),
-                dict(log_abs_dE=2.0, family="LG"), dict(E="3.99999999999999999999", family="LD"),
-                dict(E="4.5000000000000000000001", family="LG")):
+    for bad in (
+        dict(E="4.5"),
+        dict(E="4.50000", family="R"),
+        dict(log_abs_dE=-0.5, family="LD"),
+        dict(log_abs_dE=2.0, family="LG"),
+        dict(E="3.99999999999999999999", family="LD"),
+        dict(E="4.5000000000000000000001", family="LG"),
+    ):
         with pytest.raises(ValueError):
             rl.breather_energy(**bad)

@@ -25,14 +25,22 @@ def test_pd_energy_and_period_independent(pd30):
     """E_PD from the Hill route at 30 digits; independently: the period by mpmath quadrature of
     dt = dphi / phi' and tr M of the full 4x4 variational equations (heyoka real128) vanish there."""
     pd64 = B.pd_transition()
-    assert pd64.kind == "PD" and pd64.family == "R" and pd64.transition == "unstable->stable"
+    assert (
+        pd64.kind == "PD"
+        and pd64.family == "R"
+        and pd64.transition == "unstable->stable"
+    )
     with mp.workdps(40):
         E = mp.mpf(pd30.E_str)
-        T = mp.quad(lambda f: 1 / mp.sqrt(E - 3 + 2 * mp.cos(f) + mp.cos(2 * f)),
-                    [0, mp.pi / 2, mp.pi, 3 * mp.pi / 2, 2 * mp.pi])
+        T = mp.quad(
+            lambda f: 1 / mp.sqrt(E - 3 + 2 * mp.cos(f) + mp.cos(2 * f)),
+            [0, mp.pi / 2, mp.pi, 3 * mp.pi / 2, 2 * mp.pi],
+        )
         assert abs(T - mp.mpf(pd30.period_str)) < mp.mpf("1e-20")
         s = mp.nstr(mp.sqrt(E), 40)
-        v = rotorlib.variational_monodromy(["0", "0", s, s], mp.nstr(T, 40), method="heyoka", precision="real128")
+        v = rotorlib.variational_monodromy(
+            ["0", "0", s, s], mp.nstr(T, 40), method="heyoka", precision="real128"
+        )
         # tr M = 0 at E_PD; |d tr M / dE| ~ 1.6, so |tr M| < 1e-20 pins E to ~1e-20
         assert abs(mp.mpf(v.trace_str)) < mp.mpf("1e-20")
     # float64 transition agrees to 12+ digits
@@ -47,7 +55,11 @@ def test_pd_record_contract():
     assert len(recs) == 1
     r = recs[0]
     assert r["kind"] == "PD" and r["family"] == "R" and isinstance(r["E"], str)
-    assert abs(float(r["E"]) - 8.968972046849596) < 1e-12 and "transition" in r and "period" in r
+    assert (
+        abs(float(r["E"]) - 8.968972046849596) < 1e-12
+        and "transition" in r
+        and "period" in r
+    )
     assert B.breather_transitions("LG") == [] and B.breather_transitions("LD") == []
     with pytest.raises(ValueError):
         B.breather_transitions("X")
@@ -56,10 +68,16 @@ def test_pd_record_contract():
 def test_pd_eigenstructure():
     es = B.pd_eigenstructure()
     ev = np.sort(es.eigenvalues.real)
-    assert np.allclose(ev, [-1, -1, 1, 1], atol=1e-6)       # defective: eigenvalues to ~sqrt(eps)
+    assert np.allclose(
+        ev, [-1, -1, 1, 1], atol=1e-6
+    )  # defective: eigenvalues to ~sqrt(eps)
     assert es.geometric_multiplicity == {1: 1, -1: 1}
-    assert np.allclose(np.abs(es.eigenvectors[1][:, 0]), [1, 0, 0, 0], atol=1e-8)    # sliding
-    assert np.allclose(np.abs(es.eigenvectors[-1][:, 0]), [0, 0, 1, 0], atol=1e-8)   # transverse
+    assert np.allclose(
+        np.abs(es.eigenvectors[1][:, 0]), [1, 0, 0, 0], atol=1e-8
+    )  # sliding
+    assert np.allclose(
+        np.abs(es.eigenvectors[-1][:, 0]), [0, 0, 1, 0], atol=1e-8
+    )  # transverse
     assert es.basis == ("b1", "q1", "b2", "q2")
 
 
@@ -67,7 +85,9 @@ def test_pd_eigenstructure():
 def test_daughter_closes_under_scipy(E):
     o = B.breather_daughter(E)
     assert o.label == "PD^b" and o.E == E
-    sol = solve_ivp(rhs_alpha, (0.0, o.period), o.state0, method="DOP853", rtol=1e-12, atol=1e-14)
+    sol = solve_ivp(
+        rhs_alpha, (0.0, o.period), o.state0, method="DOP853", rtol=1e-12, atol=1e-14
+    )
     xT = sol.y[:, -1]
     assert np.max(np.abs(_unwind(xT - o.state0))) < 1e-7
     assert abs(energy_alpha(o.state0) - E) < 1e-9 and abs(energy_alpha(xT) - E) < 1e-9
@@ -93,14 +113,14 @@ def test_er_minimisation_matches_shooting():
 
 
 def test_backward_fork_and_slope_ratio(family):
-    assert np.all(family.E < family.E_PD)                          # exists below E_PD only
-    assert np.all(np.diff(family.E) < 0)                           # energy falls as delta grows
-    assert abs(family.fit["trace_at_birth"] - 4.0) < 1e-6          # born with tr M = 4
+    assert np.all(family.E < family.E_PD)  # exists below E_PD only
+    assert np.all(np.diff(family.E) < 0)  # energy falls as delta grows
+    assert abs(family.fit["trace_at_birth"] - 4.0) < 1e-6  # born with tr M = 4
     assert abs(family.fit["E_at_birth"] - family.E_PD) < 1e-9
-    assert abs(family.slope_ratio - 8.0) < 0.01                    # paper 7.99, theory 8
+    assert abs(family.slope_ratio - 8.0) < 0.01  # paper 7.99, theory 8
     assert family.unstable_crossing == "tr M = 4"
-    assert abs(family.E_unstable - 8.27) < 0.01                    # paper 8.27
-    assert np.all(family.trace > -1e-9)                            # tr M = (tr N - 2)^2 >= 0
+    assert abs(family.E_unstable - 8.27) < 0.01  # paper 8.27
+    assert np.all(family.trace > -1e-9)  # tr M = (tr N - 2)^2 >= 0
     assert abs(family.period[0] - 2 * rotorlib.breather(family.E_PD, "R").period) < 1e-3
 
 

@@ -15,12 +15,17 @@ from rotorlib import compare as cmp
         ("230.76", 230.7646, "agrees", "reproduced"),
         ("230.77", 230.7646, "last digit off by +1", "not correctly rounded"),
         ("230.76", 230.7688, "truncated", "not correctly rounded"),
-        ("203.76", 230.7646, "typo", "wrong"),          # two adjacent digits transposed
+        ("203.76", 230.7646, "typo", "wrong"),  # two adjacent digits transposed
         ("2.8611e-11", 2.86114e-11, "agrees", "reproduced"),
-        ("2.8611e-11", 2.9611e-11, "typo", "wrong"),    # one wrong digit
+        ("2.8611e-11", 2.9611e-11, "typo", "wrong"),  # one wrong digit
         ("7.5", 9.1, "DIFFERS", "wrong"),
-        ("15.13", 15.19, "DIFFERS", "wrong"),          # last digit off by 6: not rounding
-        ("0.0002424", 0.00024, "DIFFERS", "wrong"),    # a wrong digit and the last off by 4
+        ("15.13", 15.19, "DIFFERS", "wrong"),  # last digit off by 6: not rounding
+        (
+            "0.0002424",
+            0.00024,
+            "DIFFERS",
+            "wrong",
+        ),  # a wrong digit and the last off by 4
     ],
 )
 def test_printed_digits_are_the_claim(paper, ours, verdict, status):
@@ -54,7 +59,7 @@ def test_records_round_differences_below_round_off():
     a = cmp.claim("x", "1.00", 1.0 + 1e-14, tol=0.01)
     b = cmp.claim("x", "1.00", 1.0 + 2e-14, tol=0.01)
     ra, rb = json.loads(cmp.records([a], "ch")), json.loads(cmp.records([b], "ch"))
-    assert ra == rb                              # round-off does not reach the record
+    assert ra == rb  # round-off does not reach the record
     assert ra[0]["chapter"] == "ch" and ra[0]["status"] == "reproduced"
     nan = json.loads(cmp.records([cmp.claim("y", "2", None)], "ch"))[0]
     assert nan["difference"] is None and nan["tolerance"] is None
@@ -64,7 +69,7 @@ def test_markdown_table():
     md = cmp.markdown([cmp.claim("a|b", "1.5", 1.5)])
     lines = md.splitlines()
     assert lines[0].startswith("| section | quantity | paper | ours")
-    assert "a\\|b" in lines[2]                   # pipes escaped
+    assert "a\\|b" in lines[2]  # pipes escaped
     md2 = cmp.markdown([["x", 1e-3, "8.9"]], ["name", "diff", "E"])
     assert md2.splitlines()[2] == "| x | 1.0e-03 | 8.9 |"
 

@@ -1,4 +1,5 @@
 """Jacobi functions and complete integrals near m -> 1, against mpmath."""
+
 import mpmath as mp
 import numpy as np
 import pytest
@@ -17,10 +18,14 @@ def test_sncndn_against_mpmath(m1):
             s, c, d = jacobi_sncndn(u, 1 - m1, m1)
             S, C, D = (mp.ellipfun(k, u, m=mm) for k in ("sn", "cn", "dn"))
             # conditioning: ulp(u) * |d/du| relative to the value
-            cond = 4e-16 * max(1.0, u) * (1 + float(abs(S * D / C)) if C != 0 else 1e300)
+            cond = (
+                4e-16 * max(1.0, u) * (1 + float(abs(S * D / C)) if C != 0 else 1e300)
+            )
             assert abs(s - float(S)) < 2e-15 * max(1.0, u)
             assert abs(c - float(C)) <= max(1e-15, cond) * float(abs(C)) + 1e-300
-            assert abs(d - float(D)) <= max(1e-15, 4e-16 * max(1.0, u) * float(abs(S * C / D)) * 8) * float(D)
+            assert abs(d - float(D)) <= max(
+                1e-15, 4e-16 * max(1.0, u) * float(abs(S * C / D)) * 8
+            ) * float(D)
 
 
 def test_sncndn_deep_relative_accuracy_of_cn_mid_interval():
@@ -92,7 +97,9 @@ def test_mp_ellipk_m1_far_beyond_float64():
         assert abs(mp_ellipk_m1(m1) / mp.log(4 / mp.sqrt(m1)) - 1) < mp.mpf("1e-38")
 
 
-@pytest.mark.parametrize("m", ["0", "1e-20", "-0.05", "0.3", "0.49999", "0.5", "0.9", "0.999999"])
+@pytest.mark.parametrize(
+    "m", ["0", "1e-20", "-0.05", "0.3", "0.49999", "0.5", "0.9", "0.999999"]
+)
 def test_mp_dK_dm(m):
     """Both branches (series below |m| = 1/2, closed form above) against numerical differentiation at 80 digits."""
     from rotorlib.elliptic import mp_dK_dm

@@ -15,14 +15,21 @@ from scipy.integrate import solve_ivp
 import rotorlib
 from rotorlib import breathers as br
 from rotorlib import newborn as nb
-from rotorlib.continuation import (ContinuationOptions, Natural, continuation, member,
-                                   switch_branch)
+from rotorlib.continuation import (
+    ContinuationOptions,
+    Natural,
+    continuation,
+    member,
+    switch_branch,
+)
 from rotorlib.flow import Section, SectionNotReached, crossings, to_section
-from rotorlib.precision import FLOAT64, REAL128, Tier, tier
+from rotorlib.precision import REAL128, Tier, tier
 from rotorlib.shooting import NoConvergence, residual, secant, solve
 from rotorlib.system import rhs_alpha
 
-pytestmark = pytest.mark.skipif(not rotorlib.heyoka_available(), reason="heyoka not installed")
+pytestmark = pytest.mark.skipif(
+    not rotorlib.heyoka_available(), reason="heyoka not installed"
+)
 
 
 def test_tiers_match_the_hill_tiers():
@@ -30,14 +37,14 @@ def test_tiers_match_the_hill_tiers():
 
     for d in (None, 5, 15, 16, 31, 32, 60, 200):
         assert tier(d).name == precision_tier(d, "heyoka")[1]
-    assert tier(20, extra=12).name.startswith("mp")          # 20 digits after losing 12
+    assert tier(20, extra=12).name.startswith("mp")  # 20 digits after losing 12
     for bad in (0, 1001, 2.5, True, "10"):
         with pytest.raises(ValueError):
             tier(bad)
     with pytest.raises(ValueError):
         Tier("float32")
     with mp.workdps(40):
-        assert REAL128.num(0.1) == mp.mpf("0.1")            # a float is read as its decimal
+        assert REAL128.num(0.1) == mp.mpf("0.1")  # a float is read as its decimal
 
 
 def test_modular_section_crossings_against_scipy():
@@ -45,13 +52,18 @@ def test_modular_section_crossings_against_scipy():
     x0 = [0.1, 0.0, 0.0, 2.4]
     sec = Section((0, 1, 0, 0), 1.0, 1, period=2.0)
     hits = crossings(x0, (sec,), 20.0)
-    ev = lambda t, y: math.sin((y[1] - math.pi) / 2)           # noqa: E731
-    sol = solve_ivp(rhs_alpha, (0, 20), x0, method="DOP853", rtol=1e-12, atol=1e-12, events=ev)
+    ev = lambda t, y: math.sin((y[1] - math.pi) / 2)  # noqa: E731
+    sol = solve_ivp(
+        rhs_alpha, (0, 20), x0, method="DOP853", rtol=1e-12, atol=1e-12, events=ev
+    )
     ups = [t for t, y in zip(sol.t_events[0], sol.y_events[0]) if 1.5 * y[3] > 0]
     assert len(hits) == len(ups) >= 5
     assert np.allclose([h[1] for h in hits], ups, atol=1e-9)
     t3, x3 = to_section(x0, sec, crossing=3)
-    assert abs(t3 - ups[2]) < 1e-9 and abs(math.remainder(x3[1] - math.pi, 2 * math.pi)) < 1e-12
+    assert (
+        abs(t3 - ups[2]) < 1e-9
+        and abs(math.remainder(x3[1] - math.pi, 2 * math.pi)) < 1e-12
+    )
     with pytest.raises(SectionNotReached):
         to_section(x0, sec, crossing=3, t_max=1.0)
 
@@ -64,9 +76,13 @@ def test_residual_gradient_against_finite_differences():
         u, w = m.u * 5, prob.w_at(m.u * 5, m.E + 1e-4)
         s = residual(prob, u, w, derivative=True)
         for k, (du, dw) in enumerate(((1e-6, 0), (0, 1e-7))):
-            fd = (residual(prob, u + du, w + dw).r - residual(prob, u - du, w - dw).r) / (2 * (du or dw))
+            fd = (
+                residual(prob, u + du, w + dw).r - residual(prob, u - du, w - dw).r
+            ) / (2 * (du or dw))
             assert abs(s.grad[k] / fd - 1) < 1e-5, (k, s.grad[k], fd)
-            fdt = (residual(prob, u + du, w + dw).t1 - residual(prob, u - du, w - dw).t1) / (2 * (du or dw))
+            fdt = (
+                residual(prob, u + du, w + dw).t1 - residual(prob, u - du, w - dw).t1
+            ) / (2 * (du or dw))
             assert abs(s.dt1[k] / fdt - 1) < 1e-5
 
 
@@ -75,11 +91,11 @@ def test_secant_and_solve_errors():
     assert r.converged and abs(r.x - math.sqrt(2)) < 1e-15
     prob = nb.family_spec("IS^l_1").problem
     with pytest.raises(ValueError):
-        solve(prob, 0.1, u=0.1, E=4.0)                        # exactly one unknown fixed
+        solve(prob, 0.1, u=0.1, E=4.0)  # exactly one unknown fixed
     with pytest.raises(ValueError):
-        residual(prob, 0.0, 3.995)                            # the parent itself (u = trivial)
+        residual(prob, 0.0, 3.995)  # the parent itself (u = trivial)
     with pytest.raises(NoConvergence) as e:
-        solve(prob, 3.999, u=0.5)                             # no member with u = 0.5 there
+        solve(prob, 3.999, u=0.5)  # no member with u = 0.5 there
     assert e.value.fixed == {"u": 0.5}
 
 
@@ -97,7 +113,7 @@ def test_energy_events_are_members_at_that_energy():
     b = nb.follow("PD^r_2", E_max=4.55, energies=(4.52, 4.54))
     pts = b.points("E")
     assert [round(float(p.member.E), 12) for p in pts] == [4.52, 4.54]
-    for p in pts:                                            # the same orbit, found at fixed E
+    for p in pts:  # the same orbit, found at fixed E
         o = nb.newborn_orbit("PD^r_2", float(p.member.E), digits=15)
         assert abs(o.extra["u"] - float(p.member.u)) < 1e-9
 
@@ -107,10 +123,12 @@ def test_trace_events_against_the_textbook_monodromy():
     b = nb.follow("IS^r_2", chart="K", E_max=4.03, traces=True)
     p = [p for p in b.special_points if p.kind in ("IS", "PD")][0]
     x0 = np.array(b.state(p.member), float)
-    v = rotorlib.variational_monodromy(x0, b.problem.factor * float(p.member.t1), rtol=1e-13)
+    v = rotorlib.variational_monodromy(
+        x0, b.problem.factor * float(p.member.t1), rtol=1e-13
+    )
     level = 4.0 if p.kind == "IS" else 0.0
     assert abs(v.trace - level) < 1e-6 and v.closure < 1e-8
-    assert abs(float(p.member.E) - 4.0181836) < 1e-7               # chapter 08's exit
+    assert abs(float(p.member.E) - 4.0181836) < 1e-7  # chapter 08's exit
 
 
 def test_branch_switching_from_engine_parents():
@@ -120,31 +138,54 @@ def test_branch_switching_from_engine_parents():
     pend = replace(spec.problem, trivial=None, label="pendulum")
     Es = np.linspace(3.97, 3.995, 6)
     opts = ContinuationOptions(traces=True)
-    b = continuation(pend, Natural("E", tuple(Es[1:]), origin=3.0, origin_other=0.0), opts,
-                     [member(pend, 0.0, Es[0], traces=True)])
+    b = continuation(
+        pend,
+        Natural("E", tuple(Es[1:]), origin=3.0, origin_other=0.0),
+        opts,
+        [member(pend, 0.0, Es[0], traces=True)],
+    )
     pt = [p for p in b.special_points if p.kind == "IS"][0]
     assert abs(float(pt.member.E) - spec.E_birth) < 1e-10
-    d = switch_branch(b, pt, spec.problem, 1e-3, options=ContinuationOptions(E_range=(3.98, 3.999)))
+    d = switch_branch(
+        b, pt, spec.problem, 1e-3, options=ContinuationOptions(E_range=(3.98, 3.999))
+    )
     m = d.members[3]
-    assert abs(nb.newborn_orbit("IS^l_1", float(m.E), digits=15).extra["u"] - float(m.u)) < 1e-10
+    assert (
+        abs(nb.newborn_orbit("IS^l_1", float(m.E), digits=15).extra["u"] - float(m.u))
+        < 1e-10
+    )
     R = replace(br.DAUGHTER, trivial=None, label="R", factor=2, lattice=(1.0, 3.0))
     Es = np.linspace(8.9, 9.05, 6)
-    bR = continuation(R, Natural("E", tuple(Es[1:]), origin=8.0, origin_other=0.0), opts,
-                      [member(R, 0.0, Es[0], traces=True)])
+    bR = continuation(
+        R,
+        Natural("E", tuple(Es[1:]), origin=8.0, origin_other=0.0),
+        opts,
+        [member(R, 0.0, Es[0], traces=True)],
+    )
     pt = [p for p in bR.special_points if p.kind == "PD"][0]
     assert abs(float(pt.member.E) - br.pd_transition().E) < 1e-11
-    dd = switch_branch(bR, pt, br.DAUGHTER, 0.02, options=ContinuationOptions(max_steps=2))
-    assert abs(float(dd.members[0].E) - 8.968925367) < 1e-9         # daughter_family at 0.02
+    dd = switch_branch(
+        bR, pt, br.DAUGHTER, 0.02, options=ContinuationOptions(max_steps=2)
+    )
+    assert abs(float(dd.members[0].E) - 8.968925367) < 1e-9  # daughter_family at 0.02
 
 
 def test_same_member_in_every_tier():
     o64 = nb.newborn_orbit("PD^r_1", 5.7, digits=15)
     o128 = nb.newborn_orbit("PD^r_1", 5.7, digits=25)
     o40 = nb.newborn_orbit("PD^r_1", 5.7, digits=40)
-    assert (o64.precision, o128.precision) == ("float64", "real128") and o40.precision.startswith("mp")
-    assert abs(o64.trace - o40.trace) < 1e-10 and abs(float(o128.extra["trace_str"]) - o40.trace) < 1e-15
+    assert (o64.precision, o128.precision) == (
+        "float64",
+        "real128",
+    ) and o40.precision.startswith("mp")
+    assert (
+        abs(o64.trace - o40.trace) < 1e-10
+        and abs(float(o128.extra["trace_str"]) - o40.trace) < 1e-15
+    )
     with mp.workdps(60):
-        assert abs(mp.mpf(o128.extra["period_str"]) - mp.mpf(o40.extra["period_str"])) < mp.mpf("1e-24")
+        assert abs(
+            mp.mpf(o128.extra["period_str"]) - mp.mpf(o40.extra["period_str"])
+        ) < mp.mpf("1e-24")
 
 
 def _record(*argv):
@@ -163,11 +204,20 @@ def _independent_256_bit(state, period):
 
     a1, a2, p1, p2 = hy.make_vars("a1", "a2", "p1", "p2")
     sm, sp = hy.sin(a2 - a1), hy.sin(a1 + a2)
-    sys = [(a1, p1 / 2.0), (a2, 1.5 * p2), (p1, -(2.0 * hy.sin(2.0 * a1) - sm + sp)),
-           (p2, -(sm + sp))]
+    sys = [
+        (a1, p1 / 2.0),
+        (a2, 1.5 * p2),
+        (p1, -(2.0 * hy.sin(2.0 * a1) - sm + sp)),
+        (p2, -(sm + sp)),
+    ]
     x0 = [hy.real(v, 256) for v in state]
-    ta = hy.taylor_adaptive(hy.var_ode_sys(sys, hy.var_args.vars), x0, fp_type=hy.real,
-                            prec=256, compact_mode=True)
+    ta = hy.taylor_adaptive(
+        hy.var_ode_sys(sys, hy.var_args.vars),
+        x0,
+        fp_type=hy.real,
+        prec=256,
+        compact_mode=True,
+    )
     ta.propagate_until(hy.real(period, 256))
     with mp.workdps(80):
         st = [mp.mpf(str(v)) for v in ta.state]
@@ -175,8 +225,10 @@ def _independent_256_bit(state, period):
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("label,E,lattice", [("ISl2", "4", (0, 0)), ("PDr3", "4.0002", (0, 4)),
-                                             ("PDb", "8.3", (2, 6))])
+@pytest.mark.parametrize(
+    "label,E,lattice",
+    [("ISl2", "4", (0, 0)), ("PDr3", "4.0002", (0, 4)), ("PDb", "8.3", (2, 6))],
+)
 def test_sixty_digits_against_an_independent_256_bit_integration(label, E, lattice):
     """The issue's must-show: ``orbit LABEL --E V --digits 60 --json`` returns 60-digit strings;
     energy, closure and trace agree with an independent 256-bit integration (a heyoka
@@ -185,7 +237,9 @@ def test_sixty_digits_against_an_independent_256_bit_integration(label, E, latti
     s, T, tr = rec["state0_str"], rec["period_str"], rec["trace_str"]
 
     def significant(text):
-        return len(text.lower().split("e")[0].replace("-", "").replace(".", "").lstrip("0"))
+        return len(
+            text.lower().split("e")[0].replace("-", "").replace(".", "").lstrip("0")
+        )
 
     assert all(significant(v) >= 60 for v in [T, tr] + [v for v in s if mp.mpf(v) != 0])
     assert rec["residual"] < 1e-55
@@ -193,7 +247,14 @@ def test_sixty_digits_against_an_independent_256_bit_integration(label, E, latti
     with mp.workdps(80):
         x0 = [mp.mpf(v) for v in s]
         a1, a2, p1, p2 = x0
-        H = p1 ** 2 / 4 + 3 * p2 ** 2 / 4 + 3 - mp.cos(2 * a1) - mp.cos(a2 - a1) - mp.cos(a1 + a2)
+        H = (
+            p1**2 / 4
+            + 3 * p2**2 / 4
+            + 3
+            - mp.cos(2 * a1)
+            - mp.cos(a2 - a1)
+            - mp.cos(a1 + a2)
+        )
         assert abs(H - mp.mpf(E)) < mp.mpf("1e-55")
         shift = [lattice[0] * mp.pi, lattice[1] * mp.pi, 0, 0]
         assert max(abs(b - a - c) for a, b, c in zip(x0, xT, shift)) < mp.mpf("1e-50")

@@ -5,6 +5,7 @@ real128 (another precision), the textbook 4x4 variational equations (another
 method), asymptotic series, or the asymptotic periodicity of tr M in
 log|E - 4| (period 2 sqrt(3) pi).
 """
+
 import json
 import math
 import subprocess
@@ -18,7 +19,7 @@ import rotorlib as rl
 
 HEYOKA = rl.heyoka_available()
 needs_heyoka = pytest.mark.skipif(not HEYOKA, reason="heyoka not installed")
-PERIOD_X = 2.0 * math.sqrt(3.0) * math.pi       # asymptotic period of tr M in log|E - 4|
+PERIOD_X = 2.0 * math.sqrt(3.0) * math.pi  # asymptotic period of tr M in log|E - 4|
 
 
 def ext(orbit, digits=30):
@@ -29,11 +30,16 @@ def ext(orbit, digits=30):
 
 # --------------------------------------------------------------------------- E -> 0 (k -> 0)
 
+
 def test_E0_is_the_linearised_limit():
     """At E = 0 both the transverse (a1'' = -3 a1) and longitudinal (a2'' = -3 a2) frequencies are sqrt(3):
     the transverse block over one period 2 pi/sqrt(3) is the identity and tr M = 4. That is the 1:1
     resonance of the equilibrium G, neutrally stable: reported as 'marginal' with the reason, not 'unstable'."""
-    for orbit in (rl.pendulum(E=0.0), rl.pendulum(E="0"), rl.breather(E=0, family="LG")):
+    for orbit in (
+        rl.pendulum(E=0.0),
+        rl.pendulum(E="0"),
+        rl.breather(E=0, family="LG"),
+    ):
         M = rl.monodromy(orbit)
         assert abs(M.trace - 4.0) < 1e-14
         np.testing.assert_allclose(M.transverse, np.eye(2), atol=1e-13)
@@ -56,18 +62,23 @@ def test_tiny_E_is_marginal_with_the_series(E, gap):
             with mp.workdps(40):
                 assert abs((4 - mp.mpf(M.trace_str)) / mp.mpf(gap) - 1) < 0.01
         else:
-            assert M.stability == "marginal" and f"= {gap} > 0 (stable)" in M.stability_note
-    assert rl.monodromy(rl.pendulum(E=1e-3)).stability == "stable"     # 4 - tr M = 2.9e-12 is resolved
+            assert (
+                M.stability == "marginal"
+                and f"= {gap} > 0 (stable)" in M.stability_note
+            )
+    assert (
+        rl.monodromy(rl.pendulum(E=1e-3)).stability == "stable"
+    )  # 4 - tr M = 2.9e-12 is resolved
 
 
 @needs_heyoka
 @pytest.mark.parametrize("E", [1e-2, 1e-3, 1e-4])
 def test_small_E_series(E):
     """4 - tr M = c E^3 (1 + b E + ...), c = pi^2/3456 and b ~ 0.40 (identified numerically, real128)."""
-    c0 = math.pi ** 2 / 3456
+    c0 = math.pi**2 / 3456
     with mp.workdps(40):
         d = 4 - ext(rl.pendulum(E=E))
-        assert abs(float(d) / E ** 3 / c0 - 1 - 0.40 * E) < 0.02 * E + 1e-6
+        assert abs(float(d) / E**3 / c0 - 1 - 0.40 * E) < 0.02 * E + 1e-6
     # float64 keeps ~1e-15 absolute accuracy as tr M -> 4
     assert abs(rl.monodromy(rl.pendulum(E=E)).trace - float(4 - d)) < 2e-15
 
@@ -77,21 +88,26 @@ def test_small_E_against_textbook():
     o = rl.pendulum(E=0.1)
     V = rl.variational_monodromy(o.state0, o.period, rtol=1e-13)
     assert abs(V.trace - rl.monodromy(o).trace) < 1e-10
-    assert abs(V.trace - 4.0) < 1e-5                # tr M - 4 = -3e-6 there
+    assert abs(V.trace - 4.0) < 1e-5  # tr M - 4 = -3e-6 there
 
 
 # --------------------------------------------------------------------------- log|E - 4| from -1 to -700
 
+
 @pytest.mark.parametrize("phase", ["lib", "rot"])
 def test_trace_finite_and_smooth_down_to_minus700(phase):
-    xs = np.linspace(-1.0, -700.0, 2797)          # step 0.25 (tr M has period 10.9 in log|E - 4|)
-    tr = np.array([rl.monodromy(rl.pendulum(log_abs_dE=x, phase=phase)).trace for x in xs])
+    xs = np.linspace(
+        -1.0, -700.0, 2797
+    )  # step 0.25 (tr M has period 10.9 in log|E - 4|)
+    tr = np.array(
+        [rl.monodromy(rl.pendulum(log_abs_dE=x, phase=phase)).trace for x in xs]
+    )
     assert np.all(np.isfinite(tr))
     # smooth: a cubic spline through every other point predicts the points in between
     from scipy.interpolate import CubicSpline
 
     spl = CubicSpline(xs[::-2], tr[::-2])
-    mid = xs[-2:0:-2]                              # interior points not on the spline
+    mid = xs[-2:0:-2]  # interior points not on the spline
     assert np.max(np.abs(spl(mid) - tr[-2:0:-2])) < 0.002 * np.max(np.abs(tr))
     # asymptotically periodic in log|E - 4| with period 2 sqrt(3) pi (corrections O(|E - 4| log|E - 4|))
     deep = xs[xs < -60]
@@ -117,14 +133,19 @@ def test_deepest_transitions_near_minus100():
     for phase in ("lib", "rot"):
         xs = np.linspace(-100.0, -100.0 - PERIOD_X, 12)
         with mp.workdps(40):
-            t64 = [rl.monodromy(rl.pendulum(log_abs_dE=x, phase=phase)).trace for x in xs]
+            t64 = [
+                rl.monodromy(rl.pendulum(log_abs_dE=x, phase=phase)).trace for x in xs
+            ]
             t128 = [ext(rl.pendulum(log_abs_dE=x, phase=phase)) for x in xs]
             assert max(abs(a - b) for a, b in zip(t64, t128)) < 1e-12
         # one period of tr M spans both kinds of transition (tr M = Delta^2 >= 0 in libration)
-        assert max(t64) > 4.0 and (min(t64) < 0.05 if phase == "lib" else min(t64) < 0.0)
+        assert max(t64) > 4.0 and (
+            min(t64) < 0.05 if phase == "lib" else min(t64) < 0.0
+        )
 
 
 # --------------------------------------------------------------------------- beyond float64: -800, -10000
+
 
 @pytest.mark.parametrize("x", [-706.0, -707.0, -800.0])
 @pytest.mark.parametrize("phase", ["lib", "rot"])
@@ -158,14 +179,34 @@ def test_cli_deep_pendulum_by_periodicity(phase):
     """
     from independent import textbook_pendulum
 
-    r = subprocess.run([sys.executable, "-m", "rotorlib", "trace", "pendulum", "--log-dE", "-800", "-1e4",
-                        "--phase", phase, "--digits", "30", "--json"], capture_output=True, text=True, timeout=600)
+    r = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "rotorlib",
+            "trace",
+            "pendulum",
+            "--log-dE",
+            "-800",
+            "-1e4",
+            "--phase",
+            phase,
+            "--digits",
+            "30",
+            "--json",
+        ],
+        capture_output=True,
+        text=True,
+        timeout=600,
+    )
     assert r.returncode == 0, r.stderr
     recs = json.loads(r.stdout)
     for rec, x in zip(recs, (-800.0, -10000.0)):
         assert rec["precision"] == "real128" and rec["log_abs_dE"] in ("-800", "-1e4")
         xs = _shifted(x)
-        shallow = rl.monodromy(rl.pendulum(log_abs_dE=xs, phase=phase), digits=30).trace_str
+        shallow = rl.monodromy(
+            rl.pendulum(log_abs_dE=xs, phase=phase), digits=30
+        ).trace_str
         ref, _, closure = textbook_pendulum(xs, phase, 512)
         with mp.workdps(60):
             assert abs(mp.mpf(shallow) - ref) < mp.mpf("1e-26")
@@ -183,34 +224,59 @@ def test_real128_range_refused_multiprecision_beyond():
 
 # --------------------------------------------------------------------------- decimal input beyond float64
 
+
 @needs_heyoka
 def test_decimal_E_beyond_float64_digits():
     """``--E 3.99999999999999999999`` is 4 - 1e-20 exactly: the 30-digit tier equals the same energy given
     through its log (another input path) to 1e-25, and the float64 tier (which carries eps = 1e-20, not
     E = 4.0) agrees to 1e-12."""
-    r = subprocess.run([sys.executable, "-m", "rotorlib", "trace", "pendulum", "--E", "3.99999999999999999999",
-                        "--digits", "30", "--json"], capture_output=True, text=True, timeout=300)
+    r = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "rotorlib",
+            "trace",
+            "pendulum",
+            "--E",
+            "3.99999999999999999999",
+            "--digits",
+            "30",
+            "--json",
+        ],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
     assert r.returncode == 0, r.stderr
     rec = json.loads(r.stdout)
     assert rec["E"] == "3.99999999999999999999" and rec["phase"] == "lib"
     with mp.workdps(60):
         x = mp.nstr(mp.log(mp.mpf("1e-20")), 50)
-        ref = mp.mpf(rl.monodromy(rl.pendulum(log_abs_dE=x, phase="lib"), digits=30).trace_str)
+        ref = mp.mpf(
+            rl.monodromy(rl.pendulum(log_abs_dE=x, phase="lib"), digits=30).trace_str
+        )
         assert abs(mp.mpf(rec["trace"]) - ref) < mp.mpf("1e-25")
-        assert abs(rl.monodromy(rl.pendulum(E="3.99999999999999999999")).trace - ref) < 1e-12
+        assert (
+            abs(rl.monodromy(rl.pendulum(E="3.99999999999999999999")).trace - ref)
+            < 1e-12
+        )
 
 
 # --------------------------------------------------------------------------- E up to 1e6 (fast rotation)
+
 
 @pytest.mark.parametrize("E", [1e2, 1e4, 1e6])
 def test_large_E_asymptotics(E):
     """a1 sees the averaged potential, a1'' = -2 a1, over a period 2 pi/sqrt(3E):
     tr M = 2 + 2 cos(2 pi sqrt(2/(3E))) + O(1/E^2) = 4 - 8 pi^2/(3E) + O(1/E^2)."""
     tr = rl.monodromy(rl.pendulum(E=E)).trace
-    lead = 8 * math.pi ** 2 / (3 * E)
+    lead = 8 * math.pi**2 / (3 * E)
     assert abs((4.0 - tr) / lead - 1.0) < 3.0 / E
     o = rl.pendulum(E=E)
-    assert abs(o.period - 2 * math.pi / math.sqrt(3 * E)) < 2 * math.pi / math.sqrt(3 * E) * 2.0 / E
+    assert (
+        abs(o.period - 2 * math.pi / math.sqrt(3 * E))
+        < 2 * math.pi / math.sqrt(3 * E) * 2.0 / E
+    )
 
 
 def test_large_E_against_textbook():
@@ -228,9 +294,17 @@ def test_large_E_against_real128():
 
 # --------------------------------------------------------------------------- E = 4 refused
 
-@pytest.mark.parametrize("kw", [dict(E=4.0), dict(E=4), dict(E="4.000000000000000000000000000000"),
-                                dict(log_abs_dE=float("-inf"), phase="rot"),
-                                dict(log_abs_dE=-10.0)])
+
+@pytest.mark.parametrize(
+    "kw",
+    [
+        dict(E=4.0),
+        dict(E=4),
+        dict(E="4.000000000000000000000000000000"),
+        dict(log_abs_dE=float("-inf"), phase="rot"),
+        dict(log_abs_dE=-10.0),
+    ],
+)
 def test_separatrix_refused(kw):
     with pytest.raises(ValueError):
         rl.pendulum(**kw)
@@ -239,12 +313,20 @@ def test_separatrix_refused(kw):
 
 
 def test_cli_refuses_E4():
-    r = subprocess.run([sys.executable, "-m", "rotorlib", "trace", "pendulum", "--E", "4"],
-                       capture_output=True, text=True)
-    assert r.returncode == 2 and "separatrix" in r.stderr and len(r.stderr.strip().splitlines()) == 1
+    r = subprocess.run(
+        [sys.executable, "-m", "rotorlib", "trace", "pendulum", "--E", "4"],
+        capture_output=True,
+        text=True,
+    )
+    assert (
+        r.returncode == 2
+        and "separatrix" in r.stderr
+        and len(r.stderr.strip().splitlines()) == 1
+    )
 
 
 # --------------------------------------------------------------------------- breathers near E = 4.5
+
 
 @needs_heyoka
 @pytest.mark.parametrize("family", ["LG", "LD", "R"])
@@ -255,9 +337,11 @@ def test_breathers_near_4p5_float64(family, x):
     o = rl.breather(log_abs_dE=x, family=family)
     with mp.workdps(60):
         ref = mp.mpf(rl.monodromy(o, digits=45).trace_str)
-        rel = lambda v: float(abs(mp.mpf(v) - ref) / abs(ref))    # noqa: E731
+        rel = lambda v: float(abs(mp.mpf(v) - ref) / abs(ref))  # noqa: E731
         assert rel(rl.monodromy(o, digits=30).trace_str) < 1e-25
-        assert rel(rl.monodromy(o).trace) < 1e-10          # deeper: tests/test_breather_depth.py
+        assert (
+            rel(rl.monodromy(o).trace) < 1e-10
+        )  # deeper: tests/test_breather_depth.py
 
 
 @needs_heyoka
@@ -272,7 +356,9 @@ def test_breathers_deep_extended(family):
         assert abs(ref) > 1e15
 
 
-@pytest.mark.parametrize("E,family", [(4.5, None), (4.5, "LG"), (4.5, "R"), (4.6, "LG"), (4.4, "R")])
+@pytest.mark.parametrize(
+    "E,family", [(4.5, None), (4.5, "LG"), (4.5, "R"), (4.6, "LG"), (4.4, "R")]
+)
 def test_breather_separatrix_refused(E, family):
     with pytest.raises(ValueError):
         rl.breather(E=E, family=family)

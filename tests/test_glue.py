@@ -26,6 +26,7 @@ Bibliography (book/references.bib):
   and that list may only shrink;
 * every key cited in the book ({cite}`a,b`) is an entry of references.bib.
 """
+
 from __future__ import annotations
 
 import ast
@@ -37,7 +38,9 @@ import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
 BOOK = ROOT / "book"
-NOTEBOOKS = sorted(p for p in BOOK.rglob("*.ipynb") if ".ipynb_checkpoints" not in p.parts)
+NOTEBOOKS = sorted(
+    p for p in BOOK.rglob("*.ipynb") if ".ipynb_checkpoints" not in p.parts
+)
 PAGES = sorted(p for p in BOOK.glob("*.md"))
 BIB = BOOK / "references.bib"
 
@@ -123,21 +126,37 @@ def stored_keys(cells) -> set[str]:
 @pytest.mark.parametrize("nb_path", NOTEBOOKS, ids=lambda p: p.name)
 def test_every_glue_key_is_defined_in_the_same_notebook(nb_path):
     cells = _cells(nb_path)
-    used = [(k, f, i) for i, c in enumerate(cells) if c["cell_type"] == "markdown" for k, f in used_keys(_source(c))]
-    bad_cross = [b for c in cells if c["cell_type"] == "markdown"
-                 for b in check_cross_document_uses(nb_path.parent, _source(c), local_ok=True)]
-    assert not bad_cross, f"{nb_path.name}: cross-document glue keys not defined by an executed notebook: {bad_cross}"
+    used = [
+        (k, f, i)
+        for i, c in enumerate(cells)
+        if c["cell_type"] == "markdown"
+        for k, f in used_keys(_source(c))
+    ]
+    bad_cross = [
+        b
+        for c in cells
+        if c["cell_type"] == "markdown"
+        for b in check_cross_document_uses(nb_path.parent, _source(c), local_ok=True)
+    ]
+    assert not bad_cross, (
+        f"{nb_path.name}: cross-document glue keys not defined by an executed notebook: {bad_cross}"
+    )
     used = [u for u in used if "::" not in u[0]]
     code = [_source(c) for c in cells if c["cell_type"] == "code"]
     if used:
         assert any(re.search(r"\bglue\(", src) for src in code), (
-            f"{nb_path.name}: glue roles {sorted({k for k, _, _ in used})} but no glue(...) call")
+            f"{nb_path.name}: glue roles {sorted({k for k, _, _ in used})} but no glue(...) call"
+        )
     undefined = sorted({(k, i) for k, _, i in used if not key_is_defined(k, code)})
-    assert not undefined, f"{nb_path.name}: glue keys used in Markdown but never glued (key, cell): {undefined}"
+    assert not undefined, (
+        f"{nb_path.name}: glue keys used in Markdown but never glued (key, cell): {undefined}"
+    )
     stored = stored_keys(cells)
     not_stored = sorted({k for k, _, _ in used if k not in stored})
-    assert not not_stored, (f"{nb_path.name}: glue keys not in the stored outputs (re-execute the notebook): "
-                            f"{not_stored}")
+    assert not not_stored, (
+        f"{nb_path.name}: glue keys not in the stored outputs (re-execute the notebook): "
+        f"{not_stored}"
+    )
 
 
 def stored_text(cells) -> dict[str, str]:
@@ -148,7 +167,9 @@ def stored_text(cells) -> dict[str, str]:
             meta = (o.get("metadata") or {}).get("scrapbook") or {}
             if meta.get("name"):
                 data = o.get("data") or {}
-                out[meta["name"]] = data.get(meta.get("mime_prefix", "") + "text/plain", data.get("text/plain"))
+                out[meta["name"]] = data.get(
+                    meta.get("mime_prefix", "") + "text/plain", data.get("text/plain")
+                )
     return out
 
 
@@ -179,7 +200,13 @@ def test_glue_formats_are_valid(nb_path):
                 except (ValueError, SyntaxError):
                     value = None
                 if isinstance(value, bool) or not isinstance(value, (int, float)):
-                    bad.append((key, fmt, f"stored value {texts[key]!r} is not a number literal"))
+                    bad.append(
+                        (
+                            key,
+                            fmt,
+                            f"stored value {texts[key]!r} is not a number literal",
+                        )
+                    )
     assert not bad, f"{nb_path.name}: {bad}"
 
 
@@ -201,12 +228,15 @@ def cross_document_key_ok(base: Path, key: str) -> bool:
     if target is None or target.suffix != ".ipynb" or not target.is_file():
         return False
     cells = _cells(target)
-    return key_is_defined(name, [_source(c) for c in cells if c["cell_type"] == "code"]) and name in stored_keys(cells)
+    return key_is_defined(
+        name, [_source(c) for c in cells if c["cell_type"] == "code"]
+    ) and name in stored_keys(cells)
 
 
 def cross_document_format_error(base: Path, key: str, fmt: str | None) -> str | None:
     """Why myst-nb would fail to paste ``{glue:text}`key:fmt``` from the notebook's stored value (None if it works)."""
     from myst_nb.core.variables import format_plain_text
+
     target, name = cross_document_target(base, key)
     text = stored_text(_cells(target)).get(name)
     if text is None:
@@ -224,55 +254,97 @@ def check_cross_document_uses(base: Path, markdown: str, local_ok: bool) -> list
     for role, key, fmt in glue_uses(markdown):
         if "::" not in key:
             if not local_ok:
-                hint = " (a glue:text role doc::key needs a format: doc::key:s)" if key.endswith(":") else ""
+                hint = (
+                    " (a glue:text role doc::key needs a format: doc::key:s)"
+                    if key.endswith(":")
+                    else ""
+                )
                 bad.append(f"{key!r}: not a doc::key reference{hint}")
             continue
         if role not in ("glue", "glue:", "glue:any", "glue:text"):
             bad.append(f"{key!r}: myst-nb's {role} cannot paste from another document")
         elif not cross_document_key_ok(base, key):
-            bad.append(f"{key!r}: not glued by, or not stored in, the named notebook (re-execute it)")
-        elif role == "glue:text" and (err := cross_document_format_error(base, key, fmt)):
+            bad.append(
+                f"{key!r}: not glued by, or not stored in, the named notebook (re-execute it)"
+            )
+        elif role == "glue:text" and (
+            err := cross_document_format_error(base, key, fmt)
+        ):
             bad.append(f"{key!r}: {err}")
     return bad
 
 
 @pytest.mark.parametrize("page", PAGES, ids=lambda p: p.name)
 def test_markdown_pages_glue_only_from_notebooks(page):
-    bad = check_cross_document_uses(page.parent, page.read_text(encoding="utf-8"), local_ok=False)
-    assert not bad, f"{page.name}: glue roles that no executed notebook can fill (a page must use doc::key): {bad}"
+    bad = check_cross_document_uses(
+        page.parent, page.read_text(encoding="utf-8"), local_ok=False
+    )
+    assert not bad, (
+        f"{page.name}: glue roles that no executed notebook can fill (a page must use doc::key): {bad}"
+    )
 
 
 # --- the parser itself -------------------------------------------------------------------------------------
 
+
 def test_parser_finds_roles_directives_and_calls():
     md = "E = {glue:text}`E_pd:.6f` and {glue}`tau` and {glue:}`x`\n```{glue:figure} fig_a\n:name: f\n```\n"
-    assert used_keys(md) == [("E_pd", ".6f"), ("tau", None), ("x", None), ("fig_a", None)]
+    assert used_keys(md) == [
+        ("E_pd", ".6f"),
+        ("tau", None),
+        ("x", None),
+        ("fig_a", None),
+    ]
     code = 'glue("E_pd", 1.0, display=False)\nglue(\'tau\', t)\nfor i in r:\n    glue(f"x_{i}_y", v, display=False)\n'
     pats = defined_patterns(code)
     assert any(p.match("E_pd") for p in pats) and any(p.match("tau") for p in pats)
-    assert any(p.match("x_3_y") for p in pats) and not any(p.match("x_3_z") for p in pats)
+    assert any(p.match("x_3_y") for p in pats) and not any(
+        p.match("x_3_z") for p in pats
+    )
     assert defined_patterns("print('no glue here')") == []
     loop = 'for key, val in (("a_key", 1.0), ("b_key", x)):\n    glue(key, val, display=False)\n'
-    assert key_is_defined("a_key", [loop]) and key_is_defined("b_key", [loop]) and not key_is_defined("c_key", [loop])
+    assert (
+        key_is_defined("a_key", [loop])
+        and key_is_defined("b_key", [loop])
+        and not key_is_defined("c_key", [loop])
+    )
     assert not key_is_defined("a_key", ['print("a_key")'])
     # cross-document roles, parsed as myst-nb 1.4 parses them
-    md = ("{glue:text}`03_transitions.ipynb::err_x:.4f` {glue:text}`03_transitions.ipynb::err_v:s` "
-          "{glue:text}`03_transitions.ipynb::err_v` {glue}`06_laws.ipynb::k` {glue:md}`a.ipynb::m:commonmark`")
-    assert glue_uses(md) == [("glue:text", "03_transitions.ipynb::err_x", ".4f"), ("glue:text", "03_transitions.ipynb::err_v", "s"),
-                             ("glue:text", "03_transitions.ipynb:", "err_v"), ("glue", "06_laws.ipynb::k", None),
-                             ("glue:md", "a.ipynb::m", None)]
-    assert cross_document_target(BOOK, "03_transitions::k") == (BOOK / "03_transitions.ipynb", "k")
-    assert cross_document_target(BOOK / "sub", "/03_transitions.ipynb::k") == (BOOK / "03_transitions.ipynb", "k")
+    md = (
+        "{glue:text}`03_transitions.ipynb::err_x:.4f` {glue:text}`03_transitions.ipynb::err_v:s` "
+        "{glue:text}`03_transitions.ipynb::err_v` {glue}`06_laws.ipynb::k` {glue:md}`a.ipynb::m:commonmark`"
+    )
+    assert glue_uses(md) == [
+        ("glue:text", "03_transitions.ipynb::err_x", ".4f"),
+        ("glue:text", "03_transitions.ipynb::err_v", "s"),
+        ("glue:text", "03_transitions.ipynb:", "err_v"),
+        ("glue", "06_laws.ipynb::k", None),
+        ("glue:md", "a.ipynb::m", None),
+    ]
+    assert cross_document_target(BOOK, "03_transitions::k") == (
+        BOOK / "03_transitions.ipynb",
+        "k",
+    )
+    assert cross_document_target(BOOK / "sub", "/03_transitions.ipynb::k") == (
+        BOOK / "03_transitions.ipynb",
+        "k",
+    )
     assert cross_document_target(BOOK, "plain_key") == (None, "plain_key")
     bad = check_cross_document_uses(BOOK, md, local_ok=False)
-    assert any("needs a format" in b for b in bad) and any("cannot paste from another document" in b for b in bad)
+    assert any("needs a format" in b for b in bad) and any(
+        "cannot paste from another document" in b for b in bad
+    )
     assert any("06_laws.ipynb::k" in b and "not glued" in b for b in bad)
 
 
 def test_format_check_uses_myst_nb_formatting():
     """The cross-document format check fails exactly where myst-nb's formatting fails."""
     from myst_nb.core.variables import format_plain_text
-    assert format_plain_text("7.634", ".4f") == "7.6340" and format_plain_text("-36", "d") == "-36"
+
+    assert (
+        format_plain_text("7.634", ".4f") == "7.6340"
+        and format_plain_text("-36", "d") == "-36"
+    )
     assert format_plain_text("'last digit off by +1'", "s") == "last digit off by +1"
     with pytest.raises(ValueError):
         format_plain_text("np.float64(1.5)", ".4f")
@@ -280,8 +352,11 @@ def test_format_check_uses_myst_nb_formatting():
 
 # --- bibliography -------------------------------------------------------------------------------------------
 
-PLACEHOLDER = re.compile(r"\b(TODO|TBD|FIXME|XXX|placeholder|unknown|co-?workers|details not verified|"
-                         r"title and year not verified|to be checked)\b|\?\?", re.IGNORECASE)
+PLACEHOLDER = re.compile(
+    r"\b(TODO|TBD|FIXME|XXX|placeholder|unknown|co-?workers|details not verified|"
+    r"title and year not verified|to be checked)\b|\?\?",
+    re.IGNORECASE,
+)
 #: The paper's LaTeX source (../shared/paper/) ships no .bib/.bbl/\\bibitem list, so these four cite keys could
 #: not be resolved to a publication from the citing sentence alone; their entries are still placeholders. The
 #: set may only shrink: the test fails if one of them is resolved but left here, or if any other entry is a
@@ -292,21 +367,37 @@ CITE = re.compile(r"\{cite(?::[a-z]+)?\}`([^`]+)`")
 
 
 def bib_entries() -> dict[str, tuple[str, str]]:
-    return {m.group(2): (m.group(1).lower(), m.group(3)) for m in ENTRY.finditer(BIB.read_text(encoding="utf-8"))}
+    return {
+        m.group(2): (m.group(1).lower(), m.group(3))
+        for m in ENTRY.finditer(BIB.read_text(encoding="utf-8"))
+    }
 
 
 def test_bibliography_has_no_placeholders():
     entries = bib_entries()
     assert len(entries) >= 30, f"only {len(entries)} entries parsed from references.bib"
-    bad = {key: PLACEHOLDER.search(body).group(0) for key, (_, body) in entries.items() if PLACEHOLDER.search(body)}
+    bad = {
+        key: PLACEHOLDER.search(body).group(0)
+        for key, (_, body) in entries.items()
+        if PLACEHOLDER.search(body)
+    }
     unexpected = {k: v for k, v in bad.items() if k not in UNRESOLVED}
     assert not unexpected, f"placeholder text in references.bib: {unexpected}"
     resolved = sorted(UNRESOLVED - set(bad))
-    assert not resolved, f"no longer placeholders, remove from UNRESOLVED in {Path(__file__).name}: {resolved}"
-    untitled = [key for key, (_, body) in entries.items() if not re.search(r"^\s*title\s*=", body, re.MULTILINE)]
+    assert not resolved, (
+        f"no longer placeholders, remove from UNRESOLVED in {Path(__file__).name}: {resolved}"
+    )
+    untitled = [
+        key
+        for key, (_, body) in entries.items()
+        if not re.search(r"^\s*title\s*=", body, re.MULTILINE)
+    ]
     assert not untitled, f"entries without a title: {untitled}"
-    no_year = [key for key, (kind, body) in entries.items()
-               if kind != "misc" and not re.search(r"^\s*year\s*=", body, re.MULTILINE)]
+    no_year = [
+        key
+        for key, (kind, body) in entries.items()
+        if kind != "misc" and not re.search(r"^\s*year\s*=", body, re.MULTILINE)
+    ]
     assert not no_year, f"entries without a year: {no_year}"
 
 
@@ -316,8 +407,16 @@ def test_every_cited_key_is_in_the_bibliography():
     for p in NOTEBOOKS:
         for c in _cells(p):
             if c["cell_type"] == "markdown":
-                cited |= {k.strip() for m in CITE.finditer(_source(c)) for k in m.group(1).split(",")}
+                cited |= {
+                    k.strip()
+                    for m in CITE.finditer(_source(c))
+                    for k in m.group(1).split(",")
+                }
     for p in PAGES:
-        cited |= {k.strip() for m in CITE.finditer(p.read_text(encoding="utf-8")) for k in m.group(1).split(",")}
+        cited |= {
+            k.strip()
+            for m in CITE.finditer(p.read_text(encoding="utf-8"))
+            for k in m.group(1).split(",")
+        }
     missing = sorted(cited - keys)
     assert not missing, f"cited but not in references.bib: {missing}"

@@ -6,18 +6,21 @@ state and period computed with mpmath. Issue 2 requires agreement to 1e-10
 at E = 1, 3.9, 5, 100, at log|E-4| = -30, -60, -100 in both phases, and for
 breathers at E = 4.6, 9, 20. We demand 1e-12.
 """
+
 import math
 
 import mpmath as mp
 import numpy as np
 import pytest
-
-import rotorlib
 from conftest import requires_heyoka, textbook_reference
 
-CASES = ([("pendulum-E", E, "") for E in (1.0, 3.9, 5.0, 100.0)]
-         + [("pendulum-log", x, ph) for x in (-30.0, -60.0, -100.0) for ph in ("lib", "rot")]
-         + [("breather", E, "R") for E in (4.6, 9.0, 20.0)])
+import rotorlib
+
+CASES = (
+    [("pendulum-E", E, "") for E in (1.0, 3.9, 5.0, 100.0)]
+    + [("pendulum-log", x, ph) for x in (-30.0, -60.0, -100.0) for ph in ("lib", "rot")]
+    + [("breather", E, "R") for E in (4.6, 9.0, 20.0)]
+)
 
 
 def _orbit(kind, value, ph):
@@ -35,12 +38,12 @@ def test_trace_against_textbook_multiprecision(kind, value, ph):
     depth = -value / math.log(10) if kind == "pendulum-log" else 0.0
     bits = max(256, int(math.ceil((2 * depth + 40) * 3.33 / 64)) * 64)
     ref, closure = textbook_reference(kind, value, ph, bits)
-    assert closure < 1e-30                           # the closed-form period and state are right
+    assert closure < 1e-30  # the closed-form period and state are right
     orb = _orbit(kind, value, ph)
     M = rotorlib.monodromy(orb)
     scale = max(1.0, abs(float(ref)))
     assert abs(M.trace - float(ref)) < 1e-12 * scale, (M.trace, ref)
-    M30 = rotorlib.monodromy(orb, digits=30)        # real128 tier: 28+ digits
+    M30 = rotorlib.monodromy(orb, digits=30)  # real128 tier: 28+ digits
     with mp.workdps(40):
         assert abs(mp.mpf(M30.trace_str) - ref) < mp.mpf(10) ** -27 * scale
     assert M30.precision == "real128" and M.precision == "float64"
@@ -56,7 +59,9 @@ def test_block_matrix_equals_textbook_float64(E):
     assert V.closure < 1e-10
 
 
-@pytest.mark.parametrize("E,fam", [(3.0, "LG"), (4.3, "LD"), (4.3, "LG"), (9.0, "R"), (20.0, "R")])
+@pytest.mark.parametrize(
+    "E,fam", [(3.0, "LG"), (4.3, "LD"), (4.3, "LG"), (9.0, "R"), (20.0, "R")]
+)
 def test_breather_blocks_equal_textbook(E, fam):
     o = rotorlib.breather(E, fam)
     M = rotorlib.monodromy(o)
@@ -67,16 +72,28 @@ def test_breather_blocks_equal_textbook(E, fam):
 
 
 def test_longitudinal_block_is_parabolic_and_transverse_symplectic():
-    for kw in (dict(E=2.0), dict(log_abs_dE=-50, phase="lib"), dict(log_abs_dE=-50, phase="rot")):
+    for kw in (
+        dict(E=2.0),
+        dict(log_abs_dE=-50, phase="lib"),
+        dict(log_abs_dE=-50, phase="rot"),
+    ):
         M = rotorlib.monodromy(rotorlib.pendulum(**kw))
-        assert M.longitudinal[0, 0] == 1 and M.longitudinal[1, 1] == 1 and M.longitudinal[1, 0] == 0
+        assert (
+            M.longitudinal[0, 0] == 1
+            and M.longitudinal[1, 1] == 1
+            and M.longitudinal[1, 0] == 0
+        )
         assert abs(np.linalg.det(M.transverse) - 1) < 1e-12
         assert M.residual < 1e-14
 
 
 def test_numerics_md_table_deep_libration():
     """NUMERICS.md: true tr M = 3.99999868, 4.00002111, 4.00005659 at log(4-E) = -10.1183, -21.0012, -27.5529."""
-    for x, ref in ((-10.1183, 3.99999868), (-21.0012, 4.00002111), (-27.5529, 4.00005659)):
+    for x, ref in (
+        (-10.1183, 3.99999868),
+        (-21.0012, 4.00002111),
+        (-27.5529, 4.00005659),
+    ):
         t = rotorlib.trace_monodromy(rotorlib.pendulum(log_abs_dE=x, phase="lib"))
         assert abs(t - ref) < 5e-9
 
@@ -98,10 +115,10 @@ def test_small_energy_limit():
 
 
 def test_multipliers():
-    M = rotorlib.monodromy(rotorlib.pendulum(5.0))       # unstable
+    M = rotorlib.monodromy(rotorlib.pendulum(5.0))  # unstable
     mu = M.multipliers
     assert abs(mu[0] * mu[1] - 1) < 1e-13 and not M.stable
-    M = rotorlib.monodromy(rotorlib.pendulum(1.0))       # stable
+    M = rotorlib.monodromy(rotorlib.pendulum(1.0))  # stable
     assert abs(abs(M.multipliers[0]) - 1) < 1e-13 and M.stable
 
 

@@ -21,6 +21,7 @@ The extended-precision families (IS^l_7,8, PD^l_4, PD^r_5,6; real128 search)
 are checked on one representative each way (``slow``): closure of the 32-digit
 state under heyoka mp160, energy, trace, and tr M -> 4 at birth.
 """
+
 from __future__ import annotations
 
 import json
@@ -34,10 +35,21 @@ import rotorlib
 from rotorlib.monodromy import _unwind
 from rotorlib.system import energy_alpha, rhs_alpha
 
-pytestmark = pytest.mark.skipif(not rotorlib.heyoka_available(), reason="heyoka not installed")
+pytestmark = pytest.mark.skipif(
+    not rotorlib.heyoka_available(), reason="heyoka not installed"
+)
 
-MUST_SHOW = [("ISl1", 3.995), ("ISl2", 4.0), ("ISl6", 4.0), ("PDl2", 4.0), ("PDl3", 4.0), ("ISr2", 4.01),
-             ("PDr1", 5.7), ("PDr2", 4.55), ("PDr3", 4.0002)]
+MUST_SHOW = [
+    ("ISl1", 3.995),
+    ("ISl2", 4.0),
+    ("ISl6", 4.0),
+    ("PDl2", 4.0),
+    ("PDl3", 4.0),
+    ("ISr2", 4.01),
+    ("PDr1", 5.7),
+    ("PDr2", 4.55),
+    ("PDr3", 4.0002),
+]
 #: scipy DOP853 at rtol 1e-13 is itself too inaccurate this close to the separatrix (measured 8e-6, 9e-7)
 SCIPY_TOO_COARSE = {"ISl6", "PDl3"}
 
@@ -78,7 +90,9 @@ def test_closure_energy_trace(records, label, E):
     v = rotorlib.variational_monodromy(x0, T, method="heyoka", precision="mp160")
     assert v.closure < 1e-7, v.closure
     if label not in SCIPY_TOO_COARSE:
-        sol = solve_ivp(rhs_alpha, (0.0, T), x0, method="DOP853", rtol=1e-13, atol=1e-15)
+        sol = solve_ivp(
+            rhs_alpha, (0.0, T), x0, method="DOP853", rtol=1e-13, atol=1e-15
+        )
         assert np.max(np.abs(_unwind(sol.y[:, -1] - x0))) < 1e-7
     # the trace: textbook variational monodromy at 160 bits from the full-digit state (1e-5 relative)
     s0 = rec.get("state0_str", x0)
@@ -89,13 +103,22 @@ def test_closure_energy_trace(records, label, E):
 
 
 def _a1_max_dense(rec, n=20001):
-    sol = solve_ivp(rhs_alpha, (0.0, rec["period"]), rec["state0"], method="DOP853", rtol=1e-12, atol=1e-14,
-                    dense_output=True)
+    sol = solve_ivp(
+        rhs_alpha,
+        (0.0, rec["period"]),
+        rec["state0"],
+        method="DOP853",
+        rtol=1e-12,
+        atol=1e-14,
+        dense_output=True,
+    )
     t = np.linspace(0.0, rec["period"], n)
     return sol.sol(t)
 
 
-@pytest.mark.parametrize("label,paper,tol", [("ISl2", 0.0548, 0.02), ("ISl6", 0.0002424, 0.02)])
+@pytest.mark.parametrize(
+    "label,paper,tol", [("ISl2", 0.0548, 0.02), ("ISl6", 0.0002424, 0.02)]
+)
 def test_paper_a1_amplitudes(records, label, paper, tol):
     rec = records[label]
     assert abs(rec["alpha1_max"] - paper) < tol * paper
@@ -104,7 +127,9 @@ def test_paper_a1_amplitudes(records, label, paper, tol):
     assert abs(np.max(np.abs(y[0])) - rec["alpha1_max"]) < 1e-4 * rec["alpha1_max"]
 
 
-@pytest.mark.parametrize("label,paper,tol", [("PDl2", 0.01875, 0.01), ("PDl3", 0.00123445, 0.01)])
+@pytest.mark.parametrize(
+    "label,paper,tol", [("PDl2", 0.01875, 0.01), ("PDl3", 0.00123445, 0.01)]
+)
 def test_paper_a2_amplitudes(records, label, paper, tol):
     rec = records[label]
     ours = math.pi - rec["alpha2_max"]
@@ -119,10 +144,20 @@ def test_fork_like_and_start_lines():
     from rotorlib import newborn as nb
     from rotorlib.shooting import residual
 
-    for label in ("ISl1", "ISl2", "ISl3", "ISl4", "PDl1", "ISr1", "ISr2", "PDr1", "PDr3"):
+    for label in (
+        "ISl1",
+        "ISl2",
+        "ISl3",
+        "ISl4",
+        "PDl1",
+        "ISr1",
+        "ISr2",
+        "PDr1",
+        "PDr3",
+    ):
         spec = nb.family_spec(label)
         _, c = nb.seed(spec.label)
-        assert c > 0, label                          # forward: E - E_n = c u^2 > 0
+        assert c > 0, label  # forward: E - E_n = c u^2 > 0
         # tiny amplitude at the bifurcation: the residual of the pendulum's own linearisation is ~0
         r_here = residual(spec.problem, 1e-7, spec.E_birth).r
         assert abs(r_here) < 1e-5, (label, r_here)
@@ -175,11 +210,15 @@ def test_deep_families_real128(capsys, label, E):
     assert rec["precision"] == "real128"
     x0 = np.array(rec["state0"])
     assert abs(float(energy_alpha(x0)) - float(E)) < 1e-9
-    ref = rotorlib.variational_monodromy(rec["state0_str"], rec["period_str"], method="heyoka", precision="mp160")
+    ref = rotorlib.variational_monodromy(
+        rec["state0_str"], rec["period_str"], method="heyoka", precision="mp160"
+    )
     assert ref.closure < 1e-20
     assert abs(ref.trace - rec["trace"]) < 1e-5 * abs(ref.trace)
     # the float64 rounding of the state closes only to ~|E - 4|^-1 eps (measured 2e-6 for IS^l_7 at E = 4)
-    v = rotorlib.variational_monodromy(x0, rec["period"], method="heyoka", precision="mp160")
+    v = rotorlib.variational_monodromy(
+        x0, rec["period"], method="heyoka", precision="mp160"
+    )
     assert v.closure < 1e-4
 
 
@@ -189,4 +228,4 @@ def test_deep_family_born_with_trace_4():
 
     slope, tr0 = nb.trace_slope_at_birth("IS^l_8")
     assert abs(tr0 - 4.0) < 1e-3
-    assert abs(slope) > 1e6         # steep: |E_n - 4| = 2.5e-10
+    assert abs(slope) > 1e6  # steep: |E_n - 4| = 2.5e-10

@@ -1,4 +1,5 @@
 """rotorlib's float64 path works without heyoka (scipy fallback): heyoka is hidden in a subprocess."""
+
 import json
 import subprocess
 import sys
@@ -19,8 +20,12 @@ HIDE = textwrap.dedent("""
 
 
 def run_hidden(code):
-    p = subprocess.run([sys.executable, "-c", HIDE + textwrap.dedent(code)], capture_output=True, text=True,
-                       timeout=300)
+    p = subprocess.run(
+        [sys.executable, "-c", HIDE + textwrap.dedent(code)],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
     assert p.returncode == 0, p.stderr
     return json.loads(p.stdout)
 
@@ -37,8 +42,15 @@ def test_scipy_fallback_matches():
         res.append([M.trace, M.backend, M.precision])
         print(json.dumps(res))
     """)
-    refs = [rotorlib.trace_monodromy(rotorlib.pendulum(**kw)) for kw in
-            (dict(E=1.0), dict(E=5.0), dict(log_abs_dE=-30.0, phase="lib"), dict(log_abs_dE=-100.0, phase="rot"))]
+    refs = [
+        rotorlib.trace_monodromy(rotorlib.pendulum(**kw))
+        for kw in (
+            dict(E=1.0),
+            dict(E=5.0),
+            dict(log_abs_dE=-30.0, phase="lib"),
+            dict(log_abs_dE=-100.0, phase="rot"),
+        )
+    ]
     refs.append(rotorlib.trace_monodromy(rotorlib.breather(9.0, "R")))
     for (t, backend, prec), ref in zip(out, refs):
         assert backend == "scipy" and prec == "float64"
@@ -46,9 +58,17 @@ def test_scipy_fallback_matches():
 
 
 def test_cli_without_heyoka():
-    p = subprocess.run([sys.executable, "-c", HIDE + "import sys, runpy; sys.argv=['rotorlib','trace','pendulum',"
-                        "'--E','2','--json']; runpy.run_module('rotorlib', run_name='__main__')"],
-                       capture_output=True, text=True, timeout=300)
+    p = subprocess.run(
+        [
+            sys.executable,
+            "-c",
+            HIDE + "import sys, runpy; sys.argv=['rotorlib','trace','pendulum',"
+            "'--E','2','--json']; runpy.run_module('rotorlib', run_name='__main__')",
+        ],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
     assert p.returncode == 0, p.stderr
     assert json.loads(p.stdout)["backend"] == "scipy"
 
@@ -61,7 +81,9 @@ def test_extended_precision_without_heyoka_uses_mpmath():
     assert out == ["mpmath", "mpmath30"]
 
 
-@pytest.mark.skipif(not rotorlib.heyoka_available(), reason="needs heyoka for the comparison")
+@pytest.mark.skipif(
+    not rotorlib.heyoka_available(), reason="needs heyoka for the comparison"
+)
 def test_heyoka_request_fails_cleanly_when_hidden():
     out = run_hidden("""
         import json, rotorlib

@@ -1,4 +1,5 @@
 """Closed-form pendula and breathers against the equations of motion, at the extremes too."""
+
 import math
 
 import mpmath as mp
@@ -20,11 +21,33 @@ def _eom_residual(orbit, n=801):
     return np.max(np.abs(dX - F)) / max(1.0, np.max(np.abs(F)))
 
 
-PENDULA = [dict(E=0.01), dict(E=1.0), dict(E=3.9), dict(E=5.0), dict(E=100.0), dict(E=1e6),
-           dict(log_abs_dE=-30, phase="lib"), dict(log_abs_dE=-30, phase="rot"),
-           dict(log_abs_dE=-300, phase="lib"), dict(log_abs_dE=-700, phase="rot")]
-BREATHERS = [(0.01, "LG"), (3.0, "LG"), (4.0, "LG"), (4.3, "LG"), (4.4999, "LG"), (4.0001, "LD"), (4.3, "LD"),
-             (4.4999, "LD"), (4.5001, "R"), (4.6, "R"), (9.0, "R"), (20.0, "R"), (1e4, "R")]
+PENDULA = [
+    dict(E=0.01),
+    dict(E=1.0),
+    dict(E=3.9),
+    dict(E=5.0),
+    dict(E=100.0),
+    dict(E=1e6),
+    dict(log_abs_dE=-30, phase="lib"),
+    dict(log_abs_dE=-30, phase="rot"),
+    dict(log_abs_dE=-300, phase="lib"),
+    dict(log_abs_dE=-700, phase="rot"),
+]
+BREATHERS = [
+    (0.01, "LG"),
+    (3.0, "LG"),
+    (4.0, "LG"),
+    (4.3, "LG"),
+    (4.4999, "LG"),
+    (4.0001, "LD"),
+    (4.3, "LD"),
+    (4.4999, "LD"),
+    (4.5001, "R"),
+    (4.6, "R"),
+    (9.0, "R"),
+    (20.0, "R"),
+    (1e4, "R"),
+]
 
 
 @pytest.mark.parametrize("kw", PENDULA)
@@ -33,7 +56,7 @@ def test_pendulum_energy_and_eom(kw):
     t = np.linspace(0, o.period, 2001)
     E = energy_alpha(o.state(t))
     assert np.max(np.abs(E - o.E)) < 5e-15 * max(1, o.E)
-    assert _eom_residual(o) < 1e-6          # finite-difference limited
+    assert _eom_residual(o) < 1e-6  # finite-difference limited
 
 
 @pytest.mark.parametrize("E,fam", BREATHERS)
@@ -53,12 +76,17 @@ def test_pendulum_period_by_quadrature(E):
     # tau = 4 int_0^{a_max} da / a2', a2' = sqrt(3 (E - 2 + 2 cos a))
     with mp.workdps(30):
         amax = 2 * mp.asin(mp.sqrt(mp.mpf(E) / 4))
-        f = lambda a: mp.re(1 / mp.sqrt(3 * (E - 2 + 2 * mp.cos(a))))
+
+        def f(a):
+            return mp.re(1 / mp.sqrt(3 * (E - 2 + 2 * mp.cos(a))))
+
         ref = 4 * mp.quad(f, [0, amax])
     assert abs(rotorlib.pendulum(E).period / float(ref) - 1) < 1e-13
 
 
-@pytest.mark.parametrize("E,fam", [(1.0, "LG"), (4.3, "LG"), (4.3, "LD"), (6.0, "R"), (30.0, "R")])
+@pytest.mark.parametrize(
+    "E,fam", [(1.0, "LG"), (4.3, "LG"), (4.3, "LD"), (6.0, "R"), (30.0, "R")]
+)
 def test_breather_period_by_quadrature(E, fam):
     # E = phi'^2 + 3 - 2 cos phi - cos 2 phi; tau = closed-loop integral of dphi / phi'
     def v(f):
@@ -66,11 +94,14 @@ def test_breather_period_by_quadrature(E, fam):
 
     def inv(f):
         return mp.re(1 / mp.sqrt(v(f)))
+
     with mp.workdps(30):
         if fam == "R":
             ref = mp.quad(inv, [0, mp.pi, 2 * mp.pi])
         else:
-            c = (-1 + mp.sqrt(9 - 2 * E)) / 2            # cos of the turning point nearest the centre
+            c = (
+                -1 + mp.sqrt(9 - 2 * E)
+            ) / 2  # cos of the turning point nearest the centre
             if fam == "LG":
                 fmax = mp.acos(c)
                 ref = 4 * mp.quad(inv, [0, fmax])
@@ -84,14 +115,18 @@ def test_closed_form_beats_integration_near_separatrix():
     """At log(4-E) = -30 the closed form closes exactly; a DOP853 integration of the pendulum cannot."""
     o = rotorlib.pendulum(log_abs_dE=-30, phase="lib")
     assert np.max(np.abs(o.state(o.period) - o.state0)) < 1e-13
-    sol = solve_ivp(rhs_alpha, (0, o.period), o.state0, method="DOP853", rtol=1e-12, atol=1e-12)
+    sol = solve_ivp(
+        rhs_alpha, (0, o.period), o.state0, method="DOP853", rtol=1e-12, atol=1e-12
+    )
     assert np.max(np.abs(sol.y[:, -1] - o.state0)) > 1e-6
 
 
 def test_period_logarithmic_divergence():
     for x in (-20.0, -60.0, -300.0):
         o = rotorlib.pendulum(log_abs_dE=x, phase="lib")
-        asym = -2 / math.sqrt(3) * (x - math.log(4) - math.log(16))   # -(2/w0) log((1-E/4)/16)
+        asym = (
+            -2 / math.sqrt(3) * (x - math.log(4) - math.log(16))
+        )  # -(2/w0) log((1-E/4)/16)
         assert abs(o.period - asym) < 10 * math.exp(x) + 4e-16 * o.period
         r = rotorlib.pendulum(log_abs_dE=x, phase="rot")
         kappa = math.sqrt(r.energy.m)
@@ -105,11 +140,25 @@ def test_separatrix_state():
     assert np.max(np.abs(energy_alpha(X) - 4.0)) < 1e-14
 
 
-@pytest.mark.parametrize("kw", [dict(E=-1.0), dict(E=4.0), dict(E=float("nan")), dict(E=float("inf")),
-                                dict(E="abc"), dict(log_abs_dE=2.0, phase="lib"), dict(log_abs_dE=-30.0),
-                                dict(log_abs_dE="-inf", phase="rot"), dict(log_abs_dE="-1e400", phase="lib"),
-                                dict(E="1e-1000000", phase="lib"), dict(E=True), dict(E=3.0, phase="rot"),
-                                dict(E=1.0, log_abs_dE=-3.0, phase="lib"), dict(log_abs_dE=-3.0, phase="up")])
+@pytest.mark.parametrize(
+    "kw",
+    [
+        dict(E=-1.0),
+        dict(E=4.0),
+        dict(E=float("nan")),
+        dict(E=float("inf")),
+        dict(E="abc"),
+        dict(log_abs_dE=2.0, phase="lib"),
+        dict(log_abs_dE=-30.0),
+        dict(log_abs_dE="-inf", phase="rot"),
+        dict(log_abs_dE="-1e400", phase="lib"),
+        dict(E="1e-1000000", phase="lib"),
+        dict(E=True),
+        dict(E=3.0, phase="rot"),
+        dict(E=1.0, log_abs_dE=-3.0, phase="lib"),
+        dict(log_abs_dE=-3.0, phase="up"),
+    ],
+)
 def test_pendulum_bad_input(kw):
     with pytest.raises(ValueError):
         rotorlib.pendulum(**kw)
@@ -120,13 +169,17 @@ def test_beyond_float64_range(phase):
     """log|E-4| = -800: the energy is carried by its log; K, period (float64 view of the mpmath closed
     form) follow the logarithmic asymptotics; the float64 state refuses (|E-4| is not a normal float)."""
     o = rotorlib.pendulum(log_abs_dE=-800, phase=phase)
-    assert o.energy.eps < 1e-307 and o.energy.log_abs_dE == -800.0 and not o.energy.in_float64_range
+    assert (
+        o.energy.eps < 1e-307
+        and o.energy.log_abs_dE == -800.0
+        and not o.energy.in_float64_range
+    )
     # K = log(4/sqrt(m1)) + O(m1 log m1), m1 = eps/4 (lib) or eps/E (rot), E = 4 to 1e-347
     K = math.log(4.0) - 0.5 * (-800.0 - math.log(4.0))
     assert abs(o.K - K) < 1e-13 * K
     per = 4 * K / math.sqrt(3) if phase == "lib" else 2 * K / math.sqrt(3)
     assert abs(o.period - per) < 1e-13 * per
-    assert math.isinf(o.dperiod_dE)               # ~ 1/|E - 4|: beyond float64
+    assert math.isinf(o.dperiod_dE)  # ~ 1/|E - 4|: beyond float64
     with pytest.raises(ValueError, match="float64 range"):
         o.state(0.0)
     with pytest.raises(ValueError, match="float64 range"):
@@ -140,7 +193,9 @@ def test_decimal_energy_read_exactly():
     assert abs(o.energy.log_abs_dE - math.log(1e-20)) < 1e-15 * 46
     with mp.workdps(50):
         v = o.energy.mp_values(40)
-        assert abs(v["eps"] / mp.mpf("1e-20") - 1) < mp.mpf("1e-39")          # correct to 40 digits
+        assert abs(v["eps"] / mp.mpf("1e-20") - 1) < mp.mpf(
+            "1e-39"
+        )  # correct to 40 digits
         assert abs(v["E"] - mp.mpf("3.99999999999999999999")) < mp.mpf("4e-39")
     b = rotorlib.breather(E="4.5000000000000000000000000001")
     assert b.energy.family == "R" and b.energy.eps == 1e-28 and b.E == 4.5
@@ -150,21 +205,37 @@ def test_decimal_energy_read_exactly():
         rotorlib.breather(E="4.50")
 
 
-@pytest.mark.parametrize("E,fam", [(4.5, None), (4.3, "R"), (5.0, "LG"), (3.9, "LD"), (-0.1, None),
-                                   (float("nan"), "R"), (5.0, "XX")])
+@pytest.mark.parametrize(
+    "E,fam",
+    [
+        (4.5, None),
+        (4.3, "R"),
+        (5.0, "LG"),
+        (3.9, "LD"),
+        (-0.1, None),
+        (float("nan"), "R"),
+        (5.0, "XX"),
+    ],
+)
 def test_breather_bad_input(E, fam):
     with pytest.raises(ValueError):
         rotorlib.breather(E, fam)
 
 
-@pytest.mark.parametrize("make", [lambda: rotorlib.pendulum(E=1.0), lambda: rotorlib.pendulum(E=0.001),
-                                  lambda: rotorlib.pendulum(log_abs_dE=-30, phase="lib"),
-                                  lambda: rotorlib.pendulum(log_abs_dE=-30, phase="rot"),
-                                  lambda: rotorlib.breather(E=3.0, family="LG"),
-                                  lambda: rotorlib.breather(E=4.0, family="LG"),
-                                  lambda: rotorlib.breather(log_abs_dE=-30, family="LD"),
-                                  lambda: rotorlib.breather(E=9.0, family="R"),
-                                  lambda: rotorlib.breather(log_abs_dE=-30, family="R")])
+@pytest.mark.parametrize(
+    "make",
+    [
+        lambda: rotorlib.pendulum(E=1.0),
+        lambda: rotorlib.pendulum(E=0.001),
+        lambda: rotorlib.pendulum(log_abs_dE=-30, phase="lib"),
+        lambda: rotorlib.pendulum(log_abs_dE=-30, phase="rot"),
+        lambda: rotorlib.breather(E=3.0, family="LG"),
+        lambda: rotorlib.breather(E=4.0, family="LG"),
+        lambda: rotorlib.breather(log_abs_dE=-30, family="LD"),
+        lambda: rotorlib.breather(E=9.0, family="R"),
+        lambda: rotorlib.breather(log_abs_dE=-30, family="R"),
+    ],
+)
 def test_closed_form_float64_against_mpmath(make):
     """The float64 and the 40-digit closed forms are the same formulas: K, period, d(period)/dE agree
     to float64 accuracy, and d(period)/dE agrees with a 40-digit numerical derivative of the period."""
@@ -180,7 +251,12 @@ def test_closed_form_float64_against_mpmath(make):
 
         def period(E):
             text = mp.nstr(E, 45)
-            orb = rotorlib.pendulum(E=text) if fam is None else rotorlib.breather(E=text, family=fam)
+            orb = (
+                rotorlib.pendulum(E=text)
+                if fam is None
+                else rotorlib.breather(E=text, family=fam)
+            )
             return orb.closed_form(45)["period"]
+
         num = (period(E0 + h) - period(E0 - h)) / (2 * h)
         assert abs(num / g["dperiod_dE"] - 1) < 1e-9

@@ -2,6 +2,7 @@
 
 Timing is never asserted here (see ``benchmarks/bench_precision.py``).
 """
+
 import json
 import math
 import subprocess
@@ -37,8 +38,18 @@ def agreeing_digits(a, b):
 
 # --------------------------------------------------------------------------- the tier map
 
-@pytest.mark.parametrize("digits,expected", [(None, "float64"), (1, "float64"), (15, "float64"),
-                                             (16, "real128"), (31, "real128"), (32, "mp")])
+
+@pytest.mark.parametrize(
+    "digits,expected",
+    [
+        (None, "float64"),
+        (1, "float64"),
+        (15, "float64"),
+        (16, "real128"),
+        (31, "real128"),
+        (32, "mp"),
+    ],
+)
 def test_precision_tier_map(digits, expected):
     be, prec = precision_tier(digits)
     if HEYOKA:
@@ -55,8 +66,17 @@ def test_precision_tier_bits_cover_digits():
             assert int(prec[2:]) * math.log10(2) >= d + 5
 
 
-@pytest.mark.parametrize("digits,backend", [(0, None), (1001, None), (2.5, None), ("30", None),
-                                            (20, "scipy"), (None, "fortran")])
+@pytest.mark.parametrize(
+    "digits,backend",
+    [
+        (0, None),
+        (1001, None),
+        (2.5, None),
+        ("30", None),
+        (20, "scipy"),
+        (None, "fortran"),
+    ],
+)
 def test_precision_tier_refuses(digits, backend):
     with pytest.raises(ValueError):
         precision_tier(digits, backend)
@@ -69,8 +89,11 @@ def test_mpmath_tier_label():
 
 # --------------------------------------------------------------------------- results say which precision
 
+
 @needs_heyoka
-@pytest.mark.parametrize("digits,label", [(None, "float64"), (20, "real128"), (40, "mp")])
+@pytest.mark.parametrize(
+    "digits,label", [(None, "float64"), (20, "real128"), (40, "mp")]
+)
 def test_monodromy_reports_precision(digits, label):
     M = rl.monodromy(rl.pendulum(log_abs_dE=-21.0012, phase="lib"), digits=digits)
     assert M.precision.startswith(label)
@@ -88,7 +111,11 @@ def test_scipy_backend_reports_float64():
 def test_variational_reports_precision():
     o = rl.pendulum(E=1.0)
     V = rl.variational_monodromy(o.state0, o.period, rtol=1e-10)
-    assert V.precision == "float64 rtol=1e-10" and V.method == "scipy-DOP853" and V.steps > 0
+    assert (
+        V.precision == "float64 rtol=1e-10"
+        and V.method == "scipy-DOP853"
+        and V.steps > 0
+    )
 
 
 def test_hill_solution_reports_precision():
@@ -97,7 +124,11 @@ def test_hill_solution_reports_precision():
 
 
 def _cli(*args):
-    return subprocess.run([sys.executable, "-m", "rotorlib", "trace", *args], capture_output=True, text=True)
+    return subprocess.run(
+        [sys.executable, "-m", "rotorlib", "trace", *args],
+        capture_output=True,
+        text=True,
+    )
 
 
 def test_cli_reports_precision_in_table_and_json():
@@ -115,10 +146,13 @@ def test_cli_refuses_scipy_with_digits():
 
 # --------------------------------------------------------------------------- accuracy of the tiers
 
+
 @needs_heyoka
 def test_trace_digits30_at_minus60_against_textbook_512bit():
     """Target of issue 7: ``trace pendulum --phase rot --log-dE -60 --digits 30`` correct to 20 digits."""
-    r = _cli("pendulum", "--phase", "rot", "--log-dE", "-60", "--digits", "30", "--json")
+    r = _cli(
+        "pendulum", "--phase", "rot", "--log-dE", "-60", "--digits", "30", "--json"
+    )
     rec = json.loads(r.stdout)
     assert rec["precision"] == "real128" and rec["backend"] == "heyoka"
     ref = textbook_reference(-60.0, "rot", bits=512)
@@ -145,12 +179,18 @@ def test_mpmath_tier_agrees_with_heyoka_mp():
     assert agreeing_digits(a.trace_str, b.trace_str) >= 15
 
 
-@pytest.mark.parametrize("x,phase", [(-21.0012, "lib"), (-21.5, "rot"), (-22.0, "lib"), (-27.5529, "rot")])
+@pytest.mark.parametrize(
+    "x,phase", [(-21.0012, "lib"), (-21.5, "rot"), (-22.0, "lib"), (-27.5529, "rot")]
+)
 def test_float64_within_1e11_deep_in_cascade(x, phase):
     """Target of issue 7 (accuracy part): float64 tr M within 1e-11 for log|E-4| in [-22, -21] and beyond."""
     o = rl.pendulum(log_abs_dE=x, phase=phase)
-    ref = rl.monodromy(o, digits=30).trace_str if HEYOKA else rl.monodromy(o, digits=20).trace_str
-    for backend in (("heyoka", "scipy") if HEYOKA else ("scipy",)):
+    ref = (
+        rl.monodromy(o, digits=30).trace_str
+        if HEYOKA
+        else rl.monodromy(o, digits=20).trace_str
+    )
+    for backend in ("heyoka", "scipy") if HEYOKA else ("scipy",):
         with mp.workdps(40):
             assert abs(rl.monodromy(o, backend=backend).trace - mp.mpf(ref)) < 1e-11
 
@@ -164,20 +204,26 @@ def test_textbook_float64_is_wrong_deep_in_cascade():
 
 # --------------------------------------------------------------------------- the tolerance knob
 
+
 def test_default_tol_is_unchanged():
     o = rl.pendulum(log_abs_dE=-21.5, phase="rot")
-    for be in (("heyoka", "scipy") if HEYOKA else ("scipy",)):
-        assert rl.monodromy(o, backend=be).trace == rl.monodromy(o, backend=be, tol=None).trace
+    for be in ("heyoka", "scipy") if HEYOKA else ("scipy",):
+        assert (
+            rl.monodromy(o, backend=be).trace
+            == rl.monodromy(o, backend=be, tol=None).trace
+        )
 
 
-@pytest.mark.parametrize("backend", ["scipy", pytest.param("heyoka", marks=needs_heyoka)])
+@pytest.mark.parametrize(
+    "backend", ["scipy", pytest.param("heyoka", marks=needs_heyoka)]
+)
 def test_looser_tol_is_less_accurate_and_cheaper(backend):
     o = rl.pendulum(log_abs_dE=-21.5, phase="rot")
     prob = hill_problem(o)
     ref = rl.monodromy(o, digits=30).trace if HEYOKA else rl.monodromy(o).trace
     loose = solve_hill(prob, backend, "float64", tol=1e-6)
     tight = solve_hill(prob, backend, "float64")
-    err = lambda s: abs(2.0 + s.delta - ref)   # noqa: E731  (rotation: tr M = 2 + Delta)
+    err = lambda s: abs(2.0 + s.delta - ref)  # noqa: E731  (rotation: tr M = 2 + Delta)
     assert err(tight) < 1e-12 < err(loose) < 1e-4
     if backend == "scipy":
         assert loose.steps < tight.steps

@@ -3,6 +3,7 @@
 The references are real128 roots of the symmetric residual (~30 digits) and, for closure, heyoka
 integrations in real128 that the float64 searches do not use.
 """
+
 from __future__ import annotations
 
 import math
@@ -16,7 +17,9 @@ from rotorlib import search as sr
 from rotorlib.precision import REAL128
 from rotorlib.shooting import residual
 
-pytestmark = pytest.mark.skipif(not rotorlib.heyoka_available(), reason="heyoka not installed")
+pytestmark = pytest.mark.skipif(
+    not rotorlib.heyoka_available(), reason="heyoka not installed"
+)
 
 
 def test_periodicity_defect_vanishes_on_a_member_and_grows_linearly():
@@ -26,7 +29,9 @@ def test_periodicity_defect_vanishes_on_a_member_and_grows_linearly():
     x0 = spec.problem.state(u, E, REAL128)
     d128, t = sr.periodicity_defect("IS^l_2", x0, REAL128)
     assert d128 < 1e-25
-    assert abs(t - spec.period_birth) < 1e-3 * spec.period_birth        # one cycle of a2 ~ tau
+    assert (
+        abs(t - spec.period_birth) < 1e-3 * spec.period_birth
+    )  # one cycle of a2 ~ tau
     x1 = [float(v) for v in x0]
     x1[3] *= 1 + 1e-8
     d1 = sr.periodicity_defect("IS^l_2", x1)[0]
@@ -58,7 +63,11 @@ def test_paper_search_is_sqrt_eps_limited_and_shooting_is_not(label):
 
 def test_paper_search_tolerance_floor():
     """xatol below sqrt(eps) |p2| changes nothing: Brent's built-in relative tolerance."""
-    w = sr.work_precision("IS^l_2", tolerances_paper=[1e-9, 1e-12, 1e-16], tolerances_shooting=[1e-4, 1e-15])
+    w = sr.work_precision(
+        "IS^l_2",
+        tolerances_paper=[1e-9, 1e-12, 1e-16],
+        tolerances_shooting=[1e-4, 1e-15],
+    )
     assert np.ptp(w.error_paper) < 0.1 * w.error_paper.max()
     assert w.error_paper.min() > 1e-10
     assert w.error_shooting[-1] < 1e-14 < w.error_shooting[0]
@@ -73,22 +82,26 @@ def test_paper_search_bracket_and_bad_input():
     r = sr.paper_search("IS^l_1", u, E + 1e-3, width=1e-5)
     assert r.at_bound
     with pytest.raises(ValueError):
-        sr.paper_search("IS^l_1", u, spec.E_birth)           # zero default width
+        sr.paper_search("IS^l_1", u, spec.E_birth)  # zero default width
     with pytest.raises(ValueError):
         sr.paper_search("IS^l_1", u, E, width=-1.0)
     with pytest.raises(ValueError):
-        sr.paper_search("IS^l_1", math.pi / 2, E)            # V(pi/2, 0) = 4 > E: outside the energy shell
+        sr.paper_search(
+            "IS^l_1", math.pi / 2, E
+        )  # V(pi/2, 0) = 4 > E: outside the energy shell
     with pytest.raises(ValueError):
         sr.default_amplitude("IS^l_1", rel=0)
     with pytest.raises(ValueError):
         sr.work_precision("IS^l_1", tolerances_paper=[0.0])
     with pytest.raises(ValueError):
-        sr.compare_searches("IS^l_7")                        # float64 only
+        sr.compare_searches("IS^l_7")  # float64 only
 
 
 def test_defect_landscape_linear():
     L = sr.defect_landscape("IS^r_1", delta=[1e-12, 1e-10, 1e-8])
-    assert np.all(np.diff(np.log10(L.defect)) > 1.9) and np.all(np.diff(np.log10(L.residual)) > 1.9)
+    assert np.all(np.diff(np.log10(L.defect)) > 1.9) and np.all(
+        np.diff(np.log10(L.residual)) > 1.9
+    )
 
 
 def test_birth_member_tolerance():
@@ -110,12 +123,18 @@ def test_follow_pdr2_fold_and_end():
     spec = nb.family_spec("PD^r_2")
     for k in (5, len(b.u) // 2):
         assert abs(residual(spec.problem, b.u[k], b.E[k]).r) < 1e-8
-    assert nb.FAMILY_REACH["PD^r_2"] == (math.floor(float(b.fold.E) * 1e7) / 1e7, "fold")
+    assert nb.FAMILY_REACH["PD^r_2"] == (
+        math.floor(float(b.fold.E) * 1e7) / 1e7,
+        "fold",
+    )
 
 
 def test_follow_pdr1_fold():
     b = nb.follow("PD^r_1", max_steps=400)
-    assert b.fold is not None and abs(float(b.fold.E) - nb.FAMILY_REACH["PD^r_1"][0]) < 1e-6
+    assert (
+        b.fold is not None
+        and abs(float(b.fold.E) - nb.FAMILY_REACH["PD^r_1"][0]) < 1e-6
+    )
 
 
 def test_follow_bad_input():
@@ -150,7 +169,9 @@ def test_family_ranges():
         lo, hi = nb.family_range(spec)
         assert lo == spec.E_birth and hi > lo
         assert spec.label in str(nb.FamilyRangeError(spec, hi + 1))
-    assert nb.family_range(nb.family_spec("PD^r_1"))[1] < 6.0         # folds at 5.9831, not E_n + 6
+    assert (
+        nb.family_range(nb.family_spec("PD^r_1"))[1] < 6.0
+    )  # folds at 5.9831, not E_n + 6
     with pytest.raises(ValueError, match="exists for"):
         nb.newborn_orbit("PD^r_1", 6.0)
     # the range's top is reachable (checked, a fold)

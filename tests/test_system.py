@@ -1,4 +1,5 @@
 """Potential, coordinates, equations of motion and critical points."""
+
 import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
@@ -22,7 +23,11 @@ def test_critical_points_computed():
 
 def test_maps_are_inverse_and_preserve_energy():
     x = rng.normal(size=(50, 4)) * 2
-    for f, g in ((S.alpha_to_phi, S.phi_to_alpha), (S.phi_to_beta, S.beta_to_phi), (S.alpha_to_beta, S.beta_to_alpha)):
+    for f, g in (
+        (S.alpha_to_phi, S.phi_to_alpha),
+        (S.phi_to_beta, S.beta_to_phi),
+        (S.alpha_to_beta, S.beta_to_alpha),
+    ):
         assert np.max(np.abs(g(f(x)) - x)) < 1e-14
     Ea = S.energy_alpha(x)
     assert np.max(np.abs(S.energy_phi(S.alpha_to_phi(x)) - Ea)) < 1e-13
@@ -34,8 +39,8 @@ def test_theta_round_trip_and_energy():
     f0, w0, rel = S.theta_to_phi(th, w)
     th2, w2 = S.phi_to_theta(f0, w0, rel)
     assert np.max(np.abs(th2 - th)) < 1e-14 and np.max(np.abs(w2 - w)) < 1e-14
-    E_tot = 0.5 * np.sum(w ** 2, axis=1) + S.potential_theta(*th.T)
-    E_cm = 1.5 * w0 ** 2
+    E_tot = 0.5 * np.sum(w**2, axis=1) + S.potential_theta(*th.T)
+    E_cm = 1.5 * w0**2
     assert np.max(np.abs(E_tot - E_cm - S.energy_phi(rel))) < 1e-13
 
 
@@ -43,9 +48,11 @@ def test_equations_agree_in_all_coordinates():
     x0 = np.array([0.3, -0.8, 0.5, 0.9])
     T = 3.0
     sols = {}
-    for name, rhs, to, back in (("alpha", S.rhs_alpha, lambda s: s, lambda s: s),
-                                ("phi", S.rhs_phi, S.alpha_to_phi, S.phi_to_alpha),
-                                ("beta", S.rhs_beta, S.alpha_to_beta, S.beta_to_alpha)):
+    for name, rhs, to, back in (
+        ("alpha", S.rhs_alpha, lambda s: s, lambda s: s),
+        ("phi", S.rhs_phi, S.alpha_to_phi, S.phi_to_alpha),
+        ("beta", S.rhs_beta, S.alpha_to_beta, S.beta_to_alpha),
+    ):
         sol = solve_ivp(rhs, (0, T), to(x0), method="DOP853", rtol=1e-12, atol=1e-12)
         sols[name] = back(sol.y[:, -1])
     assert np.max(np.abs(sols["phi"] - sols["alpha"])) < 1e-9
@@ -56,7 +63,12 @@ def test_jacobian_matches_finite_differences():
     x = np.array([0.2, 1.1, -0.4, 0.7])
     J = S.jacobian_alpha(x)
     h = 1e-6
-    Jn = np.column_stack([(S.rhs_alpha(0, x + h * e) - S.rhs_alpha(0, x - h * e)) / (2 * h) for e in np.eye(4)])
+    Jn = np.column_stack(
+        [
+            (S.rhs_alpha(0, x + h * e) - S.rhs_alpha(0, x - h * e)) / (2 * h)
+            for e in np.eye(4)
+        ]
+    )
     assert np.max(np.abs(J - Jn)) < 1e-8
 
 

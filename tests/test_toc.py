@@ -7,6 +7,7 @@
 * book/api.md documents every module of rotorlib (scripts/make_api.py);
 * book/gallery.md is what scripts/make_gallery.py generates from the chapters.
 """
+
 from __future__ import annotations
 
 import json
@@ -20,7 +21,9 @@ import yaml
 
 ROOT = Path(__file__).resolve().parents[1]
 BOOK = ROOT / "book"
-NOTEBOOKS = sorted(p for p in BOOK.rglob("*.ipynb") if ".ipynb_checkpoints" not in p.parts)
+NOTEBOOKS = sorted(
+    p for p in BOOK.rglob("*.ipynb") if ".ipynb_checkpoints" not in p.parts
+)
 
 TQDM = re.compile(r"\d+%\|[^|\n]*\||\d+/\d+ \[\d+:\d+<|it/s\]|s/it\]")
 ADDRESS = re.compile(r"\bat 0x[0-9a-fA-F]{6,}|0x7f[0-9a-fA-F]{6,}")
@@ -63,19 +66,27 @@ def test_toc_is_valid_and_nonempty():
 
 @pytest.mark.parametrize("entry", toc_entries())
 def test_toc_file_exists(entry):
-    assert resolve(entry) is not None, f"_toc.yml names {entry!r} but neither .md nor .ipynb exists"
+    assert resolve(entry) is not None, (
+        f"_toc.yml names {entry!r} but neither .md nor .ipynb exists"
+    )
 
 
 @pytest.mark.parametrize("nb", NOTEBOOKS, ids=lambda p: p.name)
 def test_notebook_in_toc(nb):
     listed = {resolve(e) for e in toc_entries()}
-    assert nb in listed, f"{nb.relative_to(ROOT)} is not in _toc.yml (only_build_toc_files: it would not be built)"
+    assert nb in listed, (
+        f"{nb.relative_to(ROOT)} is not in _toc.yml (only_build_toc_files: it would not be built)"
+    )
 
 
 def _outputs_text(output: dict) -> str:
     parts = []
     if "text" in output:
-        parts.append("".join(output["text"]) if isinstance(output["text"], list) else output["text"])
+        parts.append(
+            "".join(output["text"])
+            if isinstance(output["text"], list)
+            else output["text"]
+        )
     for mime, value in (output.get("data") or {}).items():
         if mime.startswith("text/") or mime.endswith("json"):
             parts.append("".join(value) if isinstance(value, list) else str(value))
@@ -88,47 +99,80 @@ def test_notebook_stored_clean(nb):
     kernelspec = data.get("metadata", {}).get("kernelspec") or {}
     assert kernelspec.get("name"), f"{nb.name}: no kernelspec in the notebook metadata"
 
-    code = [c for c in data["cells"] if c["cell_type"] == "code" and "".join(c["source"]).strip()]
+    code = [
+        c
+        for c in data["cells"]
+        if c["cell_type"] == "code" and "".join(c["source"]).strip()
+    ]
     problems = []
     unexecuted = [i for i, c in enumerate(code) if c.get("execution_count") is None]
     if unexecuted:
-        problems.append(f"code cells {unexecuted} were never executed (store the executed notebook)")
+        problems.append(
+            f"code cells {unexecuted} were never executed (store the executed notebook)"
+        )
     if code and not any(c.get("outputs") for c in code):
         problems.append("no outputs stored")
     for i, cell in enumerate(code):
         for out in cell.get("outputs", []):
             text = _outputs_text(out)
             if out.get("output_type") == "error":
-                problems.append(f"code cell {i}: stored error output {out.get('ename')}: {out.get('evalue')}")
+                problems.append(
+                    f"code cell {i}: stored error output {out.get('ename')}: {out.get('evalue')}"
+                )
             if "Traceback (most recent call last)" in text:
                 problems.append(f"code cell {i}: stored traceback")
             if TQDM.search(text):
-                problems.append(f"code cell {i}: progress bar in the output: {TQDM.search(text).group(0)!r}")
+                problems.append(
+                    f"code cell {i}: progress bar in the output: {TQDM.search(text).group(0)!r}"
+                )
             if ADDRESS.search(text):
-                problems.append(f"code cell {i}: memory address in the output: {ADDRESS.search(text).group(0)!r}")
+                problems.append(
+                    f"code cell {i}: memory address in the output: {ADDRESS.search(text).group(0)!r}"
+                )
     assert not problems, f"{nb.name}:\n  " + "\n  ".join(problems)
 
 
 def test_api_page_up_to_date():
     """book/api.md documents every rotorlib module (scripts/make_api.py generates it)."""
-    proc = subprocess.run([sys.executable, str(ROOT / "scripts" / "make_api.py"), "--check"],
-                          capture_output=True, text=True, cwd=ROOT)
-    assert proc.returncode == 0, (proc.stdout + proc.stderr
-                                  + "\nrun: .venv/bin/python scripts/make_api.py (build_book.sh does it)")
+    proc = subprocess.run(
+        [sys.executable, str(ROOT / "scripts" / "make_api.py"), "--check"],
+        capture_output=True,
+        text=True,
+        cwd=ROOT,
+    )
+    assert proc.returncode == 0, (
+        proc.stdout
+        + proc.stderr
+        + "\nrun: .venv/bin/python scripts/make_api.py (build_book.sh does it)"
+    )
 
 
 def test_gallery_up_to_date():
-    proc = subprocess.run([sys.executable, str(ROOT / "scripts" / "make_gallery.py"), "--check"],
-                          capture_output=True, text=True, cwd=ROOT)
-    assert proc.returncode == 0, (proc.stdout + proc.stderr
-                                  + "\nrun: .venv/bin/python scripts/make_gallery.py (build_book.sh does it)")
+    proc = subprocess.run(
+        [sys.executable, str(ROOT / "scripts" / "make_gallery.py"), "--check"],
+        capture_output=True,
+        text=True,
+        cwd=ROOT,
+    )
+    assert proc.returncode == 0, (
+        proc.stdout
+        + proc.stderr
+        + "\nrun: .venv/bin/python scripts/make_gallery.py (build_book.sh does it)"
+    )
 
 
 def test_ledger_up_to_date():
-    proc = subprocess.run([sys.executable, str(ROOT / "scripts" / "make_ledger.py"), "--check"],
-                          capture_output=True, text=True, cwd=ROOT)
-    assert proc.returncode == 0, (proc.stdout + proc.stderr
-                                  + "\nrun: .venv/bin/python scripts/make_ledger.py (build_book.sh does it)")
+    proc = subprocess.run(
+        [sys.executable, str(ROOT / "scripts" / "make_ledger.py"), "--check"],
+        capture_output=True,
+        text=True,
+        cwd=ROOT,
+    )
+    assert proc.returncode == 0, (
+        proc.stdout
+        + proc.stderr
+        + "\nrun: .venv/bin/python scripts/make_ledger.py (build_book.sh does it)"
+    )
 
 
 def test_ledger_counts_every_chapter_claim():
@@ -142,7 +186,9 @@ def test_ledger_counts_every_chapter_claim():
     assert len(rows) >= 90
     assert all(c["status"] in L.STATUSES and c["section"] for _, c in rows)
     text = (ROOT / "book" / "ledger.md").read_text()
-    assert sum(line.startswith("| ") and ".ipynb)" in line for line in text.splitlines()) == len(rows)
+    assert sum(
+        line.startswith("| ") and ".ipynb)" in line for line in text.splitlines()
+    ) == len(rows)
 
 
 def test_gallery_parser_reads_captions():
@@ -159,6 +205,6 @@ def test_gallery_parser_reads_captions():
     assert g.panels_in("7") == {(7, c) for c in "abc"}
     assert g.panels_in("3 (b)") == {(3, "b")}
     assert g.panels_in("5 (all eight panels, (a) PD") == {(5, c) for c in "abcdefgh"}
-    assert g.panels_in("10(e)") == set()                  # Fig. 10 has 4 panels
-    assert g.panels_in("2(a) at E = 4") == {(2, "a")}     # stops at prose
+    assert g.panels_in("10(e)") == set()  # Fig. 10 has 4 panels
+    assert g.panels_in("2(a) at E = 4") == {(2, "a")}  # stops at prose
     assert sum(g.PANELS.values()) == 42

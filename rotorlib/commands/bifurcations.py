@@ -6,6 +6,7 @@ Examples
 ``python -m rotorlib bifurcations --phase lib --kind PD --n-max 6``
 ``python -m rotorlib bifurcations --family breather --json``
 """
+
 from __future__ import annotations
 
 import json
@@ -17,18 +18,30 @@ N_MAX_LIMIT = 200
 
 
 def register(sub):
-    p = sub.add_parser("bifurcations", help="stability transitions (IS/PD bifurcations) of pendula or breathers",
-                       description="Energies and periods of the stability transitions of librational and "
-                                   "rotational pendula (roots of the transverse discriminant), or of the "
-                                   "isosceles breathers (--family breather).")
+    p = sub.add_parser(
+        "bifurcations",
+        help="stability transitions (IS/PD bifurcations) of pendula or breathers",
+        description="Energies and periods of the stability transitions of librational and "
+        "rotational pendula (roots of the transverse discriminant), or of the "
+        "isosceles breathers (--family breather).",
+    )
     p.add_argument("--phase", default="both", help="lib, rot or both (default both)")
-    p.add_argument("--n-max", dest="n_max", type=int, default=6,
-                   help=f"largest index n in each sequence (1..{N_MAX_LIMIT}; default 6)")
+    p.add_argument(
+        "--n-max",
+        dest="n_max",
+        type=int,
+        default=6,
+        help=f"largest index n in each sequence (1..{N_MAX_LIMIT}; default 6)",
+    )
     p.add_argument("--kind", default=None, help="IS or PD (default both)")
     p.add_argument("--family", default="pendulum", choices=["pendulum", "breather"])
-    p.add_argument("--digits", type=int, default=None,
-                   help="significant digits (default float64, ~13 in log|E-4|; > 15 re-locates every root "
-                        "with heyoka real128 / multiprecision)")
+    p.add_argument(
+        "--digits",
+        type=int,
+        default=None,
+        help="significant digits (default float64, ~13 in log|E-4|; > 15 re-locates every root "
+        "with heyoka real128 / multiprecision)",
+    )
     p.add_argument("--json", action="store_true", help="print a JSON list of records")
     p.set_defaults(func=run)
 
@@ -52,7 +65,9 @@ def run(args):
     if args.phase not in ("lib", "rot", "both"):
         raise ValueError(f"--phase must be lib, rot or both, got {args.phase!r}")
     if not 1 <= args.n_max <= N_MAX_LIMIT:
-        raise ValueError(f"--n-max must be between 1 and {N_MAX_LIMIT}, got {args.n_max}")
+        raise ValueError(
+            f"--n-max must be between 1 and {N_MAX_LIMIT}, got {args.n_max}"
+        )
     if args.kind is None:
         kinds = ("IS", "PD")
     elif args.kind.upper() in ("IS", "PD"):
@@ -66,7 +81,11 @@ def run(args):
         trs = [transition(t.label, digits=args.digits) for t in trs]
     records = [t.to_record() for t in trs]
     if args.json:
-        print(json.dumps(records, indent=2))          # always a list, even for one record
+        print(json.dumps(records, indent=2))  # always a list, even for one record
     else:
-        emit(records, False, ["label", "log_abs_dE", "E", "period", "transition", "precision"])
+        emit(
+            records,
+            False,
+            ["label", "log_abs_dE", "E", "period", "transition", "precision"],
+        )
     return 0

@@ -6,6 +6,7 @@ Examples
 ``python -m rotorlib orbit PDr3 --E 4.0002``
 ``python -m rotorlib orbit PD^b --E 8.9 --json`` (the breather's period-doubled daughter)
 """
+
 from __future__ import annotations
 
 import re
@@ -17,16 +18,23 @@ _BREATHER = re.compile(r"^PD\^?b$", re.IGNORECASE)
 
 
 def register(sub):
-    p = sub.add_parser("orbit", help="a newborn periodic orbit (families IS^l_n, PD^l_n, IS^r_n, PD^r_n, PD^b)",
-                       description="Find the member with energy E of the family of periodic orbits born at a "
-                                   "pendulum bifurcation (symmetry-reduced shooting + continuation in energy; "
-                                   "paper §6-7), or of the breather's period-doubled daughter (PD^b).")
+    p = sub.add_parser(
+        "orbit",
+        help="a newborn periodic orbit (families IS^l_n, PD^l_n, IS^r_n, PD^r_n, PD^b)",
+        description="Find the member with energy E of the family of periodic orbits born at a "
+        "pendulum bifurcation (symmetry-reduced shooting + continuation in energy; "
+        "paper §6-7), or of the breather's period-doubled daughter (PD^b).",
+    )
     p.add_argument("label", help="family label: IS^l_2, ISl2, PD^r_3, PDr3, PD^b ...")
     p.add_argument("--E", required=True, metavar="V", help="energy (m = g = r = 1)")
-    p.add_argument("--digits", type=int, default=None,
-                   help="significant digits of state, period and trace (default: float64, "
-                        "real128 near E = 4; > 15: the tier that delivers them, with "
-                        "state0_str, period_str, trace_str; up to 1000)")
+    p.add_argument(
+        "--digits",
+        type=int,
+        default=None,
+        help="significant digits of state, period and trace (default: float64, "
+        "real128 near E = 4; > 15: the tier that delivers them, with "
+        "state0_str, period_str, trace_str; up to 1000)",
+    )
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.set_defaults(func=run)
 
@@ -48,5 +56,9 @@ def record(label, E, digits=None) -> dict:
 
 def run(args):
     rec = record(args.label, args.E, args.digits)
-    emit([rec], args.json, ["label", "E", "period", "trace", "alpha1_max", "alpha2_max", "precision"])
+    emit(
+        [rec],
+        args.json,
+        ["label", "E", "period", "trace", "alpha1_max", "alpha2_max", "precision"],
+    )
     return 0

@@ -9,6 +9,7 @@ Examples
 ``python -m rotorlib trace breather --E 9 20`` (rotational breather R)
 ``python -m rotorlib trace breather --log-dE -40 --family R --digits 30``
 """
+
 from __future__ import annotations
 
 import argparse
@@ -37,20 +38,46 @@ E = 1e-300): marginal, and the note gives the series value."""
 
 
 def register(sub):
-    p = sub.add_parser("trace", help="trace of the monodromy matrix of pendula or breathers",
-                       description=_DESCRIPTION, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p = sub.add_parser(
+        "trace",
+        help="trace of the monodromy matrix of pendula or breathers",
+        description=_DESCRIPTION,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
     p.add_argument("family", choices=["pendulum", "breather"])
     g = p.add_mutually_exclusive_group(required=True)
-    g.add_argument("--E", nargs="+", metavar="V", help="energies (m = g = r = 1), decimals read exactly")
-    g.add_argument("--log-dE", nargs="+", metavar="V", dest="log_dE",
-                   help="natural log of the distance to the separatrix (needs --phase or --family)")
+    g.add_argument(
+        "--E",
+        nargs="+",
+        metavar="V",
+        help="energies (m = g = r = 1), decimals read exactly",
+    )
+    g.add_argument(
+        "--log-dE",
+        nargs="+",
+        metavar="V",
+        dest="log_dE",
+        help="natural log of the distance to the separatrix (needs --phase or --family)",
+    )
     p.add_argument("--phase", choices=["lib", "rot"], help="libration or rotation")
-    p.add_argument("--family", dest="breather_family", choices=["LG", "LD", "R"],
-                   help="breather family (default LG below 4.5, R above)")
-    p.add_argument("--digits", type=int, default=None,
-                   help="significant digits (default float64; > 15 uses heyoka real128/multiprecision)")
+    p.add_argument(
+        "--family",
+        dest="breather_family",
+        choices=["LG", "LD", "R"],
+        help="breather family (default LG below 4.5, R above)",
+    )
+    p.add_argument(
+        "--digits",
+        type=int,
+        default=None,
+        help="significant digits (default float64; > 15 uses heyoka real128/multiprecision)",
+    )
     p.add_argument("--backend", choices=["heyoka", "scipy", "mpmath"], default=None)
-    p.add_argument("--json", action="store_true", help="print JSON (one object per energy, a list when several)")
+    p.add_argument(
+        "--json",
+        action="store_true",
+        help="print JSON (one object per energy, a list when several)",
+    )
     p.set_defaults(func=run)
 
 
@@ -59,23 +86,37 @@ def _record(M, digits):
     en = M.energy
     log = en.given[1] if en.given[0] == "log_abs_dE" else repr(en.log_abs_dE)
     if M.family == "pendulum":
-        rec = {"family": "pendulum", "phase": en.phase, "E": en.E_text(max(17, digits or 0)), "log_abs_dE": log}
+        rec = {
+            "family": "pendulum",
+            "phase": en.phase,
+            "E": en.E_text(max(17, digits or 0)),
+            "log_abs_dE": log,
+        }
     else:
-        rec = {"family": "breather", "breather_family": en.family, "phase": en.phase,
-               "E": en.E_text(max(17, digits or 0)), "log_abs_dE_4.5": log}
+        rec = {
+            "family": "breather",
+            "breather_family": en.family,
+            "phase": en.phase,
+            "E": en.E_text(max(17, digits or 0)),
+            "log_abs_dE_4.5": log,
+        }
     overflow = not ext and M.trace_str != repr(M.trace)
-    rec.update({
-        "trace": M.trace_str if ext or overflow else M.trace,
-        "trace_transverse": M.trace_transverse,
-        "period": M.period_str if ext else M.period,
-        "stable": M.stable,
-        "stability": M.stability,
-        "stability_note": M.stability_note,
-        "multipliers": [[float(complex(z).real), float(complex(z).imag)] for z in M.multipliers],
-        "precision": M.precision,
-        "backend": M.backend,
-        "residual": M.residual,
-    })
+    rec.update(
+        {
+            "trace": M.trace_str if ext or overflow else M.trace,
+            "trace_transverse": M.trace_transverse,
+            "period": M.period_str if ext else M.period,
+            "stable": M.stable,
+            "stability": M.stability,
+            "stability_note": M.stability_note,
+            "multipliers": [
+                [float(complex(z).real), float(complex(z).imag)] for z in M.multipliers
+            ],
+            "precision": M.precision,
+            "backend": M.backend,
+            "residual": M.residual,
+        }
+    )
     return rec
 
 
@@ -89,15 +130,30 @@ def run(args):
     records = []
     for text in values:
         if args.family == "pendulum":
-            orb = pendulum(log_abs_dE=text, phase=args.phase) if by_log else pendulum(E=text, phase=args.phase)
+            orb = (
+                pendulum(log_abs_dE=text, phase=args.phase)
+                if by_log
+                else pendulum(E=text, phase=args.phase)
+            )
         else:
-            fam = args.breather_family or {"lib": "LG", "rot": "R", None: None}[args.phase]
+            fam = (
+                args.breather_family
+                or {"lib": "LG", "rot": "R", None: None}[args.phase]
+            )
             if by_log:
                 if fam is None:
                     raise ValueError("--log-dE for breathers needs --phase or --family")
                 orb = breather(log_abs_dE=text, family=fam)
             else:
                 orb = breather(E=text, family=fam)
-        records.append(_record(monodromy(orb, digits=args.digits, backend=args.backend), args.digits))
-    emit(records, args.json, ["family", "phase", "E", "trace", "period", "stability", "precision"])
+        records.append(
+            _record(
+                monodromy(orb, digits=args.digits, backend=args.backend), args.digits
+            )
+        )
+    emit(
+        records,
+        args.json,
+        ["family", "phase", "E", "trace", "period", "stability", "precision"],
+    )
     return 0

@@ -3,10 +3,10 @@
 Units m = g = r = 1. The caller computes every number with :mod:`rotorlib.bifurcations`;
 these functions only draw. Each returns the matplotlib ``Figure``.
 """
+
 from __future__ import annotations
 
 import matplotlib.pyplot as plt
-import numpy as np
 
 __all__ = ["plot_fig2", "plot_fig3"]
 
@@ -30,7 +30,9 @@ def plot_fig2(curves, trs, label_n_max=6, ylim=(-1.5, 6.0)):
         Marked at ``(period, 4 or 0)``; labelled when ``n <= label_n_max``.
     """
     fig, axes = plt.subplots(1, 2, figsize=(11, 4.2), constrained_layout=True)
-    for ax, phase, tag in zip(axes, ("lib", "rot"), ("(a) libration, E < 4", "(b) rotation, E > 4")):
+    for ax, phase, tag in zip(
+        axes, ("lib", "rot"), ("(a) libration, E < 4", "(b) rotation, E > 4")
+    ):
         tau, tr = curves[phase]
         _band(ax)
         ax.plot(tau, tr, color="k", lw=0.9)
@@ -44,8 +46,14 @@ def plot_fig2(curves, trs, label_n_max=6, ylim=(-1.5, 6.0)):
                 dy = 0.35 if k == "IS" else -0.55
                 if k == "IS" and t.n % 2 == 0:
                     dy = 0.95
-                ax.annotate(_tex(t.label), (t.period, y), xytext=(t.period, y + dy), fontsize=8, ha="center",
-                            color=_COLORS[k])
+                ax.annotate(
+                    _tex(t.label),
+                    (t.period, y),
+                    xytext=(t.period, y + dy),
+                    fontsize=8,
+                    ha="center",
+                    color=_COLORS[k],
+                )
         ax.set_ylim(*ylim)
         ax.set_xlim(0, tau.max())
         ax.set_xlabel(r"period $\tau$ (units $\sqrt{mr^2/g}$, $m = g = r = 1$)")
@@ -75,14 +83,33 @@ def plot_fig3(panels):
         fams = p.get("families", [])
         for i, f in enumerate(fams):
             style = "--" if f.kind == "IS" else ":"
-            ax.plot(f.dE, f.trace, style, lw=1.2, color=_FAMILY_COLORS[i % len(_FAMILY_COLORS)], label=_tex(f.label))
+            ax.plot(
+                f.dE,
+                f.trace,
+                style,
+                lw=1.2,
+                color=_FAMILY_COLORS[i % len(_FAMILY_COLORS)],
+                label=_tex(f.label),
+            )
         for i, f in enumerate(p.get("deeper", [])):
-            ax.plot(f.dE, f.trace, "--" if f.kind == "IS" else ":", lw=0.8, color="0.45",
-                    label=p.get("deeper_label", "deeper families") if i == 0 else None)
+            ax.plot(
+                f.dE,
+                f.trace,
+                "--" if f.kind == "IS" else ":",
+                lw=0.8,
+                color="0.45",
+                label=p.get("deeper_label", "deeper families") if i == 0 else None,
+            )
         for x, y, lab in p.get("marks", []):
             ax.plot(x, y, "o", ms=4, color=_COLORS[lab[:2]], zorder=3)
-            ax.annotate(_tex(lab), (x, y), xytext=(3, 6 if y > 2 else -12), textcoords="offset points",
-                        fontsize=8, color=_COLORS[lab[:2]])
+            ax.annotate(
+                _tex(lab),
+                (x, y),
+                xytext=(3, 6 if y > 2 else -12),
+                textcoords="offset points",
+                fontsize=8,
+                color=_COLORS[lab[:2]],
+            )
         ax.set_xlim(min(p["dE"]), max(p["dE"]))
         ax.set_ylim(*p.get("ylim", (-1.0, 7.0)))
         ax.ticklabel_format(axis="x", style="sci", scilimits=(-2, 2), useMathText=True)
@@ -90,14 +117,30 @@ def plot_fig3(panels):
         ax.set_ylabel(r"$\mathrm{tr}\,M$")
         ax.set_title(p["title"], fontsize=10)
         if fams or p.get("deeper"):
-            ax.legend(fontsize=7, ncol=2, loc=p.get("legend_loc", "best"), framealpha=0.85, handlelength=2.2)
-    for ax in axes[len(panels):]:
+            ax.legend(
+                fontsize=7,
+                ncol=2,
+                loc=p.get("legend_loc", "best"),
+                framealpha=0.85,
+                handlelength=2.2,
+            )
+    for ax in axes[len(panels) :]:
         ax.axis("off")
     return fig
 
 
-_FAMILY_COLORS = ("tab:red", "tab:orange", "tab:purple", "tab:green", "tab:brown", "tab:pink",
-                  "tab:olive", "tab:cyan", "tab:blue", "tab:gray")
+_FAMILY_COLORS = (
+    "tab:red",
+    "tab:orange",
+    "tab:purple",
+    "tab:green",
+    "tab:brown",
+    "tab:pink",
+    "tab:olive",
+    "tab:cyan",
+    "tab:blue",
+    "tab:gray",
+)
 
 
 def _tex(label):

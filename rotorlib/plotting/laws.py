@@ -1,4 +1,5 @@
 """Figures of the laws-of-the-cascade chapter (paper Figs. 7, 8, 9 and the duality plots). Units m = g = r = 1."""
+
 from __future__ import annotations
 
 import matplotlib.pyplot as plt
@@ -65,15 +66,40 @@ def self_similar(pairs, figsize=(11, 8)):
         a.set_title(f"({letters[2 * i]}) ${lo['label']}$ at E = 4", fontsize=10)
         a.set_xlabel(r"$\alpha_2$ (rad)")
         a.set_ylabel(r"$\alpha_1$ (rad)")
-        far_hi = np.abs(hi["a2"]) < np.pi / 2          # fold a2 -> |a2| and keep the visits near +-pi
+        far_hi = (
+            np.abs(hi["a2"]) < np.pi / 2
+        )  # fold a2 -> |a2| and keep the visits near +-pi
         far_lo = np.abs(lo["a2"]) < np.pi / 2
         x = np.where(far_hi, np.nan, np.pi - hi["beta"] * (np.pi - np.abs(hi["a2"])))
-        b.plot(x, hi["alpha"] * hi["a1"], color="C1", lw=2.5, label=f"${hi['label']}$ magnified")
-        b.plot(np.where(far_lo, np.nan, np.abs(lo["a2"])), lo["a1"], "--", color="k", lw=1, label=f"${lo['label']}$")
-        b.set_xlim(np.pi - 1.5 * (np.pi - np.max(np.abs(lo["a2"]))) - 0.02, np.pi + 0.01)
-        b.set_title(f"({letters[2 * i + 1]}) ${hi['label']}$: " + r"$\alpha_1 \times$" + f"{hi['alpha']:.2f}, "
-                    + r"$(\pi - \alpha_2) \times$" + f"{hi['beta']:.2f}", fontsize=10)
-        b.set_xlabel(r"$|\alpha_2|$ (dashed), $\pi - \beta(\pi - |\alpha_2|)$ (solid) (rad)")
+        b.plot(
+            x,
+            hi["alpha"] * hi["a1"],
+            color="C1",
+            lw=2.5,
+            label=f"${hi['label']}$ magnified",
+        )
+        b.plot(
+            np.where(far_lo, np.nan, np.abs(lo["a2"])),
+            lo["a1"],
+            "--",
+            color="k",
+            lw=1,
+            label=f"${lo['label']}$",
+        )
+        b.set_xlim(
+            np.pi - 1.5 * (np.pi - np.max(np.abs(lo["a2"]))) - 0.02, np.pi + 0.01
+        )
+        b.set_title(
+            f"({letters[2 * i + 1]}) ${hi['label']}$: "
+            + r"$\alpha_1 \times$"
+            + f"{hi['alpha']:.2f}, "
+            + r"$(\pi - \alpha_2) \times$"
+            + f"{hi['beta']:.2f}",
+            fontsize=10,
+        )
+        b.set_xlabel(
+            r"$|\alpha_2|$ (dashed), $\pi - \beta(\pi - |\alpha_2|)$ (solid) (rad)"
+        )
         b.set_ylabel(r"$\alpha \, \alpha_1$ (rad)")
         b.legend(fontsize=8)
     fig.tight_layout()
@@ -91,8 +117,19 @@ def duality(ns, diffs, fit, lame, figsize=(12, 4)):
     ax[0].set_xlabel(r"n (of $IS^\ell_n$)")
     ax[0].set_ylabel(r"$\log(4 - E_\ell) - \log(E_r - 4)$")
     ax[0].legend(fontsize=8)
-    ax[1].plot(lame["w"], lame["lib"], lw=2.5, label=r"$IS^\ell_1$: $\alpha_1(z)$, $z = \sqrt{3}\,t$")
-    ax[1].plot(lame["w"], lame["rot"], "--", color="k", label=r"$IS^r_1$: $\alpha_1(z)$, $z = \sqrt{3}\,k_r t$")
+    ax[1].plot(
+        lame["w"],
+        lame["lib"],
+        lw=2.5,
+        label=r"$IS^\ell_1$: $\alpha_1(z)$, $z = \sqrt{3}\,t$",
+    )
+    ax[1].plot(
+        lame["w"],
+        lame["rot"],
+        "--",
+        color="k",
+        label=r"$IS^r_1$: $\alpha_1(z)$, $z = \sqrt{3}\,k_r t$",
+    )
     ax[1].set_xlabel(r"$z / z_{\max}$ (one librational period, two rotational periods)")
     ax[1].set_ylabel(r"$\alpha_1 / \alpha_1(0)$")
     ax[1].legend(fontsize=8)
@@ -115,8 +152,12 @@ def rotational_reach(profiles, levels, figsize=(12, 4.2)):
         for a in ax:
             a.axhline(v, color="k", lw=0.8, ls=[":", "--", "-."][j % 3], label=lab)
     ax[0].set_xscale("log")
-    ax[0].set_xlabel(r"amplitude $u$ ($\alpha_1(0)$ or $p_1(0)$; rad or rad per unit time)")
-    ax[1].set_xlabel(r"$t_1$: time from $\alpha_2 = 0$ to $\alpha_2 = \pi$ (units of $\sqrt{r/g}$)")
+    ax[0].set_xlabel(
+        r"amplitude $u$ ($\alpha_1(0)$ or $p_1(0)$; rad or rad per unit time)"
+    )
+    ax[1].set_xlabel(
+        r"$t_1$: time from $\alpha_2 = 0$ to $\alpha_2 = \pi$ (units of $\sqrt{r/g}$)"
+    )
     for a, t in zip(ax, ("(a)", "(b)")):
         a.set_ylabel(r"$E - 4$ ($g$, with $m = g = r = 1$)")
         a.set_title(t, fontsize=10)

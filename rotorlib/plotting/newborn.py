@@ -1,4 +1,5 @@
 """Figures of the newborn-orbit chapters (paper Fig. 4, 5, 6). Units m = g = r = 1."""
+
 from __future__ import annotations
 
 import matplotlib.pyplot as plt
@@ -17,12 +18,22 @@ def shapes(panels, title=None, ncols=4):
     fig, axes = plt.subplots(nrows, ncols, figsize=(3.2 * ncols, 2.7 * nrows))
     for ax, p in zip(np.ravel(axes), panels):
         if "lin_a1" in p:
-            ax.plot(p["lin_a2"], p["lin_a1"], "-", color="C1", lw=2.5, label="linearised (Lamé)")
+            ax.plot(
+                p["lin_a2"],
+                p["lin_a1"],
+                "-",
+                color="C1",
+                lw=2.5,
+                label="linearised (Lamé)",
+            )
             ax.plot(p["a2"], p["a1"], "--", color="k", lw=1.0, label="nonlinear search")
             ax.legend(fontsize=7, loc="upper right")
         else:
             ax.plot(p["a2"], p["a1"], "-", color="C0", lw=1.2)
-        ax.set_title(f"${p['label']}$" + (f"  (E = {p['E']:.6g})" if "E" in p else ""), fontsize=9)
+        ax.set_title(
+            f"${p['label']}$" + (f"  (E = {p['E']:.6g})" if "E" in p else ""),
+            fontsize=9,
+        )
         ax.set_xlabel(r"$\alpha_2$ (rad)")
         ax.set_ylabel(r"$\alpha_1$ (rad)")
         ax.ticklabel_format(axis="y", style="sci", scilimits=(-2, 2))
@@ -43,7 +54,15 @@ def trace_vs_period(pendulum_curves, families, ax=None, title=None, ylim=(-4, 12
     tau, tr = pendulum_curves
     ax.plot(tau, tr, "k-", lw=1.2, label="pendulum")
     for i, (lab, (t, y)) in enumerate(families.items()):
-        ax.plot(t, y, "os^"[(i // 10) % 3] + "-", ms=2.5, lw=1.0, color=f"C{i % 10}", label=f"${lab}$")
+        ax.plot(
+            t,
+            y,
+            "os^"[(i // 10) % 3] + "-",
+            ms=2.5,
+            lw=1.0,
+            color=f"C{i % 10}",
+            label=f"${lab}$",
+        )
     ax.axhline(0, color="grey", lw=0.5)
     ax.axhline(4, color="grey", lw=0.5)
     ax.set_ylim(*ylim)

@@ -1,4 +1,5 @@
 """Figures of the search chapter (paper §6). Units m = g = r = 1."""
+
 from __future__ import annotations
 
 import matplotlib.pyplot as plt
@@ -11,10 +12,24 @@ def landscape(L, ax=None):
         fig, ax = plt.subplots(figsize=(6.4, 4.2))
     else:
         fig = ax.figure
-    ax.loglog(L.delta, L.defect, "o-", ms=3, label=r"paper: departure $d$ (full period)")
-    ax.loglog(L.delta, L.residual, "s-", ms=3, label=r"symmetric shooting: $|r|$ (quarter/half period)")
+    ax.loglog(
+        L.delta, L.defect, "o-", ms=3, label=r"paper: departure $d$ (full period)"
+    )
+    ax.loglog(
+        L.delta,
+        L.residual,
+        "s-",
+        ms=3,
+        label=r"symmetric shooting: $|r|$ (quarter/half period)",
+    )
     eps = np.finfo(float).eps
-    ax.axvline(np.sqrt(eps), color="C3", ls="--", lw=1, label=r"Brent's stopping floor $\sqrt{\epsilon}$")
+    ax.axvline(
+        np.sqrt(eps),
+        color="C3",
+        ls="--",
+        lw=1,
+        label=r"Brent's stopping floor $\sqrt{\epsilon}$",
+    )
     ax.axvline(eps, color="grey", ls=":", lw=1, label=r"$\epsilon$")
     ax.set_xlabel(r"relative offset $\delta$ of $p_2(0) = p_2^*(1+\delta)$")
     ax.set_ylabel(r"$d$ or $|r|$ (dimensionless)")
@@ -33,12 +48,32 @@ def work_precision(wps, cost="integration"):
     axes = np.atleast_1d(axes)
     for ax, w in zip(axes, wps):
         if cost == "integration":
-            xp, xs, lab = w.integration_paper, w.integration_shooting, r"integration time / $\tau_n$"
+            xp, xs, lab = (
+                w.integration_paper,
+                w.integration_shooting,
+                r"integration time / $\tau_n$",
+            )
         else:
-            xp, xs, lab = w.evaluations_paper, w.evaluations_shooting, "function evaluations"
+            xp, xs, lab = (
+                w.evaluations_paper,
+                w.evaluations_shooting,
+                "function evaluations",
+            )
         floor = 1e-17
-        ax.semilogy(xp, np.maximum(w.error_paper, floor), "o-", ms=4, label="paper (minimise $d$)")
-        ax.semilogy(xs, np.maximum(w.error_shooting, floor), "s-", ms=4, label="symmetric shooting (root)")
+        ax.semilogy(
+            xp,
+            np.maximum(w.error_paper, floor),
+            "o-",
+            ms=4,
+            label="paper (minimise $d$)",
+        )
+        ax.semilogy(
+            xs,
+            np.maximum(w.error_shooting, floor),
+            "s-",
+            ms=4,
+            label="symmetric shooting (root)",
+        )
         ax.set_xlabel(lab)
         ax.set_title(f"${w.label}$", fontsize=9)
     axes[0].set_ylabel(r"$|E - E_\mathrm{ref}|$ (units $g$)")
