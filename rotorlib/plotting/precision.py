@@ -1,19 +1,29 @@
 """Figures and tables for the chapter "Speed against accuracy" (work-precision diagrams).
 
-The numbers are measured by the caller (``benchmarks/bench_precision.py``);
-these functions only draw them. Work-precision diagrams put the error on the
-vertical axis and the time per evaluation on the horizontal one, both
-logarithmic, with one curve per method (its points are the tolerance
-settings); lower left is better.
+The numbers are measured by the caller (``benchmarks/bench_precision.py`` and the
+chapter); these functions only draw them. Work-precision diagrams put the error on
+the vertical axis and the time per evaluation on the horizontal one, both
+logarithmic, with one curve per method (its points are the tolerance settings);
+lower left is better. :func:`plot_digit_cost` draws the cost of one periodic orbit
+against the digits requested.
 """
+
 from __future__ import annotations
 
 import math
 
 import matplotlib.pyplot as plt
 import numpy as np
+from matplotlib.ticker import NullFormatter, ScalarFormatter
 
-__all__ = ["plot_work_precision", "plot_locate", "table", "order_of_magnitude"]
+__all__ = [
+    "plot_work_precision",
+    "plot_locate",
+    "plot_digit_cost",
+    "cells",
+    "table",
+    "order_of_magnitude",
+]
 
 _STYLE = {
     "textbook scipy": dict(color="tab:red", marker="x", ls="-"),
@@ -21,7 +31,9 @@ _STYLE = {
     "Hill reduction, scipy": dict(color="tab:orange", marker="s", ls="-"),
     "Hill reduction, heyoka float64": dict(color="tab:blue", marker="o", ls="-"),
     "Hill reduction, heyoka real128": dict(color="tab:green", marker="^", ls="-"),
-    "Hill reduction, heyoka multiprecision": dict(color="tab:purple", marker="D", ls="-"),
+    "Hill reduction, heyoka multiprecision": dict(
+        color="tab:purple", marker="D", ls="-"
+    ),
     "Hill reduction, mpmath": dict(color="tab:brown", marker="*", ls="none", ms=11),
 }
 
@@ -40,7 +52,9 @@ def order_of_magnitude(x: float) -> int:
     return int(math.floor(math.log10(x)))
 
 
-def plot_work_precision(rows, ax=None, title=None, floor=1e-70, xlabel=None, ylabel=None, target=1e-11):
+def plot_work_precision(
+    rows, ax=None, title=None, floor=1e-70, xlabel=None, ylabel=None, target=1e-11
+):
     """Error against time per energy (log-log), one curve per method.
 
     Parameters
@@ -69,21 +83,38 @@ def plot_work_precision(rows, ax=None, title=None, floor=1e-70, xlabel=None, yla
         fig = ax.figure
     methods = list(dict.fromkeys(r["method"] for r in rows))
     for name in methods:
-        pts = sorted((r["time"], max(r["error"], floor)) for r in rows if r["method"] == name
-                     and np.isfinite(r["error"]))
+        pts = sorted(
+            (r["time"], max(r["error"], floor))
+            for r in rows
+            if r["method"] == name and np.isfinite(r["error"])
+        )
         if not pts:
             continue
         t, e = zip(*pts)
         ax.loglog(t, e, label=name, **_style(name))
     for r in rows:
         if r.get("label") and np.isfinite(r["error"]):
-            ax.annotate(r["label"], (r["time"], max(r["error"], floor)), textcoords="offset points",
-                        xytext=(6, 4), fontsize=8)
+            ax.annotate(
+                r["label"],
+                (r["time"], max(r["error"], floor)),
+                textcoords="offset points",
+                xytext=(6, 4),
+                fontsize=8,
+            )
     ax.set_xlabel(xlabel or "time per energy (s), minimum over repeats")
-    ax.set_ylabel(ylabel or r"error $|\mathrm{tr}\,M - \mathrm{tr}\,M_{\rm ref}|$ (max over energies)")
+    ax.set_ylabel(
+        ylabel
+        or r"error $|\mathrm{tr}\,M - \mathrm{tr}\,M_{\rm ref}|$ (max over energies)"
+    )
     if target is not None:
         ax.axhline(target, color="0.5", lw=0.8, ls=":")
-        ax.text(ax.get_xlim()[0] * 1.3, target * 2, f"target {target:g}", color="0.4", fontsize=8)
+        ax.text(
+            ax.get_xlim()[0] * 1.3,
+            target * 2,
+            f"target {target:g}",
+            color="0.4",
+            fontsize=8,
+        )
     ax.grid(True, which="major", alpha=0.3)
     if title:
         ax.set_title(title)
@@ -107,10 +138,21 @@ def plot_locate(rows, ax=None, title=None, floor=1e-70):
     markers = "osD^v*p"
     for i, r in enumerate(rows):
         if r["error"] is None:
-            ax.plot([], [], "x", color="tab:red", label=f"{r['method']}: no sign change (fails)")
+            ax.plot(
+                [],
+                [],
+                "x",
+                color="tab:red",
+                label=f"{r['method']}: no sign change (fails)",
+            )
             continue
-        ax.loglog([r["time"]], [max(r["error"], floor)], markers[i % len(markers)], ms=8,
-                  label=f"{r['method']} ({r['evaluations']} evaluations)")
+        ax.loglog(
+            [r["time"]],
+            [max(r["error"], floor)],
+            markers[i % len(markers)],
+            ms=8,
+            label=f"{r['method']} ({r['evaluations']} evaluations)",
+        )
     ax.set_xlabel("time to locate the transition (s)")
     ax.set_ylabel(r"error in $\log|E - 4|$")
     ax.grid(True, which="major", alpha=0.3)
@@ -120,18 +162,92 @@ def plot_locate(rows, ax=None, title=None, floor=1e-70):
     return fig
 
 
+def _cell(r, c, formats):
+    v = r.get(c)
+    if v is None:
+        return "-"
+    if c in formats:
+        return format(v, formats[c])
+    return f"{v:.3g}" if isinstance(v, float) else str(v)
+
+
+def cells(rows, columns, formats=None) -> list:
+    """``rows`` (dicts) as lists of strings in the order of ``columns`` (``formats`` maps a
+    column to a format specification; None is shown as ``-``), for
+    ``rotorlib.compare.markdown(cells(...), columns)``."""
+    formats = formats or {}
+    return [[_cell(r, c, formats) for c in columns] for r in rows]
+
+
 def table(rows, columns, formats=None) -> str:
     """A plain-text table of ``rows`` (dicts) with the given columns; ``formats`` maps a column to a format."""
-    formats = formats or {}
+    body = [list(columns)] + cells(rows, columns, formats)
+    w = [max(len(row[j]) for row in body) for j in range(len(columns))]
+    return "\n".join(
+        "  ".join(x.ljust(w[j]) for j, x in enumerate(row)).rstrip() for row in body
+    )
 
-    def cell(r, c):
-        v = r.get(c)
-        if v is None:
-            return "-"
-        if c in formats:
-            return format(v, formats[c])
-        return f"{v:.3g}" if isinstance(v, float) else str(v)
 
-    cells = [list(columns)] + [[cell(r, c) for c in columns] for r in rows]
-    w = [max(len(row[j]) for row in cells) for j in range(len(columns))]
-    return "\n".join("  ".join(x.ljust(w[j]) for j, x in enumerate(row)).rstrip() for row in cells)
+def plot_digit_cost(rows, title=None):
+    """Wall time and error of tr M of one periodic orbit against the digits requested.
+
+    Parameters
+    ----------
+    rows : list of dict
+        Keys ``orbit`` (label of the curve), ``digits``, ``tier`` (name of the precision
+        tier used), ``time`` (seconds, wall time of one orbit with its tr M) and
+        ``trace_err`` (relative error of tr M against a reference; None for the
+        reference itself, which is not drawn in the right panel).
+    title : str, optional
+
+    The left panel is log-log (seconds against digits), the right one draws the error
+    with ``10^-digits`` dotted.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    fig, (ax_t, ax_e) = plt.subplots(1, 2, figsize=(11.0, 4.4))
+    markers = "os^Dv*p"
+    for i, name in enumerate(dict.fromkeys(r["orbit"] for r in rows)):
+        sel = sorted((r for r in rows if r["orbit"] == name), key=lambda r: r["digits"])
+        st = dict(marker=markers[i % len(markers)], color=f"C{i}")
+        ax_t.loglog(
+            [r["digits"] for r in sel], [r["time"] for r in sel], label=name, **st
+        )
+        err = [r for r in sel if r.get("trace_err") is not None]
+        ax_e.semilogy(
+            [r["digits"] for r in err],
+            [max(r["trace_err"], 1e-300) for r in err],
+            label=name,
+            **st,
+        )
+        if i == 0:
+            for r in sel:
+                ax_t.annotate(
+                    r["tier"],
+                    (r["digits"], r["time"]),
+                    textcoords="offset points",
+                    xytext=(4, -10),
+                    fontsize=7,
+                    color="0.3",
+                )
+    d = sorted({r["digits"] for r in rows})
+    ax_t.set_xticks(d)
+    ax_t.xaxis.set_major_formatter(ScalarFormatter())
+    ax_t.xaxis.set_minor_formatter(NullFormatter())
+    d_err = sorted({r["digits"] for r in rows if r.get("trace_err") is not None})
+    ax_e.semilogy(
+        d_err, [10.0**-k for k in d_err], "k:", lw=0.8, label=r"$10^{-\mathrm{digits}}$"
+    )
+    ax_t.set_xlabel("significant digits requested (digits)")
+    ax_t.set_ylabel("wall time of one orbit and its tr M (s)")
+    ax_e.set_xlabel("significant digits requested (digits)")
+    ax_e.set_ylabel(r"relative error of $\mathrm{tr}\,M$ (against 100 digits)")
+    for ax in (ax_t, ax_e):
+        ax.grid(True, which="major", alpha=0.3)
+        ax.legend(fontsize=7, loc="best")
+    if title:
+        fig.suptitle(title)
+    fig.tight_layout()
+    return fig
