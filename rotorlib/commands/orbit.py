@@ -33,7 +33,8 @@ def register(sub):
         default=None,
         help="significant digits of state, period and trace (default: float64, "
         "real128 near E = 4; > 15: the tier that delivers them, with "
-        "state0_str, period_str, trace_str; up to 1000)",
+        "state0_str, period_str, trace_str; up to 1000; <= 15: plain float64, "
+        "which loses log10(1/|E_n - 4|) digits near E = 4)",
     )
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.set_defaults(func=run)
