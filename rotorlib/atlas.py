@@ -10,34 +10,48 @@ condition; a sign change between neighbouring start points, at the same crossing
 same fixed set, brackets an orbit, which the engine refines (a :class:`ShootingProblem`,
 Brent's method in the start parameter). Each root is verified: the orbit must close,
 modulo the configuration lattice, after ``2 t1`` times the order of the symmetry relating
-the two fixed sets; its primitive period is found; orbits related by the symmetry group
-or by time reversal are merged (same period and action ``2 (E T - int V dt)``); each is
-polished in real128 (state, period and trace to ~30 digits), its ``tr M`` computed and it
-is named after the known family it belongs to (pendulum, breathers, the IS/PD daughters,
-PD^b) or ``new``. :func:`census` runs the scan through :func:`rotorlib.parallel.pmap`
-(process pool or Dask cluster).
+the two fixed sets; its primitive period is found; a root that closes only to ~1e-4 (a
+near-periodic trajectory beside a very unstable orbit) is dropped; orbits related by the
+symmetry group or by time reversal are merged (same period and action
+``2 (E T - int V dt)`` and an image of one start state on the other orbit, within
+:data:`SAME_ORBIT`); its ``tr M`` is computed and it is named after the known family it
+belongs to (pendulum, breathers, the IS/PD daughters, PD^b) or ``new``. :func:`census`
+runs the scan through :func:`rotorlib.parallel.pmap` (process pool or Dask cluster).
 
-Precision: float64 scan and refinement (residual to ~1e-13), real128 polish; the listed
-``trace`` is the real128 one (``~30 - log10|tr M|`` digits).
+Precision: float64 scan and refinement (residual to ~1e-13; state, period and ``tr M``
+from the float64 variational equations, ``tr M`` to ~1e-15 |tr M|); with ``digits=D``
+every orbit is re-solved in the tier of ``D`` digits (real128 up to 31) and given to
+``D`` digits (``tr M`` to ``D - 5``). Tested against an independent real128 integration
+and an independent census (``tests/test_atlas.py``): at E = 5.45 and 6.2 (T_max = 16)
+the same orbits; at E = 4.3 one orbit with ``|tr M| = 1.7e7`` is missed.
 """
 
 from __future__ import annotations
 
 import math
 import time
-from fractions import Fraction
 from dataclasses import dataclass, field
+from fractions import Fraction
 
 import numpy as np
 
-from .flow import Section, SectionNotReached, crossings, flow, monodromy_matrix, sample
+from .flow import Section, SectionNotReached, crossings, monodromy_matrix, sample
 from .parallel import pmap
-from .precision import FLOAT64, REAL128
+from .precision import FLOAT64
 from .reversors import start_sets, targets
 from .shooting import ShootingProblem, residual, solve
 
-__all__ = ["AtlasOrbit", "Atlas", "AtlasFamily", "census", "atlas", "families", "budget_seconds",
-           "BUDGET", "E_DOMAIN"]
+__all__ = [
+    "AtlasOrbit",
+    "Atlas",
+    "AtlasFamily",
+    "census",
+    "atlas",
+    "families",
+    "budget_seconds",
+    "BUDGET",
+    "E_DOMAIN",
+]
 
 #: Energies where the census is validated (``tests/test_atlas.py``). Below ``E = 0.1`` the
 #: two normal modes at G (pendulum and breather LG, periods ``-> 2 pi / sqrt 3``) differ by
@@ -94,11 +108,20 @@ class AtlasOrbit:
     problem: ShootingProblem = field(repr=False, default=None)
 
     def to_record(self) -> dict:
-        return {"label": self.label, "family": self.family, "E": self.E,
-                "period": self.period, "trace": self.trace, "stable": self.stable,
-                "state0_str": list(self.state0_str), "period_str": self.period_str,
-                "trace_str": self.trace_str, "fixed_sets": list(self.fixed_sets),
-                "action": self.action, "closure": self.closure}
+        return {
+            "label": self.label,
+            "family": self.family,
+            "E": self.E,
+            "period": self.period,
+            "trace": self.trace,
+            "stable": self.stable,
+            "state0_str": list(self.state0_str),
+            "period_str": self.period_str,
+            "trace_str": self.trace_str,
+            "fixed_sets": list(self.fixed_sets),
+            "action": self.action,
+            "closure": self.closure,
+        }
 
 
 @dataclass(frozen=True)
@@ -125,8 +148,10 @@ def budget_seconds(E_values, t_max, grid=300) -> float:
     ``exp(h T_max)`` with ``h = 0.45`` (the growth rate measured in the band; it overestimates
     the cost at energies with less chaos); above ``E = 5.45`` it grows like ``E`` (nearly
     free rotors: the resonant orbits with ``T <= T_max`` grow like ``(T_max sqrt E)^2``)."""
-    return sum(45.0 * (grid / 300) * math.exp(0.45 * (t_max - 16)) * max(1.0, E / 5.45)
-               for E in E_values)
+    return sum(
+        45.0 * (grid / 300) * math.exp(0.45 * (t_max - 16)) * max(1.0, E / 5.45)
+        for E in E_values
+    )
 
 
 def _check(E_values, t_max, grid):
@@ -134,22 +159,27 @@ def _check(E_values, t_max, grid):
         if not (isinstance(E, (int, float)) and math.isfinite(E) and E > 0):
             raise ValueError(f"E must be a finite energy > 0, got {E!r}")
         if not E_DOMAIN[0] <= E <= E_DOMAIN[1]:
-            raise ValueError(f"E = {E!r} is outside the atlas's domain {E_DOMAIN[0]} <= E <= "
-                             f"{E_DOMAIN[1]} (nearly integrable: the normal modes, or the free "
-                             f"rotations, are too close to degenerate for the census to tell "
-                             f"the orbits apart)")
+            raise ValueError(
+                f"E = {E!r} is outside the atlas's domain {E_DOMAIN[0]} <= E <= "
+                f"{E_DOMAIN[1]} (nearly integrable: the normal modes, or the free "
+                f"rotations, are too close to degenerate for the census to tell "
+                f"the orbits apart)"
+            )
     if not (math.isfinite(t_max) and t_max > 0):
         raise ValueError(f"T_max must be > 0, got {t_max!r}")
     if not (isinstance(grid, int) and grid >= 20):
         raise ValueError(f"grid must be an integer >= 20, got {grid!r}")
     cost = budget_seconds(E_values, t_max, grid)
     if cost > BUDGET:
-        raise ValueError(f"a census to T_max = {t_max:g} at {len(E_values)} energies would take "
-                         f"~{cost / 60:.0f} min of one core (budget {BUDGET / 60:.0f} min): "
-                         f"lower T_max or the number of energies")
+        raise ValueError(
+            f"a census to T_max = {t_max:g} at {len(E_values)} energies would take "
+            f"~{cost / 60:.0f} min of one core (budget {BUDGET / 60:.0f} min): "
+            f"lower T_max or the number of energies"
+        )
 
 
 # --------------------------------------------------------------------------- the scan
+
 
 def _scan_one(args):
     """Crossings of every fixed set from one start point: ``[(target, k, t, residual)]``."""
@@ -193,7 +223,9 @@ def _needs_split(a, b, t_half):
     if _structure(a) != _structure(b):
         return True
     db = {(j, k): (tt, r) for j, k, tt, r in b}
-    return any(abs(ta - db[(j, k)][0]) > 0.05 * t_half for j, k, ta, _ in a if (j, k) in db)
+    return any(
+        abs(ta - db[(j, k)][0]) > 0.05 * t_half for j, k, ta, _ in a if (j, k) in db
+    )
 
 
 def _brackets(us, rows, t_half):
@@ -221,17 +253,31 @@ def _scan(si, E, t_half, grid, depth, executor, progress):
     structure changes bisected (up to ``depth`` times): ``(us, rows)``."""
     lo, hi = start_sets(E)[si].span(E)
     us = list(np.linspace(lo, hi, grid + 1)[:-1] + (hi - lo) / (2 * grid))
-    rows = pmap(_scan_one, [(si, u, E, t_half) for u in us], executor=executor,
-                progress=progress, desc=f"scan E={E:g}", chunksize=max(1, grid // 8))
+    rows = pmap(
+        _scan_one,
+        [(si, u, E, t_half) for u in us],
+        executor=executor,
+        progress=progress,
+        desc=f"scan E={E:g}",
+        chunksize=max(1, grid // 8),
+    )
     width = (hi - lo) / grid
     for level in range(depth):
         width /= 2
-        mids = [(i, 0.5 * (us[i] + us[i + 1])) for i in range(len(us) - 1)
-                if us[i + 1] - us[i] > 1.5 * width and _needs_split(rows[i], rows[i + 1], t_half)]
+        mids = [
+            (i, 0.5 * (us[i] + us[i + 1]))
+            for i in range(len(us) - 1)
+            if us[i + 1] - us[i] > 1.5 * width
+            and _needs_split(rows[i], rows[i + 1], t_half)
+        ]
         if not mids:
             break
-        new = pmap(_scan_one, [(si, u, E, t_half) for _, u in mids], executor=executor,
-                   chunksize=max(1, len(mids) // 16))
+        new = pmap(
+            _scan_one,
+            [(si, u, E, t_half) for _, u in mids],
+            executor=executor,
+            chunksize=max(1, len(mids) // 16),
+        )
         for (i, u), r in sorted(zip(mids, new), key=lambda v: -v[0][0]):
             us.insert(i + 1, u)
             rows.insert(i + 1, r)
@@ -240,10 +286,21 @@ def _scan(si, E, t_half, grid, depth, executor, progress):
 
 # --------------------------------------------------------------------------- orbits
 
+
 def _problem(si, j, k, E, t_half):
     start, tg = start_sets(E)[si], targets()[j]
-    return ShootingProblem(f"{start.name} -> {tg.name} ({k})", start, tg.section,
-                           tg.condition, k, 2, (0.0, 0.0), None, None, 2 * t_half + 1)
+    return ShootingProblem(
+        f"{start.name} -> {tg.name} ({k})",
+        start,
+        tg.section,
+        tg.condition,
+        k,
+        2,
+        (0.0, 0.0),
+        None,
+        None,
+        2 * t_half + 1,
+    )
 
 
 def _lattice_shift(d, t=FLOAT64):
@@ -266,8 +323,10 @@ def _closure_at(x0, times):
     ta, _ = _integrator(FLOAT64, None, False)
     _start(ta, FLOAT64, x0, False)
     out = ta.propagate_grid(np.array([0.0] + ts))[-1]
-    res = {t: max(abs(v) for v in _lattice_shift([a - b for a, b in zip(x, x0)]))
-           for t, x in zip(ts, out[1:])}
+    res = {
+        t: max(abs(v) for v in _lattice_shift([a - b for a, b in zip(x, x0)]))
+        for t, x in zip(ts, out[1:])
+    }
     return [res[t] for t in times]
 
 
@@ -286,7 +345,7 @@ def _period(x0, t1, t_max):
     if c > 1e-3 or any(o < 100 * c for m, o in zip(ns, cl) if m != n and n % m):
         return None
     T = 2 * n * t1
-    ms = list(range(24, 1, -1))                      # a multiple cover of a shorter orbit
+    ms = list(range(24, 1, -1))  # a multiple cover of a shorter orbit
     for m, cm in zip(ms, _closure_at(x0, [T / m for m in ms])):
         if cm < max(1e-9, 10 * c):
             return T / m
@@ -304,6 +363,10 @@ def _invariants(x0, T, E):
     return T, 2 * (E * T - simpson(potential_alpha(st[:, 0], st[:, 1]), x=ts))
 
 
+#: An orbit is kept when its closure after one period, in the tier of ``D`` digits, is at
+#: most ``max(1e6, 100 |tr M|) 10^-D``: genuine orbits close to ``~1e-15 |tr M|`` (float64)
+#: or ``~1e-33 |tr M|`` (real128); a root of the residual that closes only to 1e-4 (a
+#: near-periodic trajectory beside an orbit with ``|tr M| > 1e7``) is dropped.
 #: Two orbits with the same period and action are the same orbit when an image of one's start
 #: state under the group (and time reversal) lies within this distance of the other orbit
 #: (float64 states from Brent to 1e-15; a pair born at a pitchfork closer than this in phase
@@ -355,8 +418,9 @@ def _distance(c: _Curve, y0) -> float:
         d[:, 1] -= 2 * math.pi * np.round(d[:, 1] / (2 * math.pi))
         dist = np.max(np.abs(d), axis=1)
         best = min(best, float(dist.min()))
-        near = np.flatnonzero((dist < 0.05) & (dist <= np.roll(dist, 1))
-                              & (dist <= np.roll(dist, -1)))
+        near = np.flatnonzero(
+            (dist < 0.05) & (dist <= np.roll(dist, 1)) & (dist <= np.roll(dist, -1))
+        )
         for i in near:
             x = c.states[i]
             for _ in range(4):
@@ -399,23 +463,45 @@ def _finish(args):
     if digits is None:
         M, xT, tr = monodromy_matrix(x0, T)
         clo = _closure_at(x0, [T])[0]
-        return tuple(repr(v) for v in x0), repr(T), repr(float(tr)), float(tr), float(T), clo
+        return (
+            tuple(repr(v) for v in x0),
+            repr(T),
+            repr(float(tr)),
+            float(tr),
+            float(T),
+            clo,
+        )
     from .precision import tier
 
     t, prob = tier(int(digits)), _problem(si, j, k, E, t_half)
     with t.context():
-        u = solve(prob, t.num(u), t.num(u) * (1 + t.num("1e-12")), E=str(E), t=t,
-                  r_max=t.eps ** 0.6).x
+        u = solve(
+            prob,
+            t.num(u),
+            t.num(u) * (1 + t.num("1e-12")),
+            E=str(E),
+            t=t,
+            r_max=t.eps**0.6,
+        ).x
         sh = residual(prob, u, str(E), t)
-        n = Fraction(T / (2 * float(sh.t1))).limit_denominator(24)   # T = 2 t1 n/m
+        n = Fraction(T / (2 * float(sh.t1))).limit_denominator(24)  # T = 2 t1 n/m
         Tm = 2 * sh.t1 * n.numerator / n.denominator
         M, xT, tr = monodromy_matrix(sh.x0, Tm, t)
-        clo = max(abs(float(v)) for v in _lattice_shift([a - b for a, b in zip(xT, sh.x0)], t))
-        return (tuple(t.text(v, digits) for v in sh.x0), t.text(Tm, digits),
-                t.text(tr, digits - 5), float(tr), float(Tm), clo)
+        clo = max(
+            abs(float(v)) for v in _lattice_shift([a - b for a, b in zip(xT, sh.x0)], t)
+        )
+        return (
+            tuple(t.text(v, digits) for v in sh.x0),
+            t.text(Tm, digits),
+            t.text(tr, digits - 5),
+            float(tr),
+            float(Tm),
+            clo,
+        )
 
 
 # --------------------------------------------------------------------------- known families
+
 
 def _known_family(args):
     """``{E: (label, period, action)}`` of one daughter family at each of ``energies``."""
@@ -424,8 +510,12 @@ def _known_family(args):
     lab, energies = args
     spec = nb.family_spec(lab)
     try:
-        b = nb.follow(lab, E_max=max(max(energies), nb.family_range(spec)[1]) + 0.05,
-                      energies=tuple(energies), max_steps=600)
+        b = nb.follow(
+            lab,
+            E_max=max(max(energies), nb.family_range(spec)[1]) + 0.05,
+            energies=tuple(energies),
+            max_steps=600,
+        )
     except (ValueError, SectionNotReached):
         return {}
     out = {}
@@ -486,8 +576,18 @@ def _name(T, S, known):
 
 # --------------------------------------------------------------------------- front end
 
-def census(E, t_max=16.0, grid=300, depth=10, executor=None, progress=False, name=True,
-           digits=None, known=None) -> Atlas:
+
+def census(
+    E,
+    t_max=16.0,
+    grid=300,
+    depth=10,
+    executor=None,
+    progress=False,
+    name=True,
+    digits=None,
+    known=None,
+) -> Atlas:
     """Every symmetric periodic orbit with period ``<= t_max`` at energy ``E``.
 
     Parameters
@@ -526,36 +626,76 @@ def census(E, t_max=16.0, grid=300, depth=10, executor=None, progress=False, nam
     jobs = []
     for si in range(len(start_sets(E))):
         us, rows = _scan(si, E, t_half, grid, depth, executor, progress)
-        jobs += [(si, j, k, E, t_half, float(us[i]), float(us[i + 1]))
-                 for i, j, k in _brackets(us, rows, t_half)]
-    found = [f for f in pmap(_refine, jobs, executor=executor, progress=progress,
-                             desc="refine", chunksize=8) if f is not None]
+        jobs += [
+            (si, j, k, E, t_half, float(us[i]), float(us[i + 1]))
+            for i, j, k in _brackets(us, rows, t_half)
+        ]
+    found = [
+        f
+        for f in pmap(
+            _refine,
+            jobs,
+            executor=executor,
+            progress=progress,
+            desc="refine",
+            chunksize=8,
+        )
+        if f is not None
+    ]
     unique, curves = [], []
     for f in sorted(found, key=lambda f: (f[5], f[0], f[1], f[2])):
         T, S = f[5], f[6]
-        if T > t_max or any(abs(T - g[5]) < 1e-7 * T and abs(S - g[6]) < 1e-6 * S
-                            and _distance(c, f[4]) < SAME_ORBIT
-                            for g, c in zip(unique, curves)):
+        if T > t_max or any(
+            abs(T - g[5]) < 1e-7 * T
+            and abs(S - g[6]) < 1e-6 * S
+            and _distance(c, f[4]) < SAME_ORBIT
+            for g, c in zip(unique, curves)
+        ):
             continue
         unique.append(f)
         curves.append(_Curve(f[4], T))
     if known is None:
         known = _known([E], t_max, executor)[E] if name else []
     tg = targets()
-    fin = pmap(_finish, [(si, j, k, E, t_half, u, x0, T, digits)
-                         for si, j, k, u, x0, T, S in unique], executor=executor,
-               progress=progress, desc="orbits")
+    fin = pmap(
+        _finish,
+        [(si, j, k, E, t_half, u, x0, T, digits) for si, j, k, u, x0, T, S in unique],
+        executor=executor,
+        progress=progress,
+        desc="orbits",
+    )
     orbits = []
-    for i, ((si, j, k, u, x0, T, S), (xs, Ts, trs, tr, Tf, clo)) in enumerate(zip(unique, fin)):
+    D = 15 if digits is None else int(digits)
+    for i, ((si, j, k, u, x0, T, S), (xs, Ts, trs, tr, Tf, clo)) in enumerate(
+        zip(unique, fin)
+    ):
+        if not clo <= max(1e6, 1e2 * abs(tr)) * 10.0**-D:
+            continue  # a near-periodic trajectory beside a very unstable orbit, not an orbit
         label = _name(T, S, known)
-        orbits.append(AtlasOrbit(label, label if label != "new" else f"N{i + 1}", E, Tf, tr,
-                                 bool(0 < tr < 4), tuple(x0), xs, Ts, trs,
-                                 (start_sets(E)[si].name, tg[j].name), float(S), clo, float(u),
-                                 _problem(si, j, k, E, t_half)))
+        orbits.append(
+            AtlasOrbit(
+                label,
+                label if label != "new" else f"N{i + 1}",
+                E,
+                Tf,
+                tr,
+                bool(0 < tr < 4),
+                tuple(x0),
+                xs,
+                Ts,
+                trs,
+                (start_sets(E)[si].name, tg[j].name),
+                float(S),
+                clo,
+                float(u),
+                _problem(si, j, k, E, t_half),
+            )
+        )
     return Atlas(E, t_max, grid, tuple(orbits), len(jobs), time.perf_counter() - t0)
 
 
 # --------------------------------------------------------------------------- families
+
 
 @dataclass(frozen=True)
 class AtlasFamily:
@@ -610,7 +750,7 @@ def _segments(prob, m0, values, opts):
     while values:
         start = members[-2:]
         b, done = attempt(prob, start)
-        for dk in (() if b is not None else (1, -1, 2, -2)):
+        for dk in () if b is not None else (1, -1, 2, -2):
             if prob.crossing + dk >= 1:
                 b, done = attempt(replace(prob, crossing=prob.crossing + dk), start)
                 if b is not None:
@@ -618,9 +758,12 @@ def _segments(prob, m0, values, opts):
                     break
         if b is None:
             return members, points, "end"
-        points += [(p.kind, float(p.member.E)) for p in b.special_points
-                   if p.kind in ("IS", "PD") and p.index >= len(start) - 1]
-        members += b.members[len(start):]
+        points += [
+            (p.kind, float(p.member.E))
+            for p in b.special_points
+            if p.kind in ("IS", "PD") and p.index >= len(start) - 1
+        ]
+        members += b.members[len(start) :]
         if done:
             return members, points, "range"
         last = float(members[-1].E)
@@ -635,22 +778,37 @@ def _family(args):
 
     o, lo, hi, step = args
     s = residual(o.problem, o.u, o.E)
-    prob = replace(o.problem, factor=float(Fraction(o.period / float(s.t1)).limit_denominator(48)))
+    prob = replace(
+        o.problem, factor=float(Fraction(o.period / float(s.t1)).limit_denominator(48))
+    )
     m0 = member(prob, o.u, o.E, traces=True)
     opts = ContinuationOptions(traces=True, folds=False, jump=0.05)
-    n_up, n_down = int(math.floor((hi - o.E) / step + 1e-9)), int(math.floor((o.E - lo) / step + 1e-9))
-    up = [o.E + step * i for i in range(1, n_up + 1)] + ([hi] if o.E + step * n_up < hi else [])
-    down = [o.E - step * i for i in range(1, n_down + 1)] + ([lo] if o.E - step * n_down > lo else [])
+    n_up, n_down = (
+        int(math.floor((hi - o.E) / step + 1e-9)),
+        int(math.floor((o.E - lo) / step + 1e-9)),
+    )
+    up = [o.E + step * i for i in range(1, n_up + 1)] + (
+        [hi] if o.E + step * n_up < hi else []
+    )
+    down = [o.E - step * i for i in range(1, n_down + 1)] + (
+        [lo] if o.E - step * n_down > lo else []
+    )
     mu, pu, wu = _segments(prob, m0, up, opts) if up else ([m0], [], "range")
     md, pd, wd = _segments(prob, m0, down, opts) if down else ([m0], [], "range")
     ms = md[::-1] + mu[1:]
-    return AtlasFamily(o, np.array([float(m.E) for m in ms]),
-                       np.array([float(prob.factor * m.t1) for m in ms]),
-                       np.array([float(m.trace) for m in ms]),
-                       tuple(sorted(pd + pu, key=lambda p: p[1])), (wd, wu))
+    return AtlasFamily(
+        o,
+        np.array([float(m.E) for m in ms]),
+        np.array([float(prob.factor * m.t1) for m in ms]),
+        np.array([float(m.trace) for m in ms]),
+        tuple(sorted(pd + pu, key=lambda p: p[1])),
+        (wd, wu),
+    )
 
 
-def families(census_at: Atlas, E_range, step=0.005, executor=None, progress=False) -> list:
+def families(
+    census_at: Atlas, E_range, step=0.005, executor=None, progress=False
+) -> list:
     """Every orbit of a census followed in ``E`` across ``E_range`` with the engine (natural
     continuation, steps of ``step``, ``tr M`` of every member, its crossings of 4 and 0
     located): the families of the atlas and their own bifurcations. One task per orbit
@@ -665,16 +823,38 @@ def families(census_at: Atlas, E_range, step=0.005, executor=None, progress=Fals
         raise ValueError(f"E_range must contain E = {census_at.E} (got {E_range!r})")
     if not step > 0:
         raise ValueError(f"step must be > 0, got {step!r}")
-    return pmap(_family, [(o, lo, hi, float(step)) for o in census_at.orbits],
-                executor=executor, progress=progress, desc="families")
+    return pmap(
+        _family,
+        [(o, lo, hi, float(step)) for o in census_at.orbits],
+        executor=executor,
+        progress=progress,
+        desc="families",
+    )
 
 
-def atlas(energies, t_max=16.0, grid=300, executor=None, progress=False, digits=None,
-          name=True) -> list:
+def atlas(
+    energies,
+    t_max=16.0,
+    grid=300,
+    executor=None,
+    progress=False,
+    digits=None,
+    name=True,
+) -> list:
     """:func:`census` at each energy (a list of :class:`Atlas`); the known families are
     followed once through all the energies."""
     energies = [float(E) for E in energies]
     _check(energies, t_max, grid)
     known = _known(energies, t_max, executor) if name else {E: [] for E in energies}
-    return [census(E, t_max, grid, executor=executor, progress=progress, digits=digits,
-                   known=known[E]) for E in energies]
+    return [
+        census(
+            E,
+            t_max,
+            grid,
+            executor=executor,
+            progress=progress,
+            digits=digits,
+            known=known[E],
+        )
+        for E in energies
+    ]

@@ -35,12 +35,21 @@ from .flow import Section
 from .precision import FLOAT64, Tier
 from .shooting import StartSet
 
-__all__ = ["symmetry_group", "Reversor", "reversors", "FixedSet", "fixed_sets", "start_sets",
-           "targets", "CircleSet", "BrakeSet"]
+__all__ = [
+    "symmetry_group",
+    "Reversor",
+    "reversors",
+    "FixedSet",
+    "fixed_sets",
+    "start_sets",
+    "targets",
+    "CircleSet",
+    "BrakeSet",
+]
 
 #: ``a = A phi`` (pendulum variables); momenta transform with ``A^-T``.
 A = np.array([[0.5, 0.0], [0.5, 1.0]])
-_G = np.array([[1.0, 0.5], [0.5, 1.0]]) / 3.0        # kinetic metric of phi'
+_G = np.array([[1.0, 0.5], [0.5, 1.0]]) / 3.0  # kinetic metric of phi'
 
 
 def _V(phi):
@@ -48,7 +57,7 @@ def _V(phi):
     return 3 - math.cos(f1) - math.cos(f2) - math.cos(f1 + f2)
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def symmetry_group() -> tuple:
     """The integer 2x2 matrices ``g`` (acting on ``phi``) that preserve V and the metric."""
     rng = np.random.default_rng(1)
@@ -76,7 +85,7 @@ class Reversor:
         return "time reversal" if tr == 2 else "point" if tr == -2 else "mirror"
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def reversors() -> tuple:
     """The eight reversing symmetries ``T g``, ``g^2 = 1``, named by what ``g`` does to
     ``(phi1, phi2, phi3)`` (``1``, ``-1``, ``(12)``, ``(13)``, ``(23)``, ``-(12)`` ...)."""
@@ -87,8 +96,13 @@ def reversors() -> tuple:
             continue
         key = tuple(int(v) for v in g.ravel())
         neg = tuple(-v for v in key)
-        name = ("1" if key == (1, 0, 0, 1) else "-1" if key == (-1, 0, 0, -1) else
-                perm.get(key) or "-" + perm[neg])
+        name = (
+            "1"
+            if key == (1, 0, 0, 1)
+            else "-1"
+            if key == (-1, 0, 0, -1)
+            else perm.get(key) or "-" + perm[neg]
+        )
         out.append(Reversor(name, tuple(map(tuple, g.astype(int).tolist()))))
     order = ["1", "-1", "(12)", "(13)", "(23)", "-(12)", "-(13)", "-(23)"]
     return tuple(sorted(out, key=lambda r: order.index(r.name)))
@@ -130,35 +144,57 @@ def _mirror(g):
     e = vec[:, int(np.argmax(w))]
     e = np.round(e / np.min(np.abs(e[np.abs(e) > 1e-9]))).astype(int)
     n = np.array([-e[1], e[0]])
-    d = gm - np.eye(2)                                  # rank one: d = v n^T
+    d = gm - np.eye(2)  # rank one: d = v n^T
     k = 0 if n[0] else 1
     v = d[:, k] / n[k]
     return e, n, math.gcd(int(round(abs(v[0]))), int(round(abs(v[1]))))
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def fixed_sets() -> tuple:
     """Every fixed-set component of the eight reversors (:class:`FixedSet`), as targets."""
     out = []
     for r in reversors():
         g = np.array(r.g, float)
         if r.kind == "time reversal":
-            out.append(FixedSet("Fix T", r, Section((0, 0, 0, 1)), Section((0, 0, 1, 0))))
+            out.append(
+                FixedSet("Fix T", r, Section((0, 0, 0, 1)), Section((0, 0, 1, 0)))
+            )
         elif r.kind == "point":
-            for name, q in (("G", (0, 0)), ("D1", (1, 1)), ("D2", (1, 0)), ("D3", (0, 1))):
-                out.append(FixedSet(f"Fix T(-1) at {name}", r,
-                                    Section(_alpha_form((1, 0)) + (0, 0), q[0], 0, 2.0),
-                                    Section(_alpha_form((0, 1)) + (0, 0), q[1], 0, 2.0),
-                                    (q[0] * math.pi, q[1] * math.pi)))
+            for name, q in (
+                ("G", (0, 0)),
+                ("D1", (1, 1)),
+                ("D2", (1, 0)),
+                ("D3", (0, 1)),
+            ):
+                out.append(
+                    FixedSet(
+                        f"Fix T(-1) at {name}",
+                        r,
+                        Section(_alpha_form((1, 0)) + (0, 0), q[0], 0, 2.0),
+                        Section(_alpha_form((0, 1)) + (0, 0), q[1], 0, 2.0),
+                        (q[0] * math.pi, q[1] * math.pi),
+                    )
+                )
         else:
             e, n, gv = _mirror(g)
-            w, vec = np.linalg.eig(np.linalg.inv(g).T)      # momenta: -1 eigenvector of g^-T
+            w, vec = np.linalg.eig(
+                np.linalg.inv(g).T
+            )  # momenta: -1 eigenvector of g^-T
             b = vec[:, int(np.argmin(w))]
-            m_phi = np.array([-b[1], b[0]])                  # m . P = 0 on the fixed set
-            m_alpha = A @ m_phi                              # P_phi = A^T p_alpha
-            out.append(FixedSet(f"Fix T{r.name}", r, Section(_alpha_form(n) + (0, 0), 0.0, 0,
-                                                             2.0 / gv),
-                                Section((0, 0) + tuple(float(v) for v in m_alpha))))
+            m_phi = np.array([-b[1], b[0]])  # m . P = 0 on the fixed set
+            m_alpha = A @ m_phi  # P_phi = A^T p_alpha
+            m_alpha = m_alpha / np.min(np.abs(m_alpha[np.abs(m_alpha) > 1e-9]))
+            assert np.allclose(m_alpha, np.round(m_alpha)), m_alpha
+            m_alpha = np.round(m_alpha)  # integers: exact in every tier
+            out.append(
+                FixedSet(
+                    f"Fix T{r.name}",
+                    r,
+                    Section(_alpha_form(n) + (0, 0), 0.0, 0, 2.0 / gv),
+                    Section((0, 0) + tuple(float(v) for v in m_alpha)),
+                )
+            )
     return tuple(out)
 
 
@@ -168,6 +204,7 @@ def targets() -> list:
 
 
 # --------------------------------------------------------------------------- start sets
+
 
 @dataclass(frozen=True)
 class CircleSet:
@@ -189,8 +226,12 @@ class CircleSet:
             if K < 0:
                 raise ValueError(f"{self.name}: E below V there")
             s = t.m.sqrt(K)
-            return [self.q0[0] * t.pi, self.q0[1] * t.pi, 2 * s * t.m.sin(u),
-                    2 * s * t.m.cos(u) / t.m.sqrt(3)]
+            return [
+                self.q0[0] * t.pi,
+                self.q0[1] * t.pi,
+                2 * s * t.m.sin(u),
+                2 * s * t.m.cos(u) / t.m.sqrt(3),
+            ]
 
     def span(self, E):
         return (-math.pi / 2, math.pi / 2)
@@ -228,7 +269,9 @@ class BrakeSet:
             for _ in range(8):
                 f1, f2 = self.centre[0] * t.pi + r * cu, self.centre[1] * t.pi + r * su
                 V = 3 - m.cos(f1) - m.cos(f2) - m.cos(f1 + f2)
-                dV = (m.sin(f1) + m.sin(f1 + f2)) * cu + (m.sin(f2) + m.sin(f1 + f2)) * su
+                dV = (m.sin(f1) + m.sin(f1 + f2)) * cu + (
+                    m.sin(f2) + m.sin(f1 + f2)
+                ) * su
                 r = r - (V - E) / dV
             return r
 
@@ -273,7 +316,7 @@ def start_sets(E) -> tuple:
     return _start_sets(0 if E < 4.0 else 1 if E < 4.5 else 2)
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def _start_sets(regime) -> tuple:
     out = []
     if regime == 0:
@@ -289,8 +332,13 @@ def _start_sets(regime) -> tuple:
             e, _, _ = _mirror(g)
             w, vec = np.linalg.eig(np.linalg.inv(g).T)
             b_phi = vec[:, int(np.argmin(w))]
-            b = np.linalg.inv(A).T @ b_phi                   # p_alpha = A^-T P_phi
-            line = StartSet(f"Fix T{r.name}", a=tuple(A @ e.astype(float)),
-                            b=tuple(float(v) for v in b / np.max(np.abs(b))))
+            b = np.linalg.inv(A).T @ b_phi  # p_alpha = A^-T P_phi
+            b = b / np.min(np.abs(b[np.abs(b) > 1e-9]))  # integers: exact in every tier
+            assert np.allclose(b, np.round(b)), b
+            line = StartSet(
+                f"Fix T{r.name}",
+                a=tuple(A @ e.astype(float)),
+                b=tuple(float(round(v)) for v in b),
+            )
             out.append(MirrorSet(f"Fix T{r.name}", line))
     return tuple(out)
