@@ -14,7 +14,7 @@ the two fixed sets; its primitive period is found; a root that closes only to ~1
 near-periodic trajectory beside a very unstable orbit) is dropped; orbits related by the
 symmetry group or by time reversal are merged (same period and action
 ``2 (E T - int V dt)`` and an image of one start state on the other orbit, within
-:data:`SAME_ORBIT`); its ``tr M`` is computed and it is named after the known family it
+``SAME_ORBIT``); its ``tr M`` is computed and it is named after the known family it
 belongs to (pendulum, breathers, the IS/PD daughters, PD^b) or ``new``. :func:`census`
 runs the scan through :func:`rotorlib.parallel.pmap` (process pool or Dask cluster).
 

@@ -67,7 +67,7 @@ class Claim:
 
     @property
     def status(self) -> str:
-        """The ledger class: one of :data:`STATUSES`."""
+        """The ledger class: one of ``STATUSES``."""
         if self.verdict == "agrees":
             return "reproduced"
         if self.verdict == "not evaluable":

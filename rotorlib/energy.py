@@ -9,7 +9,7 @@ separatrix 4.5), which keep the decimal input, ``eps`` and ``log|E - sep|``.
 The input is a *decimal*: a string is read exactly as typed (``"3.99999999999999999999"``
 is 4 - 1e-20, not the float64 4.0), a float as its shortest ``repr`` (``3.9``
 means 39/10). ``eps`` is the exact decimal distance rounded once to float64;
-:meth:`mp_values` rebuilds ``E`` and ``eps`` in mpmath at any precision from the
+``mp_values`` rebuilds ``E`` and ``eps`` in mpmath at any precision from the
 same decimal, so no float64 rounding reaches the extended-precision tiers.
 
 Accepted input (anything else raises ``ValueError`` with the reason):
@@ -24,8 +24,8 @@ Accepted input (anything else raises ``ValueError`` with the reason):
 Depth: any ``log|E - sep|`` is accepted. Below ``|E - sep| = 1.8e-307``
 (``log < -706.3``) ``eps`` or ``m1`` leave the normal float64 range (``eps`` is
 0.0 below ``log = -745``); such energies are carried by ``log_abs_dE`` and
-:meth:`mp_values` only, and the float64 closed forms refuse them
-(:meth:`require_float64`, ``ValueError`` naming the extended tiers).
+``mp_values`` only, and the float64 closed forms refuse them
+(``require_float64``, ``ValueError`` naming the extended tiers).
 """
 
 from __future__ import annotations

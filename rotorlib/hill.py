@@ -22,7 +22,7 @@ one for rotation (pendulum, R). The rotational breather's coefficient is not
 symmetric about the quarter period, so its half period is integrated as two
 contracting pieces, ``[0, K]`` forward and ``[2K, K]`` backward. Inverses are
 adjugates (the Wronskian is 1 exactly): near the breather separatrix the maps
-are nearly rank one and a computed determinant would cancel (:func:`_half_map`).
+are nearly rank one and a computed determinant would cancel (``_half_map``).
 
 Precision (``tests/test_monodromy.py``, ``tests/test_extremes.py``,
 ``tests/test_breather_depth.py``):
@@ -471,8 +471,8 @@ def solve_hill(
     verified tiers; other values serve work-precision studies
     (``benchmarks/bench_precision.py``). Ignored by the mpmath backend.
 
-    The segment maps are composed with exact adjugates (:func:`_half_map`,
-    :func:`_coefficient_map`) in the working precision. When the float64
+    The segment maps are composed with exact adjugates (``_half_map``,
+    ``_coefficient_map``) in the working precision. When the float64
     ``Delta`` overflows (breathers at ``|E - 4.5| < ~e^-350``: ``Delta ~ |E - 4.5|^-2``)
     the float64 entries are composed again in mpmath, so ``delta_exact`` and
     ``delta_str`` still carry the value (``delta`` and ``coefficient_map`` are

@@ -557,7 +557,7 @@ def rotational_member(label, dE, digits=None) -> RotationalMember:
     Raises :class:`NotReached` when the family ends below (attributes: the highest ``E - 4``
     and why the continuation stopped). Precision: ``E - 4`` matched to ~1e-15 (float64) or
     ~1e-30 (real128) relative; residuals below 1e-8 (float64) and at the tier's round-off
-    floor (real128: ~1e-18 at ``E - 4 ~ 1e-12``). ``tr M`` moves by ~``|r| |M|^2``: at the
+    floor (real128: ~1e-18 at ``E - 4 ~ 1e-12``). ``tr M`` moves by about ``|r| |M|^2``: at the
     deepest real128 members (IS^r_8, PD^r_8 at ``E - 4 ~ 1e-12``) it is good to ~5e-4
     relative (measured against 45-digit members of IS^r_8 and PD^r_8); pass ``digits``
     for more.

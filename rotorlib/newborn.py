@@ -96,7 +96,7 @@ FAMILIES = tuple(
 #: float64 shooting is used while |E_n - 4| exceeds this (../shared/NUMERICS.md: fine to ~1e-8).
 FLOAT64_LIMIT = 3e-8
 #: Families are followed member by member (with tr M over a whole period) in float64 only while
-#: |E_n - 4| exceeds this (measured: float64 tr M of IS^l_3,4 and PD^l_2 at E = 4 within 6e-5
+#: ``|E_n - 4|`` exceeds this (measured: float64 tr M of IS^l_3,4 and PD^l_2 at E = 4 within 6e-5
 #: of real128; of PD^l_3 (born at 1.5e-6) 0.04 off, of IS^l_5,6 (1.7e-7, 5.8e-8) wrong by O(1)
 #: to O(30)); deeper families in real128.
 FAMILY_FLOAT64_DEPTH = 1e-5

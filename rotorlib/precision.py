@@ -80,7 +80,7 @@ class Tier:
 
     @property
     def m(self):
-        """The math module of the tier's numbers (:mod:`math` or :mod:`mpmath`)."""
+        """The math module of the tier's numbers (``math`` or ``mpmath``)."""
         return mp if self.extended else math
 
     @property

@@ -1,4 +1,5 @@
 """Plotting and table helpers of the chapters on paper §2 and §4 (rotorlib.plotting.formulation)."""
+
 import math
 
 import matplotlib
@@ -23,7 +24,9 @@ def test_verdict_and_table():
     assert fp.verdict(float("nan"), 1.0) == "DIFFERS"
     text = fp.format_table(["a", "bb"], [["1", "22222"], ["333", "4"]])
     lines = text.splitlines()
-    assert len(lines) == 4 and lines[0].startswith("a  ") and set(lines[1]) <= {"-", " "}
+    assert (
+        len(lines) == 4 and lines[0].startswith("a  ") and set(lines[1]) <= {"-", " "}
+    )
     assert lines[1].split() == ["---", "-----"]
     with pytest.raises(ValueError):
         fp.format_table(["a", "b"], [["1"]])
@@ -31,10 +34,13 @@ def test_verdict_and_table():
 
 def test_pendulum_and_breather_lines_lie_where_the_paper_says():
     # pendulum lines: V <= 4 with equality only at the saddle; breather lines: max V = 4.5 at T
-    for (x, y), vmax in [(xy, 4.0) for xy in fp.pendulum_lines().values()] + \
-                        [(xy, 4.5) for xy in fp.breather_lines(n=3 * 2 ** 10 + 1).values()]:
+    for (x, y), vmax in [(xy, 4.0) for xy in fp.pendulum_lines().values()] + [
+        (xy, 4.5) for xy in fp.breather_lines(n=3 * 2**10 + 1).values()
+    ]:
         ok = np.isfinite(x)
-        assert np.all((x[ok] >= 0) & (x[ok] < 2 * math.pi) & (y[ok] >= 0) & (y[ok] < 2 * math.pi))
+        assert np.all(
+            (x[ok] >= 0) & (x[ok] < 2 * math.pi) & (y[ok] >= 0) & (y[ok] < 2 * math.pi)
+        )
         v = potential_phi(x[ok], y[ok])
         assert abs(v.max() - vmax) < 1e-12
     # the breather line phi1 + 2 phi2 = 0 really satisfies its equation mod 2 pi
@@ -60,9 +66,13 @@ def test_fig1_has_two_labelled_panels_with_all_critical_points():
 def test_other_figures_are_labelled():
     t = np.linspace(0, 1, 11)
     st = np.zeros((11, 4))
-    figs = [fp.plot_separatrix_approach([("a", t, st)], period_marks=[("T", 0.5)]),
-            fp.plot_textbook_error([1e-2, 1e-4, 1e-6], [1e-8, 1e-4, 1.0]),
-            fp.plot_trace_vs_energy(np.linspace(0, 3.9, 5), np.ones(5), np.linspace(4.1, 9, 5), np.ones(5))]
+    figs = [
+        fp.plot_separatrix_approach([("a", t, st)], period_marks=[("T", 0.5)]),
+        fp.plot_textbook_error([1e-2, 1e-4, 1e-6], [1e-8, 1e-4, 1.0]),
+        fp.plot_trace_vs_energy(
+            np.linspace(0, 3.9, 5), np.ones(5), np.linspace(4.1, 9, 5), np.ones(5)
+        ),
+    ]
     try:
         for fig in figs:
             assert all(_labelled(ax) for ax in fig.get_axes())

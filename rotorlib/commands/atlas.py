@@ -14,7 +14,16 @@ import sys
 from ..cli import emit
 from ..energy import as_float
 
-COLUMNS = ["E", "label", "family", "period", "trace", "stable", "fixed_sets", "state0_str"]
+COLUMNS = [
+    "E",
+    "label",
+    "family",
+    "period",
+    "trace",
+    "stable",
+    "fixed_sets",
+    "state0_str",
+]
 
 
 def register(sub):
@@ -27,26 +36,41 @@ def register(sub):
     )
     p.add_argument("--E", required=True, nargs="+", metavar="V", help="energies (> 0)")
     p.add_argument("--t-max", required=True, metavar="T", help="largest period (> 0)")
-    p.add_argument("--grid", type=int, default=300,
-                   help="start points per fixed-set class before bisection (default 300)")
-    p.add_argument("--digits", type=int, default=None,
-                   help="re-solve every orbit in the tier that delivers these digits "
-                        "(default: float64)")
+    p.add_argument(
+        "--grid",
+        type=int,
+        default=300,
+        help="start points per fixed-set class before bisection (default 300)",
+    )
+    p.add_argument(
+        "--digits",
+        type=int,
+        default=None,
+        help="re-solve every orbit in the tier that delivers these digits "
+        "(default: float64)",
+    )
     p.add_argument("--json", action="store_true", help="print a JSON list of records")
     g = p.add_mutually_exclusive_group()
     g.add_argument("--workers", type=int, default=None, help="local worker processes")
-    g.add_argument("--scheduler", default=None, metavar="ADDRESS",
-                   help="tcp:// address of a running Dask scheduler")
+    g.add_argument(
+        "--scheduler",
+        default=None,
+        metavar="ADDRESS",
+        help="tcp:// address of a running Dask scheduler",
+    )
     p.set_defaults(func=run)
 
 
-def records(energies, t_max, grid=300, digits=None, executor=None, progress=False) -> list:
+def records(
+    energies, t_max, grid=300, digits=None, executor=None, progress=False
+) -> list:
     """The records the command prints (one per orbit, in order of energy and period)."""
     from ..atlas import atlas
 
     out = []
-    for a in atlas(energies, t_max, grid, executor=executor, progress=progress,
-                   digits=digits):
+    for a in atlas(
+        energies, t_max, grid, executor=executor, progress=progress, digits=digits
+    ):
         out += [o.to_record() for o in a.orbits]
     return out
 
@@ -59,15 +83,28 @@ def run(args):
     t_max = as_float(args.t_max, "--t-max")
     if args.digits is not None and not 15 <= args.digits <= 100:
         raise ValueError(f"--digits must be from 15 to 100, got {args.digits}")
-    _check(energies, t_max, args.grid)              # refuses before any work is done
+    _check(energies, t_max, args.grid)  # refuses before any work is done
     with executor_for(args.workers, args.scheduler) as ex:
-        recs = records(energies, t_max, args.grid, args.digits, ex,
-                       progress=sys.stderr.isatty() and not args.json)
+        recs = records(
+            energies,
+            t_max,
+            args.grid,
+            args.digits,
+            ex,
+            progress=sys.stderr.isatty() and not args.json,
+        )
     if args.json:
         emit(recs if len(recs) != 1 else [recs], True, COLUMNS)
         return 0
-    rows = [dict(r, fixed_sets=" / ".join(r["fixed_sets"]),
-                 state0_str=" ".join(r["state0_str"]), period=f"{r['period']:.10g}",
-                 trace=f"{r['trace']:.8g}") for r in recs]
+    rows = [
+        dict(
+            r,
+            fixed_sets=" / ".join(r["fixed_sets"]),
+            state0_str=" ".join(r["state0_str"]),
+            period=f"{r['period']:.10g}",
+            trace=f"{r['trace']:.8g}",
+        )
+        for r in recs
+    ]
     emit(rows, False, COLUMNS)
     return 0

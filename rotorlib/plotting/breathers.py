@@ -3,6 +3,7 @@
 Units m = g = r = 1. Every function returns the matplotlib ``Figure`` it drew (or
 a string for tables); all numbers are computed by the caller with :mod:`rotorlib`.
 """
+
 from __future__ import annotations
 
 import math
@@ -33,8 +34,11 @@ def comparison_table(rows) -> tuple:
         verdicts.append(v)
         cells.append([q, f"{paper}", f"{ours}", f"{d:+.2e}", f"{tol:.0e}", v])
     widths = [max(len(r[j]) for r in cells) for j in range(len(header))]
-    line = lambda r: "  ".join(c.ljust(w) for c, w in zip(r, widths)).rstrip()   # noqa: E731
-    text = "\n".join([line(cells[0]), "  ".join("-" * w for w in widths)] + [line(r) for r in cells[1:]])
+    line = lambda r: "  ".join(c.ljust(w) for c, w in zip(r, widths)).rstrip()  # noqa: E731
+    text = "\n".join(
+        [line(cells[0]), "  ".join("-" * w for w in widths)]
+        + [line(r) for r in cells[1:]]
+    )
     return text, verdicts
 
 
@@ -51,7 +55,7 @@ def plot_fig10ab(E_LG, tr_LG, E_LD, tr_LD, E_R, tr_R, E_PD):
     b.semilogx(E_R, tr_R, label="R")
     for y in (0.0, 4.0):
         b.axhline(y, color="k", lw=0.6, ls=":")
-    b.axvline(E_PD, color="C3", lw=0.8, ls="--", label=fr"$E_{{PD}} = {E_PD:.4f}$")
+    b.axvline(E_PD, color="C3", lw=0.8, ls="--", label=rf"$E_{{PD}} = {E_PD:.4f}$")
     b.set_ylim(-6, 5)
     b.set_xlabel(r"energy $E$ ($g$)")
     b.set_ylabel(r"$\mathrm{tr}\,M$")

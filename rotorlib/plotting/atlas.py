@@ -1,0 +1,73 @@
+"""Figures of the chapter *Periodic orbits in the band of global chaos* (book/09_atlas)."""
+
+from __future__ import annotations
+
+import matplotlib.pyplot as plt
+import numpy as np
+
+__all__ = ["plot_sweep", "plot_growth", "plot_family_trace"]
+
+BAND = (5.33, 5.6)
+
+
+def plot_sweep(atlases, cf=None):
+    """Period against E of every orbit of each census (stable ones filled), the band
+    shaded; beside it the number of stable orbits and the chaotic fraction ``cf``."""
+    fig, (ax, bx) = plt.subplots(1, 2, figsize=(11, 4.2))
+    for a in atlases:
+        T = np.array([o.period for o in a.orbits])
+        s = np.array([o.stable for o in a.orbits], bool)
+        ax.plot([a.E] * int((~s).sum()), T[~s], "o", mfc="none", color="0.45", ms=4)
+        ax.plot([a.E] * int(s.sum()), T[s], "o", color="C3", ms=5)
+    ax.plot([], [], "o", mfc="none", color="0.45", label="unstable")
+    ax.plot([], [], "o", color="C3", label="linearly stable")
+    for x in (ax, bx):
+        x.axvspan(*BAND, color="C0", alpha=0.12, lw=0)
+        x.set_xlabel("energy E (units of g)")
+    ax.set_ylabel("period T (units of sqrt(m r^2 / g))")
+    ax.legend(loc="upper left", fontsize=8)
+    ax.set_title("symmetric periodic orbits, T <= T_max")
+    E = [a.E for a in atlases]
+    bx.step(E, [len(a.stable) for a in atlases], where="mid", color="C3")
+    bx.set_ylabel("number of linearly stable orbits", color="C3")
+    if cf is not None:
+        cx = bx.twinx()
+        cx.errorbar(cf.E, cf.fraction, cf.stderr, fmt="s-", color="C0", ms=4)
+        cx.set_ylabel("chaotic fraction of the energy shell", color="C0")
+        cx.set_ylim(0, 1.05)
+    bx.set_title("stable orbits and chaos")
+    fig.tight_layout()
+    return fig
+
+
+def plot_growth(periods, T_fit, slope, intercept):
+    """``N(T)``: the number of orbits with period ``<= T`` (log scale) and the fit."""
+    fig, ax = plt.subplots(figsize=(6, 4))
+    T = np.sort(periods)
+    ax.step(T, np.arange(1, len(T) + 1), where="post", label="N(T), census")
+    t = np.linspace(*T_fit, 50)
+    ax.plot(t, np.exp(intercept + slope * t), "--", label=f"exp({slope:.2f} T)")
+    ax.set_yscale("log")
+    ax.set_xlabel("period T (units of sqrt(m r^2 / g))")
+    ax.set_ylabel("number of orbits with period <= T")
+    ax.legend()
+    fig.tight_layout()
+    return fig
+
+
+def plot_family_trace(fam, E_fold=None):
+    """``tr M`` against E along one atlas family, the stable strip ``0 < tr M < 4``."""
+    fig, ax = plt.subplots(figsize=(6.5, 4))
+    ax.axhspan(
+        0, 4, color="C2", alpha=0.15, lw=0, label="linearly stable: 0 < tr M < 4"
+    )
+    ax.plot(fam.E, fam.trace, ".-", color="C3", label="tr M along the family")
+    for kind, E in fam.points:
+        ax.axvline(E, color="0.5", lw=0.8, ls=":")
+    if E_fold is not None:
+        ax.axvline(E_fold, color="k", lw=1, ls="--", label="last member (fold)")
+    ax.set_xlabel("energy E (units of g)")
+    ax.set_ylabel("tr M")
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    return fig
