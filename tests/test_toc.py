@@ -132,10 +132,12 @@ def test_notebook_stored_clean(nb):
     assert not problems, f"{nb.name}:\n  " + "\n  ".join(problems)
 
 
-def test_api_page_up_to_date():
-    """book/api.md documents every rotorlib module (scripts/make_api.py generates it)."""
+@pytest.mark.parametrize("script", ["make_api.py", "make_gallery.py", "make_ledger.py"])
+def test_generated_page_up_to_date(script):
+    """book/api.md, gallery.md and ledger.md are what their scripts generate from the
+    package and the chapters (scripts/build_book.sh runs them)."""
     proc = subprocess.run(
-        [sys.executable, str(ROOT / "scripts" / "make_api.py"), "--check"],
+        [sys.executable, str(ROOT / "scripts" / script), "--check"],
         capture_output=True,
         text=True,
         cwd=ROOT,
@@ -143,35 +145,7 @@ def test_api_page_up_to_date():
     assert proc.returncode == 0, (
         proc.stdout
         + proc.stderr
-        + "\nrun: .venv/bin/python scripts/make_api.py (build_book.sh does it)"
-    )
-
-
-def test_gallery_up_to_date():
-    proc = subprocess.run(
-        [sys.executable, str(ROOT / "scripts" / "make_gallery.py"), "--check"],
-        capture_output=True,
-        text=True,
-        cwd=ROOT,
-    )
-    assert proc.returncode == 0, (
-        proc.stdout
-        + proc.stderr
-        + "\nrun: .venv/bin/python scripts/make_gallery.py (build_book.sh does it)"
-    )
-
-
-def test_ledger_up_to_date():
-    proc = subprocess.run(
-        [sys.executable, str(ROOT / "scripts" / "make_ledger.py"), "--check"],
-        capture_output=True,
-        text=True,
-        cwd=ROOT,
-    )
-    assert proc.returncode == 0, (
-        proc.stdout
-        + proc.stderr
-        + "\nrun: .venv/bin/python scripts/make_ledger.py (build_book.sh does it)"
+        + f"\nrun: .venv/bin/python scripts/{script} (build_book.sh does it)"
     )
 
 
