@@ -8,7 +8,6 @@ matplotlib.use("Agg")
 
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
-import pytest  # noqa: E402
 
 from rotorlib.plotting import formulation as fp  # noqa: E402
 from rotorlib.system import critical_points, potential_phi  # noqa: E402
@@ -16,20 +15,6 @@ from rotorlib.system import critical_points, potential_phi  # noqa: E402
 
 def _labelled(ax):
     return bool(ax.get_xlabel().strip()) and bool(ax.get_ylabel().strip())
-
-
-def test_verdict_and_table():
-    assert fp.verdict(1e-12, 1e-10) == "agrees"
-    assert fp.verdict(-1e-9, 1e-10) == "DIFFERS"
-    assert fp.verdict(float("nan"), 1.0) == "DIFFERS"
-    text = fp.format_table(["a", "bb"], [["1", "22222"], ["333", "4"]])
-    lines = text.splitlines()
-    assert (
-        len(lines) == 4 and lines[0].startswith("a  ") and set(lines[1]) <= {"-", " "}
-    )
-    assert lines[1].split() == ["---", "-----"]
-    with pytest.raises(ValueError):
-        fp.format_table(["a", "b"], [["1"]])
 
 
 def test_pendulum_and_breather_lines_lie_where_the_paper_says():

@@ -6,40 +6,10 @@ a string for tables); all numbers are computed by the caller with :mod:`rotorlib
 
 from __future__ import annotations
 
-import math
-
 import matplotlib.pyplot as plt
 import numpy as np
 
-__all__ = ["verdict", "comparison_table", "plot_fig10ab", "plot_fig10c", "plot_fig10d"]
-
-
-def verdict(diff, tol) -> str:
-    """``'agrees'`` when ``|diff| <= tol`` (both finite), else ``'DIFFERS'``."""
-    ok = math.isfinite(diff) and math.isfinite(tol) and abs(diff) <= tol
-    return "agrees" if ok else "DIFFERS"
-
-
-def comparison_table(rows) -> tuple:
-    """``rows``: ``(quantity, paper, ours, tolerance)`` with numbers (ours may be a string of digits).
-
-    Returns ``(text, verdicts)``: a plain-text table with columns
-    quantity / paper / ours / difference / tolerance / verdict, and the list of verdicts.
-    """
-    header = ["quantity", "paper", "ours", "difference", "tolerance", "verdict"]
-    cells, verdicts = [header], []
-    for q, paper, ours, tol in rows:
-        d = float(ours) - float(paper)
-        v = verdict(d, tol)
-        verdicts.append(v)
-        cells.append([q, f"{paper}", f"{ours}", f"{d:+.2e}", f"{tol:.0e}", v])
-    widths = [max(len(r[j]) for r in cells) for j in range(len(header))]
-    line = lambda r: "  ".join(c.ljust(w) for c, w in zip(r, widths)).rstrip()  # noqa: E731
-    text = "\n".join(
-        [line(cells[0]), "  ".join("-" * w for w in widths)]
-        + [line(r) for r in cells[1:]]
-    )
-    return text, verdicts
+__all__ = ["plot_fig10ab", "plot_fig10c", "plot_fig10d"]
 
 
 def plot_fig10ab(E_LG, tr_LG, E_LD, tr_LD, E_R, tr_R, E_PD):

@@ -18,8 +18,6 @@ import numpy as np
 from ..system import potential_phi
 
 __all__ = [
-    "verdict",
-    "format_table",
     "pendulum_lines",
     "breather_lines",
     "plot_fig1",
@@ -32,27 +30,6 @@ TWO_PI = 2.0 * math.pi
 
 
 # --------------------------------------------------------------------------- tables
-def verdict(diff: float, tol: float) -> str:
-    """``'agrees'`` when ``|diff| <= tol`` (and both are finite), else ``'DIFFERS'``."""
-    ok = math.isfinite(diff) and math.isfinite(tol) and abs(diff) <= tol
-    return "agrees" if ok else "DIFFERS"
-
-
-def format_table(header, rows) -> str:
-    """A plain-text table (columns padded to equal width) from a header and rows of strings."""
-    cells = [[str(c) for c in header]] + [[str(c) for c in r] for r in rows]
-    n = len(cells[0])
-    if any(len(r) != n for r in cells):
-        raise ValueError("every row needs as many cells as the header")
-    widths = [max(len(r[j]) for r in cells) for j in range(n)]
-    line = lambda r: "  ".join(c.ljust(w) for c, w in zip(r, widths)).rstrip()  # noqa: E731
-    return "\n".join(
-        [line(cells[0]), "  ".join("-" * w for w in widths)]
-        + [line(r) for r in cells[1:]]
-    )
-
-
-# --------------------------------------------------------------------------- Fig. 1
 def _wrapped(phi1, phi2):
     """Reduce a curve to the square [0, 2pi)^2, inserting NaN where it jumps across an edge."""
     x, y = np.mod(phi1, TWO_PI), np.mod(phi2, TWO_PI)
