@@ -50,6 +50,7 @@ __all__ = [
     "ChaoticFraction",
     "chaotic_fraction",
     "section_initial_conditions",
+    "section_points",
     "BAND",
     "NOISY_BIRTH",
     "amplitude_branch",
@@ -137,6 +138,21 @@ def _section_one(args):
     h = np.array(hits[:n_hits]).reshape(-1, 4)
     hits.clear()
     return h
+
+
+def section_points(state, t_max, n_hits=100_000):
+    """The crossings of the section ``phi1 = 0 (mod 2 pi)``, ``phi1' > 0`` by the trajectory
+    from ``state`` (``[phi1, phi2, P1, P2]``, relative variables) up to time ``t_max`` (rounded
+    up to a multiple of 50): ``(phi2 mod 2 pi, P2)`` arrays. Float64 Taylor integration,
+    tolerance 1e-12.
+    """
+    x = np.asarray(state, float)
+    if x.shape != (4,) or not np.all(np.isfinite(x)):
+        raise ValueError(f"state must be 4 finite numbers, got {state!r}")
+    if not (math.isfinite(t_max) and t_max > 0):
+        raise ValueError(f"t_max must be finite and > 0, got {t_max!r}")
+    h = _section_one((x, int(n_hits), float(t_max)))
+    return np.mod(h[:, 1], 2 * np.pi), h[:, 3]
 
 
 @dataclass(frozen=True)

@@ -5,7 +5,7 @@ from __future__ import annotations
 import matplotlib.pyplot as plt
 import numpy as np
 
-__all__ = ["plot_sweep", "plot_growth", "plot_family_trace"]
+__all__ = ["plot_sweep", "plot_growth", "plot_family_trace", "plot_islands"]
 
 BAND = (5.33, 5.6)
 
@@ -65,9 +65,39 @@ def plot_family_trace(fam, E_fold=None):
     for kind, E in fam.points:
         ax.axvline(E, color="0.5", lw=0.8, ls=":")
     if E_fold is not None:
-        ax.axvline(E_fold, color="k", lw=1, ls="--", label="last member (fold)")
+        ax.axvline(E_fold, color="k", lw=1, ls="--", label="fold of the family")
     ax.set_xlabel("energy E (units of g)")
     ax.set_ylabel("tr M")
     ax.legend(fontsize=8)
+    fig.tight_layout()
+    return fig
+
+
+def plot_islands(sections, checks):
+    """One panel per energy: the Poincaré section (``sections[E]``, grey), the crossings of
+    each checked orbit (``checks[E]``, stable: red, hyperbolic: black crosses) and of its
+    test trajectory (coloured dots)."""
+    Es = sorted(sections)
+    fig, axes = plt.subplots(1, len(Es), figsize=(5.5 * len(Es), 4.5), squeeze=False)
+    for ax, E in zip(axes[0], Es):
+        sec = sections[E]
+        for f, P in zip(sec.phi2, sec.P2):
+            ax.plot(f, P, ",", color="0.6")
+        for k, c in enumerate(checks[E]):
+            st = c.orbit.stable
+            ax.plot(c.test_phi2, c.test_P2, ".", ms=1.5, color=f"C{k % 10}")
+            ax.plot(
+                c.phi2,
+                c.P2,
+                "o" if st else "x",
+                color="C3" if st else "k",
+                ms=6,
+                mfc="none" if st else None,
+                label=f"T = {c.orbit.period:.3f}, tr M = {c.orbit.trace:.3g}",
+            )
+        ax.set_xlabel("phi2 (rad), section phi1 = 0, phi1' > 0")
+        ax.set_ylabel("P2 (units of sqrt(m r^2 g))")
+        ax.set_title(f"E = {E:g}")
+        ax.legend(fontsize=7, loc="upper right")
     fig.tight_layout()
     return fig
