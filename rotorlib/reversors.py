@@ -45,6 +45,7 @@ __all__ = [
     "targets",
     "CircleSet",
     "BrakeSet",
+    "MirrorSet",
 ]
 
 #: ``a = A phi`` (pendulum variables); momenta transform with ``A^-T``.

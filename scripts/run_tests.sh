@@ -7,6 +7,8 @@
 #      HTML in _build/html);
 #   4. nbval: re-execute the book's notebooks, comparing fresh outputs with the
 #      stored ones.
+# pytest and nbval run on NPROC workers (pytest-xdist, default 2: this machine's cores),
+# one file per worker (--dist loadfile: a notebook's cells run in order in one kernel).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -14,6 +16,7 @@ bash scripts/setup_env.sh
 
 export PYTHONHASHSEED=0 TQDM_DISABLE=1
 PY=.venv/bin/python
+XDIST=(-n "${NPROC:-2}" --dist loadfile)
 
 # run_pytest N ARGS...: run pytest; its exit code 5 ("no tests collected")
 # is accepted only when N (the number of candidate files) is 0.
@@ -58,14 +61,14 @@ fi
 # --- tests --------------------------------------------------------------------
 mkdir -p tests book
 n_tests=$(find tests -name 'test_*.py' -o -name '*_test.py' | wc -l)
-MPLBACKEND=Agg part "pytest tests/" run_pytest "$n_tests" tests
+MPLBACKEND=Agg part "pytest tests/" run_pytest "$n_tests" "${XDIST[@]}" tests
 
 # --nbval-current-env: execute notebooks with this venv's Python, whatever
 # kernel their metadata names. MPLBACKEND must not reach the kernel: with it
 # set (e.g. Agg) ipykernel does not use the inline backend and figures vanish.
 n_nb=$(find book -name '*.ipynb' -not -path '*/.ipynb_checkpoints/*' | wc -l)
 unset MPLBACKEND
-part "nbval book/" run_pytest "$n_nb" --nbval --nbval-current-env --nbval-cell-timeout=600 \
+part "nbval book/" run_pytest "$n_nb" "${XDIST[@]}" --nbval --nbval-current-env --nbval-cell-timeout=600 \
     --nbval-sanitize-with book/nbval_sanitize.cfg book/
 
 if [ "${#failed[@]}" -gt 0 ]; then
