@@ -18,13 +18,11 @@ symmetry group or by time reversal are merged (same period and action
 belongs to (pendulum, breathers, the IS/PD daughters, PD^b) or ``new``. :func:`census`
 runs the scan through :func:`rotorlib.parallel.pmap` (process pool or Dask cluster).
 
-Precision: float64 scan and refinement (residual to ~1e-13; state, period and ``tr M``
-from the float64 variational equations, ``tr M`` to ~1e-15 |tr M|); with ``digits=D``
-every orbit is re-solved in the tier of ``D`` digits (real128 up to 31) and given to
-``D`` digits (``tr M`` to ``D - 5``). Tested against an independent real128 integration
-and an independent census (``tests/test_atlas.py``): at E = 5.45 and 6.2 (T_max = 16)
-the same orbits (at 4.3 one whose half-period point lies 1e-8 from a turning point of a
-mirror, found thanks to the parametrisation of :class:`~rotorlib.reversors.MirrorSet`).
+Precision: float64 scan and refinement (residual ~1e-13; ``tr M`` to ~1e-15 |tr M|); with
+``digits=D`` every orbit is re-solved in the tier of ``D`` digits and given to ``D`` digits
+(``tr M`` to ``D - 5``). Tested against an independent real128 integration and an
+independent census at E = 4.3, 5.45, 6.2, T_max = 16 (``tests/test_atlas.py``). Families
+and branch switching: :mod:`rotorlib.atlas_families`.
 """
 
 from __future__ import annotations
@@ -39,20 +37,15 @@ import numpy as np
 from .flow import Section, SectionNotReached, crossings, monodromy_matrix, sample
 from .parallel import pmap
 from .precision import FLOAT64
-from .reversors import start_sets, targets
+from .reversors import _group_images, start_sets, targets
 from .shooting import ShootingProblem, residual, solve
 
 __all__ = [
     "AtlasOrbit",
     "Atlas",
-    "AtlasFamily",
     "census",
     "atlas",
-    "families",
     "budget_seconds",
-    "images",
-    "Island",
-    "island",
     "BUDGET",
     "E_DOMAIN",
 ]
@@ -112,20 +105,14 @@ class AtlasOrbit:
     problem: ShootingProblem = field(repr=False, default=None)
 
     def to_record(self) -> dict:
-        return {
-            "label": self.label,
-            "family": self.family,
-            "E": self.E,
-            "period": self.period,
-            "trace": self.trace,
-            "stable": self.stable,
-            "state0_str": list(self.state0_str),
-            "period_str": self.period_str,
-            "trace_str": self.trace_str,
-            "fixed_sets": list(self.fixed_sets),
-            "action": self.action,
-            "closure": self.closure,
-        }
+        """The fields printed by ``python -m rotorlib atlas --json``."""
+        keys = "label family E period trace stable state0_str period_str trace_str"
+        out = {k: getattr(self, k) for k in keys.split()}
+        out["state0_str"] = list(self.state0_str)
+        out.update(
+            fixed_sets=list(self.fixed_sets), action=self.action, closure=self.closure
+        )
+        return out
 
 
 @dataclass(frozen=True)
@@ -252,10 +239,11 @@ def _brackets(us, rows, t_half):
     return out
 
 
-def _scan(si, E, t_half, grid, depth, executor, progress):
-    """The start points of one class: a uniform grid, then every interval whose crossing
-    structure changes bisected (up to ``depth`` times): ``(us, rows)``."""
-    lo, hi = start_sets(E)[si].span(E)
+def _scan(si, E, t_half, grid, depth, executor, progress, window=None):
+    """The start points of one class (on ``window = (lo, hi)``, default the whole span): a
+    uniform grid, then every interval whose crossing structure changes bisected (up to
+    ``depth`` times): ``(us, rows)``."""
+    lo, hi = window or start_sets(E)[si].span(E)
     # cell midpoints, and both ends of the span (a mirror's turning points sit at the ends)
     us = [lo, *(np.linspace(lo, hi, grid + 1)[:-1] + (hi - lo) / (2 * grid)), hi]
     rows = pmap(
@@ -379,106 +367,6 @@ def _invariants(x0, T, E):
 SAME_ORBIT = 1e-6
 
 
-def _group_images():
-    """The 24 linear maps of the state ``(a1, a2, p1, p2)``: the group (12) and time reversal."""
-    from .reversors import A, symmetry_group
-
-    Ai = np.linalg.inv(A)
-    out = []
-    for g in symmetry_group():
-        q = A @ g @ Ai
-        for s in (1.0, -1.0):
-            m = np.zeros((4, 4))
-            m[:2, :2], m[2:, 2:] = q, s * np.linalg.inv(q).T
-            out.append(m)
-    return np.array(out)
-
-
-def images(state) -> np.ndarray:
-    """The 24 images of a state ``[a1, a2, p1, p2]`` under the symmetry group and time
-    reversal (the same orbit seen by relabelled rotors, or run backwards): shape ``(24, 4)``,
-    the identity first."""
-    maps = _group_images()
-    first = [i for i, m in enumerate(maps) if np.allclose(m, np.eye(4))]
-    rest = [i for i in range(len(maps)) if i not in first]
-    return maps[first + rest] @ np.asarray(state, float)
-
-
-@dataclass(frozen=True)
-class Island:
-    """Whether an orbit sits in an island of the Poincaré section (:func:`island`).
-
-    Attributes
-    ----------
-    orbit : AtlasOrbit
-    phi2, P2 : ndarray
-        The crossings of the section by one image of the orbit in one period.
-    test_phi2, test_P2 : ndarray
-        The crossings by the test trajectory started ``delta`` away.
-    delta : float
-    spread : float
-        Largest distance of a test crossing from the nearest crossing of the orbit, in
-        units of ``delta``: of order 1 on an invariant curve around an elliptic orbit, of
-        order ``1/delta`` where the test trajectory leaves (a hyperbolic orbit).
-    """
-
-    orbit: AtlasOrbit
-    phi2: np.ndarray
-    P2: np.ndarray
-    test_phi2: np.ndarray
-    test_P2: np.ndarray
-    delta: float
-    spread: float
-
-
-def island(orbit: AtlasOrbit, delta=0.01, t_max=2000.0, n_hits=400) -> Island:
-    """The orbit seen in the Poincaré section of :func:`rotorlib.chaos.poincare_section`
-    (``phi1 = 0``, ``phi1' > 0``): of its 24 images, the crossing with the largest
-    ``phi1'`` (the most transversal) is moved by ``delta`` in ``phi2`` (``P2`` kept, ``P1``
-    from the energy) and followed for ``t_max`` (at most ``n_hits`` crossings). Raises
-    ValueError when no image crosses the section. Float64 (tolerance 1e-12).
-    """
-    from .chaos import section_points
-    from .system import alpha_to_phi, potential_phi
-
-    if not (math.isfinite(delta) and 0 < delta < 0.5):
-        raise ValueError(f"delta must be in (0, 0.5), got {delta!r}")
-    E = orbit.E
-
-    def speed2(f2, P2):  # (phi1')^2 on the section
-        return 4 * (E - potential_phi(0.0, f2)) - 3 * P2 * P2
-
-    best = None
-    for y in images(orbit.state0):
-        ph, P = section_points(np.array(alpha_to_phi(y), float), orbit.period)
-        back = np.flatnonzero(
-            np.hypot((ph - ph[:1] + np.pi) % (2 * np.pi) - np.pi, P - P[:1]) < 1e-6
-        )
-        if len(back) > 1:  # integrated past one period: keep one turn
-            ph, P = ph[: back[1]], P[: back[1]]
-        for f2, P2 in zip(ph, P):
-            v = speed2(f2, P2)
-            if best is None or v > best[0]:
-                best = (v, f2, P2, ph, P)
-    if best is None:
-        raise ValueError(
-            f"no image of the orbit T = {orbit.period:.6f} crosses phi1 = 0"
-        )
-    _, f2, P2, ph, P = best
-    g = f2 + delta
-    w = speed2(g, P2)
-    if w <= 0:
-        raise ValueError(
-            "the test point falls outside the section; use a smaller delta"
-        )
-    qh, qP = section_points([0.0, g, 0.5 * (math.sqrt(w) + P2), P2], t_max, n_hits)
-    d = [
-        np.min(np.hypot((a - ph + np.pi) % (2 * np.pi) - np.pi, b - P))
-        for a, b in zip(qh, qP)
-    ]
-    return Island(orbit, ph, P, qh, qP, float(delta), float(max(d)) / delta)
-
-
 class _Curve:
     """An orbit sampled densely, for :func:`_distance`."""
 
@@ -588,6 +476,19 @@ def _finish(args):
             float(Tm),
             clo,
         )
+
+
+def _orbit(label, family, E, t_half, root, fin) -> AtlasOrbit:
+    """The :class:`AtlasOrbit` of a verified root ``(si, j, k, u, x0, T, S)`` of
+    :func:`_refine` and its :func:`_finish` ``(xs, Ts, trs, tr, Tf, closure)``."""
+    si, j, k, u, x0, T, S = root
+    xs, Ts, trs, tr, Tf, clo = fin
+    head = (label, family, E, Tf, tr, bool(0 < tr < 4), tuple(x0), xs, Ts, trs)
+    fixed, prob = (
+        (start_sets(E)[si].name, targets()[j].name),
+        _problem(si, j, k, E, t_half),
+    )
+    return AtlasOrbit(*head, fixed, float(S), clo, float(u), prob)
 
 
 # --------------------------------------------------------------------------- known families
@@ -746,7 +647,6 @@ def census(
         curves.append(_Curve(f[4], T))
     if known is None:
         known = _known([E], t_max, executor)[E] if name else []
-    tg = targets()
     fin = pmap(
         _finish,
         [(si, j, k, E, t_half, u, x0, T, digits) for si, j, k, u, x0, T, S in unique],
@@ -756,176 +656,14 @@ def census(
     )
     orbits = []
     D = 15 if digits is None else int(digits)
-    for i, ((si, j, k, u, x0, T, S), (xs, Ts, trs, tr, Tf, clo)) in enumerate(
-        zip(unique, fin)
-    ):
+    for i, ((si, j, k, u, x0, T, S), fin_i) in enumerate(zip(unique, fin)):
+        tr, clo = fin_i[3], fin_i[5]
         if not clo <= max(1e6, 1e2 * abs(tr)) * 10.0**-D:
             continue  # a near-periodic trajectory beside a very unstable orbit, not an orbit
         label = _name(T, S, known)
-        orbits.append(
-            AtlasOrbit(
-                label,
-                label if label != "new" else f"N{i + 1}",
-                E,
-                Tf,
-                tr,
-                bool(0 < tr < 4),
-                tuple(x0),
-                xs,
-                Ts,
-                trs,
-                (start_sets(E)[si].name, tg[j].name),
-                float(S),
-                clo,
-                float(u),
-                _problem(si, j, k, E, t_half),
-            )
-        )
+        family = label if label != "new" else f"N{i + 1}"
+        orbits.append(_orbit(label, family, E, t_half, (si, j, k, u, x0, T, S), fin_i))
     return Atlas(E, t_max, grid, tuple(orbits), len(jobs), time.perf_counter() - t0)
-
-
-# --------------------------------------------------------------------------- families
-
-
-@dataclass(frozen=True)
-class AtlasFamily:
-    """An atlas orbit followed through a window of energy (:func:`families`).
-
-    Attributes
-    ----------
-    orbit : AtlasOrbit
-        The orbit it was started from.
-    E, period, trace : ndarray
-        Its members in order along the family (through its folds: ``E`` need not be
-        monotonic).
-    points : tuple
-        ``(kind, E)`` located by the engine along the family: ``fold`` (``E`` turns: a
-        saddle-centre pair, or a pitchfork partner), ``IS`` (``tr M`` crosses 4), ``PD``
-        (``tr M`` crosses 0).
-    positions : tuple of float
-        Where each point lies among the members (``i + 0.5``: between members ``i`` and
-        ``i + 1``; a fold near member ``i``: about ``i``).
-    stops : tuple of str
-        Why each end stopped (:class:`rotorlib.continuation.Branch` ``stop``): ``'E range'``
-        (it left the window), ``'period'`` (its period grew beyond 1.5 times the orbit's),
-        ``'steps'``, ``'stuck'`` or ``'section lost'``.
-    """
-
-    orbit: AtlasOrbit
-    E: np.ndarray
-    period: np.ndarray
-    trace: np.ndarray
-    points: tuple
-    positions: tuple
-    stops: tuple
-
-    def stable_windows(self) -> list:
-        """``[(E_a, E_b)]``: each run of consecutive linearly stable members
-        (``0 < tr M < 4``), bounded by the located points on either side of it (or by its
-        end members where none was located)."""
-        st = (self.trace > 0) & (self.trace < 4)
-        out, i = [], 0
-        while i < len(st):
-            if not st[i]:
-                i += 1
-                continue
-            j = i
-            while j + 1 < len(st) and st[j + 1]:
-                j += 1
-            ends = [float(e) for e in self.E[i : j + 1]]
-            for (_, E), x in zip(self.points, self.positions):
-                if i - 1 < x < i or j < x < j + 1:
-                    ends.append(E)
-            out.append((min(ends), max(ends)))
-            i = j + 1
-        return out
-
-    @property
-    def stable(self) -> bool:
-        """Whether some member is linearly stable (``0 < tr M < 4``)."""
-        return bool(np.any((self.trace > 0) & (self.trace < 4)))
-
-
-def _family(args):
-    from dataclasses import replace
-
-    from .continuation import PALC, ContinuationOptions, continuation, member
-
-    o, lo, hi, step = args
-    s = residual(o.problem, o.u, o.E)
-    prob = replace(
-        o.problem, factor=float(Fraction(o.period / float(s.t1)).limit_denominator(48))
-    )
-    m0 = member(prob, o.u, o.E, traces=True)
-    opts = ContinuationOptions(
-        max_steps=600,
-        E_range=(lo, hi),
-        t1_max=1.5 * o.period / prob.factor,
-        jump=0.05,
-        traces=True,
-        folds=True,
-    )
-    ds = step / max(
-        hi, 1.0
-    )  # PALC steps are relative to E (E_ref = 0) and to u (floor 1)
-    back, fwd = (
-        continuation(
-            prob,
-            PALC(ds=ds, ds_max=ds, ds_min=1e-10, u_floor=1.0, direction=d),
-            opts,
-            [m0],
-        )
-        for d in (-1, 1)
-    )
-    ms = list(back.members[::-1]) + list(fwd.members[1:])
-    n = len(back.members)
-
-    def where(p, sign):  # a fold is at member p.index, an IS/PD between it and the next
-        x = p.index + (0.0 if p.kind == "fold" else 0.5)
-        return n - 1 - x if sign < 0 else n - 1 + x
-
-    pts = sorted(
-        [(where(p, -1), p) for p in back.special_points]
-        + [(where(p, 1), p) for p in fwd.special_points],
-        key=lambda v: v[0],
-    )
-    pts = [(x, p) for x, p in pts if p.located and p.kind != "E"]
-    return AtlasFamily(
-        o,
-        np.array([float(m.E) for m in ms]),
-        np.array([float(prob.factor * m.t1) for m in ms]),
-        np.array([float(m.trace) for m in ms]),
-        tuple((p.kind, float(p.member.E)) for _, p in pts),
-        tuple(float(x) for x, _ in pts),
-        (back.stop, fwd.stop),
-    )
-
-
-def families(
-    census_at: Atlas, E_range, step=0.01, executor=None, progress=False
-) -> list:
-    """Every orbit of a census followed through ``E_range`` with the engine: pseudo-arclength
-    continuation (:class:`rotorlib.continuation.PALC`, steps of at most ``step`` in ``E``)
-    in both directions from the orbit until the family leaves the window, passing its folds,
-    with ``tr M`` of every member and its folds and crossings of 4 and 0 located: the
-    families of the atlas and their own bifurcations. One task per orbit through
-    :func:`rotorlib.parallel.pmap`.
-
-    Precision: float64 members (residual < 1e-8); folds located to ~1e-15 in ``E``,
-    ``IS``/``PD`` to ~1e-14 in the local parameter.
-    """
-    lo, hi = (float(v) for v in E_range)
-    if not (math.isfinite(lo) and math.isfinite(hi) and 0 < lo <= census_at.E <= hi):
-        raise ValueError(f"E_range must contain E = {census_at.E} (got {E_range!r})")
-    if not (math.isfinite(step) and step > 0):
-        raise ValueError(f"step must be finite and > 0, got {step!r}")
-    return pmap(
-        _family,
-        [(o, lo, hi, float(step)) for o in census_at.orbits],
-        executor=executor,
-        progress=progress,
-        desc="families",
-    )
 
 
 def atlas(

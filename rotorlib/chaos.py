@@ -51,6 +51,8 @@ __all__ = [
     "chaotic_fraction",
     "section_initial_conditions",
     "section_points",
+    "Island",
+    "island",
     "BAND",
     "NOISY_BIRTH",
     "amplitude_branch",
@@ -396,14 +398,9 @@ def amplitude_branch(label, E_start, du_rel=0.03, n_max=30):
     folds in ``E`` are passed), with ``tr M`` of every member, until ``tr M`` leaves
     ``[0, 4]`` (the crossing is then an ``IS``/``PD`` point of the branch). Float64 (for
     ``|E - 4| > 1e-3``). Returns a :class:`rotorlib.continuation.Branch`."""
-    from .continuation import (
-        ContinuationOptions,
-        FamilyEnd,
-        Natural,
-        continuation,
-        member,
-    )
+    from .continuation import ContinuationOptions, Natural, continuation, member
     from .newborn import family_spec, newborn_orbit
+    from .shooting import FamilyEnd
 
     spec = family_spec(label)
     o = newborn_orbit(label, E_start, digits=15)
@@ -529,3 +526,78 @@ def band_families(
             )
     tasks = [(lab, float(dE_stop), digits, t1_grow, tuple(energies)) for lab in labels]
     return pmap(_band_one, tasks, executor=executor, progress=progress, desc="families")
+
+
+@dataclass(frozen=True)
+class Island:
+    """Whether an orbit sits in an island of the Poincaré section (:func:`island`).
+
+    Attributes
+    ----------
+    orbit : rotorlib.atlas.AtlasOrbit
+    phi2, P2 : ndarray
+        The crossings of the section by one image of the orbit in one period.
+    test_phi2, test_P2 : ndarray
+        The crossings by the test trajectory started ``delta`` away.
+    delta : float
+    spread : float
+        Largest distance of a test crossing from the nearest crossing of the orbit, in
+        units of ``delta``: of order 1 on an invariant curve around an elliptic orbit, of
+        order ``1/delta`` where the test trajectory leaves (a hyperbolic orbit).
+    """
+
+    orbit: object
+    phi2: np.ndarray
+    P2: np.ndarray
+    test_phi2: np.ndarray
+    test_P2: np.ndarray
+    delta: float
+    spread: float
+
+
+def island(orbit, delta=0.01, t_max=2000.0, n_hits=400) -> Island:
+    """The orbit seen in the Poincaré section of :func:`rotorlib.chaos.poincare_section`
+    (``phi1 = 0``, ``phi1' > 0``): of its 24 images, the crossing with the largest
+    ``phi1'`` (the most transversal) is moved by ``delta`` in ``phi2`` (``P2`` kept, ``P1``
+    from the energy) and followed for ``t_max`` (at most ``n_hits`` crossings). Raises
+    ValueError when no image crosses the section. Float64 (tolerance 1e-12).
+    """
+    from .reversors import images
+    from .system import alpha_to_phi, potential_phi
+
+    if not (math.isfinite(delta) and 0 < delta < 0.5):
+        raise ValueError(f"delta must be in (0, 0.5), got {delta!r}")
+    E = orbit.E
+
+    def speed2(f2, P2):  # (phi1')^2 on the section
+        return 4 * (E - potential_phi(0.0, f2)) - 3 * P2 * P2
+
+    best = None
+    for y in images(orbit.state0):
+        ph, P = section_points(np.array(alpha_to_phi(y), float), orbit.period)
+        back = np.flatnonzero(
+            np.hypot((ph - ph[:1] + np.pi) % (2 * np.pi) - np.pi, P - P[:1]) < 1e-6
+        )
+        if len(back) > 1:  # integrated past one period: keep one turn
+            ph, P = ph[: back[1]], P[: back[1]]
+        for f2, P2 in zip(ph, P):
+            v = speed2(f2, P2)
+            if best is None or v > best[0]:
+                best = (v, f2, P2, ph, P)
+    if best is None:
+        raise ValueError(
+            f"no image of the orbit T = {orbit.period:.6f} crosses phi1 = 0"
+        )
+    _, f2, P2, ph, P = best
+    g = f2 + delta
+    w = speed2(g, P2)
+    if w <= 0:
+        raise ValueError(
+            "the test point falls outside the section; use a smaller delta"
+        )
+    qh, qP = section_points([0.0, g, 0.5 * (math.sqrt(w) + P2), P2], t_max, n_hits)
+    d = [
+        np.min(np.hypot((a - ph + np.pi) % (2 * np.pi) - np.pi, b - P))
+        for a, b in zip(qh, qP)
+    ]
+    return Island(orbit, ph, P, qh, qP, float(delta), float(max(d)) / delta)

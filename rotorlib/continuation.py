@@ -33,20 +33,10 @@ from dataclasses import dataclass, replace
 
 from .flow import SectionNotReached, monodromy_matrix
 from .precision import FLOAT64, Tier
-from .shooting import NoConvergence, ShootingProblem, residual, solve
+from .shooting import FamilyEnd, NoConvergence, ShootingProblem, residual, solve
 
-__all__ = [
-    "Member",
-    "SpecialPoint",
-    "Branch",
-    "Natural",
-    "PALC",
-    "ContinuationOptions",
-    "continuation",
-    "member",
-    "switch",
-    "switch_branch",
-]
+__all__ = ["Member", "SpecialPoint", "Branch", "Natural", "PALC", "ContinuationOptions"]
+__all__ += ["continuation", "member", "switch", "switch_branch"]
 
 NAN = float("nan")
 
@@ -187,7 +177,10 @@ class PALC:
     ``((u - u_k) / |u_k|, (w - w_k) / |E_k - E_ref|)`` rescaled at every member ``k``
     (floors ``u_floor``, ``w_floor``); ``direction`` is the sign of ``du`` of the first
     step. The predictor is the polynomial of degree ``order`` through the last members
-    (parametrised by chord length; the tangent at the first steps).
+    (parametrised by chord length; the tangent at the first steps). ``scales = (su, sw)``
+    fixes the scales instead: a step moves ``u`` by at most ``ds su`` and ``w`` by at most
+    ``2 ds sw`` (for a family that crosses a narrow window of energy with large changes of
+    ``u``).
     """
 
     ds: float = 0.3
@@ -198,6 +191,7 @@ class PALC:
     w_floor: float = 1e-12
     direction: int = 1
     order: int = 2
+    scales: tuple | None = None
 
 
 @dataclass(frozen=True)
@@ -401,34 +395,6 @@ def _crossed(opts, members):
     return any((a - levels[k]) * (b - levels[k]) < 0 for k in opts.stop_on)
 
 
-class FamilyEnd(ValueError):
-    """A natural continuation could not go on.
-
-    Attributes
-    ----------
-    label : str
-    members : list of Member
-        The members found before it stopped.
-    E_reached : float
-        The energy of the last member found.
-    E_asked : float
-        The energy asked for (``nan`` when stepping in ``u``).
-    """
-
-    def __init__(self, label, members, E_asked, par):
-        E_reached = float(members[-1].E)
-        self.members = members
-        super().__init__(
-            f"{label}: the family was not found beyond E = {E_reached!r} (a fold in {par}, or "
-            f"the orbit stops reaching its section)"
-            + (f"; asked for E = {E_asked!r}" if E_asked == E_asked else "")
-        )
-        self.label, self.E_reached, self.E_asked = label, E_reached, E_asked
-
-
-# --------------------------------------------------------------------------- PALC
-
-
 class _Local:
     """Coordinates centred on a reference member and scaled by it,
     ``X = ((u - u_k) / su, (w - w_k) / sw)`` with ``su = |u_k|``, ``sw = |E_k - E_ref|``
@@ -437,6 +403,9 @@ class _Local:
     def __init__(self, problem, t, alg, ref: Member, opts):
         self.p, self.t, self.alg, self.ref, self.opts = problem, t, alg, ref, opts
         with t.context():
+            if alg.scales is not None:
+                self.su, self.sw = (t.num(v) for v in alg.scales)
+                return
             self.su = max(abs(ref.u), t.num(alg.u_floor))
             self.sw = max(abs(ref.E - t.num(alg.E_ref)), t.num(alg.w_floor))
 
@@ -536,6 +505,12 @@ def _palc(problem, alg: PALC, opts, start, t: Tier, on_member):
                         and dt1 > 0.01
                     )
                     jump = opts.jump is not None and dt1 > opts.jump
+                    if alg.scales is not None:  # fixed scales bound both coordinates
+                        sc = loc.sw if k == 0 else loc.su
+                        jump = (
+                            jump
+                            or abs(got - (ref.w if k == 0 else ref.u)) > 2 * ds * sc
+                        )
                     if not far and not jump:
                         new = mb
                         break
@@ -715,4 +690,4 @@ def with_traces(branch: Branch) -> Branch:
     )
 
 
-__all__ += ["FamilyEnd", "with_traces"]
+__all__ += ["with_traces"]

@@ -56,7 +56,6 @@ import numpy as np
 from .continuation import (
     PALC,
     ContinuationOptions,
-    FamilyEnd,
     Natural,
     continuation,
     member,
@@ -65,7 +64,7 @@ from .continuation import (
 from .flow import Section
 from .periodic import PeriodicOrbit, periodic_orbit
 from .precision import FLOAT64, REAL128, Tier, tier
-from .shooting import ShootingProblem, StartSet, solve
+from .shooting import FamilyEnd, ShootingProblem, StartSet, solve
 
 __all__ = [
     "FAMILIES",
@@ -346,7 +345,7 @@ def seed(label, name="float64"):
 
 def _path(spec: FamilySpec, E_target, t: Tier, steps=None):
     """Members from the seed to ``E_target``, continued in ``E`` (Natural, values spaced in
-    ``sqrt|E - E_n|``); raises :class:`~rotorlib.continuation.FamilyEnd` where it stops."""
+    ``sqrt|E - E_n|``); raises :class:`~rotorlib.shooting.FamilyEnd` where it stops."""
     m0, c = seed(spec.label, t.name)
     with t.context():
         E_target = t.num(E_target)

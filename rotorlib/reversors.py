@@ -46,6 +46,7 @@ __all__ = [
     "CircleSet",
     "BrakeSet",
     "MirrorSet",
+    "images",
 ]
 
 #: ``a = A phi`` (pendulum variables); momenta transform with ``A^-T``.
@@ -407,3 +408,26 @@ def _start_sets(regime) -> tuple:
             )
             out.append(MirrorSet(f"Fix T{r.name}", line))
     return tuple(out)
+
+
+def _group_images():
+    """The 24 linear maps of the state ``(a1, a2, p1, p2)``: the group (12) and time reversal."""
+    Ai = np.linalg.inv(A)
+    out = []
+    for g in symmetry_group():
+        q = A @ g @ Ai
+        for s in (1.0, -1.0):
+            m = np.zeros((4, 4))
+            m[:2, :2], m[2:, 2:] = q, s * np.linalg.inv(q).T
+            out.append(m)
+    return np.array(out)
+
+
+def images(state) -> np.ndarray:
+    """The 24 images of a state ``[a1, a2, p1, p2]`` under the symmetry group and time
+    reversal (the same orbit seen by relabelled rotors, or run backwards): shape ``(24, 4)``,
+    the identity first."""
+    maps = _group_images()
+    first = [i for i, m in enumerate(maps) if np.allclose(m, np.eye(4))]
+    rest = [i for i in range(len(maps)) if i not in first]
+    return maps[first + rest] @ np.asarray(state, float)

@@ -6,8 +6,8 @@
 # (`execute_notebooks: cache` in _config.yml), which keys a notebook on its code
 # cells only (MyST-NB issue #299). To re-execute when the library changes too,
 # the cache directory is keyed on a hash of everything the outputs depend on
-# besides the notebook itself: rotorlib/**/*.py, pyproject.toml and
-# environment.txt. _build/.jupyter_cache is a symlink to
+# besides the notebook itself: rotorlib/**/*.py, pyproject.toml,
+# environment.txt and the data products in book/data/. _build/.jupyter_cache is a symlink to
 # _build/.jupyter_caches/<hash>; a changed library gives a new, empty cache
 # (every notebook re-executes), restoring the library restores the old one.
 # Only the most recent KEEP_CACHES caches are kept.
@@ -27,6 +27,8 @@ key=$( {
         while read -r f; do echo "== $f"; cat "$f"; done
     echo "== pyproject.toml"; cat pyproject.toml
     echo "== environment.txt"; cat environment.txt
+    find book/data -type f 2>/dev/null | LC_ALL=C sort |
+        while read -r f; do echo "== $f"; cat "$f"; done
 } | sha256sum | cut -c1-16)
 if [ -e _build/.jupyter_cache ] && [ ! -L _build/.jupyter_cache ]; then
     rm -rf _build/.jupyter_cache             # a plain cache dir from an older build script

@@ -26,7 +26,7 @@ import numpy as np
 import pytest
 
 import rotorlib
-from rotorlib import atlas, reversors
+from rotorlib import atlas, chaos, reversors
 
 pytestmark = pytest.mark.skipif(
     not rotorlib.heyoka_available(), reason="heyoka not installed"
@@ -326,8 +326,8 @@ def test_stable_orbits_sit_in_islands(pool):
     a = atlas.census(4.3, 8, grid=150, executor=pool, name=False)
     assert a.stable
     for o in a.stable:
-        assert atlas.island(o).spread < 3
-    assert atlas.island(max(a.orbits, key=lambda o: abs(o.trace))).spread > 100
+        assert chaos.island(o).spread < 3
+    assert chaos.island(max(a.orbits, key=lambda o: abs(o.trace))).spread > 100
     with pytest.raises(ValueError):
-        atlas.island(a.stable[0], delta=0.0)
-    assert np.allclose(atlas.images(a.stable[0].state0)[0], a.stable[0].state0)
+        chaos.island(a.stable[0], delta=0.0)
+    assert np.allclose(reversors.images(a.stable[0].state0)[0], a.stable[0].state0)

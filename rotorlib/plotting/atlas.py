@@ -5,7 +5,13 @@ from __future__ import annotations
 import matplotlib.pyplot as plt
 import numpy as np
 
-__all__ = ["plot_sweep", "plot_growth", "plot_family_trace", "plot_islands"]
+__all__ = [
+    "plot_sweep",
+    "plot_growth",
+    "plot_family_trace",
+    "plot_islands",
+    "plot_cascade",
+]
 
 BAND = (5.33, 5.6)
 
@@ -99,5 +105,34 @@ def plot_islands(sections, checks):
         ax.set_ylabel("P2 (units of sqrt(m r^2 g))")
         ax.set_title(f"E = {E:g}")
         ax.legend(fontsize=7, loc="upper right")
+    fig.tight_layout()
+    return fig
+
+
+def plot_cascade(cas):
+    """``tr M`` against ``E - E_last`` (the last located birth) for each generation of a
+    :class:`rotorlib.atlas_families.Cascade`, the births marked; ``E`` on a symmetric
+    logarithmic axis (each generation's window is ~9 times narrower than its parent's)."""
+    fig, ax = plt.subplots(figsize=(7, 4))
+    E0 = cas.births[-1]
+    ax.axhspan(
+        0, 4, color="C2", alpha=0.15, lw=0, label="linearly stable: 0 < tr M < 4"
+    )
+    for n, (f, T) in enumerate(zip(cas.families[1:], cas.periods), start=2):
+        keep = np.abs(f.trace) < 40
+        ax.plot(
+            f.E[keep] - E0,
+            f.trace[keep],
+            ".-",
+            ms=3,
+            label=f"generation {n}, T = {T:.3f}",
+        )
+    for E in cas.births:
+        ax.axvline(E - E0, color="0.5", lw=0.8, ls=":")
+    ax.set_xscale("symlog", linthresh=1e-7)
+    ax.set_ylim(-6, 10)
+    ax.set_xlabel(f"E - {E0:.10f} (units of g)")
+    ax.set_ylabel("tr M")
+    ax.legend(fontsize=8)
     fig.tight_layout()
     return fig

@@ -1,0 +1,459 @@
+"""The families of the atlas's orbits, their bifurcations, and the orbits born there.
+
+:func:`families` follows orbits of a census (:mod:`rotorlib.atlas`) through a window of energy
+with the engine (:func:`rotorlib.continuation.continuation`, pseudo-arclength, through folds),
+with ``tr M`` of every member and its folds and crossings of ``tr M = 4`` (IS) and ``0`` (PD)
+located: the paper's "new families born at bifurcations of the daughter trajectories".
+
+:func:`daughters` switches branch at a located IS or PD point: the orbits born there (period
+about the parent's at IS, twice it at PD) are found beside the parent at ``E = E_b -+ dE``.
+A daughter orbit converges to the parent as ``dE -> 0``, so each of its points on a fixed set
+tends to a point of the parent on a fixed set: the daughter meets the start set of the parent
+near the parent's start, or the parent's target fixed set near the parent's symmetric point.
+Both neighbourhoods are scanned (:func:`rotorlib.atlas._scan` on a window of the start set,
+the target point mapped onto its class's start set by the symmetry group) for symmetric
+orbits of the daughter's period, refined and verified as in the census. The daughters are
+atlas orbits: :func:`families` follows them in turn.
+
+Precision: float64 (members to residual < 1e-8, folds to ~1e-15 in ``E``, IS/PD to ~1e-14
+in the local parameter; daughters verified like census orbits, closure < 1e-9 |tr M|).
+Scope: symmetric daughters (a daughter with no reversing symmetry is not seen by a scan of
+fixed sets); a stable window narrower than the continuation step whose two ends lie between
+the same two members is not seen either.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, replace
+from fractions import Fraction
+
+import numpy as np
+
+from .atlas import (
+    SAME_ORBIT,
+    AtlasOrbit,
+    _brackets,
+    _Curve,
+    _distance,
+    _finish,
+    _lattice_shift,
+    _orbit,
+    _refine,
+    _scan,
+)
+from .continuation import PALC, ContinuationOptions, continuation, member
+from .flow import SectionNotReached
+from .parallel import pmap
+from .reversors import images, start_sets
+from .shooting import NoConvergence, residual, solve
+
+__all__ = ["AtlasFamily", "families", "daughters", "Cascade", "cascade"]
+
+
+@dataclass(frozen=True)
+class AtlasFamily:
+    """An atlas orbit followed through a window of energy (:func:`families`).
+
+    Attributes
+    ----------
+    orbit : AtlasOrbit
+        The orbit it was started from.
+    E, period, trace, u : ndarray
+        Its members in order along the family (through its folds: ``E`` need not be
+        monotonic); ``u`` is the start parameter on the orbit's start set.
+    points : tuple
+        ``(kind, E)`` located by the engine along the family: ``fold`` (``E`` turns: a
+        saddle-centre pair, or a pitchfork partner), ``IS`` (``tr M`` crosses 4), ``PD``
+        (``tr M`` crosses 0).
+    positions : tuple of float
+        Where each point lies among the members (``i + 0.5``: between members ``i`` and
+        ``i + 1``; a fold near member ``i``: about ``i``).
+    stops : tuple of str
+        Why each end stopped (:class:`rotorlib.continuation.Branch` ``stop``): ``'E range'``
+        (it left the window), ``'period'`` (its period grew beyond 1.5 times the orbit's),
+        ``'steps'``, ``'stuck'`` or ``'section lost'``.
+    problem : ShootingProblem
+        The orbit's problem, closing after ``problem.factor`` times the symmetric time.
+    """
+
+    orbit: AtlasOrbit
+    E: np.ndarray
+    period: np.ndarray
+    trace: np.ndarray
+    points: tuple
+    positions: tuple
+    stops: tuple
+    u: np.ndarray = field(repr=False, default=None)
+    problem: object = field(repr=False, default=None)
+
+    def stable_windows(self) -> list:
+        """``[(E_a, E_b)]``: each run of consecutive linearly stable members
+        (``0 < tr M < 4``), bounded by the located points on either side of it and the
+        folds within it (or by its end members where none was located); and each stretch
+        between two members, both unstable, where ``tr M`` crosses both 4 and 0 (bounded by
+        those two points)."""
+        st = (self.trace > 0) & (self.trace < 4)
+        out, i = [], 0
+        while i < len(st):
+            if not st[i]:
+                i += 1
+                continue
+            j = i
+            while j + 1 < len(st) and st[j + 1]:
+                j += 1
+            ends = [float(e) for e in self.E[i : j + 1]]
+            for (_, E), x in zip(self.points, self.positions):
+                if i - 1 < x < j + 1:  # beside the run, or a fold within it
+                    ends.append(E)
+            out.append((min(ends), max(ends)))
+            i = j + 1
+        # tr M crossing 4 and 0 between the same two unstable members: stable in between
+        for i in range(len(st) - 1):
+            if st[i] or st[i + 1]:
+                continue
+            inside = [
+                (k, E)
+                for (k, E), x in zip(self.points, self.positions)
+                if i < x < i + 1
+            ]
+            if {"IS", "PD"} <= {k for k, _ in inside}:
+                Es = [E for k, E in inside if k in ("IS", "PD")]
+                out.append((min(Es), max(Es)))
+        return sorted(out)
+
+    @property
+    def stable(self) -> bool:
+        """Whether some member is linearly stable (``0 < tr M < 4``)."""
+        return bool(np.any((self.trace > 0) & (self.trace < 4)))
+
+
+def _family(args):
+    o, lo, hi, step, du = args
+    s = residual(o.problem, o.u, o.E)
+    prob = replace(
+        o.problem, factor=float(Fraction(o.period / float(s.t1)).limit_denominator(48))
+    )
+    m0 = member(prob, o.u, o.E, traces=True)
+    opts = ContinuationOptions(
+        max_steps=600,
+        E_range=(lo, hi),
+        t1_max=1.5 * o.period / prob.factor,
+        jump=0.05,
+        traces=True,
+        folds=True,
+    )
+    if du is None:  # steps relative to E (E_ref = 0) and to u (floor 1)
+        ds = step / max(hi, 1.0)
+        alg = PALC(ds=ds, ds_max=ds, ds_min=1e-10, u_floor=1.0)
+    else:
+        alg = PALC(ds=1.0, ds_max=1.0, ds_min=1e-10, scales=(du, step))
+    back, fwd = (
+        continuation(prob, replace(alg, direction=d), opts, [m0]) for d in (-1, 1)
+    )
+    ms = list(back.members[::-1]) + list(fwd.members[1:])
+    n = len(back.members)
+
+    def where(p, sign):  # a fold is at member p.index, an IS/PD between it and the next
+        x = p.index + (0.0 if p.kind == "fold" else 0.5)
+        return n - 1 - x if sign < 0 else n - 1 + x
+
+    pts = sorted(
+        [(where(p, -1), p) for p in back.special_points]
+        + [(where(p, 1), p) for p in fwd.special_points],
+        key=lambda v: v[0],
+    )
+    pts = [(x, p) for x, p in pts if p.located and p.kind != "E"]
+    return AtlasFamily(
+        o,
+        np.array([float(m.E) for m in ms]),
+        np.array([float(prob.factor * m.t1) for m in ms]),
+        np.array([float(m.trace) for m in ms]),
+        tuple((p.kind, float(p.member.E)) for _, p in pts),
+        tuple(float(x) for x, _ in pts),
+        (back.stop, fwd.stop),
+        np.array([float(m.u) for m in ms]),
+        prob,
+    )
+
+
+def families(
+    orbits, E_range, step=0.01, du=None, executor=None, progress=False
+) -> list:
+    """Orbits of the atlas followed through ``E_range`` with the engine: pseudo-arclength
+    continuation (:class:`rotorlib.continuation.PALC`, steps of at most ``step`` in ``E``)
+    in both directions from each orbit until its family leaves the window, passing its folds,
+    with ``tr M`` of every member and its folds and crossings of 4 and 0 located: the
+    families of the atlas and their own bifurcations. One task per orbit through
+    :func:`rotorlib.parallel.pmap`.
+
+    Parameters
+    ----------
+    orbits : Atlas or sequence of AtlasOrbit
+        A census (:func:`rotorlib.atlas.census`), or orbits (e.g. :func:`daughters`).
+    E_range : (float, float)
+        The window; it must contain the energy of every orbit.
+    step : float
+        Largest step in ``E``.
+    du : float, optional
+        Largest step in the start parameter ``u`` (default: ``step / E`` relative to
+        ``|u|``, at least ``step / E``); give it for a family that crosses a narrow window
+        of energy with large changes of ``u`` (the generations of a cascade).
+
+    Returns
+    -------
+    list of AtlasFamily
+
+    Precision: float64 members (residual < 1e-8); folds located to ~1e-15 in ``E``,
+    ``IS``/``PD`` to ~1e-14 in the local parameter.
+    """
+    orbits = list(getattr(orbits, "orbits", orbits))
+    lo, hi = (float(v) for v in E_range)
+    if not (math.isfinite(lo) and math.isfinite(hi) and 0 < lo <= hi):
+        raise ValueError(f"E_range must be finite with 0 < lo <= hi, got {E_range!r}")
+    for o in orbits:
+        if not lo <= o.E <= hi:
+            raise ValueError(f"E_range must contain E = {o.E} (got {E_range!r})")
+    for name, v in (("step", step), ("du", 1.0 if du is None else du)):
+        if not (math.isfinite(v) and v > 0):
+            raise ValueError(f"{name} must be finite and > 0, got {v!r}")
+    return pmap(
+        _family,
+        [(o, lo, hi, float(step), du) for o in orbits],
+        executor=executor,
+        progress=progress,
+        desc="families",
+    )
+
+
+# --------------------------------------------------------------------------- branch switching
+
+
+def _locate(y, E, tol=1e-7):
+    """``[(si, u)]``: the start sets on which an image of the state ``y`` (a point of a fixed
+    set) lies, and its parameter there (nearest of 1440 samples, then bounded Brent on the
+    distance, configuration modulo the lattice)."""
+    from scipy.optimize import minimize_scalar
+
+    ims = images(y)
+    out = []
+    for si, s in enumerate(start_sets(E)):
+        lo, hi = s.span(E)
+        us = np.linspace(lo, hi, 1441)
+
+        def dist(u, s=s):
+            try:
+                x = np.array(s.at(u, E), float)
+            except ValueError:
+                return math.inf
+            d = x - ims
+            d[:, :2] = [_lattice_shift(v) for v in d[:, :2]]
+            return float(np.min(np.max(np.abs(d), axis=1)))
+
+        ds = np.array([dist(u) for u in us])
+        i = int(np.argmin(ds))
+        if not ds[i] < 0.1:
+            continue
+        a, b = us[max(i - 1, 0)], us[min(i + 1, len(us) - 1)]
+        res = minimize_scalar(
+            dist, bounds=(a, b), method="bounded", options={"xatol": 1e-13}
+        )
+        if res.fun < tol:
+            out.append((si, float(res.x)))
+    return out
+
+
+def _parent_at(fam: AtlasFamily, x, E):
+    """The parent's start parameter at energy ``E`` near position ``x`` among the members
+    (secant in ``u`` from the members' values, linear in ``E`` between them)."""
+    i = min(max(int(math.floor(x)), 0), len(fam.E) - 2)
+    Ea, Eb, ua, ub = fam.E[i], fam.E[i + 1], fam.u[i], fam.u[i + 1]
+    u0 = ua + (ub - ua) * (E - Ea) / (Eb - Ea) if Eb != Ea else ua
+    root = solve(fam.problem, u0, u0 + 1e-7 * max(1.0, abs(u0)), E=E)
+    return float(root.x)
+
+
+def daughters(
+    fam: AtlasFamily, point: int, dE=1e-4, width=0.05, grid=40, executor=None
+) -> tuple:
+    """Branch switching at the located ``IS`` or ``PD`` point ``fam.points[point]``: the
+    symmetric orbits born there.
+
+    At ``E = E_b - dE`` and ``E_b + dE`` (on whichever side the daughters exist), the
+    parent is solved, its start and its symmetric point are mapped onto the start sets,
+    and a window ``+- width`` around each is scanned (``grid`` points, bisected where the
+    crossings change) for symmetric orbits whose period is the daughter's (the parent's at
+    IS, twice it at PD, to ``10 |dT/dE| dE`` from the parent's slope, at least ``1e-5``
+    relative) and that lie within ``width`` of the parent in phase space but are not the
+    parent; of those the nearest to the parent are kept (a daughter tends to the parent as
+    ``dE -> 0``; an orbit not born there does not). Each is refined and verified as in
+    :func:`rotorlib.atlas.census` (images under the group count once).
+
+    Parameters
+    ----------
+    fam : AtlasFamily
+    point : int
+        Index into ``fam.points`` (an ``IS`` or ``PD`` point).
+    dE : float
+        Distance in energy from the bifurcation (a pitchfork's daughters lie at
+        ``~sqrt(dE)`` from the parent: keep ``dE`` small, but the daughter must be farther
+        than ``SAME_ORBIT`` from it).
+    width : float
+        Half-width of the scanned windows in the start parameter.
+    grid : int
+        Start points per window.
+
+    Returns
+    -------
+    tuple of AtlasOrbit
+        Sorted by ``E``, then period; label ``new``, family ``"<parent family>/<kind>"``.
+    """
+    if not (0 <= point < len(fam.points)) or fam.points[point][0] not in ("IS", "PD"):
+        raise ValueError(
+            f"point must index an IS or PD point of the family, got {point!r}"
+        )
+    if not (math.isfinite(dE) and 0 < dE < 0.1):
+        raise ValueError(f"dE must be in (0, 0.1), got {dE!r}")
+    if not (math.isfinite(width) and 0 < width <= 0.5):
+        raise ValueError(f"width must be in (0, 0.5], got {width!r}")
+    kind, Eb = fam.points[point]
+    if kind == "IS" and any(
+        k == "fold" and abs(E - Eb) < 1e-9 * max(1.0, Eb) for k, E in fam.points
+    ):
+        raise ValueError(
+            f"the IS point at E = {Eb:.9f} is a fold of the family (a saddle-centre pair: "
+            f"its partner is the family's other branch, not a daughter)"
+        )
+    x = fam.positions[point]
+    i = min(int(math.floor(x)), len(fam.E) - 2)
+    n = 2 if kind == "PD" else 1
+    t_half = 1.03 * n * float(fam.period[i]) / 2
+    # the daughter's period leaves n T_parent at the rate of the parent's (10 times, margin)
+    dT = fam.period[i + 1] - fam.period[i]
+    slope = abs(dT / (fam.E[i + 1] - fam.E[i])) if fam.E[i + 1] != fam.E[i] else 0.0
+    out = []
+    for E in (Eb - dE, Eb + dE):
+        try:
+            u_p = _parent_at(fam, x, E)
+        except (NoConvergence, SectionNotReached, ValueError):
+            continue
+        s = residual(fam.problem, u_p, E)
+        x0 = np.array(s.x0, float)
+        T_p = float(fam.problem.factor * s.t1)
+        parent, T_d = _Curve(x0, T_p), (2 if kind == "PD" else 1) * T_p
+        si0 = [k for k, st in enumerate(start_sets(E)) if st == fam.problem.start]
+        windows = [(k, u_p) for k in si0] + _locate(np.array(s.x1, float), E)
+        jobs = []
+        for si, uc in windows:
+            us, rows = _scan(
+                si, E, t_half, grid, 8, executor, False, (uc - width, uc + width)
+            )
+            jobs += [
+                (si, j, k, E, t_half, float(us[a]), float(us[a + 1]))
+                for a, j, k in _brackets(us, rows, t_half)
+            ]
+        found = [f for f in pmap(_refine, jobs, executor=executor) if f is not None]
+        near = []
+        for f in found:
+            if abs(f[5] - T_d) <= max(10 * n * slope * dE, 1e-5 * T_d):
+                gap = _distance(parent, f[4])
+                if 100 * SAME_ORBIT < gap < width:  # not the parent
+                    near.append((gap, f))
+        # a daughter tends to the parent as dE -> 0, an orbit not born here does not: keep
+        # the nearest (and any within twice its distance: the pair of a pitchfork)
+        gmin = min((g for g, _ in near), default=0.0)
+        here, curves = [], []
+        for _, f in sorted((v for v in near if v[0] < 2 * gmin), key=lambda v: v[0]):
+            T = f[5]
+            if any(
+                abs(T - g[5]) < 1e-7 * T and _distance(c, f[4]) < SAME_ORBIT
+                for g, c in zip(here, curves)
+            ):
+                continue
+            here.append(f)
+            curves.append(_Curve(f[4], T))
+        fin = pmap(
+            _finish,
+            [(si, j, k, E, t_half, u, x0, T, None) for si, j, k, u, x0, T, S in here],
+            executor=executor,
+        )
+        for f, fi in zip(here, fin):
+            if fi[5] <= max(1e6, 1e2 * abs(fi[3])) * 1e-15:  # closure: an orbit
+                out.append(
+                    _orbit("new", f"{fam.orbit.family}/{kind}", E, t_half, f, fi)
+                )
+    return tuple(sorted(out, key=lambda o: (o.E, o.period)))
+
+
+@dataclass(frozen=True)
+class Cascade:
+    """Generations of orbits born one from another (:func:`cascade`).
+
+    Attributes
+    ----------
+    families : tuple of AtlasFamily
+        The parent family, then each daughter's family (on the daughter's side of its birth).
+    births : tuple of float
+        The energy of each bifurcation: the starting point, then each daughter's PD point.
+    periods : tuple of float
+        Each generation's period at its birth.
+    """
+
+    families: tuple
+    births: tuple
+    periods: tuple
+
+    @property
+    def ratios(self) -> tuple:
+        """``(E_n - E_{n-1}) / (E_{n+1} - E_n)`` of the bifurcation energies: Feigenbaum's
+        ``delta`` in the limit (8.7210972... for area-preserving maps)."""
+        E = self.births
+        return tuple(
+            (E[k] - E[k - 1]) / (E[k + 1] - E[k]) for k in range(1, len(E) - 1)
+        )
+
+
+def cascade(fam: AtlasFamily, point: int, generations=3, executor=None) -> Cascade:
+    """Follow a bifurcation cascade from ``fam.points[point]`` (IS or PD): switch branch
+    onto the stable daughter born there (:func:`daughters`), follow its family away from its
+    birth (:func:`families`), locate its first PD point, and repeat ``generations`` times.
+
+    Each generation's scale is the distance in ``E`` between its birth and the previous one
+    (the first: the family's stable window beside the point); the daughter is sought at
+    ``1 %`` of it beyond the birth and its family followed over 1.5 times it in steps of
+    ``1 %`` (float64: the bifurcation energies to ~1e-13).
+
+    Raises ValueError when no stable daughter is found or its family has no PD point.
+    """
+    if not (isinstance(generations, int) and 1 <= generations <= 6):
+        raise ValueError(f"generations must be an integer in 1..6, got {generations!r}")
+    kind, Eb = fam.points[point]
+    near = [w for w in fam.stable_windows() if w[0] - 1e-12 <= Eb <= w[1] + 1e-12]
+    scale = max(w[1] - w[0] for w in near) if near else 1e-3
+    fams, births, periods = [fam], [Eb], []
+    parent = fam
+    for _ in range(generations):
+        stable = [
+            d
+            for d in daughters(parent, point, dE=scale / 100, executor=executor)
+            if d.stable
+        ]
+        if not stable:
+            raise ValueError(f"no stable daughter born at E = {Eb:.12f}")
+        d = stable[0]
+        periods.append(d.period)
+        side = 1.0 if d.E > Eb else -1.0
+        lo, hi = sorted((Eb, Eb + side * 1.5 * scale))
+        (h,) = families([d], (lo, hi), step=scale / 100, du=0.01, executor=None)
+        pds = [
+            (abs(E - Eb), i)
+            for i, (k, E) in enumerate(h.points)
+            if k == "PD" and abs(E - Eb) > scale / 200
+        ]
+        if not pds:
+            raise ValueError(f"the daughter born at E = {Eb:.12f} has no PD point")
+        dist, point = min(pds)
+        Eb, scale, parent = h.points[point][1], dist, h
+        fams.append(h)
+        births.append(Eb)
+    return Cascade(tuple(fams), tuple(births), tuple(periods))

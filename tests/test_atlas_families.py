@@ -1,0 +1,89 @@
+"""Families of atlas orbits, branch switching at their bifurcations, and the cascade.
+
+The stable orbit at E = 5.517 (T = 9.454) lies on a saddle-centre family whose stable member
+loses stability at a pitchfork (tr M = 4, not a fold) near E = 5.5158. Checks that do not
+share the code under test: the saddle-centre fold and its tr M = 4 point are located
+separately and must coincide; the daughter found by branch switching, followed back with the
+continuation, must turn (a fold of its own family) at the energy where it was born; each
+period-doubled daughter's period at birth is twice its parent's.
+"""
+
+import math
+
+import numpy as np
+import pytest
+
+from rotorlib import atlas
+from rotorlib import atlas_families as af
+
+
+@pytest.fixture(scope="module")
+def family():
+    a = atlas.census(5.517, 10, name=False)
+    (o,) = a.stable
+    (f,) = af.families([o], (5.5150, 5.5175), step=0.002)
+    return f
+
+
+def _points(f, kind):
+    return [(i, E) for i, (k, E) in enumerate(f.points) if k == kind]
+
+
+def test_saddle_centre_family(family):
+    folds = [E for _, E in _points(family, "fold")]
+    IS = [E for _, E in _points(family, "IS")]
+    assert len(folds) == 1 and len(IS) == 2
+    # tr M = 4 at the fold (located independently: Brent on E, Illinois on tr M - 4)
+    assert min(abs(E - folds[0]) for E in IS) < 1e-9
+    ((lo, hi),) = family.stable_windows()
+    assert hi == pytest.approx(folds[0], abs=1e-9) and lo == pytest.approx(min(IS))
+    assert np.all(np.isfinite(family.u)) and family.problem is not None
+
+
+def test_branch_switching_at_the_pitchfork(family):
+    ((i, E_IS),) = [(i, E) for i, E in _points(family, "IS") if E < 5.5165]
+    (d,) = af.daughters(family, i)
+    assert d.stable and d.E < E_IS and d.family.endswith("/IS")
+    # the daughter's period at birth is the parent's: within |dT/dE| dE of it
+    j = int(family.positions[i])
+    T_parent = np.interp(
+        E_IS, *zip(*sorted(zip(family.E[j : j + 2], family.period[j : j + 2])))
+    )
+    assert abs(d.period - T_parent) < 1e-2
+    # followed back through its birth, the daughter's family turns there (it merges with
+    # the parent): a fold at the pitchfork's energy
+    (g,) = af.families([d], (5.5150, 5.5175), step=3e-5, du=0.01)
+    folds = [E for _, E in _points(g, "fold")]
+    assert any(abs(E - E_IS) < 1e-8 for E in folds), (folds, E_IS)
+    assert _points(g, "PD")  # it period-doubles below its birth
+
+
+def test_saddle_centre_is_not_a_branch_point(family):
+    i_fold_IS = [i for i, E in _points(family, "IS") if E > 5.5165][0]
+    with pytest.raises(ValueError, match="saddle-centre"):
+        af.daughters(family, i_fold_IS)
+
+
+def test_cascade(family):
+    ((i, E_IS),) = [(i, E) for i, E in _points(family, "IS") if E < 5.5165]
+    c = af.cascade(family, i, generations=2)
+    assert len(c.births) == 3 and len(c.families) == 3 and len(c.periods) == 2
+    assert c.births[0] == E_IS and c.births[0] > c.births[1] > c.births[2]
+    assert abs(c.periods[1] / c.periods[0] - 2) < 1e-2  # a period doubling
+    # the windows shrink by about the area-preserving Feigenbaum delta (8.72)
+    (r,) = c.ratios
+    assert 7.5 < r < 9.5, r
+
+
+def test_bad_input(family):
+    with pytest.raises(ValueError, match="IS or PD"):
+        af.daughters(family, 99)
+    with pytest.raises(ValueError, match="dE"):
+        af.daughters(family, _points(family, "IS")[0][0], dE=-1.0)
+    with pytest.raises(ValueError, match="E_range"):
+        af.families([family.orbit], (5.6, 5.7))
+    with pytest.raises(ValueError, match="du"):
+        af.families([family.orbit], (5.5, 5.6), du=0.0)
+    with pytest.raises(ValueError, match="generations"):
+        af.cascade(family, 0, generations=0)
+    assert math.isfinite(family.E[0])
