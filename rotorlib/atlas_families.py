@@ -10,7 +10,7 @@ about the parent's at IS, twice it at PD) are found beside the parent at ``E = E
 A daughter orbit converges to the parent as ``dE -> 0``, so each of its points on a fixed set
 tends to a point of the parent on a fixed set: the daughter meets the start set of the parent
 near the parent's start, or the parent's target fixed set near the parent's symmetric point.
-Both neighbourhoods are scanned (:func:`rotorlib.atlas._scan` on a window of the start set,
+Both neighbourhoods are scanned (the census scan, ``atlas._scan``, on a window of the start set,
 the target point mapped onto its class's start set by the symmetry group) for symmetric
 orbits of the daughter's period, refined and verified as in the census. The daughters are
 atlas orbits: :func:`families` follows them in turn.
@@ -357,7 +357,7 @@ def daughters(
         for f in found:
             if abs(f[5] - T_d) <= max(10 * n * slope * dE, 1e-5 * T_d):
                 gap = _distance(parent, f[4])
-                if 100 * SAME_ORBIT < gap < width:  # not the parent
+                if 10 * SAME_ORBIT < gap < width:  # not the parent
                     near.append((gap, f))
         # a daughter tends to the parent as dE -> 0, an orbit not born here does not: keep
         # the nearest (and any within twice its distance: the pair of a pitchfork)
@@ -420,8 +420,9 @@ def cascade(fam: AtlasFamily, point: int, generations=3, executor=None) -> Casca
 
     Each generation's scale is the distance in ``E`` between its birth and the previous one
     (the first: the family's stable window beside the point); the daughter is sought at
-    ``1 %`` of it beyond the birth and its family followed over 1.5 times it in steps of
-    ``1 %`` (float64: the bifurcation energies to ~1e-13).
+    ``5 %`` of it beyond the birth, within ``10 sqrt(dE)`` of the parent's points on fixed
+    sets, and its family is followed over 1.5 times it in steps of ``1 %`` (float64: the
+    bifurcation energies to ~1e-13).
 
     Raises ValueError when no stable daughter is found or its family has no PD point.
     """
@@ -433,9 +434,13 @@ def cascade(fam: AtlasFamily, point: int, generations=3, executor=None) -> Casca
     fams, births, periods = [fam], [Eb], []
     parent = fam
     for _ in range(generations):
+        dE = (
+            scale / 20
+        )  # the daughter lies ~sqrt(dE) from the parent: scan near it only
+        width = min(0.05, 10 * math.sqrt(dE))
         stable = [
             d
-            for d in daughters(parent, point, dE=scale / 100, executor=executor)
+            for d in daughters(parent, point, dE=dE, width=width, executor=executor)
             if d.stable
         ]
         if not stable:

@@ -54,35 +54,12 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-__all__ = [
-    "SQRT3_PI",
-    "DELTA_L",
-    "SQRT_DELTA_L",
-    "SlopeLaw",
-    "fork_fit",
-    "pendulum_slope",
-    "pendulum_dtrace_dx",
-    "newborn_slope",
-    "slope_law",
-    "expected_ratio",
-    "fan_prediction",
-    "fan_traces",
-    "amplitudes",
-    "ratios",
-    "asymptotic_a1",
-    "asymptotic_a2_deficit",
-    "DualPair",
-    "dual_label",
-    "duality_pairs",
-    "fit_rate",
-    "dual_lame",
-    "RotationalMember",
-    "NotReached",
-    "rotational_member",
-    "RotationalRatio",
-    "rotational_ratios",
-    "dE_str",
-]
+__all__ = ["SQRT3_PI", "DELTA_L", "SQRT_DELTA_L", "SlopeLaw", "fork_fit"]
+__all__ += ["pendulum_slope", "pendulum_dtrace_dx", "newborn_slope", "slope_law"]
+__all__ += ["expected_ratio", "fan_prediction", "fan_traces", "amplitudes", "ratios"]
+__all__ += ["asymptotic_a1", "asymptotic_a2_deficit", "DualPair", "dual_label"]
+__all__ += ["duality_pairs", "fit_rate", "dual_lame", "RotationalMember", "NotReached"]
+__all__ += ["rotational_member", "RotationalRatio", "rotational_ratios", "dE_str"]
 
 #: ``sqrt(3) pi``; ``delta^l = e^{sqrt3 pi}`` (230.76), ``sqrt(delta^l) = e^{sqrt3 pi / 2}`` (15.19).
 SQRT3_PI = math.sqrt(3.0) * math.pi
@@ -508,12 +485,8 @@ class NotReached(ValueError):
     """
 
     def __init__(self, label, dE, dE_max, stop):
-        self.label, self.dE, self.dE_max, self.stop = (
-            label,
-            float(dE),
-            float(dE_max),
-            stop,
-        )
+        self.label, self.stop = label, stop
+        self.dE, self.dE_max = float(dE), float(dE_max)
         super().__init__(
             f"{label} does not reach E - 4 = {self.dE:.6g} along its amplitude "
             f"branch: highest E - 4 = {self.dE_max:.6g} ({stop})"
@@ -682,18 +655,14 @@ def rotational_ratios(specs, executor=None, progress=False) -> list:
         ):
             if task not in tasks:
                 tasks.append(task)
-    res = dict(
-        zip(
-            tasks,
-            pmap(
-                _member_task,
-                tasks,
-                executor=executor,
-                progress=progress,
-                desc="rotational members",
-            ),
-        )
+    found = pmap(
+        _member_task,
+        tasks,
+        executor=executor,
+        progress=progress,
+        desc="rotational members",
     )
+    res = dict(zip(tasks, found))
     out = []
     with mp.workdps(40):
         for k, n in specs:
@@ -702,31 +671,13 @@ def rotational_ratios(specs, executor=None, progress=False) -> list:
             num = res[(f"{k}^r_{n}", dE_str(f"{k}^r_{n - 2}"))]
             den = res[(f"{k}^r_{n + 2}", dE_str(f"{k}^r_{n}"))]
             bad = [m for m in (num, den) if isinstance(m, str)]
-            if bad:
-                out.append(
-                    RotationalRatio(
-                        k,
-                        n,
-                        None if isinstance(num, str) else num,
-                        None if isinstance(den, str) else den,
-                        math.nan,
-                        math.nan,
-                        ap,
-                        bp,
-                        "; ".join(bad),
-                    )
-                )
-            else:
-                out.append(
-                    RotationalRatio(
-                        k,
-                        n,
-                        num,
-                        den,
-                        num.a1_max / den.a1_max,
-                        num.a2dot_min / den.a2dot_min,
-                        ap,
-                        bp,
-                    )
-                )
+            alpha, beta = (
+                (num.a1_max / den.a1_max, num.a2dot_min / den.a2dot_min)
+                if not bad
+                else (math.nan, math.nan)
+            )
+            num, den = (None if isinstance(m, str) else m for m in (num, den))
+            out.append(
+                RotationalRatio(k, n, num, den, alpha, beta, ap, bp, "; ".join(bad))
+            )
     return out
