@@ -38,10 +38,17 @@ import math
 import re
 from dataclasses import dataclass
 
+import mpmath as mp
 import numpy as np
 
 from .energy import PendulumEnergy, pendulum_energy
-from .hill import HillProblem, hill_problem, solve_hill
+from .hill import (
+    HillProblem,
+    heyoka_available,
+    hill_problem,
+    precision_tier,
+    solve_hill,
+)
 from .orbits import pendulum
 from .parallel import pmap
 
@@ -56,8 +63,6 @@ __all__ = [
     "trace_curve",
     "refine_mp",
     "SQRT3_PI",
-    "LOG_DELTA_LIB",
-    "LOG_DELTA_ROT",
     "CLASSES",
     "transition_class",
     "X_MIN",
@@ -65,8 +70,6 @@ __all__ = [
 
 #: ``sqrt(3) pi``: predicted ``log delta^l``; ``log delta^r = 2 sqrt(3) pi``.
 SQRT3_PI = math.sqrt(3.0) * math.pi
-LOG_DELTA_LIB = SQRT3_PI
-LOG_DELTA_ROT = 2.0 * SQRT3_PI
 
 #: Deepest ``log|E - 4|`` searched: ``|E - 4| = exp(x)`` must stay a normal float64.
 X_MIN = -700.0
@@ -229,8 +232,6 @@ def delta(x: float, phase: str) -> float:
 
 
 def _solve(prob):
-    from .hill import heyoka_available
-
     be = "heyoka" if heyoka_available() else "scipy"
     return solve_hill(prob, be, "float64").delta
 
@@ -242,8 +243,6 @@ def trace_of_delta(d, phase):
 
 def _mp_problem(x, phase, dps):
     """The Hill problem at an mpmath ``x = log|E-4|`` (no float64 rounding of the energy)."""
-    import mpmath as mp
-
     dps = (
         dps + int(max(0.0, -float(x) / math.log(10))) + 10
     )  # m = 1 - O(eps) needs the extra digits
@@ -278,9 +277,6 @@ def delta_mp(x, phase: str, digits: int = 30):
     The energy is built from ``x`` in mpmath at ``digits + 15`` digits, so no
     float64 rounding enters.
     """
-    import mpmath as mp
-
-    from .hill import precision_tier
 
     be, prec = precision_tier(digits, "heyoka")
     dps = digits + 15
@@ -291,8 +287,6 @@ def delta_mp(x, phase: str, digits: int = 30):
 
 
 def _period_mp(x, phase, dps):
-    import mpmath as mp
-
     with mp.workdps(dps):
         prob = _mp_problem(x, phase, dps)
         if phase == "lib":
@@ -310,7 +304,7 @@ def _scan_chunk(args):
 
 
 def _refine(phase, c, a, b, fa, fb):
-    from scipy.optimize import brentq
+    from scipy.optimize import brentq  # (lazy: scipy.optimize is slow to import)
 
     f = lambda x: delta(x, phase) - c  # noqa: E731
     if fa == 0.0:
@@ -324,11 +318,6 @@ def _slope(x, phase, h=1e-4):
     """dDelta/dx by a 4-point centred difference (relative error ~1e-9)."""
     d = [delta(x + k * h, phase) for k in (-2, -1, 1, 2)]
     return (d[0] - 8 * d[1] + 8 * d[2] - d[3]) / (12 * h)
-
-
-def _needed(phase, kind, n_max):
-    """Estimated number of asymptotic periods of Delta that contain n_max roots (generous)."""
-    return n_max
 
 
 def _depth(phase, kinds, n_max):
@@ -346,6 +335,21 @@ def _depth(phase, kinds, n_max):
     return deepest
 
 
+def _deltas(phase, xs, executor, progress, desc):
+    """``Delta`` on the grid ``xs`` (float64), in chunks through :func:`pmap`."""
+    if not len(xs):
+        return np.zeros(0)
+    chunks = np.array_split(xs, max(1, min(16, len(xs) // 200)))
+    parts = pmap(
+        _scan_chunk,
+        [(phase, c) for c in chunks],
+        executor=executor,
+        progress=progress,
+        desc=desc,
+    )
+    return np.concatenate(parts)
+
+
 def _find(phase, kinds, n_max, executor=None, progress=False):
     """Roots (x, target, kind) in one phase with n <= n_max for each kind."""
     x_lo = _depth(phase, kinds, n_max)
@@ -355,15 +359,7 @@ def _find(phase, kinds, n_max, executor=None, progress=False):
             f"float64 range of |E-4| (log|E-4| >= {X_MIN:.0f}); use a smaller n_max"
         )
     xs = np.arange(X_START[phase], x_lo - _GRID_STEP, -_GRID_STEP)
-    chunks = np.array_split(xs, max(1, min(16, len(xs) // 200)))
-    parts = pmap(
-        _scan_chunk,
-        [(phase, c) for c in chunks],
-        executor=executor,
-        progress=progress,
-        desc=f"scan {phase}",
-    )
-    ds = np.concatenate(parts)
+    ds = _deltas(phase, xs, executor, progress, f"scan {phase}")
     roots = []
     for kind in kinds:
         found = []
@@ -399,14 +395,9 @@ def _make(kind, phase, n, x, c, x_str=None, precision="float64", period_str=""):
         sense = "stable->stable"
         dtr_dE = 0.0
         dtr_dx = 0.0
-    elif kind == "IS":
-        sense = (
-            "stable->unstable" if dtr_dE > 0 else "unstable->stable"
-        )  # tr M crosses 4
-    else:
-        sense = (
-            "unstable->stable" if dtr_dE > 0 else "stable->unstable"
-        )  # tr M crosses 0
+    else:  # tr M rising through 4 (IS) destabilises, rising through 0 (PD) stabilises
+        up = (dtr_dE > 0) == (kind == "IS")
+        sense = "stable->unstable" if up else "unstable->stable"
     return Transition(
         _label(kind, phase, n),
         kind,
@@ -482,20 +473,7 @@ def trace_curve(xs, phase, executor=None, progress=False):
     if phase not in ("lib", "rot"):
         raise ValueError(f"phase must be 'lib' or 'rot', got {phase!r}")
     xs = np.asarray(xs, dtype=float)
-    chunks = np.array_split(xs, max(1, min(16, len(xs) // 200)))
-    ds = (
-        np.concatenate(
-            pmap(
-                _scan_chunk,
-                [(phase, c) for c in chunks],
-                executor=executor,
-                progress=progress,
-                desc=f"tr M {phase}",
-            )
-        )
-        if len(xs)
-        else np.zeros(0)
-    )
+    ds = _deltas(phase, xs, executor, progress, f"tr M {phase}")
     per = np.array([pendulum(log_abs_dE=float(x), phase=phase).period for x in xs])
     return trace_of_delta(ds, phase), per
 
@@ -523,8 +501,6 @@ def refine_mp(x0, phase, target, digits=30, maxiter=10):
     RuntimeError
         If the iteration leaves the neighbourhood of ``x0`` (|x - x0| > 1e-6).
     """
-    import mpmath as mp
-
     dps = digits + 10
     with mp.workdps(dps):
         x = mp.mpf(x0)
@@ -577,8 +553,6 @@ def transition(label, digits=None) -> Transition:
     x = _refine(phase, c, a, b, fa - c, fb - c)
     if digits is None or digits <= 15:
         return _make(kind, phase, n, x, c)
-    import mpmath as mp
-
     xm, per = refine_mp(x, phase, c, digits=digits)
     with mp.workdps(digits + 10):
         xs = mp.nstr(xm, digits, strip_zeros=False)

@@ -76,10 +76,8 @@ __all__ = [
     "DEFAULT_DELTAS",
 ]
 
-TWO_PI = 2.0 * math.pi
 #: Lower end of the energy range over which :func:`breather_daughter` is supported (validated continuation).
 DAUGHTER_E_MIN = 5.3
-#: The grid of energies scanned for the transition of R.
 #: Default continuation amplitudes b2(0) of the daughter family.
 DEFAULT_DELTAS = np.concatenate(
     [np.linspace(0.02, 0.12, 6), np.linspace(0.15, 5.65, 111), [5.67, 5.69]]
@@ -198,46 +196,32 @@ def breather_transitions(family="R", digits=None, E_max=1e4):
 def _make_transition(E, kind, level, family, digits):
     slope = _trace_slope(E, family)
     period = breather(E, family).period
-    direction = (
-        ("unstable->stable" if slope > 0 else "stable->unstable")
-        if kind == "PD"
-        else ("stable->unstable" if slope > 0 else "unstable->stable")
-    )
-    if digits is None or digits <= 15:
-        return BreatherTransition(
-            "PD^b" if kind == "PD" else "IS^b",
-            kind,
-            family,
-            E,
-            repr(E),
-            period,
-            repr(period),
-            direction,
-            slope,
-            "float64",
-        )
-    import mpmath as mp
+    up = (slope > 0) == (kind == "IS")  # tr M rising through 4 or falling through 0
+    direction = "stable->unstable" if up else "unstable->stable"
+    E_str, per_str, precision = repr(E), repr(period), "float64"
+    if digits is not None and digits > 15:
+        import mpmath as mp
 
-    M = monodromy(breather(E, family), digits=digits)
-    dT = breather(E, family).dperiod_dE
-    with mp.workdps(digits + 10):
-        corr = -(mp.mpf(M.trace_str) - level) / mp.mpf(slope)
-        E_ext = (
-            mp.mpf(repr(E)) + corr
-        )  # the extended trace is evaluated at the decimal repr(E)
-        per = mp.mpf(M.period_str) + mp.mpf(dT) * corr
-        E_str, per_str = mp.nstr(E_ext, digits - 5), mp.nstr(per, digits - 5)
+        M = monodromy(breather(E, family), digits=digits)
+        dT = breather(E, family).dperiod_dE
+        with mp.workdps(digits + 10):
+            corr = -(mp.mpf(M.trace_str) - level) / mp.mpf(slope)
+            # the extended trace is evaluated at the decimal repr(E)
+            E_ext = mp.mpf(repr(E)) + corr
+            per = mp.mpf(M.period_str) + mp.mpf(dT) * corr
+            E_str, per_str = mp.nstr(E_ext, digits - 5), mp.nstr(per, digits - 5)
+        E, period, precision = float(E_ext), float(per), M.precision
     return BreatherTransition(
         "PD^b" if kind == "PD" else "IS^b",
         kind,
         family,
-        float(E_ext),
+        E,
         E_str,
-        float(per),
+        period,
         per_str,
         direction,
         slope,
-        M.precision,
+        precision,
     )
 
 

@@ -38,9 +38,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .continuation import ContinuationOptions, Natural, continuation, member
 from .energy import as_float
+from .newborn import family_spec, follow, newborn_orbit
 from .parallel import pmap
-from .system import potential_alpha, potential_phi
+from .reversors import images
+from .shooting import FamilyEnd
+from .system import alpha_to_phi, energy_phi, potential_alpha, potential_phi
 
 __all__ = [
     "PoincareSection",
@@ -202,8 +206,6 @@ def poincare_section(
         progress=progress,
         desc=f"section E={E:g}",
     )
-    from .system import energy_phi
-
     err = max(
         (float(np.max(np.abs(energy_phi(h) - E))) for h in res if len(h)), default=0.0
     )
@@ -398,10 +400,6 @@ def amplitude_branch(label, E_start, du_rel=0.03, n_max=30):
     folds in ``E`` are passed), with ``tr M`` of every member, until ``tr M`` leaves
     ``[0, 4]`` (the crossing is then an ``IS``/``PD`` point of the branch). Float64 (for
     ``|E - 4| > 1e-3``). Returns a :class:`rotorlib.continuation.Branch`."""
-    from .continuation import ContinuationOptions, Natural, continuation, member
-    from .newborn import family_spec, newborn_orbit
-    from .shooting import FamilyEnd
-
     spec = family_spec(label)
     o = newborn_orbit(label, E_start, digits=15)
     m0 = member(spec.problem, o.extra["u"], o.E, traces=True)
@@ -448,8 +446,6 @@ class FamilyInBand:
 
 
 def _band_one(args):
-    from .newborn import family_spec, follow
-
     label, dE_stop, digits, t1_grow, energies = args
     spec = family_spec(label)
     t1_max = None if t1_grow is None else spec.period_birth / 2 + t1_grow
@@ -518,8 +514,6 @@ def band_families(
     """
     labels = list(labels)
     for lab in labels:
-        from .newborn import family_spec
-
         if family_spec(lab).phase != "rot":
             raise ValueError(
                 f"{lab}: band_families follows rotational families (IS^r_n, PD^r_n)"
@@ -562,9 +556,6 @@ def island(orbit, delta=0.01, t_max=2000.0, n_hits=400) -> Island:
     from the energy) and followed for ``t_max`` (at most ``n_hits`` crossings). Raises
     ValueError when no image crosses the section. Float64 (tolerance 1e-12).
     """
-    from .reversors import images
-    from .system import alpha_to_phi, potential_phi
-
     if not (math.isfinite(delta) and 0 < delta < 0.5):
         raise ValueError(f"delta must be in (0, 0.5), got {delta!r}")
     E = orbit.E

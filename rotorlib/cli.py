@@ -48,13 +48,7 @@ def build_parser() -> argparse.ArgumentParser:
     )
     sub.required = True
     for name in COMMANDS:
-        try:
-            mod = importlib.import_module(f"rotorlib.commands.{name}")
-        except ModuleNotFoundError as exc:
-            if exc.name == f"rotorlib.commands.{name}":
-                continue
-            raise
-        mod.register(sub)
+        importlib.import_module(f"rotorlib.commands.{name}").register(sub)
     return parser
 
 

@@ -233,14 +233,6 @@ class ContinuationOptions:
     stop_on: tuple = ()
 
 
-def _r_max(opts, t: Tier):
-    return (
-        opts.r_max
-        if opts.r_max is not None
-        else (1e-8 if not t.extended else t.eps ** (2 / 3))
-    )
-
-
 def member(
     problem: ShootingProblem, u, w, t: Tier = FLOAT64, traces=False, shot=None
 ) -> Member:
@@ -347,10 +339,10 @@ def _natural(problem, alg: Natural, opts, start, t: Tier):
             guess = _extrapolate(xs, ys, s_of(v), alg.order, t)
             try:
                 if par == "u":
-                    root = solve(problem, guess, u=v, t=t, r_max=_r_max(opts, t))
+                    root = solve(problem, guess, u=v, t=t, r_max=opts.r_max)
                     new = member(problem, v, root.x, t, opts.traces)
                 else:
-                    root = solve(problem, guess, E=v, t=t, r_max=_r_max(opts, t))
+                    root = solve(problem, guess, E=v, t=t, r_max=opts.r_max)
                     new = member(
                         problem, root.x, problem.w_at(root.x, v, t), t, opts.traces
                     )
@@ -430,7 +422,7 @@ class _Local:
             abs(guess) * t.num(t.eps) ** t.num(0.5),
             (self.sw if k == 0 else self.su) * tol,
         )
-        kw = dict(t=t, tol=tol, r_max=_r_max(self.opts, t))
+        kw = dict(t=t, tol=tol, r_max=self.opts.r_max)
         if k == 0:
             root = solve(self.p, guess, x1, u=value, floor=self.sw, **kw)
             return member(self.p, value, root.x, t, self.opts.traces)
@@ -676,18 +668,3 @@ def continuation(
         raise ValueError(f"algorithm must be Natural or PALC, got {algorithm!r}")
     special = _events(problem, t, members, opts, algorithm)
     return Branch(problem, t, tuple(members), tuple(special), stop)
-
-
-def with_traces(branch: Branch) -> Branch:
-    """The same branch with ``tr M`` of every member and its ``IS``/``PD`` points."""
-    opts = ContinuationOptions(traces=True, folds=False)
-    mem = tuple(
-        member(branch.problem, m.u, m.w, branch.tier, True) for m in branch.members
-    )
-    extra = _events(branch.problem, branch.tier, mem, opts, PALC())
-    return replace(
-        branch, members=mem, special_points=branch.special_points + tuple(extra)
-    )
-
-
-__all__ += ["with_traces"]

@@ -45,11 +45,9 @@ def ellipk_m1(m1: float) -> float:
 
 def ellipe_m1(m1: float) -> float:
     """Complete elliptic integral E(m) given m1 = 1 - m (relative error ~1e-16)."""
-    if m1 < 1e-3:
-        # E(m) = 1 + (m1/2)(log(4/sqrt(m1)) - 1/2) + O(m1^2 log m1); use scipy's
-        # ellipe on m = 1 - m1, whose rounding error in m enters only times dE/dm,
-        # which is logarithmically small: ~1e-16 * |log m1|.
-        return float(special.ellipe(1.0 - m1))
+    # scipy's ellipe on m = 1 - m1: the rounding error of m enters only times dE/dm,
+    # which is logarithmically small as m1 -> 0 (E = 1 + (m1/2)(log(4/sqrt m1) - 1/2)
+    # + O(m1^2 log m1)): ~1e-16 |log m1|.
     return float(special.ellipe(1.0 - m1))
 
 

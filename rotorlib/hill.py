@@ -78,10 +78,9 @@ def precision_tier(digits=None, backend=None) -> tuple:
         Backend (``heyoka``, ``scipy``, ``mpmath``) and precision label
         (``float64``, ``real128``, ``mp<bits>`` or ``mpmath<dps>``).
     """
-    if digits is not None and (
-        not isinstance(digits, (int, np.integer)) or digits < 1 or digits > 1000
-    ):
-        raise ValueError(f"digits must be an integer from 1 to 1000, got {digits!r}")
+    from .precision import tier  # (lazy: mpmath stays out of ``import rotorlib``)
+
+    t = tier(digits)  # validates digits; names the heyoka tier
     hy = heyoka_available()
     if backend not in (None, "heyoka", "scipy", "mpmath"):
         raise ValueError(f"backend must be heyoka, scipy or mpmath, got {backend!r}")
@@ -103,9 +102,7 @@ def precision_tier(digits=None, backend=None) -> tuple:
         backend = "heyoka" if hy else "mpmath"
     if backend == "mpmath":
         return "mpmath", f"mpmath{digits + 5}"
-    if digits <= 31:
-        return "heyoka", "real128"
-    return "heyoka", f"mp{int(math.ceil((digits + 8) * 3.33))}"
+    return "heyoka", t.name
 
 
 @dataclass(frozen=True)
@@ -301,6 +298,8 @@ def _heyoka_integrator(kind, precision, tol=None):
 def _build_heyoka_integrator(kind, precision, tol=None):
     import heyoka as hy
 
+    from .precision import Tier
+
     psi, y1, z1, y2, z2 = hy.make_vars("psi", "y1", "z1", "y2", "z2")
     m, m1, c3, shape, sign = (hy.par[i] for i in range(5))
     sp, cp = hy.sin(psi), hy.cos(psi)
@@ -312,34 +311,15 @@ def _build_heyoka_integrator(kind, precision, tol=None):
         (y2, z2),
         (z2, -q * y2),
     ]
-    npar = _NPARS[kind]
+    t = Tier(precision)
     # tol=None: heyoka's default, the machine epsilon of the precision (verified tiers).
-    if precision == "float64":
-        kw = {} if tol is None else {"tol": float(tol)}
-        return hy.taylor_adaptive(
-            sys, [0.0] * 5, pars=[0.0] * npar, compact_mode=False, **kw
-        )
-    if precision == "real128":
-        kw = {} if tol is None else {"tol": hy.real128(repr(float(tol)))}
-        z = np.zeros(5, dtype=hy.real128)
-        return hy.taylor_adaptive(
-            sys,
-            z,
-            pars=np.zeros(npar, dtype=hy.real128),
-            fp_type=hy.real128,
-            compact_mode=True,
-            **kw,
-        )
-    bits = int(precision[2:])
-    kw = {} if tol is None else {"tol": hy.real(repr(float(tol)), bits)}
-    z = np.array([hy.real(0, bits)] * 5)
+    kw = {} if tol is None else {"tol": t.to_hy(float(tol))}
     return hy.taylor_adaptive(
         sys,
-        z,
-        pars=np.array([hy.real(0, bits)] * npar),
-        fp_type=hy.real,
-        prec=bits,
-        compact_mode=True,
+        t.hy_array([0] * 5),
+        pars=t.hy_array([0] * _NPARS[kind]),
+        compact_mode=t.extended,
+        **t.hy_kwargs,
         **kw,
     )
 

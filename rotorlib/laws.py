@@ -52,7 +52,17 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
+import mpmath as mp
 import numpy as np
+
+from . import flow
+from .bifurcations import delta, parse_label, trace_of_delta, transition, transitions
+from .continuation import member
+from .newborn import family_spec, follow, linear_orbit, newborn_orbit
+from .parallel import pmap
+from .periodic import orbit_from_state
+from .precision import REAL128
+from .shooting import solve
 
 __all__ = ["SQRT3_PI", "DELTA_L", "SQRT_DELTA_L", "SlopeLaw", "fork_fit"]
 __all__ += ["pendulum_slope", "pendulum_dtrace_dx", "newborn_slope", "slope_law"]
@@ -147,8 +157,6 @@ def fork_fit(E, trace, u, E_birth, trace_birth=4.0, degree=2):
 
 def expected_ratio(label) -> float:
     """The slope theorem's ``tr M_new' / tr M_pend'``: -2 (IS^l, IS^r), 8 (PD^r)."""
-    from .bifurcations import parse_label
-
     kind, phase, _ = parse_label(label)
     if kind == "PD" and phase == "lib":
         raise ValueError(
@@ -160,8 +168,6 @@ def expected_ratio(label) -> float:
 def pendulum_dtrace_dx(label, h=1e-5) -> float:
     """``d tr M / dx`` of the pendulum at the transition, ``x = log|E - 4|``: central difference of
     ``tr M(Delta(x))`` (``Delta`` float64-accurate to ~1e-13; ``h = 1e-5``: ~1e-8 relative + ``O(h^2)``)."""
-    from .bifurcations import delta, trace_of_delta, transition
-
     t = transition(label)
     x = t.log_abs_dE
     tp = trace_of_delta(delta(x + h, t.phase), t.phase)
@@ -172,8 +178,6 @@ def pendulum_dtrace_dx(label, h=1e-5) -> float:
 def pendulum_slope(label, h=1e-5) -> float:
     """``d tr M / dE`` of the pendulum at the transition: ``(dtrM/dx) / (E - 4)`` with
     :func:`pendulum_dtrace_dx` and ``E - 4 = -+e^x`` (libration / rotation)."""
-    from .bifurcations import transition
-
     t = transition(label)
     sign = -1.0 if t.phase == "lib" else 1.0
     return pendulum_dtrace_dx(label, h) / (sign * math.exp(t.log_abs_dE))
@@ -181,15 +185,11 @@ def pendulum_slope(label, h=1e-5) -> float:
 
 def slope_law(label, E, trace, u) -> SlopeLaw:
     """:class:`SlopeLaw` from given members ``(E, trace, u)`` of the family born at ``label``."""
-    from .bifurcations import transition
-
     return _law(label, transition(label).E, E, trace, u, E)
 
 
 def _law(label, x0, x, trace, u, E) -> SlopeLaw:
     """The fork fit of ``(x, trace, u)`` about ``x0``, with members at energies ``E``."""
-    from .bifurcations import transition
-
     t = transition(label)
     s_new, c, d, res = fork_fit(x, trace, u, x0)
     s_p = pendulum_slope(label)
@@ -218,10 +218,6 @@ def newborn_slope(label, rel=(2e-4, 5e-4, 1e-3, 2e-3, 4e-3), digits=None) -> Slo
     strings (so ``E - E_n`` keeps its digits even 1e-10 from E = 4, where a float64 ``E`` would lose
     them); the amplitude is the shooting unknown ``u`` (``a1(0)`` or ``p1(0)``).
     """
-    import mpmath as mp
-
-    from .bifurcations import transition
-    from .newborn import newborn_orbit
 
     t = transition(label)
     sign = 1 if t.phase == "rot" else -1
@@ -253,8 +249,6 @@ def fan_prediction(label) -> float:
 
 def fan_traces(labels, E=4.0) -> dict:
     """``{label: PeriodicOrbit}`` at energy ``E`` (``newborn_orbit`` default precision: real128 near E = 4)."""
-    from .newborn import newborn_orbit
-
     return {lab: newborn_orbit(lab, E) for lab in labels}
 
 
@@ -265,9 +259,6 @@ def amplitudes(orbit) -> tuple:
     """``(a1max, pi - a2max)`` of a librational newborn orbit, its turning points located in
     real128 from its 32-digit state (``pi - a2max`` formed in mpmath: no cancellation).
     Falls back to the orbit's float64 extrema when no ``state0_str`` was stored."""
-    from . import flow
-    from .precision import REAL128
-
     st = orbit.extra.get("state0_str")
     if st is None:
         return float(orbit.alpha1_max), float(math.pi - orbit.alpha2_max)
@@ -291,12 +282,8 @@ def ratios(values, k) -> list:
 
 def asymptotic_a1(label, E=4.0) -> float:
     """Paper eq. (al1-asymptotic): ``a1max(n; E) ~ sqrt(E - E_n)``."""
-    from .bifurcations import transition
-
     t = transition(label)
     if t.phase == "lib":
-        import mpmath as mp
-
         with mp.workdps(30):
             return float(mp.sqrt(mp.mpf(E) - 4 + mp.e ** mp.mpf(t.log_abs_dE_str)))
     return math.sqrt(float(E) - t.E)
@@ -304,8 +291,6 @@ def asymptotic_a1(label, E=4.0) -> float:
 
 def asymptotic_a2_deficit(label) -> float:
     """Paper eq. (al-2-max): ``pi - a2max(n; 4) ~ sqrt(4 - E_n)`` (librational)."""
-    from .bifurcations import transition
-
     t = transition(label)
     return math.exp(0.5 * t.log_abs_dE)
 
@@ -348,9 +333,6 @@ def duality_pairs(n_max=20, digits=None) -> list:
     (:func:`rotorlib.bifurcations.transition`, ~30 digits, ~0.3 s per root); ``diff`` and ``k2_sum - 2`` are
     then formed in mpmath and resolved to ~1e-28.
     """
-    import mpmath as mp
-
-    from .bifurcations import transition, transitions
 
     if digits is None:
         lib = {t.label: t for t in transitions("lib", n_max, kinds=("IS",))}
@@ -402,9 +384,6 @@ def dual_lame(lib_label="IS^l_1", rot_label="IS^r_1", n=2001):
     dict with ``w`` (normalised time), ``lib``, ``rot`` (the two solutions), ``closure_lib``/``closure_rot``
     (``|a1(end) - 1|``: periodicity check), ``k2_lib``, ``k2_rot``, ``max_diff``.
     """
-    from .bifurcations import transition
-    from .newborn import linear_orbit
-
     tl, tr = transition(lib_label), transition(rot_label)
     t1, y1, _ = linear_orbit(lib_label, [1.0, 0.0, 0.0, 0.0], tl.period, n)
     t2, y2, _ = linear_orbit(rot_label, [1.0, 0.0, 0.0, 0.0], 2 * tr.period, n)
@@ -495,9 +474,6 @@ class NotReached(ValueError):
 
 def _member_props(prob, m, t, tp=None):
     """Amplitudes on the quarter period, trace and closure of the full period."""
-    from . import flow
-    from .periodic import orbit_from_state
-
     with t.context():
         x0 = prob.state(m.u, m.w, t)
         hits = flow.crossings(x0, (flow.Section((0, 0, 1, 0)),), m.t1, t)
@@ -535,8 +511,6 @@ def rotational_member(label, dE, digits=None) -> RotationalMember:
     relative (measured against 45-digit members of IS^r_8 and PD^r_8); pass ``digits``
     for more.
     """
-    from .newborn import family_spec, follow
-
     spec = family_spec(label)
     if spec.phase != "rot":
         raise ValueError(f"{spec.label} is not a rotational family (IS^r_n, PD^r_n)")
@@ -562,10 +536,6 @@ def rotational_member(label, dE, digits=None) -> RotationalMember:
         if pts[0].located and first.closure < 1e-8:
             return first
         # too unstable for a float64 period (or not located): re-solved at E in real128
-        from .continuation import member
-        from .precision import REAL128
-        from .shooting import solve
-
         t = REAL128
         with t.context():
             E = 4 + t.num(dE)
@@ -585,17 +555,12 @@ def _four_plus(dE, deep):
     """``4 + dE`` keeping the digits of a decimal string (an mpf for real128 families)."""
     if not deep:
         return 4 + float(dE)
-    from .precision import REAL128
-
     with REAL128.context():
         return 4 + REAL128.num(dE)
 
 
 def dE_str(label) -> str:
     """``E_n - 4`` of a rotational transition as a 35-digit decimal string."""
-    import mpmath as mp
-
-    from .bifurcations import transition
 
     t = transition(label)
     if t.phase != "rot":
@@ -636,9 +601,6 @@ def rotational_ratios(specs, executor=None, progress=False) -> list:
     (each once) through :func:`rotorlib.parallel.pmap` (``executor``: any
     :class:`concurrent.futures.Executor`). Precision: ratios to ~1e-8 (float64 members) or
     ~1e-15 (real128) relative, far below their distance to the limit."""
-    import mpmath as mp
-
-    from .parallel import pmap
 
     specs = [(str(k), int(n)) for k, n in specs]
     for k, n in specs:

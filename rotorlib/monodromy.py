@@ -126,17 +126,11 @@ class Monodromy:
 
     def in_alpha_state_order(self) -> np.ndarray:
         """M in the state order ``[a1, a2, p1, p2]`` (pendulum variables)."""
+        # basis (a1, p1, a2, p2) -> state order (a1, a2, p1, p2); breathers likewise
+        # (b1, q1, b2, q2) -> (b1, b2, q1, q2), then to alpha
+        P = np.eye(4)[[0, 2, 1, 3]]
         if self.family == "pendulum":
-            P = np.zeros((4, 4))
-            for new, old in enumerate(
-                (0, 2, 1, 3)
-            ):  # a1, a2, p1, p2 <- (a1, p1, a2, p2)
-                P[new, old] = 1.0
             return P @ self.matrix @ P.T
-        # breather basis (b1, q1, b2, q2) -> state order (b1, b2, q1, q2) -> alpha
-        P = np.zeros((4, 4))
-        for new, old in enumerate((0, 2, 1, 3)):
-            P[new, old] = 1.0
         Mb = P @ self.matrix @ P.T
         T = np.zeros((4, 4))
         T[:2, :2] = _A @ _Binv
@@ -234,18 +228,15 @@ def monodromy(
                 period_str = mp.nstr(orbit.closed_form(dps)["period"], shown)
     period = orbit.period
     dT = orbit.dperiod_dE
-    if isinstance(orbit, PendulumOrbit):
-        c = -3.0 * orbit.E * dT
-        basis = ("a1", "p1", "a2", "p2")
-    else:
-        q1sq = orbit.E - 4.0 if orbit.energy.family == "LD" else orbit.E
-        c = -4.0 * q1sq * dT
-        basis = ("b1", "q1", "b2", "q2")
-    Mpar = np.array([[1.0, c], [0.0, 1.0]])
     M = np.zeros((4, 4))
     if isinstance(orbit, PendulumOrbit):
+        basis = ("a1", "p1", "a2", "p2")
+        Mpar = np.array([[1.0, -3.0 * orbit.E * dT], [0.0, 1.0]])
         M[:2, :2], M[2:, 2:] = Mperp, Mpar
     else:
+        basis = ("b1", "q1", "b2", "q2")
+        q1sq = orbit.E - 4.0 if orbit.energy.family == "LD" else orbit.E
+        Mpar = np.array([[1.0, -4.0 * q1sq * dT], [0.0, 1.0]])
         M[:2, :2], M[2:, 2:] = Mpar, Mperp
     tr = tr_perp + 2.0
     # stability from the value with every computed digit (the float64 view of 4 - 1e-18 is 4.0)

@@ -3,8 +3,8 @@
 A :class:`Tier` is float64 (heyoka's Taylor method at machine epsilon, or scipy),
 heyoka ``real128`` (quadruple precision, ~33 digits) or heyoka multiprecision
 ``mp<bits>`` (MPFR). :func:`tier` maps a requested number of significant digits to
-a tier exactly as :func:`rotorlib.hill.precision_tier` does, so that a result
-computed with ``digits=D`` names the same tier whatever produced it.
+a tier; :func:`rotorlib.hill.precision_tier` names its heyoka tier with it, so that a
+result computed with ``digits=D`` names the same tier whatever produced it.
 
 Numbers in a tier are Python floats (float64) or ``mpmath.mpf`` evaluated at
 :attr:`Tier.dps` working digits (extended tiers); a float given to an extended
@@ -147,8 +147,7 @@ def tier(digits=None, extra=0) -> Tier:
     """The tier that delivers ``digits`` significant digits after losing ``extra``.
 
     ``digits=None`` or ``digits + extra <= 15``: float64; up to 31: real128; beyond:
-    ``mp<bits>`` with ``bits = ceil((digits + extra + 8) * 3.33)`` (as
-    :func:`rotorlib.hill.precision_tier`). ``extra`` is the number of digits the
+    ``mp<bits>`` with ``bits = ceil((digits + extra + 8) * 3.33)``. ``extra`` is the number of digits the
     computation itself loses (e.g. ``log10(1/|E - 4|)`` for shooting near the
     separatrix).
     """

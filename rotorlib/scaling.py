@@ -17,9 +17,13 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+import mpmath as mp
 import numpy as np
 
-from .bifurcations import CLASSES
+from .bifurcations import CLASSES, parse_label, transition
+from .monodromy import monodromy, multipliers_from_trace
+from .newborn import newborn_family
+from .orbits import pendulum
 
 __all__ = [
     "class_sequences",
@@ -72,13 +76,8 @@ def asymptotic_distance(tau, phase):
     if phase not in ("lib", "rot"):
         raise ValueError(f"phase must be 'lib' or 'rot', got {phase!r}")
     c = math.sqrt(3.0) / (2.0 if phase == "lib" else 1.0)
-    try:
-        import mpmath as mp
-
-        if isinstance(tau, mp.mpf):
-            return 64 * mp.exp(-mp.sqrt(3) / (2 if phase == "lib" else 1) * tau)
-    except ImportError:  # pragma: no cover
-        pass
+    if isinstance(tau, mp.mpf):
+        return 64 * mp.exp(-mp.sqrt(3) / (2 if phase == "lib" else 1) * tau)
     return 64.0 * math.exp(-c * float(tau))
 
 
@@ -133,9 +132,6 @@ def transverse_eigenstructure(t, rel_tol=1e-8) -> TransverseEigen:
     the right singular vectors of ``M_perp - mu I`` whose singular values are
     below ``rel_tol`` times the largest entry of ``M_perp`` (float64 M, ~1e-13).
     """
-    from .monodromy import monodromy
-    from .orbits import pendulum
-
     M = monodromy(pendulum(t.energy))
     mu = 1.0 if t.kind == "IS" else -1.0
     P = M.transverse
@@ -158,8 +154,6 @@ def transverse_eigenstructure(t, rel_tol=1e-8) -> TransverseEigen:
         [float(np.max(np.abs((M.matrix - mu * np.eye(4)) @ v))) for v in vecs]
         or [float("nan")]
     )
-    from .monodromy import multipliers_from_trace
-
     ev = np.concatenate(
         [np.asarray(multipliers_from_trace(M.trace_transverse)), [1.0, 1.0]]
     )
@@ -265,8 +259,6 @@ def separatrix_transmission(digits=None):
         ``None``: float64 (correctly rounded to ~1e-16). Otherwise an ``mpmath.mpf`` computed
         with ``digits`` decimal digits.
     """
-    import mpmath as mp
-
     if digits is not None and (not isinstance(digits, int) or digits < 1):
         raise ValueError(f"digits must be a positive integer or None, got {digits!r}")
     with mp.workdps((digits or 16) + 10):
@@ -376,9 +368,6 @@ def family_curve(label, E_end, n=12, digits=None) -> FamilyCurve:
         Unknown label, ``E_end`` outside the family's range, or a continuation that fails
         before ``E_end`` (from :mod:`rotorlib.newborn`).
     """
-    from .bifurcations import parse_label, transition
-    from .newborn import newborn_family
-
     kind, phase, _ = parse_label(label)
     tr = transition(label)
     d_birth = tr.energy.eps

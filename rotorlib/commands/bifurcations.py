@@ -48,12 +48,8 @@ def register(sub):
 
 def run(args):
     if args.family == "breather":
-        try:
-            from ..breathers import breather_transitions
-        except ModuleNotFoundError as exc:
-            if exc.name in ("rotorlib.breathers",):
-                raise ValueError("breather transitions are not available yet") from None
-            raise
+        from ..breathers import breather_transitions
+
         records = [t.to_record() for t in breather_transitions()]
         if args.json:
             print(json.dumps(records, indent=2))
