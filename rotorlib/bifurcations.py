@@ -277,7 +277,6 @@ def delta_mp(x, phase: str, digits: int = 30):
     The energy is built from ``x`` in mpmath at ``digits + 15`` digits, so no
     float64 rounding enters.
     """
-
     be, prec = precision_tier(digits, "heyoka")
     dps = digits + 15
     prob = _mp_problem(x, phase, dps)

@@ -218,7 +218,6 @@ def newborn_slope(label, rel=(2e-4, 5e-4, 1e-3, 2e-3, 4e-3), digits=None) -> Slo
     strings (so ``E - E_n`` keeps its digits even 1e-10 from E = 4, where a float64 ``E`` would lose
     them); the amplitude is the shooting unknown ``u`` (``a1(0)`` or ``p1(0)``).
     """
-
     t = transition(label)
     sign = 1 if t.phase == "rot" else -1
     with mp.workdps(40):
@@ -333,7 +332,6 @@ def duality_pairs(n_max=20, digits=None) -> list:
     (:func:`rotorlib.bifurcations.transition`, ~30 digits, ~0.3 s per root); ``diff`` and ``k2_sum - 2`` are
     then formed in mpmath and resolved to ~1e-28.
     """
-
     if digits is None:
         lib = {t.label: t for t in transitions("lib", n_max, kinds=("IS",))}
         rot = {t.label: t for t in transitions("rot", n_max // 2 + 3)}
@@ -561,7 +559,6 @@ def _four_plus(dE, deep):
 
 def dE_str(label) -> str:
     """``E_n - 4`` of a rotational transition as a 35-digit decimal string."""
-
     t = transition(label)
     if t.phase != "rot":
         raise ValueError(f"{t.label} is not a rotational transition")
@@ -601,7 +598,6 @@ def rotational_ratios(specs, executor=None, progress=False) -> list:
     (each once) through :func:`rotorlib.parallel.pmap` (``executor``: any
     :class:`concurrent.futures.Executor`). Precision: ratios to ~1e-8 (float64 members) or
     ~1e-15 (real128) relative, far below their distance to the limit."""
-
     specs = [(str(k), int(n)) for k, n in specs]
     for k, n in specs:
         if k not in ("IS", "PD") or n < 3:

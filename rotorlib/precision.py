@@ -147,9 +147,9 @@ def tier(digits=None, extra=0) -> Tier:
     """The tier that delivers ``digits`` significant digits after losing ``extra``.
 
     ``digits=None`` or ``digits + extra <= 15``: float64; up to 31: real128; beyond:
-    ``mp<bits>`` with ``bits = ceil((digits + extra + 8) * 3.33)``. ``extra`` is the number of digits the
-    computation itself loses (e.g. ``log10(1/|E - 4|)`` for shooting near the
-    separatrix).
+    ``mp<bits>`` with ``bits = ceil((digits + extra + 8) * 3.33)``. ``extra`` is the
+    number of digits the computation itself loses (e.g. ``log10(1/|E - 4|)`` for
+    shooting near the separatrix).
     """
     if digits is None:
         return FLOAT64
