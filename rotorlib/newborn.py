@@ -177,13 +177,19 @@ class FamilySpec:
         )
 
 
-@functools.cache
 def family_spec(label) -> FamilySpec:
     """The family born at ``label`` (``IS^l_2``, ``ISl2``, ``PD^r_3`` ...)."""
-    from .bifurcations import parse_label, transition
+    from .bifurcations import parse_label
 
-    kind, phase, n = parse_label(label)
-    tr = transition(label)
+    return _family_spec(*parse_label(label))
+
+
+@functools.cache
+def _family_spec(kind, phase, n) -> FamilySpec:
+    """:func:`family_spec`, cached on the parsed label (``ISl2`` and ``IS^l_2`` alike)."""
+    from .bifurcations import transition
+
+    tr = transition(f"{kind}{phase[0]}{n}")
     up = tr.transition.startswith("unstable")  # unstable -> stable with increasing E
     if phase == "lib" and kind == "IS":
         start = "p1" if up else "a1"

@@ -27,7 +27,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy import optimize
 
 __all__ = [
     "potential_phi",
@@ -289,6 +288,8 @@ def critical_points(grid: int = 16):
     list of CriticalPoint
         Sorted by energy, then name.
     """
+    from scipy import optimize  # (lazy: scipy.optimize is slow to import)
+
     found = []
     pts = np.linspace(0, 2 * np.pi, grid, endpoint=False) + 0.05
     for x0 in pts:
