@@ -42,12 +42,14 @@ from __future__ import annotations
 
 import functools
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
+import mpmath as mp
 import numpy as np
 from scipy import optimize
 
 from .continuation import ContinuationOptions, Natural, continuation, switch
+from .energy import as_float
 from .flow import Section, flow, sample, to_section
 from .monodromy import monodromy
 from .orbits import breather
@@ -195,15 +197,14 @@ def breather_transitions(family="R", digits=None, E_max=1e4):
 
 def _make_transition(E, kind, level, family, digits):
     slope = _trace_slope(E, family)
-    period = breather(E, family).period
+    orbit = breather(E, family)
+    period = orbit.period
     up = (slope > 0) == (kind == "IS")  # tr M rising through 4 or falling through 0
     direction = "stable->unstable" if up else "unstable->stable"
     E_str, per_str, precision = repr(E), repr(period), "float64"
     if digits is not None and digits > 15:
-        import mpmath as mp
-
-        M = monodromy(breather(E, family), digits=digits)
-        dT = breather(E, family).dperiod_dE
+        M = monodromy(orbit, digits=digits)
+        dT = orbit.dperiod_dE
         with mp.workdps(digits + 10):
             corr = -(mp.mpf(M.trace_str) - level) / mp.mpf(slope)
             # the extended trace is evaluated at the decimal repr(E)
@@ -331,8 +332,6 @@ def _finish(x0, T, E, tq, xq, t, method, extra=None, digits=None):
         symmetric_residual=abs(float(_beta(xq)[1])),
         **(extra or {}),
     )
-    from dataclasses import replace
-
     return replace(o, alpha1_max=b2max / 4, alpha2_max=b2max / 4, extra=ex)
 
 
@@ -481,8 +480,6 @@ def breather_daughter(E, digits=None) -> PeriodicOrbit:
     ValueError
         Outside the family's range ``DAUGHTER_E_MIN <= E < E_PD``.
     """
-    from .energy import as_float
-
     Ef = as_float(E, "E")
     fam = _branch_table()
     if not (DAUGHTER_E_MIN <= Ef < fam.E_PD):

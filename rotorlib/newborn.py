@@ -53,6 +53,7 @@ from dataclasses import dataclass
 import mpmath as mp
 import numpy as np
 
+from .bifurcations import parse_label, transition
 from .continuation import (
     PALC,
     ContinuationOptions,
@@ -179,16 +180,12 @@ class FamilySpec:
 
 def family_spec(label) -> FamilySpec:
     """The family born at ``label`` (``IS^l_2``, ``ISl2``, ``PD^r_3`` ...)."""
-    from .bifurcations import parse_label
-
     return _family_spec(*parse_label(label))
 
 
 @functools.cache
 def _family_spec(kind, phase, n) -> FamilySpec:
     """:func:`family_spec`, cached on the parsed label (``ISl2`` and ``IS^l_2`` alike)."""
-    from .bifurcations import transition
-
     tr = transition(f"{kind}{phase[0]}{n}")
     up = tr.transition.startswith("unstable")  # unstable -> stable with increasing E
     if phase == "lib" and kind == "IS":
@@ -303,8 +300,6 @@ def _birth(spec: FamilySpec, name: str):
     """``E_n`` in a tier: float64, or from the 30-digit transition (extended)."""
     if name == "float64":
         return spec.E_birth
-    from .bifurcations import transition
-
     t = Tier(name)
     with t.context():
         eps = mp.exp(mp.mpf(transition(spec.label, digits=30).log_abs_dE_str))
