@@ -79,7 +79,9 @@ def _check_E(E):
 
 @functools.cache
 def _section_integrator():
-    import heyoka as hy
+    from .precision import load_heyoka
+
+    hy = load_heyoka()
 
     f1, f2, P1, P2 = hy.make_vars("f1", "f2", "P1", "P2")
     s12 = hy.sin(f1 + f2)
@@ -250,7 +252,9 @@ def sample_energy_shell(E, n, seed=0):
 
 @functools.cache
 def _tangent_integrator():
-    import heyoka as hy
+    from .precision import load_heyoka
+
+    hy = load_heyoka()
 
     a1, a2, p1, p2, d1, d2, e1, e2 = hy.make_vars(
         "a1", "a2", "p1", "p2", "d1", "d2", "e1", "e2"

@@ -24,7 +24,18 @@ import math
 from dataclasses import asdict, dataclass
 from decimal import ROUND_DOWN, ROUND_HALF_EVEN, Decimal
 
-__all__ = ["Claim", "claim", "check", "markdown", "records", "STATUSES"]
+__all__ = [
+    "Claim",
+    "claim",
+    "check",
+    "markdown",
+    "records",
+    "STATUSES",
+    "rounded",
+    "sig",
+    "bound",
+    "glue",
+]
 
 STATUSES = ("reproduced", "not correctly rounded", "wrong", "not evaluable")
 
@@ -214,20 +225,139 @@ def check(diff: float, tol: float) -> str:
     )
 
 
-def _round_to(x: float, tol: float):
-    """``x`` to one digit below the decade of ``tol`` (digits that round-off cannot move)."""
-    if math.isnan(x):
-        return None
-    if not (tol > 0 and math.isfinite(tol)):
-        return float(f"{x:.3g}")
-    return round(x, 1 - int(math.floor(math.log10(tol))))
-
-
 def _cell(x) -> str:
-    """A table cell: floats (differences, tolerances) as ``.1e``; pass other numbers as
-    strings."""
+    """A table cell: floats (tolerances) as ``.1e``; pass other numbers as strings."""
     s = f"{x:.1e}" if isinstance(x, float) else str(x)
     return s.replace("|", "\\|").replace("nan", "-")
+
+
+def _shown_difference(diff: float, tol: float) -> str:
+    """``paper - ours`` as a table shows it: one significant digit when it is at least a
+    tenth of the tolerance (the paper's own digits; our error is far below that), else
+    the bound ``< tol/10``. What round-off moves (the last bits of ``ours``) never shows.
+    """
+    if not math.isfinite(diff):
+        return "-"
+    if not (tol > 0 and math.isfinite(tol)):
+        return f"{diff:+.0e}"
+    floor = 10.0 ** math.floor(math.log10(tol / 10))
+    if abs(diff) < floor:
+        return f"< {floor:.0e}"
+    return f"{diff:+.0e}"
+
+
+# --- output that does not depend on the last bits of the arithmetic -------------------
+# A number the book prints or glues carries only the digits that its computation
+# verified: rounded to them (`rounded`, `sig`), or, when it is zero up to round-off, a
+# bound (`bound`). Printed this way, a chapter's output is the same on every CPU (the
+# test command checks it in a perturbed floating-point environment too).
+
+
+def rounded(x, digits: int, *, atol: float = 0.0):
+    """``x`` rounded to ``digits`` significant digits; ``|x| < atol`` gives ``0.0``.
+
+    Works on Python and numpy floats, mpmath numbers (converted to float), and on
+    lists, tuples and dicts of them (recursively); anything else (str, int, bool,
+    None) passes unchanged.
+
+    Examples
+    --------
+    >>> rounded(1.0013164193630415, 6)
+    1.00132
+    >>> rounded(4.440892098500626e-16, 6, atol=1e-12)
+    0.0
+    >>> rounded([2.0000000001, "x"], 3)
+    [2.0, 'x']
+    """
+    if digits < 1:
+        raise ValueError(f"digits must be >= 1, got {digits}")
+    if isinstance(x, dict):
+        return {k: rounded(v, digits, atol=atol) for k, v in x.items()}
+    if isinstance(x, list | tuple):
+        return type(x)(rounded(v, digits, atol=atol) for v in x)
+    if isinstance(x, bool | int | str) or x is None:
+        return x
+    try:
+        v = float(x)
+    except (TypeError, ValueError):
+        return x
+    if not math.isfinite(v):
+        return v
+    if abs(v) < atol or v == 0.0:
+        return 0.0
+    return float(f"{v:.{digits - 1}e}")
+
+
+def sig(x, digits: int) -> str:
+    """``x`` as a string with ``digits`` significant digits (``g`` style, no exponent
+    between 1e-4 and 1e16).
+
+    Examples
+    --------
+    >>> sig(3.893073684550241, 10)
+    '3.893073685'
+    >>> sig(2.86158152420e-11, 5)
+    '2.8616e-11'
+    """
+    if digits < 1:
+        raise ValueError(f"digits must be >= 1, got {digits}")
+    v = float(x)
+    if v == 0.0 or not math.isfinite(v):
+        return str(v)
+    e = math.floor(math.log10(abs(v)))
+    if -4 <= e < 16:
+        return f"{v:.{max(digits - 1 - e, 0)}f}"
+    return f"{v:.{digits - 1}e}"
+
+
+def bound(x, tol: float) -> str:
+    """The bound ``'< tol'`` for a quantity that is zero up to round-off (a closure error,
+    an energy drift, the difference of two routes), after checking ``|x| < tol``.
+
+    The printed text depends only on ``tol``, so it is the same on every machine; the
+    check is what can fail. Raises ``AssertionError`` when ``|x| >= tol`` (or ``x`` is not
+    finite), with the value in the message.
+
+    Examples
+    --------
+    >>> bound(5.1e-12, 1e-10)
+    '< 1e-10'
+    >>> bound(3e-9, 1e-10)
+    Traceback (most recent call last):
+    ...
+    AssertionError: |x| = 3e-09 is not below the bound 1e-10
+    """
+    v = abs(float(x))
+    if not (math.isfinite(v) and v < tol):
+        raise AssertionError(f"|x| = {v:.1g} is not below the bound {tol:.0e}")
+    return f"< {tol:.0e}"
+
+
+def glue(key: str, value, digits: int | None = None, *, atol: float = 0.0) -> None:
+    """Glue ``value`` under ``key`` for the book's text (myst-nb), rounded first.
+
+    ``digits`` is the number of significant digits the computation verified; floats
+    (also inside lists, tuples and dicts) are stored rounded to them, and those below
+    ``atol`` as ``0.0``. ``digits=None`` is only for values that are not floats (strings,
+    integers, JSON records). Nothing is displayed in the notebook.
+    """
+    from myst_nb import glue as _glue
+
+    if digits is not None:
+        value = rounded(value, digits, atol=atol)
+    elif _has_float(value):
+        raise ValueError(f"glue {key!r}: a float needs digits= (its verified digits)")
+    _glue(key, value, display=False)
+
+
+def _has_float(x) -> bool:
+    if isinstance(x, dict):
+        return any(_has_float(v) for v in x.values())
+    if isinstance(x, list | tuple):
+        return any(_has_float(v) for v in x)
+    if isinstance(x, bool | int | str) or x is None:
+        return False
+    return True
 
 
 def markdown(rows, columns=None) -> str:
@@ -242,7 +372,15 @@ def markdown(rows, columns=None) -> str:
             "tolerance",
             "verdict",
         ]
-        rows = [[getattr(c, k) for k in columns] for c in rows]
+        rows = [
+            [
+                _shown_difference(c.difference, c.tolerance)
+                if k == "difference"
+                else getattr(c, k)
+                for k in columns
+            ]
+            for c in rows
+        ]
     out = ["| " + " | ".join(columns) + " |", "|" + "---|" * len(columns)]
     out += ["| " + " | ".join(_cell(v) for v in r) + " |" for r in rows]
     return "\n".join(out)
@@ -257,7 +395,9 @@ def records(claims, chapter: str) -> str:
         d.update(
             status=c.status,
             chapter=chapter,
-            difference=_round_to(c.difference, c.tolerance),
+            difference=None
+            if math.isnan(c.difference)
+            else _shown_difference(c.difference, c.tolerance),
             tolerance=None if math.isnan(c.tolerance) else float(f"{c.tolerance:.3g}"),
         )
         rows.append(d)

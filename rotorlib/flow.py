@@ -120,7 +120,9 @@ def _event_expr(hy, section, k):
 def _build(t: Tier, sections, variational, terminal):
     """A heyoka integrator with terminal events (one per section) or, with
     ``terminal=False``, non-terminal events recording every crossing in ``ta.found``."""
-    import heyoka as hy
+    from .precision import load_heyoka
+
+    hy = load_heyoka()
 
     sys = _system(hy)
     if variational:
@@ -221,7 +223,9 @@ def to_section(
     :class:`SectionNotReached` at ``t_max``, or as soon as ``abort`` is crossed first (e.g.
     ``a2`` turning back before it reaches the section of a rotation).
     """
-    import heyoka as hy
+    from .precision import load_heyoka
+
+    hy = load_heyoka()
 
     secs = (section,) if abort is None else (section, abort)
     ta, _ = _integrator(t, secs, variational)

@@ -63,7 +63,11 @@ KINDS = ("pendulum-lib", "pendulum-rot", "breather-LG", "breather-LD", "breather
 def heyoka_available() -> bool:
     """True when heyoka imports (Linux wheels; optional)."""
     try:
-        import heyoka  # noqa: F401
+        from .precision import load_heyoka
+
+        load_heyoka()
+    except ValueError:  # a malformed ROTORLIB_HEYOKA_CACHE_MB: say so, never hide it
+        raise
     except Exception:
         return False
     return True
@@ -296,7 +300,9 @@ def _heyoka_integrator(kind, precision, tol=None):
 
 
 def _build_heyoka_integrator(kind, precision, tol=None):
-    import heyoka as hy
+    from .precision import load_heyoka
+
+    hy = load_heyoka()
 
     from .precision import Tier
 
@@ -335,7 +341,9 @@ _NPARS = {
 
 
 def _segment_heyoka(prob, sign, precision, tol=None):
-    import heyoka as hy
+    from .precision import load_heyoka
+
+    hy = load_heyoka()
     import mpmath as mp
 
     ta = _heyoka_integrator(prob.kind, precision, tol)

@@ -399,7 +399,9 @@ def variational_monodromy(
         )
     if method != "heyoka":
         raise ValueError(f"method must be 'scipy' or 'heyoka', got {method!r}")
-    import heyoka as hy
+    from .precision import load_heyoka
+
+    hy = load_heyoka()
     import mpmath as mp
 
     a1, a2, p1, p2 = hy.make_vars("a1", "a2", "p1", "p2")

@@ -14,13 +14,50 @@ tier is read as its shortest decimal representation (``4.55`` means 455/100).
 from __future__ import annotations
 
 import math
+import os
 from dataclasses import dataclass
 from functools import cache
 
 import mpmath as mp
 import numpy as np
 
-__all__ = ["Tier", "tier", "FLOAT64", "REAL128"]
+__all__ = ["Tier", "tier", "FLOAT64", "REAL128", "load_heyoka", "HEYOKA_CACHE_MB"]
+
+#: Default bound (MiB) of heyoka's on-disk cache of compiled integrators
+#: (``~/.cache/heyoka``; heyoka's own default is 20 GiB). One build of the book and one
+#: run of the tests fill about 260 MB; past the bound heyoka evicts the least recently
+#: used entries. Set ``ROTORLIB_HEYOKA_CACHE_MB`` to change it (``0`` turns the cache off).
+HEYOKA_CACHE_MB = 512
+
+
+@cache
+def load_heyoka():
+    """heyoka, imported once, with its on-disk cache bounded.
+
+    The bound is ``ROTORLIB_HEYOKA_CACHE_MB`` MiB if that variable is set, else
+    :data:`HEYOKA_CACHE_MB`. No number depends on the cache: it only saves the
+    compilation of an integrator already built once on this machine.
+
+    Raises
+    ------
+    ImportError
+        heyoka is not installed (callers fall back to scipy/mpmath).
+    ValueError
+        ``ROTORLIB_HEYOKA_CACHE_MB`` is not a non-negative integer.
+    """
+    import heyoka as hy
+
+    raw = os.environ.get("ROTORLIB_HEYOKA_CACHE_MB")
+    try:
+        mb = HEYOKA_CACHE_MB if raw is None else int(raw)
+    except ValueError:
+        mb = -1
+    if mb < 0:
+        raise ValueError(
+            f"ROTORLIB_HEYOKA_CACHE_MB must be a non-negative integer (MiB), got {raw!r}"
+        )
+    hy.llvm_state.set_diskcache_limit(mb * 2**20)
+    return hy
 
 
 @dataclass(frozen=True)
@@ -98,7 +135,7 @@ class Tier:
     @property
     def hy_kwargs(self) -> dict:
         """``fp_type`` / ``prec`` keyword arguments of ``heyoka.taylor_adaptive``."""
-        import heyoka as hy
+        hy = load_heyoka()
 
         if self.name == "float64":
             return {}
@@ -110,7 +147,7 @@ class Tier:
         """A number in heyoka's type for this tier, without losing digits."""
         if not self.extended:
             return float(v)
-        import heyoka as hy
+        hy = load_heyoka()
 
         if isinstance(v, (float, np.floating)):
             s = repr(float(v))
@@ -133,7 +170,7 @@ class Tier:
         vals = [self.to_hy(v) for v in values]
         if self.name == "float64":
             return np.array(vals, dtype=float)
-        import heyoka as hy
+        hy = load_heyoka()
 
         return np.array(vals, dtype=hy.real128 if self.name == "real128" else object)
 

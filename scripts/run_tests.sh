@@ -4,9 +4,10 @@
 #      (config: [tool.ruff] in pyproject.toml);
 #   2. actionlint on the GitHub Actions workflows (.github/workflows/);
 #   3. the unit tests (tests/, including the headless-browser test of the built
-#      HTML in _build/html);
+#      HTML in _build/html) and the doctests of rotorlib;
 #   4. nbval: re-execute the book's notebooks, comparing fresh outputs with the
-#      stored ones.
+#      stored ones, twice: once as the machine is, once in a floating-point
+#      environment changed to imitate another CPU (see perturbed_env below).
 # pytest and nbval run on NPROC workers (pytest-xdist, default 2: this machine's cores),
 # one file per worker (--dist loadfile: a notebook's cells run in order in one kernel).
 set -euo pipefail
@@ -62,14 +63,27 @@ fi
 mkdir -p tests book
 n_tests=$(find tests -name 'test_*.py' -o -name '*_test.py' | wc -l)
 MPLBACKEND=Agg part "pytest tests/" run_pytest "$n_tests" "${XDIST[@]}" tests
+# The Examples sections of the library's docstrings (run as written).
+MPLBACKEND=Agg part "doctests rotorlib/" "$PY" -m pytest -q -p no:cacheprovider \
+    --doctest-modules rotorlib
 
 # --nbval-current-env: execute notebooks with this venv's Python, whatever
 # kernel their metadata names. MPLBACKEND must not reach the kernel: with it
 # set (e.g. Agg) ipykernel does not use the inline backend and figures vanish.
+# The sanitizer file masks only what cannot be rounded (see its comments): every
+# number a chapter prints is rounded to its verified digits or printed as a bound.
 n_nb=$(find book -name '*.ipynb' -not -path '*/.ipynb_checkpoints/*' | wc -l)
 unset MPLBACKEND
-part "nbval book/" run_pytest "$n_nb" "${XDIST[@]}" --nbval --nbval-current-env --nbval-cell-timeout=600 \
-    --nbval-sanitize-with book/nbval_sanitize.cfg book/
+source scripts/perturbed_env.sh   # defines `perturbed` (used below)
+"$PY" scripts/fp_environment.py
+NBVAL=(--nbval --nbval-current-env --nbval-cell-timeout=600
+       --nbval-sanitize-with book/nbval_sanitize.cfg book/)
+part "nbval book/" run_pytest "$n_nb" "${XDIST[@]}" "${NBVAL[@]}"
+
+# The same notebooks again, in a floating-point environment that imitates another
+# CPU (OpenBLAS kernel, numpy SIMD groups, one thread: scripts/perturbed_env.sh).
+# A number that moves there is printed with more digits than its computation has.
+part "nbval book/ (perturbed)" perturbed run_pytest "$n_nb" "${XDIST[@]}" "${NBVAL[@]}"
 
 if [ "${#failed[@]}" -gt 0 ]; then
     echo "run_tests: FAILED: $(IFS=,; echo "${failed[*]}" | sed 's/,/, /g')"

@@ -78,3 +78,37 @@ def test_check():
     assert cmp.check(1e-12, 1e-10) == "agrees"
     assert cmp.check(1e-9, 1e-10) == "DIFFERS"
     assert cmp.check(math.nan, 1.0) == "DIFFERS"
+
+
+def test_rounded_and_sig_are_machine_independent():
+    # two floats that differ in the last bits round to the same printed value
+    a, b = 1.0013164193630415, 1.0013164193630413
+    assert cmp.rounded(a, 12) == cmp.rounded(b, 12) == 1.00131641936
+    assert cmp.sig(a, 8) == cmp.sig(b, 8) == "1.0013164"
+    assert cmp.rounded(4.440892098500626e-16, 6, atol=1e-12) == 0.0
+    assert cmp.rounded({"x": [2.0000000001, "s", 3]}, 3) == {"x": [2.0, "s", 3]}
+    assert cmp.sig(2.86158152420e-11, 5) == "2.8616e-11"
+    with pytest.raises(ValueError):
+        cmp.rounded(1.0, 0)
+
+
+def test_bound_checks_and_prints_only_the_bound():
+    assert cmp.bound(5.1e-12, 1e-10) == cmp.bound(-9.9e-11, 1e-10) == "< 1e-10"
+    with pytest.raises(AssertionError, match="not below"):
+        cmp.bound(2e-10, 1e-10)
+    with pytest.raises(AssertionError):
+        cmp.bound(float("nan"), 1e-10)
+
+
+def test_glue_needs_digits_for_floats():
+    with pytest.raises(ValueError, match="digits"):
+        cmp.glue("k", [1.5, 2.0])
+
+
+def test_table_difference_hides_round_off():
+    a = cmp.claim("x", "4.0000211", 4.0000211 + 4e-16)
+    b = cmp.claim("x", "4.0000211", 4.0000211 - 3e-16)
+    assert cmp.markdown([a]) == cmp.markdown([b])
+    assert "< 1e-09" in cmp.markdown([a])
+    c = cmp.claim("x", "4.0000212", 4.0000211)
+    assert "+1e-07" in cmp.markdown([c])

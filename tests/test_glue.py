@@ -420,3 +420,17 @@ def test_every_cited_key_is_in_the_bibliography():
         }
     missing = sorted(cited - keys)
     assert not missing, f"cited but not in references.bib: {missing}"
+
+
+@pytest.mark.parametrize("nb_path", NOTEBOOKS, ids=lambda p: p.name)
+def test_glued_numbers_are_rounded(nb_path):
+    """Glue stores values already rounded to their verified digits (rotorlib.compare.glue):
+    no glued number carries a float64's 16-17 significant digits, whose last ones are the
+    machine's round-off and would not reproduce on another CPU."""
+    bad = {}
+    for key, text in stored_text(_cells(nb_path)).items():
+        for m in re.finditer(r"(?<![\w.])[+-]?\d+\.\d+(?:[eE][+-]?\d+)?", text or ""):
+            mantissa = re.split("[eE]", m.group(0).lstrip("+-"))[0]
+            if len(mantissa.replace(".", "").lstrip("0")) in (16, 17):
+                bad[key] = text
+    assert not bad, f"{nb_path.name}: glued with all float64 digits (round them): {bad}"

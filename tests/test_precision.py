@@ -236,3 +236,21 @@ def test_real128_tol_knob():
     loose = rl.monodromy(o, digits=30, tol=1e-20).trace_str
     assert 15 < agreeing_digits(loose, ref) < 27
     assert np.isfinite(float(loose))
+
+
+def test_heyoka_disk_cache_is_bounded(monkeypatch):
+    hy = pytest.importorskip("heyoka")
+    from rotorlib import precision
+
+    precision.load_heyoka.cache_clear()
+    monkeypatch.setenv("ROTORLIB_HEYOKA_CACHE_MB", "300")
+    precision.load_heyoka()
+    assert hy.llvm_state.get_diskcache_limit() == 300 * 2**20
+    precision.load_heyoka.cache_clear()
+    monkeypatch.setenv("ROTORLIB_HEYOKA_CACHE_MB", "lots")
+    with pytest.raises(ValueError, match="ROTORLIB_HEYOKA_CACHE_MB"):
+        precision.load_heyoka()
+    precision.load_heyoka.cache_clear()
+    monkeypatch.delenv("ROTORLIB_HEYOKA_CACHE_MB")
+    precision.load_heyoka()
+    assert hy.llvm_state.get_diskcache_limit() == precision.HEYOKA_CACHE_MB * 2**20

@@ -26,6 +26,23 @@ NOTEBOOKS = sorted(
 )
 
 TQDM = re.compile(r"\d+%\|[^|\n]*\||\d+/\d+ \[\d+:\d+<|it/s\]|s/it\]")
+# A float64 printed with all its digits: 16 or 17 significant digits, the last of them
+# the machine's round-off (the output would not reproduce on another CPU). Numbers
+# from an extended-precision tier carry 20 or more digits and are not matched.
+DECIMAL = re.compile(r"(?<![\w.])[+-]?\d+\.\d+(?:[eE][+-]?\d+)?(?![\w.])")
+
+
+def float_reprs(text: str) -> list[str]:
+    """The numbers in ``text`` written with 16 or 17 significant digits."""
+    out = []
+    for m in DECIMAL.finditer(text):
+        mantissa = re.split("[eE]", m.group(0).lstrip("+-"))[0]
+        digits = mantissa.replace(".", "").lstrip("0")
+        if len(digits) in (16, 17):
+            out.append(m.group(0))
+    return out
+
+
 ADDRESS = re.compile(r"\bat 0x[0-9a-fA-F]{6,}|0x7f[0-9a-fA-F]{6,}")
 
 
@@ -129,6 +146,14 @@ def test_notebook_stored_clean(nb):
                 problems.append(
                     f"code cell {i}: memory address in the output: {ADDRESS.search(text).group(0)!r}"
                 )
+            src = "".join(cell["source"])
+            if "NBVAL_IGNORE_OUTPUT" not in src.split("\n", 1)[0]:
+                reprs = float_reprs(text)
+                if reprs:
+                    problems.append(
+                        f"code cell {i}: float64 repr(s) in a compared output {reprs[:3]}: "
+                        "print the verified digits (rotorlib.compare.sig/rounded) or a bound"
+                    )
     assert not problems, f"{nb.name}:\n  " + "\n  ".join(problems)
 
 
