@@ -38,10 +38,15 @@ class _OneLineParser(argparse.ArgumentParser):
         raise ValueError(f"{self.prog}: {message}")
 
 
-def build_parser() -> argparse.ArgumentParser:
+def build_parser(prog: str = "python -m rotorlib") -> argparse.ArgumentParser:
+    from . import __version__
+
     parser = _OneLineParser(
-        prog="python -m rotorlib",
+        prog=prog,
         description="The 3-rotor bifurcation cascade (Krishnaswami & Yadav 2023), recomputed.",
+    )
+    parser.add_argument(
+        "--version", action="version", version=f"rotorlib {__version__}"
     )
     sub = parser.add_subparsers(
         dest="command", parser_class=_OneLineParser, metavar="COMMAND"
@@ -64,10 +69,15 @@ def emit(records, as_json: bool, columns) -> None:
         print("  ".join(str(r.get(c, "")).ljust(w) for c, w in zip(columns, widths)))
 
 
-def main(argv=None) -> int:
+def console() -> int:
+    """The installed ``rotorlib`` command (same as ``python -m rotorlib``)."""
+    return main(prog="rotorlib")
+
+
+def main(argv: list[str] | None = None, prog: str = "python -m rotorlib") -> int:
     """Entry point; returns the exit status."""
     try:
-        parser = build_parser()
+        parser = build_parser(prog)
         args = parser.parse_args(argv)
         return args.func(args) or 0
     except ValueError as exc:
