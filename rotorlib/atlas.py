@@ -102,7 +102,7 @@ class AtlasOrbit:
     action: float
     closure: float
     u: float
-    problem: ShootingProblem = field(repr=False, default=None)
+    problem: ShootingProblem | None = field(repr=False, default=None)
 
     def to_record(self) -> dict:
         """The fields printed by ``python -m rotorlib atlas --json``."""
@@ -371,7 +371,8 @@ class _Curve:
     """An orbit sampled densely, for :func:`_distance`."""
 
     def __init__(self, x0, T, n=4000):
-        self.x0, self.states, self.ts = list(x0), *sample(x0, T, n)
+        self.x0 = list(x0)
+        self.states, self.ts = sample(x0, T, n)
 
 
 def _distance(c: _Curve, y0) -> float:
@@ -633,7 +634,8 @@ def census(
         )
         if f is not None
     ]
-    unique, curves = [], []
+    unique: list = []
+    curves: list = []
     for f in sorted(found, key=lambda f: (f[5], f[0], f[1], f[2])):
         T, S = f[5], f[6]
         if T > t_max or any(

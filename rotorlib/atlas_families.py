@@ -27,6 +27,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field, replace
 from fractions import Fraction
+from typing import Any
 
 import numpy as np
 
@@ -84,8 +85,8 @@ class AtlasFamily:
     points: tuple
     positions: tuple
     stops: tuple
-    u: np.ndarray = field(repr=False, default=None)
-    problem: object = field(repr=False, default=None)
+    u: np.ndarray | None = field(repr=False, default=None)
+    problem: Any = field(repr=False, default=None)
 
     def stable_windows(self) -> list:
         """``[(E_a, E_b)]``: each run of consecutive linearly stable members
@@ -266,6 +267,10 @@ def _locate(y, E, tol=1e-7):
 def _parent_at(fam: AtlasFamily, x, E):
     """The parent's start parameter at energy ``E`` near position ``x`` among the members
     (secant in ``u`` from the members' values, linear in ``E`` between them)."""
+    if fam.u is None:
+        raise ValueError(
+            f"family of the orbit at E = {fam.orbit.E}: no start parameters stored for this family"
+        )
     i = min(max(int(math.floor(x)), 0), len(fam.E) - 2)
     Ea, Eb, ua, ub = fam.E[i], fam.E[i + 1], fam.u[i], fam.u[i + 1]
     u0 = ua + (ub - ua) * (E - Ea) / (Eb - Ea) if Eb != Ea else ua
@@ -362,7 +367,8 @@ def daughters(
         # a daughter tends to the parent as dE -> 0, an orbit not born here does not: keep
         # the nearest (and any within twice its distance: the pair of a pitchfork)
         gmin = min((g for g, _ in near), default=0.0)
-        here, curves = [], []
+        here: list = []
+        curves: list = []
         for _, f in sorted((v for v in near if v[0] < 2 * gmin), key=lambda v: v[0]):
             T = f[5]
             if any(

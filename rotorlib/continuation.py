@@ -30,6 +30,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, replace
+from typing import Any
 
 from .flow import SectionNotReached, monodromy_matrix
 from .precision import FLOAT64, Tier
@@ -50,12 +51,12 @@ class Member:
     ``nan`` unless computed).
     """
 
-    u: object
-    w: object
-    E: object
-    t1: object
-    r: object
-    trace: object = NAN
+    u: Any
+    w: Any
+    E: Any
+    t1: Any
+    r: Any
+    trace: Any = NAN
     x1: tuple = ()
 
 
@@ -164,8 +165,8 @@ class Natural:
     parameter: str
     values: tuple
     order: int = 1
-    origin: object = None
-    origin_other: object = None
+    origin: Any = None
+    origin_other: Any = None
     halvings: int = 12
 
 
@@ -622,7 +623,7 @@ def _events(problem, t, branch_members, opts, alg):
 def continuation(
     problem: ShootingProblem,
     algorithm,
-    options: ContinuationOptions = None,
+    options: ContinuationOptions | None = None,
     start=(),
     t: Tier = FLOAT64,
 ) -> Branch:

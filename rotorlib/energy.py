@@ -100,7 +100,7 @@ def _exact_distance(text: str, sep: Decimal):
     """``(sign, |E - sep|)`` of the decimal ``text`` as an exact ``Decimal``."""
     d = Decimal(text)
     top = max(d.adjusted(), sep.adjusted(), 0)
-    low = min(d.as_tuple().exponent, sep.as_tuple().exponent)
+    low = min(int(d.as_tuple().exponent), int(sep.as_tuple().exponent))
     prec = top - low + 3  # enough digits for the exact difference
     if prec > _MAX_DIGITS:
         raise ValueError(
@@ -120,7 +120,7 @@ class _Distance:
     log_abs_dE: float
     E: float
     given: tuple
-    E_exact: object = None  # the Decimal E for E input (family checks)
+    E_exact: Decimal | None = None  # the Decimal E for E input (family checks)
 
 
 def _distance(
@@ -162,11 +162,15 @@ class _SeparatrixDistance:
 
     _SEP = Decimal(4)
     _NAME = "E-4"
+    # fields of the dataclasses that mix this in (BreatherEnergy derives phase)
+    eps: float
+    log_abs_dE: float
+    given: tuple[str, str]
 
     @property
     def side(self) -> int:
         """-1 below the separatrix, +1 above."""
-        return 1 if self.phase == "rot" else -1
+        return 1 if getattr(self, "phase") == "rot" else -1
 
     @property
     def in_float64_range(self) -> bool:
@@ -313,7 +317,7 @@ def pendulum_energy(E=None, log_abs_dE=None, phase=None) -> PendulumEnergy:
         raise ValueError("log|E-4| needs a phase, 'lib' or 'rot'")
     d = _distance(Decimal(4), E=E, log_abs_dE=log_abs_dE, side=side)
     if E is not None:
-        if d.E_exact < 0:
+        if d.E_exact is not None and d.E_exact < 0:
             raise ValueError(
                 f"E must be >= 0 (the minimum of V is 0), got {d.given[1]}"
             )
@@ -401,7 +405,7 @@ def breather_energy(E=None, family=None, log_abs_dE=None) -> BreatherEnergy:
     d = _distance(Decimal("4.5"), E=E, log_abs_dE=log_abs_dE, side=side, what="E-4.5")
     if E is not None:
         text = d.given[1]
-        if d.E_exact < 0:
+        if d.E_exact is not None and d.E_exact < 0:
             raise ValueError(f"E must be >= 0, got {text}")
         if d.side == 0:
             raise ValueError(
@@ -417,7 +421,7 @@ def breather_energy(E=None, family=None, log_abs_dE=None) -> BreatherEnergy:
             raise ValueError(
                 f"the librational breather {fam} exists only for E < 4.5; got E = {text}"
             )
-        if fam == "LD" and d.E_exact < 4:
+        if fam == "LD" and d.E_exact is not None and d.E_exact < 4:
             raise ValueError(
                 f"the breather LD (libration about D) exists only for 4 <= E < 4.5; got E = {text}"
             )

@@ -23,8 +23,10 @@ order ``[a1, a2, p1, p2]`` used everywhere else.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from decimal import Decimal
+from typing import Any
 
 import numpy as np
 
@@ -373,7 +375,7 @@ def variational_monodromy(
     if method == "scipy":
         from scipy.integrate import solve_ivp
 
-        x0 = np.asarray(state0, dtype=float)
+        x0: Any = np.asarray(state0, dtype=float)
 
         def rhs(t, z):
             x = z[:4]
@@ -413,6 +415,8 @@ def variational_monodromy(
         (p2, -(s_m + s_p)),
     ]
     vsys = hy.var_ode_sys(sys, hy.var_args.vars, order=1)
+    conv: Callable[[Any], Any]
+    kw: dict[str, Any]
     if precision == "float64":
         kw, conv, dps = {}, float, 17
     elif precision == "real128":

@@ -594,7 +594,7 @@ def linear_orbit(label, x0, period, n=801):
     return t, sol.y[0], np.array([pend.state(tt)[1] for tt in t])
 
 
-def a1_structure(orbit: PeriodicOrbit, spec: FamilySpec = None, n=4000) -> dict:
+def a1_structure(orbit: PeriodicOrbit, spec: FamilySpec | None = None, n=4000) -> dict:
     """Period of ``a1`` in units of the pendulum period at birth, and its nodes per orbit period.
 
     ``a1`` is sampled at ``n`` mid-points of one period (float64 heyoka); its period is the

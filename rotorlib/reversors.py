@@ -91,7 +91,11 @@ class Reversor:
 def reversors() -> tuple:
     """The eight reversing symmetries ``T g``, ``g^2 = 1``, named by what ``g`` does to
     ``(phi1, phi2, phi3)`` (``1``, ``-1``, ``(12)``, ``(13)``, ``(23)``, ``-(12)`` ...)."""
-    perm = {(0, 1, 1, 0): "(12)", (-1, -1, 0, 1): "(13)", (1, 0, -1, -1): "(23)"}
+    perm: dict[tuple[int, ...], str] = {
+        (0, 1, 1, 0): "(12)",
+        (-1, -1, 0, 1): "(13)",
+        (1, 0, -1, -1): "(23)",
+    }
     out = []
     for g in symmetry_group():
         if not np.allclose(g @ g, np.eye(2)):
@@ -200,7 +204,7 @@ def fixed_sets() -> tuple:
     return tuple(out)
 
 
-def targets() -> list:
+def targets() -> tuple:
     """All fixed sets: every symmetric orbit meets two of them half a period apart."""
     return fixed_sets()
 
@@ -384,7 +388,7 @@ def start_sets(E) -> tuple:
 
 @functools.cache
 def _start_sets(regime) -> tuple:
-    out = []
+    out: list = []
     if regime == 0:
         out.append(BrakeSet("Fix T (around G)", (0.0, 0.0)))
     elif regime == 1:

@@ -24,6 +24,7 @@ asked for; the residual carries ``~eps / |E - 4|`` round-off near the separatrix
 from __future__ import annotations
 
 from dataclasses import dataclass, replace
+from typing import Any
 
 from .flow import Section, SectionNotReached, to_section
 from .precision import FLOAT64, Tier
@@ -205,8 +206,8 @@ class Shot:
         ``(dt1/du, dt1/dw)``.
     """
 
-    r: object
-    t1: object
+    r: Any
+    t1: Any
     x0: list
     x1: list
     grad: tuple | None = None
@@ -314,8 +315,8 @@ def _gradient(problem, u, w, Phi, x1, t: Tier):
 class Root:
     """Result of :func:`secant`: ``x``, ``|f(x)|``, iterations and whether the step converged."""
 
-    x: object
-    residual: object
+    x: Any
+    residual: Any
     iterations: int
     converged: bool
 

@@ -290,7 +290,7 @@ def critical_points(grid: int = 16):
     """
     from scipy import optimize  # (lazy: scipy.optimize is slow to import)
 
-    found = []
+    found: list = []
     pts = np.linspace(0, 2 * np.pi, grid, endpoint=False) + 0.05
     for x0 in pts:
         for y0 in pts:
@@ -303,7 +303,7 @@ def critical_points(grid: int = 16):
             x = np.where(np.abs(x - 2 * np.pi) < 1e-9, 0.0, x)
             if not any(np.allclose(x, y, atol=1e-8) for y in found):
                 found.append(x)
-    out = []
+    out: list = []
     for x in found:
         ev = np.linalg.eigvalsh(_hess_phi(x))
         kind = "minimum" if ev.min() > 0 else ("maximum" if ev.max() < 0 else "saddle")
@@ -331,11 +331,11 @@ def critical_points(grid: int = 16):
     )
     for j, i in enumerate(tmax):
         names[i] = f"T{j + 1}"
-    pts = [
+    points = [
         CriticalPoint(n, (float(x[0]), float(x[1])), e, ev, kind)
         for n, (x, e, ev, kind) in zip(names, out)
     ]
-    return sorted(pts, key=lambda p: (p.energy, p.name))
+    return sorted(points, key=lambda p: (p.energy, p.name))
 
 
 #: Energy of the saddles D (the pendulum separatrix), computed from V at (0, pi).

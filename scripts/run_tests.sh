@@ -2,7 +2,8 @@
 # Run every check:
 #   1. ruff check and ruff format --check on the Python code and the notebooks
 #      (config: [tool.ruff] in pyproject.toml);
-#   2. actionlint on the GitHub Actions workflows (.github/workflows/);
+#   2. actionlint on the GitHub Actions workflows (.github/workflows/), and mypy on
+#      rotorlib (config: [tool.mypy] in pyproject.toml);
 #   3. the unit tests (tests/, including the headless-browser test of the built
 #      HTML in _build/html) and the doctests of rotorlib;
 #   4. nbval: re-execute the book's notebooks, comparing fresh outputs with the
@@ -58,6 +59,9 @@ if [ "${#workflows[@]}" -eq 0 ]; then
 else
     part "actionlint" .venv/bin/actionlint -shellcheck= -pyflakes= "${workflows[@]}"
 fi
+
+# --- types --------------------------------------------------------------------
+part "mypy rotorlib" .venv/bin/mypy --no-incremental
 
 # --- tests --------------------------------------------------------------------
 mkdir -p tests book
