@@ -136,8 +136,8 @@ def plot_fig1(points, levels=None, grid: int = 301):
         )
     for (lab, (x, y)), ls in zip(breather_lines().items(), ("-", "--", ":")):
         axes[1].plot(x, y, ls, color="k", lw=2.0, label=lab)
-    axes[0].set_title("(a) pendula on the E = 4 homoclinic orbits")
-    axes[1].set_title("(b) isosceles breathers on the E = 4.5 heteroclinic orbits")
+    axes[0].set_title(r"(a) pendula on the $E = 4$ homoclinic orbits")
+    axes[1].set_title(r"(b) isosceles breathers on the $E = 4.5$ heteroclinic orbits")
     for ax in axes:
         ax.legend(loc="lower left", fontsize=8, framealpha=0.9)
     return fig
@@ -180,7 +180,7 @@ def plot_separatrix_approach(curves, period_marks=None, portrait_curves=None):
 
 # --------------------------------------------------------------------------- chapter 2
 def plot_textbook_error(
-    eps, err, label="textbook 4x4 (scipy DOP853, rtol 1e-12)", slope=-1.0
+    eps, err, label=r"textbook $4\times4$ (scipy DOP853, rtol $10^{-12}$)", slope=-1.0
 ):
     """Log-log plot of |error of tr M| against |E - 4|, with a reference line of the given slope."""
     eps, err = np.asarray(eps, float), np.asarray(err, float)
@@ -207,8 +207,8 @@ def plot_trace_vs_energy(E_lib, tr_lib, E_rot, tr_rot, ylim=(-1.0, 5.0)):
         alpha=0.15,
         label=r"stable: $0 < \mathrm{tr}\,M < 4$",
     )
-    ax.plot(E_lib, tr_lib, color="tab:blue", label="libration (E < 4)")
-    ax.plot(E_rot, tr_rot, color="tab:orange", label="rotation (E > 4)")
+    ax.plot(E_lib, tr_lib, color="tab:blue", label=r"libration ($E < 4$)")
+    ax.plot(E_rot, tr_rot, color="tab:orange", label=r"rotation ($E > 4$)")
     ax.axvline(4.0, color="0.4", ls=":", lw=1)
     ax.set_ylim(*ylim)
     ax.set_xlabel(r"relative energy $E$ (units $g$)")
