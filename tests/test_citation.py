@@ -70,11 +70,11 @@ def test_citation_cff_describes_this_repository(cff):
     assert isinstance(cff["date-released"], datetime.date), (
         f"date-released must be an ISO date (YYYY-MM-DD), got {cff['date-released']!r}"
     )
-    # The version agrees with the package's.
-    pyproject = (ROOT / "pyproject.toml").read_text(encoding="utf-8")
-    version = re.search(r'^version\s*=\s*"([^"]+)"', pyproject, re.M).group(1)
+    # The version agrees with the package's (set once, in rotorlib/__init__.py).
+    init = (ROOT / "rotorlib" / "__init__.py").read_text(encoding="utf-8")
+    version = re.search(r'^__version__\s*=\s*"([^"]+)"', init, re.M).group(1)
     assert str(cff["version"]) == version, (
-        f"CITATION.cff version {cff['version']} != pyproject.toml {version}"
+        f"CITATION.cff version {cff['version']} != rotorlib.__version__ {version}"
     )
 
 
