@@ -109,8 +109,9 @@ def _slugify(title: str) -> str:
     return re.sub(r"[^\w\u4e00-\u9fff\- ]", "", title.lower().replace(" ", "-"))
 
 
-def sections_of(nb: dict) -> list[tuple[int, str, str]]:
-    """``(cell index, heading text, anchor)`` of every heading, as MyST anchors them."""
+def sections_of(nb: dict) -> list[tuple[int, int, str, str]]:
+    """``(cell index, line, heading text, anchor)`` of every heading, as MyST anchors
+    them."""
     from markdown_it import MarkdownIt
     from mdit_py_plugins.dollarmath import dollarmath_plugin
 
@@ -130,8 +131,15 @@ def sections_of(nb: dict) -> list[tuple[int, str, str]]:
                 slug = f"{base}-{n}"
                 n += 1
             slugs.add(slug)
-            out.append((i, inline.content, slug))
+            out.append((i, tok.map[0] if tok.map else 0, inline.content, slug))
     return out
+
+
+def section_at(sections, cell: int, line: int = 0) -> str:
+    """The anchor of the section that holds ``line`` of ``cell`` ("" in the chapter's
+    opening, which is the page itself)."""
+    above = [s for s in sections if (s[0], s[1]) <= (cell, line)]
+    return above[-1][3] if len(above) > 1 else ""
 
 
 def _anchor_for(nb: dict, sections, value: str) -> str:
@@ -142,10 +150,10 @@ def _anchor_for(nb: dict, sections, value: str) -> str:
     literal = re.compile(r"[\"']-?" + re.escape(value) + r"[\"']")
     for kind, pattern in (("markdown", quoted), ("code", literal)):
         for i, cell in enumerate(nb["cells"]):
-            if cell["cell_type"] == kind and pattern.search("".join(cell["source"])):
-                above = [s for s in sections if s[0] <= i and s[2]]
-                # the chapter title (first heading) is the page itself: no anchor
-                return above[-1][2] if len(above) > 1 else ""
+            src = "".join(cell["source"])
+            m = pattern.search(src) if cell["cell_type"] == kind else None
+            if m:
+                return section_at(sections, i, src.count("\n", 0, m.start()))
     return ""
 
 
@@ -161,7 +169,7 @@ def claims_of(path: Path) -> tuple[str, list[dict]]:
                     break
             break
     sections = sections_of(nb)
-    slugs = {s[2] for s in sections}
+    slugs = {s[3] for s in sections}
     rows = []
     for cell in nb["cells"]:
         for out in cell.get("outputs", []):
