@@ -16,7 +16,7 @@ The ledger groups the verdicts in four classes (:attr:`Claim.status`): ``reprodu
 ``not evaluable`` (``ours`` is ``None``). :func:`check` is the same rule for our own
 numbers against an independent computation.
 
-What the disagreement *means* is the claim's :attr:`Claim.category` (one of
+What the disagreement *means* is the claim's ``category`` (one of
 ``CATEGORIES``), shown by the book's ledger: ``reproduced``, ``misrounded`` (the paper's
 last digit is off by ``k`` units, or ours truncated), ``typo`` (a transcription typo),
 ``error`` (an error in the paper), ``inherited`` (a consequence of an earlier wrong
@@ -43,6 +43,7 @@ __all__ = [
     "CATEGORIES",
     "Claim",
     "STATUSES",
+    "category_of_verdict",
     "check",
     "claim",
     "label_tex",
