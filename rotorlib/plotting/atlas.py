@@ -34,7 +34,7 @@ def plot_sweep(atlases, cf=None):
         x.set_xlabel(r"$E$ (units of $g$)")
     ax.set_ylabel(r"period $T$ (units of $\sqrt{m r^2/g}$)")
     ax.legend(loc="upper left")
-    ax.set_title(r"symmetric periodic orbits, $T \le T_{\max}$")
+    ax.set_title(r"symmetric periodic orbits, $T \leq T_{\max}$")
     E = [a.E for a in atlases]
     bx.step(E, [len(a.stable) for a in atlases], where="mid", color="C3")
     bx.set_ylabel("linearly stable orbits (number)", color="C3")
@@ -61,7 +61,7 @@ def plot_growth(periods, T_fit, slope, intercept):
     )
     ax.set_yscale("log")
     ax.set_xlabel(r"period $T$ (units of $\sqrt{m r^2/g}$)")
-    ax.set_ylabel(r"$N(T)$: orbits with period $\le T$")
+    ax.set_ylabel(r"$N(T)$: orbits with period $\leq T$")
     ax.legend()
     fig.tight_layout()
     return fig

@@ -148,5 +148,5 @@ _FAMILY_COLORS = (
 
 
 def _tex(label):
-    """``IS^l_3`` -> ``$\mathrm{IS}^\ell_{3}$`` (:func:`rotorlib.compare.label_tex`)."""
+    r"""``IS^l_3`` -> ``$\mathrm{IS}^\ell_{3}$`` (:func:`rotorlib.compare.label_tex`)."""
     return family_tex(label)

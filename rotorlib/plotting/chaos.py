@@ -23,7 +23,7 @@ BAND = (5.33, 5.6)
 
 
 def _band(ax):
-    ax.axvspan(*BAND, color="0.85", zorder=0, label=r"band $5.33 \le E \le 5.6$")
+    ax.axvspan(*BAND, color="0.85", zorder=0, label=r"band $5.33 \leq E \leq 5.6$")
 
 
 def plot_band_traces(curves):

@@ -16,7 +16,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.ticker import NullFormatter, ScalarFormatter
 
-from . import COLUMN_WIDTH, panel_letters
+from . import COLUMN_WIDTH, family_tex, panel_letters
 
 __all__ = [
     "plot_work_precision",
@@ -224,13 +224,16 @@ def plot_digit_cost(rows, title=None):
         sel = sorted((r for r in rows if r["orbit"] == name), key=lambda r: r["digits"])
         st = dict(marker=markers[i % len(markers)], color=f"C{i}")
         ax_t.loglog(
-            [r["digits"] for r in sel], [r["time"] for r in sel], label=name, **st
+            [r["digits"] for r in sel],
+            [r["time"] for r in sel],
+            label=family_tex(name),
+            **st,
         )
         err = [r for r in sel if r.get("trace_err") is not None]
         ax_e.semilogy(
             [r["digits"] for r in err],
             [max(r["trace_err"], 1e-300) for r in err],
-            label=name,
+            label=family_tex(name),
             **st,
         )
         if i == 0:
@@ -240,7 +243,7 @@ def plot_digit_cost(rows, title=None):
                     (r["digits"], r["time"]),
                     textcoords="offset points",
                     xytext=(4, -10),
-                    fontsize="x-small",
+                    fontsize="small",
                     color="0.3",
                 )
     d = sorted({r["digits"] for r in rows})
