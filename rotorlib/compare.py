@@ -119,6 +119,9 @@ class Claim:
         The meaning of ``tolerance``: ``'digits'`` (half a unit in the last printed
         digit), ``'rel'`` (the paper's ``≈``, relative), ``'abs'`` (a stated absolute
         tolerance) or ``'bound'`` (an inequality, with that much slack).
+    anchor : str
+        The heading anchor of the chapter section that computes it (the ledger links
+        there; default: found by ``scripts/make_ledger.py``).
     """
 
     section: str
@@ -134,6 +137,7 @@ class Claim:
     category: str = ""
     inherits: str = ""
     rule: str = ""
+    anchor: str = ""
 
     def __post_init__(self):
         if not self.category:
@@ -245,6 +249,7 @@ def claim(
     cause=None,
     inherits="",
     inequality=None,
+    anchor="",
 ) -> Claim:
     """Check one printed value ``paper`` (a string, as printed) against ``ours``.
 
@@ -276,6 +281,9 @@ def claim(
         The paper states a bound: ``ours <= paper`` or ``ours >= paper`` (``≲``,
         ``≳``), with ``rel``/``tol`` as slack. The verdict is ``holds`` (category
         ``'inequality'``) or ``fails`` (``'error'``).
+    anchor : str
+        The heading anchor of the section that computes the value, for the ledger's
+        link (when the claim is recorded away from it, e.g. in a closing cell).
 
     Returns
     -------
@@ -305,7 +313,7 @@ def claim(
         raise ValueError("category='inherited' needs inherits= (the earlier claim)")
     if inequality not in (None, "<=", ">="):
         raise ValueError(f"inequality must be '<=' or '>=', got {inequality!r}")
-    extra = dict(category=category or "", inherits=inherits)
+    extra = dict(category=category or "", inherits=inherits, anchor=anchor)
     if ours is None:
         return Claim(
             section,
@@ -343,6 +351,7 @@ def claim(
             category=category or ("inequality" if ok else "error"),
             inherits=inherits,
             rule="bound",
+            anchor=anchor,
         )
     if rel is None and tol is None:
         v, why, s, t = _rounded(paper, ours)
@@ -443,8 +452,9 @@ def records(claims, chapter: str) -> str:
         # (make_ledger.py derives the defaults the same way).
         if d["category"] == category_of_verdict(c.verdict):
             del d["category"]
-        if not d["inherits"]:
-            del d["inherits"]
+        for key in ("inherits", "anchor"):
+            if not d[key]:
+                del d[key]
         if d["rule"] != "bound":
             del d["rule"]
         d.update(
