@@ -222,3 +222,18 @@ def test_family_tex(label, tex):
     if tex:
         assert out == tex
     assert not PLAIN.search(_outside_math(out))
+
+
+@pytest.mark.parametrize(
+    "name, axis_index", [("atlas.plot_sweep", 1), ("chaos.plot_ftle_histograms", 0)]
+)
+def test_count_axes_have_integer_ticks(name, axis_index):
+    fig = FIGURES[name]()
+    try:
+        fig.canvas.draw()
+        ax = fig.axes[axis_index]
+        lo, hi = ax.get_ylim()
+        ticks = [t for t in ax.get_yticks() if lo <= t <= hi]
+        assert ticks and all(float(t).is_integer() for t in ticks), ticks
+    finally:
+        plt.close(fig)

@@ -103,7 +103,7 @@ def panel_letters(axes, start: int = 0) -> None:
 
 def integer_ticks(axis) -> None:
     """Ticks only at integers (for count axes): ``integer_ticks(ax.yaxis)``."""
-    axis.set_major_locator(matplotlib.ticker.MaxNLocator(integer=True))
+    axis.set_major_locator(matplotlib.ticker.MaxNLocator(integer=True, min_n_ticks=1))
 
 
 use_style()

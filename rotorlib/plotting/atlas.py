@@ -39,6 +39,7 @@ def plot_sweep(atlases, cf=None):
     bx.step(E, [len(a.stable) for a in atlases], where="mid", color="C3")
     bx.set_ylabel("linearly stable orbits (number)", color="C3")
     integer_ticks(bx.yaxis)
+    bx.set_ylim(bottom=0)
     if cf is not None:
         cx = bx.twinx()
         cx.errorbar(cf.E, cf.fraction, cf.stderr, fmt="s-", color="C0", ms=4)
