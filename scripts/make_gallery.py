@@ -264,7 +264,7 @@ def render() -> str:
                 "```{list-table}",
                 ":header-rows: 1",
                 ":class: gallery-table",
-                ":widths: 35 65",
+                ":widths: 45 55",
                 "",
                 "* - regenerated",
                 "  - paper panels, chapter",

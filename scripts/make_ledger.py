@@ -315,7 +315,10 @@ def render() -> str:
     ]
     for k, label in CATEGORIES.items():
         lines.append(f"| {label} | {len(cats[k])} | {MEANING[k]} |")
-    for k, label in CATEGORIES.items():
+    # The disagreements first, what is reproduced last.
+    order = [k for k in CATEGORIES if k != "reproduced"] + ["reproduced"]
+    for k in order:
+        label = CATEGORIES[k]
         if not cats[k]:
             continue
         lines += [
