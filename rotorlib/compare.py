@@ -419,21 +419,54 @@ def _cell(x) -> str:
     return s.replace("|", "\\|").replace("nan", "-")
 
 
-def markdown(rows, columns=None) -> str:
-    """A Markdown (GFM) table of claims, or of any rows given with ``columns``."""
+def markdown(rows, columns=None, *, typeset=False, compact=False) -> str:
+    r"""A Markdown (GFM) table of claims, or of any rows given with ``columns``.
+
+    Parameters
+    ----------
+    rows : sequence of Claim, or sequence of sequences
+    columns : list of str, optional
+        Headers of ``rows`` given as sequences (default: the claims' fields).
+    typeset : bool
+        Typeset family labels in headers and cells (``IS^l_1`` ->
+        ``$\mathrm{IS}^\ell_{1}$``, :func:`typeset_labels`).
+    compact : bool
+        For claims: only ``quantity``, ``paper``, ``ours`` and ``verdict``, so that the
+        table fits a 688 px text column (the rest is in the ledger). Implies
+        ``typeset``.
+
+    Examples
+    --------
+    >>> print(markdown([claim("tau of IS^l_7", "29.0524", 29.05234)], compact=True))
+    | quantity | paper | ours | verdict |
+    |---|---|---|---|
+    | tau of $\mathrm{IS}^\ell_{7}$ | 29.0524 | 29.0523 | last digit off by +1 |
+    """
     if columns is None:
-        columns = [
-            "section",
-            "quantity",
-            "paper",
-            "ours",
-            "difference",
-            "tolerance",
-            "verdict",
-        ]
+        columns = (
+            ["quantity", "paper", "ours", "verdict"]
+            if compact
+            else [
+                "section",
+                "quantity",
+                "paper",
+                "ours",
+                "difference",
+                "tolerance",
+                "verdict",
+            ]
+        )
         rows = [[getattr(c, k) for k in columns] for c in rows]
-    out = ["| " + " | ".join(columns) + " |", "|" + "---|" * len(columns)]
-    out += ["| " + " | ".join(_cell(v) for v in r) + " |" for r in rows]
+    tex = typeset_labels if (typeset or compact) else (lambda x: x)
+
+    def cell(v):
+        return tex(_cell(v)) if isinstance(v, str) else _cell(v)
+
+    out = [
+        "| " + " | ".join(tex(str(c)) for c in columns) + " |",
+        "|" + "---|" * len(columns),
+    ]
+    out += ["| " + " | ".join(cell(v) for v in r) + " |" for r in rows]
     return "\n".join(out)
 
 

@@ -224,3 +224,14 @@ def test_typeset_labels_in_text():
     )
     kept = r"$\mathrm{IS}^\ell_1$ and `ISl1`"
     assert cmp.typeset_labels(kept) == kept
+
+
+def test_markdown_typeset_and_compact():
+    c = cmp.claim("IS^l_9: tau", "33.3356", 35.33554, section="Table I")
+    default = cmp.markdown([c])
+    assert "IS^l_9" in default and "$" not in default  # unchanged unless asked
+    compact = cmp.markdown([c], compact=True).splitlines()
+    assert compact[0] == "| quantity | paper | ours | verdict |"
+    assert compact[2].startswith(r"| $\mathrm{IS}^\ell_{9}$: tau | 33.3356 | 35.3355 |")
+    rows = cmp.markdown([["PD^r_2", 1.5e-3]], ["family", "E - 4"], typeset=True)
+    assert rows.splitlines()[2] == r"| $\mathrm{PD}^r_{2}$ | 1.5e-03 |"
