@@ -15,22 +15,41 @@ The ledger groups the verdicts in four classes (:attr:`Claim.status`): ``reprodu
 ``not correctly rounded`` (truncated or last digit off), ``wrong`` (typo or differs) and
 ``not evaluable`` (``ours`` is ``None``). :func:`check` is the same rule for our own
 numbers against an independent computation.
+
+What the disagreement *means* is the claim's ``category`` (one of
+``CATEGORIES``), shown by the book's ledger: ``reproduced``, ``misrounded`` (the paper's
+last digit is off by ``k`` units, or ours truncated), ``typo`` (a transcription typo),
+``error`` (an error in the paper), ``inherited`` (a consequence of an earlier wrong
+number, named in ``inherits``), ``definition`` (the value depends on a definition, stated
+in ``cause``), ``inequality`` (the paper states a bound, ``≲`` or ``≳``, and it holds) and
+``not evaluable``. By default it is derived from the verdict (``agrees`` -> reproduced,
+``truncated``/``last digit off`` -> misrounded, ``typo`` -> typo, ``DIFFERS`` -> error);
+a chapter that knows better passes ``category=`` and ``cause=`` to :func:`claim`.
+
+Family labels (``IS^l_1``, ``ISl1``, ``PD^r_{12}``, ``PDb``) are typeset by
+:func:`label_tex` (LaTeX that is also valid matplotlib mathtext) and, inside running
+text, by :func:`typeset_labels`.
 """
 
 from __future__ import annotations
 
 import json
 import math
+import re
 from dataclasses import asdict, dataclass
 from decimal import ROUND_DOWN, ROUND_HALF_EVEN, Decimal
 
 __all__ = [
+    "CATEGORIES",
     "Claim",
-    "claim",
+    "STATUSES",
+    "category_of_verdict",
     "check",
+    "claim",
+    "label_tex",
     "markdown",
     "records",
-    "STATUSES",
+    "typeset_labels",
     "rounded",
     "sig",
     "bound",
@@ -38,6 +57,37 @@ __all__ = [
 ]
 
 STATUSES = ("reproduced", "not correctly rounded", "wrong", "not evaluable")
+
+#: The ledger's categories: key -> what a reader is told (in this order).
+CATEGORIES = {
+    "reproduced": "reproduced",
+    "misrounded": "misrounded in the paper",
+    "typo": "transcription typo",
+    "error": "error in the paper",
+    "inherited": "inherited from an earlier claim",
+    "definition": "depends on a definition",
+    "inequality": "inequality holds",
+    "not evaluable": "not evaluable",
+}
+
+
+def category_of_verdict(verdict: str) -> str:
+    """The default category of a verdict (``agrees`` -> ``reproduced``, ...).
+
+    Examples
+    --------
+    >>> category_of_verdict("last digit off by +1")
+    'misrounded'
+    """
+    if verdict in ("agrees", "holds"):
+        return "reproduced" if verdict == "agrees" else "inequality"
+    if verdict == "not evaluable":
+        return "not evaluable"
+    if verdict == "truncated" or verdict.startswith("last digit"):
+        return "misrounded"
+    if verdict == "typo":
+        return "typo"
+    return "error"
 
 
 @dataclass(frozen=True)
@@ -63,6 +113,19 @@ class Claim:
     approx : bool
         The paper states it as approximate.
     note : str
+    category : str
+        What the disagreement means: a key of ``CATEGORIES``. Derived from ``verdict``
+        when not given (:func:`category_of_verdict`).
+    inherits : str
+        For ``category='inherited'``: the earlier claim the value follows from (as the
+        ledger names it, e.g. ``'Table I, PD^l_5: tau'``).
+    rule : str
+        The meaning of ``tolerance``: ``'digits'`` (half a unit in the last printed
+        digit), ``'rel'`` (the paper's ``≈``, relative), ``'abs'`` (a stated absolute
+        tolerance) or ``'bound'`` (an inequality, with that much slack).
+    anchor : str
+        The heading anchor of the chapter section that computes it (the ledger links
+        there; default: found by ``scripts/make_ledger.py``).
     """
 
     section: str
@@ -75,11 +138,25 @@ class Claim:
     cause: str
     approx: bool = False
     note: str = ""
+    category: str = ""
+    inherits: str = ""
+    rule: str = ""
+    anchor: str = ""
+
+    def __post_init__(self):
+        if not self.category:
+            object.__setattr__(self, "category", category_of_verdict(self.verdict))
+        if self.category not in CATEGORIES:
+            raise ValueError(
+                f"unknown category {self.category!r}: one of {', '.join(CATEGORIES)}"
+            )
+        if not self.rule:
+            object.__setattr__(self, "rule", "rel" if self.approx else "digits")
 
     @property
     def status(self) -> str:
         """The ledger class: one of ``STATUSES``."""
-        if self.verdict == "agrees":
+        if self.verdict in ("agrees", "holds"):
             return "reproduced"
         if self.verdict == "not evaluable":
             return "not evaluable"
@@ -163,16 +240,84 @@ def _rounded(paper: str, ours):
 
 
 def claim(
-    quantity, paper: str, ours, *, section="", rel=None, tol=None, note="", shown=None
+    quantity,
+    paper: str,
+    ours,
+    *,
+    section="",
+    rel=None,
+    tol=None,
+    note="",
+    shown=None,
+    category=None,
+    cause=None,
+    inherits="",
+    inequality=None,
+    anchor="",
 ) -> Claim:
     """Check one printed value ``paper`` (a string, as printed) against ``ours``.
 
-    ``rel`` (the paper's ``≈``: tolerance ``rel |paper|``) or ``tol`` (absolute) make it a
-    tolerance comparison (an approximate claim); otherwise the printed digits are the claim. ``ours=None``: not
-    evaluable. ``shown`` overrides how ours is displayed (default: rounded to the
-    tolerance's digits).
+    Parameters
+    ----------
+    quantity : str
+        What is compared (family labels as ``IS^l_1``; the ledger typesets them).
+    paper : str
+        The paper's value as printed.
+    ours : float, mpmath.mpf, Decimal or None
+        Our value; ``None``: not evaluable.
+    section : str
+        Where the paper states it (``§5``, ``Table I``).
+    rel, tol : float, optional
+        The paper's ``≈``: tolerance ``rel |paper|``, or an absolute ``tol``; without
+        either the printed digits are the claim (tolerance half a unit in the last).
+    note : str
+    shown : str, optional
+        How ours is displayed (default: rounded to the tolerance's digits).
+    category : str, optional
+        What the result means, a key of ``CATEGORIES`` (default: derived from the
+        verdict). ``'typo'``, ``'inherited'`` and ``'definition'`` need a ``cause``
+        (or, for ``'inherited'``, ``inherits``).
+    cause : str, optional
+        The cause shown in the ledger's row (default: the rule's own explanation).
+    inherits : str
+        The earlier claim an ``'inherited'`` value follows from.
+    inequality : {'<=', '>='}, optional
+        The paper states a bound: ``ours <= paper`` or ``ours >= paper`` (``≲``,
+        ``≳``), with ``rel``/``tol`` as slack. The verdict is ``holds`` (category
+        ``'inequality'``) or ``fails`` (``'error'``).
+    anchor : str
+        The heading anchor of the section that computes the value, for the ledger's
+        link (when the claim is recorded away from it, e.g. in a closing cell).
+
+    Returns
+    -------
+    Claim
+
+    Raises
+    ------
+    ValueError
+        An unknown ``category`` or ``inequality``, or ``'inherited'`` without what it
+        inherits from.
+
+    Examples
+    --------
+    >>> claim("tau", "7.6341", 7.63404).verdict
+    'last digit off by +1'
+    >>> claim("tau", "7.6341", 7.63404).category
+    'misrounded'
+    >>> claim("E of the first instability", "3.9", 3.93, inequality=">=").category
+    'inequality'
     """
     paper = str(paper).strip()
+    if category is not None and category not in CATEGORIES:
+        raise ValueError(
+            f"unknown category {category!r}: one of {', '.join(CATEGORIES)}"
+        )
+    if category == "inherited" and not (inherits or cause):
+        raise ValueError("category='inherited' needs inherits= (the earlier claim)")
+    if inequality not in (None, "<=", ">="):
+        raise ValueError(f"inequality must be '<=' or '>=', got {inequality!r}")
+    extra = dict(category=category or "", inherits=inherits, anchor=anchor)
     if ours is None:
         return Claim(
             section,
@@ -182,16 +327,51 @@ def claim(
             math.nan,
             math.nan,
             "not evaluable",
-            note or "not evaluable",
+            cause or note or "not evaluable",
             rel is not None,
             note,
+            **extra,
         )
     p = float(paper)
     diff = float(_dec(paper) - _dec(ours))
-    if rel is None and tol is None:
-        v, cause, s, t = _rounded(paper, ours)
+    if inequality is not None:
+        t = abs(p) * float(rel) if rel is not None else float(tol or 0.0)
+        o = float(ours)
+        ok = o <= p + t if inequality == "<=" else o >= p - t
+        sign = "≤" if inequality == "<=" else "≥"
+        d = _decimals(paper) + 1
+        s = shown or f"{o:.{max(d, 0)}f}"
         return Claim(
-            section, quantity, paper, shown or s, diff, t, v, cause, False, note
+            section,
+            quantity,
+            paper,
+            s,
+            diff,
+            t,
+            "holds" if ok else "fails",
+            cause or f"the paper's bound: ours {sign} {paper}",
+            True,
+            note,
+            category=category or ("inequality" if ok else "error"),
+            inherits=inherits,
+            rule="bound",
+            anchor=anchor,
+        )
+    if rel is None and tol is None:
+        v, why, s, t = _rounded(paper, ours)
+        return Claim(
+            section,
+            quantity,
+            paper,
+            shown or s,
+            diff,
+            t,
+            v,
+            cause or why,
+            False,
+            note,
+            rule="digits",
+            **extra,
         )
     t = abs(p) * float(rel) if rel is not None else float(tol)
     ok = math.isfinite(diff) and abs(diff) <= t
@@ -209,9 +389,11 @@ def claim(
         diff,
         t,
         "agrees" if ok else "DIFFERS",
-        "within the tolerance" if ok else "outside the tolerance",
+        cause or ("within the tolerance" if ok else "outside the tolerance"),
         True,
         note,
+        rule="rel" if rel is not None else "abs",
+        **extra,
     )
 
 
@@ -360,18 +542,43 @@ def _has_float(x) -> bool:
     return True
 
 
-def markdown(rows, columns=None) -> str:
-    """A Markdown (GFM) table of claims, or of any rows given with ``columns``."""
+def markdown(rows, columns=None, *, typeset=False, compact=False) -> str:
+    r"""A Markdown (GFM) table of claims, or of any rows given with ``columns``.
+
+    Parameters
+    ----------
+    rows : sequence of Claim, or sequence of sequences
+    columns : list of str, optional
+        Headers of ``rows`` given as sequences (default: the claims' fields).
+    typeset : bool
+        Typeset family labels in headers and cells (``IS^l_1`` ->
+        ``$\mathrm{IS}^\ell_{1}$``, :func:`typeset_labels`).
+    compact : bool
+        For claims: only ``quantity``, ``paper``, ``ours`` and ``verdict``, so that the
+        table fits a 688 px text column (the rest is in the ledger). Implies
+        ``typeset``.
+
+    Examples
+    --------
+    >>> print(markdown([claim("tau of IS^l_7", "29.0524", 29.05234)], compact=True))
+    | quantity | paper | ours | verdict |
+    |---|---|---|---|
+    | tau of $\mathrm{IS}^\ell_{7}$ | 29.0524 | 29.0523 | last digit off by +1 |
+    """
     if columns is None:
-        columns = [
-            "section",
-            "quantity",
-            "paper",
-            "ours",
-            "difference",
-            "tolerance",
-            "verdict",
-        ]
+        columns = (
+            ["quantity", "paper", "ours", "verdict"]
+            if compact
+            else [
+                "section",
+                "quantity",
+                "paper",
+                "ours",
+                "difference",
+                "tolerance",
+                "verdict",
+            ]
+        )
         rows = [
             [
                 _shown_difference(c.difference, c.tolerance)
@@ -381,17 +588,39 @@ def markdown(rows, columns=None) -> str:
             ]
             for c in rows
         ]
-    out = ["| " + " | ".join(columns) + " |", "|" + "---|" * len(columns)]
-    out += ["| " + " | ".join(_cell(v) for v in r) + " |" for r in rows]
+    tex = typeset_labels if (typeset or compact) else (lambda x: x)
+
+    def cell(v):
+        return tex(_cell(v)) if isinstance(v, str) else _cell(v)
+
+    out = [
+        "| " + " | ".join(tex(str(c)) for c in columns) + " |",
+        "|" + "---|" * len(columns),
+    ]
+    out += ["| " + " | ".join(cell(v) for v in r) + " |" for r in rows]
     return "\n".join(out)
 
 
 def records(claims, chapter: str) -> str:
     """The claims as one JSON string (a chapter glues it under ``claims``; the ledger page is
-    generated from these records)."""
+    generated from these records).
+
+    ``category``, ``inherits`` and ``rule`` appear only when they differ from what the
+    verdict implies (:func:`category_of_verdict`; rule ``digits`` or ``rel``/``abs``).
+    """
     rows = []
     for c in claims:
         d = asdict(c)
+        # The fields added for the ledger's categories are recorded only when they say
+        # more than the verdict does, so that records of earlier claims are unchanged
+        # (make_ledger.py derives the defaults the same way).
+        if d["category"] == category_of_verdict(c.verdict):
+            del d["category"]
+        for key in ("inherits", "anchor"):
+            if not d[key]:
+                del d[key]
+        if d["rule"] != "bound":
+            del d["rule"]
         d.update(
             status=c.status,
             chapter=chapter,
@@ -402,3 +631,107 @@ def records(claims, chapter: str) -> str:
         )
         rows.append(d)
     return json.dumps(rows, ensure_ascii=False, sort_keys=True)
+
+
+# --------------------------------------------------------------------- family labels
+
+_PHASE_TEX = {"l": r"\ell", "ℓ": r"\ell", r"\ell": r"\ell", "r": "r", "b": "b"}
+# One family label: kind, phase (l, r, ℓ, \ell, b or a braced list such as {l,r}), and an
+# optional index (digits, a letter such as n, or a braced expression such as {4n-k}).
+_LABEL_TEX_RE = re.compile(
+    r"^\s*(IS|PD)\s*(?:\^\s*(\{[^{}]*\}|\\ell|[lrℓb])|([lrℓb]))\s*"
+    r"(?:_?\s*(\{[^{}]*\}|\d+)|_\s*([A-Za-z]))?\s*$"
+)
+# The same inside running text (ISl1 style only with an index, so that words and code
+# names such as PDw8 or ISkr are left alone; PDb as a whole word).
+_LABEL_IN_TEXT_RE = re.compile(
+    r"(?<![\w\\^{])(?:"
+    r"(?:IS|PD)\^(?:\{[^{}$]*\}|\\ell|[lrℓb])(?:_(?:\{[^{}$]*\}|\d+|[A-Za-z](?![A-Za-z])))?"
+    r"|(?:IS|PD)[lr]\d+"
+    r"|(?:IS|PD)b"
+    r")(?![\w^])"
+)
+
+
+def _phase_tex(phase: str) -> str:
+    if phase.startswith("{"):
+        parts = [p.strip() for p in phase[1:-1].split(",")]
+        return "{" + ",".join(_PHASE_TEX.get(p, p) for p in parts) + "}"
+    return _PHASE_TEX[phase]
+
+
+def label_tex(label: str, *, delimiters: bool = True) -> str:
+    r"""A family label typeset: ``'IS^l_1'`` -> ``'$\mathrm{IS}^\ell_{1}$'``.
+
+    Accepts every spelling of :func:`rotorlib.bifurcations.parse_label` (``IS^l_3``,
+    ``ISl3``, ``IS^l_{3}``, ``IS^ℓ_3``, ``PDr2``), the breather's daughters (``PD^b``,
+    ``PDb``), class labels without an index (``IS^r``), a letter or braced expression as
+    index (``IS^l_n``, ``IS^l_{4n-k}``, ``PD^r_{1,3,5}``) and a braced phase list
+    (``IS^{l,r}_n``). The result is LaTeX for MathJax and, unchanged, matplotlib mathtext
+    (``\mathrm``, ``\ell`` and braces are all mathtext).
+
+    Parameters
+    ----------
+    label : str
+    delimiters : bool
+        Wrap in ``$...$`` (default); ``False`` gives the bare expression, to be placed
+        inside a larger formula.
+
+    Returns
+    -------
+    str
+
+    Raises
+    ------
+    ValueError
+        Not a family label.
+
+    Examples
+    --------
+    >>> label_tex("IS^l_1")
+    '$\\mathrm{IS}^\\ell_{1}$'
+    >>> label_tex("PDr2")
+    '$\\mathrm{PD}^r_{2}$'
+    >>> label_tex("PDb")
+    '$\\mathrm{PD}^b$'
+    >>> label_tex("IS^r_{12}", delimiters=False)
+    '\\mathrm{IS}^r_{12}'
+    """
+    if not isinstance(label, str):
+        raise ValueError(f"a family label must be a string, got {label!r}")
+    m = _LABEL_TEX_RE.match(label)
+    if not m:
+        raise ValueError(
+            f"not a family label: {label!r} (expected e.g. 'IS^l_1', 'PDr2', 'PDb')"
+        )
+    kind, phase = m.group(1), m.group(2) or m.group(3)
+    index = m.group(4) or m.group(5)
+    if index is not None and index.startswith("{"):
+        index = index[1:-1].strip()
+    if phase == "b" and index is not None:
+        raise ValueError(f"the breather's daughter {label!r} has no index")
+    if m.group(3) and index is None and phase != "b":
+        raise ValueError(f"not a family label: {label!r} (an index is missing)")
+    tex = rf"\mathrm{{{kind}}}^{_phase_tex(phase)}"
+    if index is not None:
+        tex += "_{" + index + "}"
+    return f"${tex}$" if delimiters else tex
+
+
+def typeset_labels(text: str) -> str:
+    r"""Every family label in running text typeset with :func:`label_tex`.
+
+    Text already inside ``$...$`` or backticks is left alone, as are code names that
+    merely start like a label (``PDw8``, ``ISkr``).
+
+    Examples
+    --------
+    >>> typeset_labels("fan IS^l even, PD^r_1 and ISl6")
+    'fan $\\mathrm{IS}^\\ell$ even, $\\mathrm{PD}^r_{1}$ and $\\mathrm{IS}^\\ell_{6}$'
+    >>> typeset_labels("already $\\mathrm{IS}^\\ell_1$ and `ISl1`")
+    'already $\\mathrm{IS}^\\ell_1$ and `ISl1`'
+    """
+    parts = re.split(r"(\$[^$]*\$|`[^`]*`)", text)
+    for i in range(0, len(parts), 2):
+        parts[i] = _LABEL_IN_TEXT_RE.sub(lambda m: label_tex(m.group(0)), parts[i])
+    return "".join(parts)

@@ -14,7 +14,8 @@ A :class:`Section` is a hyperplane ``c . x = level`` of the state
 heyoka's event root finder to the working precision.
 
 Precision: near the separatrix the flow amplifies round-off like ``1/|E - 4|``
-(``../shared/NUMERICS.md``): a tier keeps about ``digits + log10|E - 4|`` digits.
+(the book's *Numerical notes*, ``book/numerical_notes.md``, "Where extended
+precision is needed"): a tier keeps about ``digits + log10|E - 4|`` digits.
 """
 
 from __future__ import annotations

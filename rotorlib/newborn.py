@@ -93,7 +93,7 @@ FAMILIES = tuple(
     + [f"PD^r_{n}" for n in range(1, 7)]
 )
 
-#: float64 shooting is used while |E_n - 4| exceeds this (../shared/NUMERICS.md: fine to ~1e-8).
+#: float64 shooting is used while |E_n - 4| exceeds this (book/numerical_notes.md: fine to ~1e-8).
 FLOAT64_LIMIT = 3e-8
 #: Families are followed member by member (with tr M over a whole period) in float64 only while
 #: ``|E_n - 4|`` exceeds this (measured: float64 tr M of IS^l_3,4 and PD^l_2 at E = 4 within 6e-5

@@ -16,7 +16,7 @@ Coordinates (paper §2, §4, §8):
   ``H = q1^2 + 3 q2^2 + 3 - cos((b1 + b2)/2) - cos((b1 - b2)/2) - cos b1``.
 
 A state in pendulum variables is ordered ``[a1, a2, p1, p2]`` throughout
-(the order of ``../shared/NUMERICS.md``); in breather variables
+(the order of the book's *Numerical notes*, ``book/numerical_notes.md``); in breather variables
 ``[b1, b2, q1, q2]``; in relative variables ``[phi1, phi2, P1, P2]``.
 All linear maps between them are exact (matrices with entries 0, ±1/2, ±1, 2),
 so they introduce no error beyond one rounding.

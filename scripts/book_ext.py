@@ -3,7 +3,7 @@
 1. Offline HTML. Jupyter Book always loads ``sphinx_thebe``, which writes an
    inline ``THEBE_JS_URL = "https://unpkg.com/thebe@..."`` script into every
    page (used only by the "Live code" launch button, which this book does not
-   enable: the Binder/Colab launch buttons are plain links). Its
+   enable). Its
    ``env-before-read-docs`` and ``doctree-resolved`` handlers are disconnected,
    which removes that script and the thebe configuration block. MathJax is
    served from ``_static/mathjax`` by ``sphinx-mathjax-offline``.
@@ -14,7 +14,9 @@
    * ``|E - 4|``-style absolute values (reST would read substitution
      references) get their bars escaped, outside inline literals and tables;
    * section titles inside *module* docstrings ("Precision\\n---------") become
-     rubrics, so they neither collide between modules nor enter the page's TOC.
+     rubrics, so they neither collide between modules nor enter the page's TOC;
+   * family labels in the prose (``IS^l_3``, ``ISl6``, ``PD^b``) are typeset as
+     ``:math:`` roles (outside literals, roles, doctests and literal blocks).
 
    And cross-references by short name (``:class:`PeriodicOrbit```) resolve when
    exactly one documented rotorlib object has that name.
@@ -53,14 +55,50 @@ def _escape_bars(line: str) -> str:
     return "".join(parts)
 
 
+_START_OK = set(" \t-:/'\"<([{")
+_END_OK = set(" \t-.,:;!?\\/'\")]}>")
+
+
+def _typeset_labels(line: str) -> str:
+    """Family labels in docstring prose (``IS^l_3``, ``ISl6``, ``PD^b``) as :math:
+    roles, outside inline literals and roles (``rotorlib.compare.label_tex``)."""
+    from rotorlib.compare import _LABEL_IN_TEXT_RE, label_tex
+
+    if _TABLE_LINE.match(line) or line.lstrip().startswith((">>>", "... ")):
+        return line
+    parts = _LITERAL.split(line)
+    for i in range(0, len(parts), 2):  # even = outside literals and roles
+        text, out, pos = parts[i], [], 0
+        for m in _LABEL_IN_TEXT_RE.finditer(text):
+            before = text[m.start() - 1] if m.start() else (" " if i == 0 else "`")
+            after = text[m.end()] if m.end() < len(text) else " "
+            if before == ":" or after == "`":
+                continue  # part of a role or literal we did not split off
+            role = f":math:`{label_tex(m.group(0), delimiters=False)}`"
+            pre = "" if before in _START_OK else "\\ "
+            post = "" if after in _END_OK else "\\ "
+            out += [text[pos : m.start()], pre, role, post]
+            pos = m.end()
+        parts[i] = "".join(out) + text[pos:]
+    return "".join(parts)
+
+
 def _process_docstring(app, what, name, obj, options, lines: list[str]) -> None:
     if not name.startswith("rotorlib"):
         return
     out: list[str] = []
     i = 0
+    literal = None  # indentation of the paragraph that opened a literal block (::)
     while i < len(lines):
         line = lines[i]
         nxt = lines[i + 1] if i + 1 < len(lines) else ""
+        indent = len(line) - len(line.lstrip())
+        if literal is not None and line.strip() and indent <= literal:
+            literal = None
+        if literal is None and line.strip():
+            if line.rstrip().endswith("::"):
+                literal = indent
+            line = _typeset_labels(line)
         if (
             what == "module"
             and line.strip()

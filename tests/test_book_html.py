@@ -14,12 +14,26 @@ For every HTML page of _build/html, served over http on 127.0.0.1:
   outside cell outputs) has ``scrollWidth <= clientWidth + 1`` at the test's
   1280 px wide viewport; the failure names each line that does not fit
   (test_code_blocks_fit).
+The page as a physicist reads it, at 1280 x 1000 (the test_reader_* tests; each
+failure lists every offending element with its section, code cell and sizes):
+* no table and no display equation is wider than the text column (the article's
+  content box, ~688 px);
+* no raw TeX ($, \\command, ^{, _{) in the text outside code and typeset math;
+* no family label as plain text (IS^l_1, ISl1, PDb) outside code, and none in math
+  without \\mathrm;
+* every image has alt text that is not empty, a file name or a hash; every raster
+  image has at least 1.5x the pixels it is shown at;
+* no project-internal word ("issue", "Must show", NUMERICS.md, ../shared) on a page;
+* the bibliography has no placeholder entry (test_bibliography_has_no_placeholders);
+* the gallery shows a loaded thumbnail for every panel of the paper's figures, each
+  linked to a chapter section (test_gallery_shows_every_panel).
 Every chapter (the notebooks ``book/0*`` and ``book/appendix_*`` in _toc.yml)
 shows at least one rendered table: a ``<table>`` with a header and a row in the
 main content, not a monospace table printed into an output
 (test_chapter_shows_table).
 Screenshots of two chapters (and of a chapter's launch menu) are written to
-_build/screenshots/ (kept as CI artifacts).
+_build/screenshots/ (kept as CI artifacts); launch buttons are present exactly when
+_config.yml configures them.
 
 Skipped, with the reason, when the book is not built or chromium/playwright is
 missing -- except under CI=true, where either is a failure.
@@ -121,7 +135,7 @@ def browser_context():
             executable_path=CHROMIUM,
             headless=True,
             args=CHROMIUM_ARGS,
-            viewport={"width": 1280, "height": 900},
+            viewport={"width": 1280, "height": 1000},
             service_workers="block",
         )
 
@@ -184,6 +198,7 @@ async () => {
     links: Array.from(document.querySelectorAll("a[href]")).map(a => a.href),
     tracebacks: document.querySelectorAll(".output.traceback, .output.error, .cell_output .traceback").length,
     code: codeOverflow(article),
+    reader: readerChecks(article),
     tables: Array.from(article.querySelectorAll("table"))
       .filter(t => !t.closest("table.highlighttable, mjx-container") && t.rows.length >= 2).length,
     // Plain-text tables printed into outputs (for the failure message only):
@@ -253,8 +268,100 @@ function codeOverflow(article) {
   return result;
 }
 """
+# What a reader sees (the checks of test_reader_*): measured after codeOverflow has
+# opened every collapsed cell. The text column is the article's content box.
+_READER_JS = r"""
+function readerChecks(article) {
+  const colEl = document.querySelector("article.bd-article") || article;
+  const cs = getComputedStyle(colEl);
+  const box = colEl.getBoundingClientRect();
+  const colLeft = box.left + parseFloat(cs.paddingLeft);
+  const colRight = box.right - parseFloat(cs.paddingRight);
+  const colWidth = Math.round(colRight - colLeft);
+  const clip = (t, n) => { t = t.replace(/\s+/g, " ").trim(); return t.length > n ? t.slice(0, n - 3) + "..." : t; };
+  const where = el => {
+    const sec = el.closest("section[id]");
+    const cell = el.closest("div.cell");
+    const cells = Array.from(article.querySelectorAll("div.cell"));
+    return (sec ? "section #" + sec.id : "top") + (cell ? `, code cell ${cells.indexOf(cell) + 1}` : "");
+  };
+  // Tables wider than the column (or scrolling inside their wrapper).
+  const tables = [];
+  Array.from(article.querySelectorAll("table")).forEach((t, i) => {
+    if (t.closest("table.highlighttable, mjx-container, .linenodiv")) return;
+    const r = t.getBoundingClientRect();
+    if (!r.width) return;
+    const wrap = t.parentElement;
+    const scrolls = wrap && wrap.scrollWidth > wrap.clientWidth + 1 && getComputedStyle(wrap).overflowX !== "visible";
+    const visibleRight = scrolls ? Math.min(colRight, wrap.getBoundingClientRect().right) : colRight;
+    if (r.right <= colRight + 1 && !scrolls) return;
+    const row = t.rows[0];
+    const heads = row ? Array.from(row.cells).map(c => clip(c.textContent, 24)) : [];
+    const cut = row ? Array.from(row.cells).filter(c => c.getBoundingClientRect().right > visibleRight + 1)
+      .map(c => clip(c.textContent, 24)) : [];
+    tables.push({where: where(t), index: i + 1, width: Math.round(r.width), scrollWidth: wrap ? wrap.scrollWidth : 0,
+                 column: colWidth, rows: t.rows.length, header: heads, cut: cut});
+  });
+  // Display equations wider than the column.
+  const equations = [];
+  const tex = new Map();
+  const mathLabels = [];
+  const doc = window.MathJax && MathJax.startup && MathJax.startup.document;
+  if (doc && doc.math) {
+    for (const item of doc.math) {
+      const root = item.typesetRoot;
+      if (!root) continue;
+      tex.set(root, item.math);
+      if (/(?<!\\mathrm\{|\\rm\s?|\\text\{|\\operatorname\{)\b(IS|PD)\s*\^/.test(item.math)) {
+        mathLabels.push({where: where(root), tex: clip(item.math, 90)});
+      }
+      if (!item.display || !article.contains(root)) continue;
+      const inner = root.querySelector("mjx-math") || root;
+      const r = inner.getBoundingClientRect();
+      const scrolls = root.scrollWidth > root.clientWidth + 1;
+      if (r.right > colRight + 1 || r.left < colLeft - 1 || scrolls) {
+        equations.push({where: where(root), width: Math.round(r.width), column: colWidth,
+                        tex: clip(item.math, 90)});
+      }
+    }
+  }
+  // Text a reader reads (not code, not typeset math): raw TeX and plain-text family labels.
+  const skip = "pre, code, kbd, samp, script, style, mjx-container, .MathJax, .highlight, .cell_input, .headerlink, .sig, .linenos, svg";
+  const rawTex = [], plainLabels = [];
+  const walker = document.createTreeWalker(article, NodeFilter.SHOW_TEXT);
+  let node;
+  const RAW = /\$|\\[A-Za-z]+|[\^_]\{/g;
+  const LABEL = /\b(?:IS|PD)\s*\^\s*\{?(?:l|r|ℓ|b|\\ell)(?![A-Za-z])|\b(?:IS|PD)[lr]\d+\b|\bPDb\b/g;
+  while ((node = walker.nextNode())) {
+    const el = node.parentElement;
+    if (!el || el.closest(skip)) continue;
+    const text = node.data;
+    for (const [re, out] of [[RAW, rawTex], [LABEL, plainLabels]]) {
+      re.lastIndex = 0;
+      let m;
+      while ((m = re.exec(text))) {
+        out.push({where: where(el), match: m[0],
+                  context: clip(text.slice(Math.max(0, m.index - 40), m.index + m[0].length + 40), 100)});
+      }
+    }
+  }
+  // Images: alt text and resolution (raster images need 1.5x the pixels shown).
+  // (Sphinx's and the theme's own icons under _static/ are not figures.)
+  const images = Array.from(article.querySelectorAll("img"))
+    .filter(img => !/\/_static\//.test(img.currentSrc || img.src)).map(img => {
+    const r = img.getBoundingClientRect();
+    const src = img.currentSrc || img.src;
+    return {where: where(img), src: src.startsWith("data:") ? src.slice(0, 30) + "..." : src.split("/").pop(),
+            alt: img.getAttribute("alt"), natural: [img.naturalWidth, img.naturalHeight],
+            shown: [Math.round(r.width), Math.round(r.height)],
+            raster: !/(\.svg(\?|#|$))|^data:image\/svg/i.test(src)};
+  });
+  return {column: colWidth, tables, equations, rawTex, plainLabels, mathLabels, images,
+          text: article.innerText};
+}
+"""
 _PAGE_STATE_JS = _PAGE_STATE_JS.replace(
-    "async () => {", "async () => {\n" + _CODE_OVERFLOW_JS, 1
+    "async () => {", "async () => {\n" + _CODE_OVERFLOW_JS + _READER_JS, 1
 )
 
 
@@ -389,6 +496,229 @@ def test_code_blocks_fit(server, browser_context, page_path):
     pytest.fail("\n".join(msg), pytrace=False)
 
 
+# --------------------------------------------------------------------------------------
+# The page as a physicist reads it (one test per kind of fault, each failure lists every
+# offending element with where it is: the page, its section, the code cell, sizes).
+
+#: Words of the workshop that must not reach a reader. "issue" is allowed only after
+#: the name of another project ("scipy issue 8480").
+INTERNAL = [
+    re.compile(r"\bMust show\b"),
+    re.compile(r"NUMERICS\.md"),
+    re.compile(r"\.\./shared\b"),
+    re.compile(
+        r"(?<!scipy )(?<!SciPy )(?<!numpy )(?<!MyST-NB )(?<!GitHub )(?<!matplotlib )"
+        r"(?<!heyoka )(?<!mpmath )(?<!Sphinx )\bissues?\b",
+        re.IGNORECASE,
+    ),
+]
+#: A file name or hash used as alt text (myst-nb's default for an output image).
+HASH_ALT = re.compile(r"^([0-9a-f]{16,}|.*\.(png|svg|jpe?g|gif))$", re.IGNORECASE)
+PLACEHOLDER_BIB = re.compile(
+    r"Unidentified reference|Placeholder|not verified|Identified from", re.IGNORECASE
+)
+
+
+def _reader(server, browser_context, page_path):
+    if page_path not in PAGES:
+        _unavailable("the book is not built")
+    visit = _visit(server, browser_context, page_path)
+    if visit["redirect"]:
+        pytest.skip("a redirect page")
+    return visit["state"]["reader"]
+
+
+def _report(page_path, what, items, fmt):
+    if items:
+        pytest.fail(
+            f"{page_path}: {len(items)} {what}:\n  "
+            + "\n  ".join(fmt(x) for x in items),
+            pytrace=False,
+        )
+
+
+@pytest.mark.parametrize("page_path", PAGES or ["<book not built>"])
+def test_reader_tables_fit(server, browser_context, page_path):
+    """Every table fits the text column at 1280 px: the verdict column is in view."""
+    r = _reader(server, browser_context, page_path)
+    _report(
+        page_path,
+        f"tables wider than the {r['column']} px text column",
+        r["tables"],
+        lambda t: (
+            f"table {t['index']} ({t['where']}, {t['rows']} rows): {t['width']} px"
+            f" (scrolls to {t['scrollWidth']} px); header {t['header']}; cut off: {t['cut']}"
+        ),
+    )
+
+
+@pytest.mark.parametrize("page_path", PAGES or ["<book not built>"])
+def test_reader_equations_fit(server, browser_context, page_path):
+    """Every display equation fits the text column (long ones are broken over lines)."""
+    r = _reader(server, browser_context, page_path)
+    _report(
+        page_path,
+        f"display equations wider than the {r['column']} px text column",
+        r["equations"],
+        lambda e: f"{e['where']}: {e['width']} px: {e['tex']!r}",
+    )
+
+
+@pytest.mark.parametrize("page_path", PAGES or ["<book not built>"])
+def test_reader_no_raw_tex(server, browser_context, page_path):
+    """No unrendered $ or TeX (\\command, ^{, _{) in the text outside code and math."""
+    r = _reader(server, browser_context, page_path)
+    _report(
+        page_path,
+        "raw TeX fragments in the text",
+        r["rawTex"],
+        lambda x: f"{x['where']}: {x['match']!r} in {x['context']!r}",
+    )
+
+
+@pytest.mark.parametrize("page_path", PAGES or ["<book not built>"])
+def test_reader_family_labels_typeset(server, browser_context, page_path):
+    """Family labels are typeset ($\\mathrm{IS}^\\ell_1$), never plain text (IS^l_1, ISl1)
+    outside code, nor italic letters in math ($IS^l_1$)."""
+    r = _reader(server, browser_context, page_path)
+    items = [dict(x, kind="plain text") for x in r["plainLabels"]] + [
+        dict(x, kind="math without \\mathrm", match=x["tex"], context=x["tex"])
+        for x in r["mathLabels"]
+    ]
+    _report(
+        page_path,
+        "family labels not typeset",
+        items,
+        lambda x: f"{x['where']} ({x['kind']}): {x['match']!r} in {x['context']!r}",
+    )
+
+
+@pytest.mark.parametrize("page_path", PAGES or ["<book not built>"])
+def test_reader_image_alt_text(server, browser_context, page_path):
+    """Every image has alt text that says what it shows, not a file name or hash."""
+    r = _reader(server, browser_context, page_path)
+    bad = [
+        i
+        for i in r["images"]
+        if not (i["alt"] or "").strip() or HASH_ALT.match(i["alt"])
+    ]
+    _report(
+        page_path,
+        "images with empty or file-name alt text",
+        bad,
+        lambda i: (
+            f"{i['where']}: {i['src']} alt={i['alt']!r} ({i['shown'][0]}x{i['shown'][1]} px)"
+        ),
+    )
+
+
+@pytest.mark.parametrize("page_path", PAGES or ["<book not built>"])
+def test_reader_image_resolution(server, browser_context, page_path):
+    """Raster images carry at least 1.5x the pixels they are shown at (SVG is exempt)."""
+    r = _reader(server, browser_context, page_path)
+    bad = [
+        i
+        for i in r["images"]
+        if i["raster"] and i["shown"][0] > 0 and i["natural"][0] < 1.5 * i["shown"][0]
+    ]
+    _report(
+        page_path,
+        "raster images with fewer than 1.5x the pixels shown",
+        bad,
+        lambda i: (
+            f"{i['where']}: {i['src']} is {i['natural'][0]}x{i['natural'][1]} px,"
+            f" shown {i['shown'][0]}x{i['shown'][1]} px"
+            f" ({i['natural'][0] / i['shown'][0]:.2f}x)"
+        ),
+    )
+
+
+@pytest.mark.parametrize("page_path", PAGES or ["<book not built>"])
+def test_reader_no_internal_words(server, browser_context, page_path):
+    """No word of the workshop ("issue", "Must show", NUMERICS.md, ../shared) on a page,
+    code cells included."""
+    r = _reader(server, browser_context, page_path)
+    hits = []
+    for n, line in enumerate(r["text"].splitlines(), 1):
+        for pattern in INTERNAL:
+            for m in pattern.finditer(line):
+                a = max(0, m.start() - 50)
+                hits.append((n, m.group(0), line[a : m.end() + 50].strip()))
+    _report(
+        page_path,
+        "project-internal words",
+        hits,
+        lambda h: f"text line {h[0]}: {h[1]!r} in {h[2]!r}",
+    )
+
+
+def test_bibliography_has_no_placeholders(server, browser_context):
+    """The rendered bibliography lists real works only."""
+    page = "book/bibliography.html"
+    if page not in PAGES:
+        _unavailable("the book (or its bibliography page) is not built")
+    text = _reader(server, browser_context, page)["text"]
+    bad = [ln.strip() for ln in text.splitlines() if PLACEHOLDER_BIB.search(ln)]
+    _report(page, "placeholder entries", bad, lambda ln: repr(ln[:160]))
+
+
+def _gallery_panels():
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location(
+        "make_gallery", ROOT / "scripts" / "make_gallery.py"
+    )
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return {(f, mod.LETTERS[i]) for f, n in mod.PANELS.items() for i in range(n)}
+
+
+_GALLERY_JS = """
+() => Array.from(document.querySelectorAll("table.gallery-table tr")).map(tr => {
+  const img = tr.querySelector("img");
+  const link = tr.querySelector("a[href*='.html']");
+  return {text: tr.innerText, img: img ? {ok: img.complete && img.naturalWidth > 0,
+          w: Math.round(img.getBoundingClientRect().width), alt: img.alt} : null,
+          link: link ? link.getAttribute("href") : null};
+})
+"""
+
+
+def test_gallery_shows_every_panel(server, browser_context):
+    """The gallery shows a loaded thumbnail for each of the paper's panels, beside the
+    figure number, linked to the section of the chapter that draws it."""
+    page = "book/gallery.html"
+    if page not in PAGES:
+        _unavailable("the book (or its gallery page) is not built")
+    p = browser_context.new_page()
+    try:
+        p.goto(server + page, wait_until="load")
+        rows = p.evaluate(_GALLERY_JS)
+    finally:
+        p.close()
+    shown, problems = set(), []
+    for row in rows:
+        m = re.search(r"Fig\. (\d+)(\([a-z]\)(?:(?:–|, )\([a-z]\))*)", row["text"])
+        if not m or row["img"] is None:
+            continue
+        fig, letters = int(m.group(1)), re.findall(r"\(([a-z])\)", m.group(2))
+        if "–" in m.group(2):
+            letters = [chr(c) for c in range(ord(letters[0]), ord(letters[-1]) + 1)]
+        if not row["img"]["ok"]:
+            problems.append(f"Fig. {fig}{m.group(2)}: thumbnail did not load")
+            continue
+        if not (row["link"] and "#" in row["link"]):
+            problems.append(f"Fig. {fig}{m.group(2)}: no link to a chapter section")
+        shown |= {(fig, x) for x in letters}
+    missing = sorted(_gallery_panels() - shown)
+    if missing:
+        problems.append(
+            f"{len(missing)} panels without a thumbnail: "
+            + ", ".join(f"{f}({x})" for f, x in missing)
+        )
+    assert not problems, f"{page}:\n  " + "\n  ".join(problems)
+
+
 def _toc_chapters() -> list[str]:
     """The chapter notebooks in _toc.yml: book/0* and book/appendix_* entries."""
     toc = yaml.safe_load((ROOT / "_toc.yml").read_text(encoding="utf-8"))
@@ -453,12 +783,21 @@ def test_screenshots_and_buttons(server, browser_context):
             assert any(h.endswith(f"{name}.ipynb") for h in hrefs), (
                 f"{chapter}: no .ipynb download link"
             )
-            assert any("mybinder.org" in h for h in hrefs), (
-                f"{chapter}: no Binder launch link"
+            # Launch links exactly when _config.yml configures them (off until the
+            # repository is public): a button must not point to a missing repository.
+            launch = (
+                yaml.safe_load((ROOT / "_config.yml").read_text()).get("launch_buttons")
+                or {}
             )
-            assert any("colab.research.google.com" in h for h in hrefs), (
-                f"{chapter}: no Colab launch link"
-            )
+            for key, host in (
+                ("binderhub_url", "mybinder.org"),
+                ("colab_url", "colab.research.google.com"),
+            ):
+                present = any(host in h for h in hrefs)
+                assert present == bool(launch.get(key)), (
+                    f"{chapter}: {host} launch link {'shown' if present else 'missing'}"
+                    f" but _config.yml launch_buttons.{key} is {launch.get(key)!r}"
+                )
         # The launch menu opened, to show the buttons in a screenshot.
         launch = page.locator(".dropdown-launch-buttons button").first
         if launch.count():

@@ -112,3 +112,160 @@ def test_table_difference_hides_round_off():
     assert "< 1e-09" in cmp.markdown([a])
     c = cmp.claim("x", "4.0000212", 4.0000211)
     assert "+1e-07" in cmp.markdown([c])
+
+
+# ------------------------------------------------------------ categories of the ledger
+
+
+@pytest.mark.parametrize(
+    "paper, ours, category",
+    [
+        ("230.76", 230.7646, "reproduced"),
+        ("230.77", 230.7646, "misrounded"),
+        ("230.76", 230.7688, "misrounded"),  # truncated
+        ("203.76", 230.7646, "typo"),
+        ("7.5", 9.1, "error"),
+    ],
+)
+def test_category_derived_from_the_verdict(paper, ours, category):
+    assert cmp.claim("x", paper, ours).category == category
+
+
+def test_category_given_overrides_and_is_recorded():
+    c = cmp.claim(
+        "4 - E(PD^l_5)",
+        "2.8611e-11",
+        2.8616e-11,
+        category="inherited",
+        inherits="Table I, PD^l_5: tau",
+    )
+    assert c.verdict == "DIFFERS" and c.status == "wrong"  # the numbers still decide
+    assert c.category == "inherited"
+    rec = json.loads(cmp.records([c], "ch"))[0]
+    assert rec["category"] == "inherited"
+    assert rec["inherits"] == "Table I, PD^l_5: tau"
+    d = cmp.claim(
+        "fan PD^l",
+        "1.81",
+        1.9943,
+        rel=0.01,
+        category="definition",
+        cause="the fan of PD^l_1 alone",
+    )
+    assert d.cause == "the fan of PD^l_1 alone" and d.category == "definition"
+
+
+def test_records_of_default_claims_keep_their_old_keys():
+    """Stored notebooks glue these records: a claim without the new arguments must
+    give exactly the keys it gave before categories existed."""
+    rec = json.loads(cmp.records([cmp.claim("x", "7.6341", 7.63404)], "ch"))[0]
+    assert set(rec) == {
+        "approx",
+        "cause",
+        "chapter",
+        "difference",
+        "note",
+        "ours",
+        "paper",
+        "quantity",
+        "section",
+        "status",
+        "tolerance",
+        "verdict",
+    }
+
+
+@pytest.mark.parametrize(
+    "bad", [dict(category="wrong"), dict(category="inherited"), dict(inequality="<")]
+)
+def test_bad_category_arguments_raise(bad):
+    with pytest.raises(ValueError):
+        cmp.claim("x", "1.5", 1.5, **bad)
+
+
+def test_inequality_claims():
+    holds = cmp.claim("first instability E(IS^l_1)", "3.9", 3.9312, inequality=">=")
+    assert (holds.verdict, holds.category, holds.status) == (
+        "holds",
+        "inequality",
+        "reproduced",
+    )
+    fails = cmp.claim("x", "3.9", 3.5, inequality=">=")
+    assert (fails.verdict, fails.category) == ("fails", "error")
+    slack = cmp.claim("x", "3.9", 3.89, inequality=">=", tol=0.05)
+    assert slack.verdict == "holds"
+    below = cmp.claim("x", "3.9", 3.95, inequality="<=")
+    assert below.verdict == "fails"
+    assert json.loads(cmp.records([holds], "ch"))[0]["rule"] == "bound"
+
+
+# ----------------------------------------------------------------- family labels
+
+
+@pytest.mark.parametrize(
+    "label, tex",
+    [
+        ("IS^l_1", r"$\mathrm{IS}^\ell_{1}$"),
+        ("ISl1", r"$\mathrm{IS}^\ell_{1}$"),
+        ("IS^l_{1}", r"$\mathrm{IS}^\ell_{1}$"),
+        ("IS^ℓ_1", r"$\mathrm{IS}^\ell_{1}$"),
+        ("PD^r_2", r"$\mathrm{PD}^r_{2}$"),
+        ("PDr2", r"$\mathrm{PD}^r_{2}$"),
+        ("IS^r_{12}", r"$\mathrm{IS}^r_{12}$"),
+        ("ISr12", r"$\mathrm{IS}^r_{12}$"),
+        ("PDb", r"$\mathrm{PD}^b$"),
+        ("PD^b", r"$\mathrm{PD}^b$"),
+        ("IS^r", r"$\mathrm{IS}^r$"),
+        ("IS^l_n", r"$\mathrm{IS}^\ell_{n}$"),
+        ("IS^l_{4n-k}", r"$\mathrm{IS}^\ell_{4n-k}$"),
+        ("IS^{l,r}_n", r"$\mathrm{IS}^{\ell,r}_{n}$"),
+    ],
+)
+def test_label_tex(label, tex):
+    assert cmp.label_tex(label) == tex
+    assert cmp.label_tex(label, delimiters=False) == tex.strip("$")
+
+
+@pytest.mark.parametrize("label", ["IS^l_1", "PDb", "IS^{l,r}_n", "PD^r_{12}"])
+def test_label_tex_is_mathtext(label):
+    from matplotlib.mathtext import MathTextParser
+
+    MathTextParser("path").parse(cmp.label_tex(label))  # raises on bad mathtext
+
+
+@pytest.mark.parametrize(
+    "bad", ["XYl1", "ISl", "ISq2", "PD^b_1", "", "IS^l_1 x", 3, None]
+)
+def test_label_tex_rejects(bad):
+    with pytest.raises(ValueError):
+        cmp.label_tex(bad)
+
+
+def test_label_tex_agrees_with_parse_label():
+    from rotorlib.bifurcations import parse_label
+
+    for label in ("IS^l_3", "ISl3", "IS^l_{3}", "PDr2", "PD^r_7"):
+        kind, phase, n = parse_label(label)
+        letter = r"\ell" if phase == "lib" else "r"
+        assert cmp.label_tex(label) == rf"$\mathrm{{{kind}}}^{letter}_{{{n}}}$"
+
+
+def test_typeset_labels_in_text():
+    t = cmp.typeset_labels("IS^l_9 tau, PD^r_6 and ISl6; fan PD^l; PDb; PDw8 ISkr")
+    assert t == (
+        r"$\mathrm{IS}^\ell_{9}$ tau, $\mathrm{PD}^r_{6}$ and $\mathrm{IS}^\ell_{6}$; "
+        r"fan $\mathrm{PD}^\ell$; $\mathrm{PD}^b$; PDw8 ISkr"
+    )
+    kept = r"$\mathrm{IS}^\ell_1$ and `ISl1`"
+    assert cmp.typeset_labels(kept) == kept
+
+
+def test_markdown_typeset_and_compact():
+    c = cmp.claim("IS^l_9: tau", "33.3356", 35.33554, section="Table I")
+    default = cmp.markdown([c])
+    assert "IS^l_9" in default and "$" not in default  # unchanged unless asked
+    compact = cmp.markdown([c], compact=True).splitlines()
+    assert compact[0] == "| quantity | paper | ours | verdict |"
+    assert compact[2].startswith(r"| $\mathrm{IS}^\ell_{9}$: tau | 33.3356 | 35.3355 |")
+    rows = cmp.markdown([["PD^r_2", 1.5e-3]], ["family", "E - 4"], typeset=True)
+    assert rows.splitlines()[2] == r"| $\mathrm{PD}^r_{2}$ | 1.5e-03 |"

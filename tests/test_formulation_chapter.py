@@ -41,7 +41,10 @@ def test_fig1_has_two_labelled_panels_with_all_critical_points():
         axes = fig.get_axes()
         assert len(axes) == 2 and all(_labelled(ax) for ax in axes)
         for ax in axes:
-            names = {t.get_text() for t in ax.texts}
+            # typeset as mathtext ($T_{1}$): compare the plain names
+            names = {
+                t.get_text().translate(str.maketrans("", "", "${}_")) for t in ax.texts
+            }
             assert {"G", "T1", "T2", "D1", "D2", "D3"} <= names
             assert len(ax.get_legend().get_texts()) == 3
     finally:

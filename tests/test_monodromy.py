@@ -88,7 +88,7 @@ def test_longitudinal_block_is_parabolic_and_transverse_symplectic():
 
 
 def test_numerics_md_table_deep_libration():
-    """NUMERICS.md: true tr M = 3.99999868, 4.00002111, 4.00005659 at log(4-E) = -10.1183, -21.0012, -27.5529."""
+    """book/numerical_notes.md: true tr M = 3.99999868, 4.00002111, 4.00005659 at log(4-E) = -10.1183, -21.0012, -27.5529."""
     for x, ref in (
         (-10.1183, 3.99999868),
         (-21.0012, 4.00002111),
@@ -99,7 +99,7 @@ def test_numerics_md_table_deep_libration():
 
 
 def test_textbook_method_fails_near_separatrix():
-    """The scipy textbook route at rtol 1e-12 is off by >1e3 at log(4-E) = -21 (NUMERICS.md); ours is not."""
+    """The scipy textbook route at rtol 1e-12 is off by >1e3 at log(4-E) = -21 (book/numerical_notes.md); ours is not."""
     o = rotorlib.pendulum(log_abs_dE=-21.0012, phase="lib")
     V = rotorlib.variational_monodromy(o.state0, o.period, rtol=1e-12)
     t = rotorlib.trace_monodromy(o)

@@ -8,6 +8,8 @@ from __future__ import annotations
 
 import matplotlib.pyplot as plt
 
+from . import COLUMN_WIDTH, family_tex
+
 __all__ = ["plot_fig2", "plot_fig3"]
 
 _COLORS = {"IS": "tab:red", "PD": "tab:blue"}
@@ -29,9 +31,11 @@ def plot_fig2(curves, trs, label_n_max=6, ylim=(-1.5, 6.0)):
     trs : sequence of Transition
         Marked at ``(period, 4 or 0)``; labelled when ``n <= label_n_max``.
     """
-    fig, axes = plt.subplots(1, 2, figsize=(11, 4.2), constrained_layout=True)
+    fig, axes = plt.subplots(
+        1, 2, figsize=(COLUMN_WIDTH, 3.2), sharey=True, constrained_layout=True
+    )
     for ax, phase, tag in zip(
-        axes, ("lib", "rot"), ("(a) libration, E < 4", "(b) rotation, E > 4")
+        axes, ("lib", "rot"), ("(a) libration, $E < 4$", "(b) rotation, $E > 4$")
     ):
         tau, tr = curves[phase]
         _band(ax)
@@ -50,15 +54,15 @@ def plot_fig2(curves, trs, label_n_max=6, ylim=(-1.5, 6.0)):
                     _tex(t.label),
                     (t.period, y),
                     xytext=(t.period, y + dy),
-                    fontsize=8,
+                    fontsize="small",
                     ha="center",
                     color=_COLORS[k],
                 )
         ax.set_ylim(*ylim)
         ax.set_xlim(0, tau.max())
-        ax.set_xlabel(r"period $\tau$ (units $\sqrt{mr^2/g}$, $m = g = r = 1$)")
-        ax.set_ylabel(r"$\mathrm{tr}\,M$")
-        ax.set_title(tag, fontsize=10)
+        ax.set_xlabel(r"period $\tau$ (units of $\sqrt{m r^2/g}$)")
+        ax.set_title(tag)
+    axes[0].set_ylabel(r"$\mathrm{tr}\,M$")
     return fig
 
 
@@ -75,7 +79,7 @@ def plot_fig3(panels):
         and listed in the panel's legend; ``deeper``: more such families, drawn thin
         and grey under one legend entry ``deeper_label``; ``legend_loc``.
     """
-    fig, axes = plt.subplots(2, 3, figsize=(13, 8.0), constrained_layout=True)
+    fig, axes = plt.subplots(3, 2, figsize=(COLUMN_WIDTH, 8.4), constrained_layout=True)
     axes = axes.ravel()
     for ax, p in zip(axes, panels):
         _band(ax)
@@ -107,18 +111,18 @@ def plot_fig3(panels):
                 (x, y),
                 xytext=(3, 6 if y > 2 else -12),
                 textcoords="offset points",
-                fontsize=8,
+                fontsize="small",
                 color=_COLORS[lab[:2]],
             )
         ax.set_xlim(min(p["dE"]), max(p["dE"]))
         ax.set_ylim(*p.get("ylim", (-1.0, 7.0)))
         ax.ticklabel_format(axis="x", style="sci", scilimits=(-2, 2), useMathText=True)
-        ax.set_xlabel(r"$E - 4$ (units $mgr$, $m = g = r = 1$)")
+        ax.set_xlabel(r"$E - 4$ (units of $g$)")
         ax.set_ylabel(r"$\mathrm{tr}\,M$")
-        ax.set_title(p["title"], fontsize=10)
+        ax.set_title(family_tex(p["title"]))
         if fams or p.get("deeper"):
             ax.legend(
-                fontsize=7,
+                fontsize="small",
                 ncol=2,
                 loc=p.get("legend_loc", "best"),
                 framealpha=0.85,
@@ -144,7 +148,5 @@ _FAMILY_COLORS = (
 
 
 def _tex(label):
-    kind, rest = label.split("^")
-    ph, n = rest.split("_")
-    ph = r"\ell" if ph == "l" else ph
-    return f"${kind}^{{{ph}}}_{{{n}}}$"
+    r"""``IS^l_3`` -> ``$\mathrm{IS}^\ell_{3}$`` (:func:`rotorlib.compare.label_tex`)."""
+    return family_tex(label)

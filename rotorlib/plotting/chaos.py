@@ -9,6 +9,8 @@ from __future__ import annotations
 import matplotlib.pyplot as plt
 import numpy as np
 
+from . import COLUMN_WIDTH, family_tex, integer_ticks, panel_letters
+
 __all__ = [
     "plot_band_traces",
     "plot_sections",
@@ -21,13 +23,13 @@ BAND = (5.33, 5.6)
 
 
 def _band(ax):
-    ax.axvspan(*BAND, color="0.85", zorder=0, label="band 5.33-5.6")
+    ax.axvspan(*BAND, color="0.85", zorder=0, label=r"band $5.33 \leq E \leq 5.6$")
 
 
 def plot_band_traces(curves):
     """``curves``: ``{label: (E, trM)}``; tr M on a symmetric-log axis (linear for |tr M| < 5) with the
     stable window ``0 < tr M < 4`` shaded green and the band grey."""
-    fig, ax = plt.subplots(figsize=(7, 4))
+    fig, ax = plt.subplots(figsize=(COLUMN_WIDTH, 3.9))
     _band(ax)
     ax.axhspan(
         0.0,
@@ -38,15 +40,15 @@ def plot_band_traces(curves):
         label=r"stable window $0 < \mathrm{tr}\,M < 4$",
     )
     for lab, (E, tr) in curves.items():
-        ax.plot(E, tr, label=lab)
+        ax.plot(E, tr, label=family_tex(lab))
     ax.set_yscale("symlog", linthresh=5.0, linscale=3.0)
     ticks = [-1e4, -1e2, 0, 4, 1e2, 1e4, 1e6, 1e8]
     ax.set_yticks(
         ticks, ["$-10^4$", "$-10^2$", "0", "4", "$10^2$", "$10^4$", "$10^6$", "$10^8$"]
     )
-    ax.set_xlabel(r"energy $E$ ($g$, with $m = g = r = 1$)")
+    ax.set_xlabel(r"$E$ (units of $g$)")
     ax.set_ylabel(r"$\mathrm{tr}\,M$ (symmetric log scale)")
-    ax.legend(fontsize=8, loc="center right")
+    ax.legend(loc="center right", fontsize="small")
     fig.tight_layout()
     return fig
 
@@ -56,24 +58,31 @@ def plot_sections(sections, ncols=3):
     n = len(sections)
     nrows = (n + ncols - 1) // ncols
     fig, axes = plt.subplots(
-        nrows, ncols, figsize=(4 * ncols, 3.4 * nrows), squeeze=False, dpi=80
+        nrows, ncols, figsize=(COLUMN_WIDTH, 2.5 * nrows), squeeze=False
     )
     for ax, s in zip(axes.ravel(), sections):
         for k, (x, y) in enumerate(zip(s.phi2, s.P2)):
-            ax.plot(x, y, ",", color=plt.cm.tab10(k % 10), antialiased=False)
-        ax.set_title(f"E = {s.E:g}" + ("  (band)" if BAND[0] <= s.E <= BAND[1] else ""))
+            # points of 1 px at 100 dpi; rasterized, so that an SVG figure stays small
+            ax.plot(
+                x, y, "o", ms=0.35, mew=0, color=plt.cm.tab10(k % 10), rasterized=True
+            )
+        ax.set_title(
+            f"$E = {s.E:g}$" + (" (band)" if BAND[0] <= s.E <= BAND[1] else "")
+        )
         ax.set_xlabel(r"$\varphi_2$ (rad)")
-        ax.set_ylabel(r"$\tilde p_2$")
+        ax.set_ylabel(r"$\tilde p_2$ (units of $\sqrt{g m r^2}$)")
         ax.set_xlim(0, 2 * np.pi)
     for ax in axes.ravel()[n:]:
         ax.axis("off")
+    if n > 1:
+        panel_letters(axes.ravel()[:n])
     fig.tight_layout()
     return fig
 
 
 def plot_fraction(cf):
     """Chaotic fraction ``f(E)`` with binomial error bars (``rotorlib.chaos.ChaoticFraction``)."""
-    fig, ax = plt.subplots(figsize=(7, 3.6))
+    fig, ax = plt.subplots(figsize=(COLUMN_WIDTH, 3.4))
     _band(ax)
     ax.errorbar(
         cf.E,
@@ -82,33 +91,36 @@ def plot_fraction(cf):
         fmt="o-",
         ms=3,
         capsize=2,
-        label=rf"FTLE $> {cf.threshold:g}$ (N = {cf.N}, T = {cf.T:g})",
+        label=rf"FTLE $> {cf.threshold:g}$ ($N = {cf.N}$, $T = {cf.T:g}$)",
     )
-    ax.axvline(4.0, color="C3", lw=0.6, ls="--", label="E = 4 (pendulum separatrix)")
+    ax.axvline(4.0, color="C3", lw=0.6, ls="--", label=r"$E = 4$ (pendulum separatrix)")
     ax.set_ylim(-0.03, 1.03)
-    ax.set_xlabel(r"energy $E$ ($g$)")
-    ax.set_ylabel("fraction of the energy shell")
-    ax.legend(fontsize=8, loc="lower right")
+    ax.set_xlabel(r"$E$ (units of $g$)")
+    ax.set_ylabel("chaotic fraction of the shell")
+    ax.legend(loc="lower right")
     fig.tight_layout()
     return fig
 
 
 def plot_ftle_histograms(cf, energies, threshold=None):
     """Histograms of the FTLEs at a few energies of ``cf``."""
-    fig, ax = plt.subplots(figsize=(7, 3.4))
+    fig, ax = plt.subplots(figsize=(COLUMN_WIDTH, 3.3))
     bins = np.linspace(0, max(0.8, max(np.max(x) for x in cf.ftles)), 60)
     for E in energies:
         k = int(np.argmin(np.abs(cf.E - E)))
-        ax.hist(cf.ftles[k], bins=bins, histtype="step", label=f"E = {cf.E[k]:g}")
+        ax.hist(cf.ftles[k], bins=bins, histtype="step", label=f"$E = {cf.E[k]:g}$")
     ax.axvline(
         threshold if threshold is not None else cf.threshold,
         color="k",
         ls=":",
         label="threshold",
     )
-    ax.set_xlabel(r"finite-time Lyapunov exponent $\lambda_T$ (units $\sqrt{g/m r^2}$)")
-    ax.set_ylabel("count")
-    ax.legend(fontsize=8)
+    ax.set_xlabel(
+        r"finite-time Lyapunov exponent $\lambda_T$ (units of $\sqrt{g/m r^2}$)"
+    )
+    ax.set_ylabel("initial conditions (count)")
+    integer_ticks(ax.yaxis)
+    ax.legend()
     fig.tight_layout()
     return fig
 
@@ -119,7 +131,7 @@ def plot_rotational_branches(branches, E_max=4.5, trace_cap=1e12):
     symmetric-log axis, with the band shaded and the energy ``E_max`` (where the families
     end) marked. Members with ``|tr M| > trace_cap`` (float64 traces there are only an
     order of magnitude) are not drawn."""
-    fig, ax = plt.subplots(figsize=(9, 4.4))
+    fig, ax = plt.subplots(figsize=(COLUMN_WIDTH, 3.9))
     _band(ax)
     ax.axhspan(
         0.0,
@@ -131,12 +143,16 @@ def plot_rotational_branches(branches, E_max=4.5, trace_cap=1e12):
     )
     for i, b in enumerate(branches):
         tr = np.where(np.abs(b.trace) <= trace_cap, b.trace, np.nan)
-        ax.plot(b.E, tr, ".-", ms=2, lw=1, color=f"C{i % 10}", label=f"${b.label}$")
-    ax.axvline(E_max, color="k", ls="--", lw=0.8, label=f"E = {E_max:g} (max of V)")
+        ax.plot(
+            b.E, tr, ".-", ms=2, lw=1, color=f"C{i % 10}", label=family_tex(b.label)
+        )
+    ax.axvline(
+        E_max, color="k", ls="--", lw=0.8, label=f"$E = {E_max:g}$ (maximum of $V$)"
+    )
     ax.set_yscale("symlog", linthresh=5.0, linscale=2.0)
     ax.set_ylim(-2 * trace_cap, 2 * trace_cap)
-    ax.set_xlabel(r"energy $E$ ($g$, with $m = g = r = 1$)")
+    ax.set_xlabel(r"$E$ (units of $g$)")
     ax.set_ylabel(r"$\mathrm{tr}\,M$ (symmetric log scale)")
-    ax.legend(fontsize=7, loc="center left", bbox_to_anchor=(1.01, 0.5))
+    ax.legend(fontsize="small", loc="center left", bbox_to_anchor=(1.01, 0.5))
     fig.tight_layout()
     return fig

@@ -16,6 +16,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from ..system import potential_phi
+from . import COLUMN_WIDTH, panel_letters
 
 __all__ = [
     "pendulum_lines",
@@ -88,13 +89,13 @@ def _equipotentials(ax, points, levels, grid):
                 x, y = p.phi[0] + dx, p.phi[1] + dy
                 if x <= TWO_PI + 1e-9 and y <= TWO_PI + 1e-9:
                     mk, col = style[p.kind]
-                    ax.plot(x, y, mk, color=col, ms=7, zorder=5)
+                    ax.plot(x, y, mk, color=col, ms=5, zorder=5)
         ax.annotate(
-            p.name,
+            f"${p.name[0]}_{{{p.name[1:]}}}$" if len(p.name) > 1 else f"${p.name}$",
             p.phi,
             textcoords="offset points",
-            xytext=(6, 6),
-            fontsize=11,
+            xytext=(5, 5),
+            fontsize="medium",
             zorder=6,
         )
     ticks = [0, math.pi / 2, math.pi, 3 * math.pi / 2, TWO_PI]
@@ -121,25 +122,32 @@ def plot_fig1(points, levels=None, grid: int = 301):
     """
     if levels is None:
         levels = list(np.arange(0.25, 4.3, 0.5)) + [4.4]
-    fig, axes = plt.subplots(1, 2, figsize=(11, 5.4), constrained_layout=True)
+    fig, axes = plt.subplots(
+        1, 2, figsize=(COLUMN_WIDTH, 4.3), sharey=True, constrained_layout=True
+    )
     for ax in axes:
         _equipotentials(ax, points, levels, grid)
     for (lab, (x, y)), ls in zip(pendulum_lines().items(), (":", "--", "-")):
-        axes[0].plot(x, y, ls, color="k", lw=2.2, label=lab)
+        axes[0].plot(x, y, ls, color="k", lw=1.8, label=lab)
         # the lines phi1 = 0 and phi2 = 0 lie on the edges: draw their copies on the opposite edges too
         axes[0].plot(
             np.where(x == 0.0, TWO_PI, x),
             np.where(y == 0.0, TWO_PI, y),
             ls,
             color="k",
-            lw=2.2,
+            lw=1.8,
         )
     for (lab, (x, y)), ls in zip(breather_lines().items(), ("-", "--", ":")):
-        axes[1].plot(x, y, ls, color="k", lw=2.0, label=lab)
-    axes[0].set_title(r"(a) pendula on the $E = 4$ homoclinic orbits")
-    axes[1].set_title(r"(b) isosceles breathers on the $E = 4.5$ heteroclinic orbits")
+        axes[1].plot(x, y, ls, color="k", lw=1.6, label=lab)
+    axes[0].set_title("(a) pendula, $E = 4$")
+    axes[1].set_title("(b) isosceles breathers, $E = 4.5$")
     for ax in axes:
-        ax.legend(loc="lower left", fontsize=8, framealpha=0.9)
+        ax.legend(
+            loc="upper center",
+            bbox_to_anchor=(0.5, -0.16),
+            fontsize="small",
+            framealpha=0.9,
+        )
     return fig
 
 
@@ -156,7 +164,9 @@ def plot_separatrix_approach(curves, period_marks=None, portrait_curves=None):
     portrait_curves : sequence of (label, t, state), optional
         Curves for the phase portrait (default: ``curves``).
     """
-    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 4.2), constrained_layout=True)
+    fig, (ax1, ax2) = plt.subplots(
+        1, 2, figsize=(COLUMN_WIDTH, 3.3), constrained_layout=True
+    )
     for lab, t, st in curves:
         ax1.plot(t, st[..., 1], label=lab)
     for lab, t, st in portrait_curves or curves:
@@ -169,37 +179,38 @@ def plot_separatrix_approach(curves, period_marks=None, portrait_curves=None):
         )
     for lab, T in period_marks or []:
         ax1.axvline(T, color="0.5", ls=":", lw=1)
-    ax1.set_xlabel(r"time $\tilde t$ (units $\sqrt{m r^2/g}$)")
+    ax1.set_xlabel(r"time $\tilde t$ (units of $\sqrt{m r^2/g}$)")
     ax1.set_ylabel(r"$\alpha_2 = \varphi_2$ (rad)")
-    ax1.legend(fontsize=8)
+    ax1.legend(fontsize="small")
     ax2.set_xlabel(r"$\alpha_2$ mod $2\pi$ (rad)")
-    ax2.set_ylabel(r"$\tilde\pi_2$ (units $\sqrt{g m r^2}$)")
-    ax2.legend(fontsize=8, markerscale=6)
+    ax2.set_ylabel(r"$\tilde\pi_2$ (units of $\sqrt{g m r^2}$)")
+    ax2.legend(fontsize="small", markerscale=6)
+    panel_letters([ax1, ax2])
     return fig
 
 
 # --------------------------------------------------------------------------- chapter 2
 def plot_textbook_error(
-    eps, err, label=r"textbook $4\times4$ (scipy DOP853, rtol $10^{-12}$)", slope=-1.0
+    eps, err, label=r"textbook $4 \times 4$ (scipy DOP853, rtol $10^{-12}$)", slope=-1.0
 ):
     """Log-log plot of |error of tr M| against |E - 4|, with a reference line of the given slope."""
     eps, err = np.asarray(eps, float), np.asarray(err, float)
-    fig, ax = plt.subplots(figsize=(6.5, 4.5), constrained_layout=True)
+    fig, ax = plt.subplots(figsize=(COLUMN_WIDTH, 4.0), constrained_layout=True)
     ax.loglog(eps, err, "o-", label=label)
     if slope is not None:
         i = int(np.argmax(eps))
         ref = err[i] * (eps / eps[i]) ** slope
         ax.loglog(eps, ref, "k:", label=rf"$\propto |E-4|^{{{slope:g}}}$")
-    ax.set_xlabel(r"$|E - 4|$ (units $g$)")
+    ax.set_xlabel(r"$|E - 4|$ (units of $g$)")
     ax.set_ylabel(r"$|\mathrm{tr}\,M_{\rm textbook} - \mathrm{tr}\,M_{\rm ref}|$")
     ax.invert_xaxis()
-    ax.legend(fontsize=8)
+    ax.legend()
     return fig
 
 
 def plot_trace_vs_energy(E_lib, tr_lib, E_rot, tr_rot, ylim=(-1.0, 5.0)):
     """tr M of pendula against E on both sides of the separatrix, with the band 0 < tr M < 4 shaded."""
-    fig, ax = plt.subplots(figsize=(8, 4.5), constrained_layout=True)
+    fig, ax = plt.subplots(figsize=(COLUMN_WIDTH, 3.9), constrained_layout=True)
     ax.axhspan(
         0.0,
         4.0,
@@ -207,11 +218,11 @@ def plot_trace_vs_energy(E_lib, tr_lib, E_rot, tr_rot, ylim=(-1.0, 5.0)):
         alpha=0.15,
         label=r"stable: $0 < \mathrm{tr}\,M < 4$",
     )
-    ax.plot(E_lib, tr_lib, color="tab:blue", label=r"libration ($E < 4$)")
-    ax.plot(E_rot, tr_rot, color="tab:orange", label=r"rotation ($E > 4$)")
+    ax.plot(E_lib, tr_lib, color="tab:blue", label="libration ($E < 4$)")
+    ax.plot(E_rot, tr_rot, color="tab:orange", label="rotation ($E > 4$)")
     ax.axvline(4.0, color="0.4", ls=":", lw=1)
     ax.set_ylim(*ylim)
-    ax.set_xlabel(r"relative energy $E$ (units $g$)")
+    ax.set_xlabel(r"relative energy $E$ (units of $g$)")
     ax.set_ylabel(r"$\mathrm{tr}\,M$ of the pendulum $\varphi_1 = 0$")
-    ax.legend(fontsize=8, loc="upper right")
+    ax.legend(loc="upper right")
     return fig

@@ -5,8 +5,10 @@ from __future__ import annotations
 import matplotlib.pyplot as plt
 import numpy as np
 
+from . import COLUMN_WIDTH, family_tex
 
-def shapes(panels, title=None, ncols=4):
+
+def shapes(panels, title=None, ncols=2):
     """Eight panels of orbits in the (a2, a1) plane.
 
     ``panels``: list of dicts with keys ``label``, ``a1``, ``a2`` (arrays) and
@@ -15,7 +17,9 @@ def shapes(panels, title=None, ncols=4):
     """
     n = len(panels)
     nrows = int(np.ceil(n / ncols))
-    fig, axes = plt.subplots(nrows, ncols, figsize=(3.2 * ncols, 2.7 * nrows))
+    fig, axes = plt.subplots(
+        nrows, ncols, figsize=(COLUMN_WIDTH, 2.4 * nrows * 2 / ncols), squeeze=False
+    )
     for ax, p in zip(np.ravel(axes), panels):
         if "lin_a1" in p:
             ax.plot(
@@ -27,12 +31,14 @@ def shapes(panels, title=None, ncols=4):
                 label="linearised (Lamé)",
             )
             ax.plot(p["a2"], p["a1"], "--", color="k", lw=1.0, label="nonlinear search")
-            ax.legend(fontsize=7, loc="upper right")
+            ax.legend(fontsize="small", loc="upper right")
         else:
             ax.plot(p["a2"], p["a1"], "-", color="C0", lw=1.2)
+        letter = f"({chr(ord('a') + list(panels).index(p))}) "
         ax.set_title(
-            f"${p['label']}$" + (f"  (E = {p['E']:.6g})" if "E" in p else ""),
-            fontsize=9,
+            letter
+            + family_tex(p["label"])
+            + (f" ($E = {p['E']:.6g}$)" if "E" in p else "")
         )
         ax.set_xlabel(r"$\alpha_2$ (rad)")
         ax.set_ylabel(r"$\alpha_1$ (rad)")
@@ -48,7 +54,7 @@ def shapes(panels, title=None, ncols=4):
 def trace_vs_period(pendulum_curves, families, ax=None, title=None, ylim=(-4, 12)):
     """tr M vs period: pendula (``(tau, trM)`` arrays, solid black) and families (``label -> (tau, trM)``)."""
     if ax is None:
-        fig, ax = plt.subplots(figsize=(7, 4.5))
+        fig, ax = plt.subplots(figsize=(COLUMN_WIDTH, 4.2))
     else:
         fig = ax.figure
     tau, tr = pendulum_curves
@@ -61,14 +67,14 @@ def trace_vs_period(pendulum_curves, families, ax=None, title=None, ylim=(-4, 12
             ms=2.5,
             lw=1.0,
             color=f"C{i % 10}",
-            label=f"${lab}$",
+            label=family_tex(lab),
         )
     ax.axhline(0, color="grey", lw=0.5)
     ax.axhline(4, color="grey", lw=0.5)
     ax.set_ylim(*ylim)
-    ax.set_xlabel(r"period $\tau$ (units $\sqrt{m r^2/g}$)")
+    ax.set_xlabel(r"period $\tau$ (units of $\sqrt{m r^2/g}$)")
     ax.set_ylabel(r"$\mathrm{tr}\,M$")
-    ax.legend(fontsize=7, ncol=2)
+    ax.legend(fontsize="small", ncol=2)
     if title:
         ax.set_title(title)
     return fig

@@ -16,6 +16,8 @@ import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.ticker import NullFormatter, ScalarFormatter
 
+from . import COLUMN_WIDTH, family_tex, panel_letters
+
 __all__ = [
     "plot_work_precision",
     "plot_locate",
@@ -36,6 +38,15 @@ _STYLE = {
     ),
     "Hill reduction, mpmath": dict(color="tab:brown", marker="*", ls="none", ms=11),
 }
+
+
+def _sci(x: float) -> str:
+    """``1e-11`` -> ``$10^{-11}$``, ``2.5e-07`` -> ``$2.5 \\times 10^{-7}$`` (mathtext)."""
+    mant, _, ex = f"{x:.3g}".partition("e")
+    if not ex:
+        return f"${mant}$"
+    power = f"10^{{{int(ex)}}}"
+    return f"${power}$" if mant == "1" else f"${mant} \\times {power}$"
 
 
 def _style(name):
@@ -78,7 +89,7 @@ def plot_work_precision(
     matplotlib.figure.Figure
     """
     if ax is None:
-        fig, ax = plt.subplots(figsize=(7.5, 5.0))
+        fig, ax = plt.subplots(figsize=(COLUMN_WIDTH, 4.6))
     else:
         fig = ax.figure
     methods = list(dict.fromkeys(r["method"] for r in rows))
@@ -99,7 +110,7 @@ def plot_work_precision(
                 (r["time"], max(r["error"], floor)),
                 textcoords="offset points",
                 xytext=(6, 4),
-                fontsize=8,
+                fontsize="small",
             )
     ax.set_xlabel(xlabel or "time per energy (s), minimum over repeats")
     ax.set_ylabel(
@@ -111,14 +122,14 @@ def plot_work_precision(
         ax.text(
             ax.get_xlim()[0] * 1.3,
             target * 2,
-            f"target {target:g}",
+            f"target {_sci(target)}",
             color="0.4",
-            fontsize=8,
+            fontsize="small",
         )
     ax.grid(True, which="major", alpha=0.3)
     if title:
         ax.set_title(title)
-    ax.legend(fontsize=7, loc="best")
+    ax.legend(fontsize="small", loc="best")
     return fig
 
 
@@ -132,7 +143,7 @@ def plot_locate(rows, ax=None, title=None, floor=1e-70):
     matplotlib.figure.Figure
     """
     if ax is None:
-        fig, ax = plt.subplots(figsize=(7.5, 4.5))
+        fig, ax = plt.subplots(figsize=(COLUMN_WIDTH, 4.2))
     else:
         fig = ax.figure
     markers = "osD^v*p"
@@ -158,7 +169,7 @@ def plot_locate(rows, ax=None, title=None, floor=1e-70):
     ax.grid(True, which="major", alpha=0.3)
     if title:
         ax.set_title(title)
-    ax.legend(fontsize=7, loc="best")
+    ax.legend(fontsize="small", loc="best")
     return fig
 
 
@@ -207,19 +218,22 @@ def plot_digit_cost(rows, title=None):
     -------
     matplotlib.figure.Figure
     """
-    fig, (ax_t, ax_e) = plt.subplots(1, 2, figsize=(11.0, 4.4))
+    fig, (ax_t, ax_e) = plt.subplots(1, 2, figsize=(COLUMN_WIDTH, 3.6))
     markers = "os^Dv*p"
     for i, name in enumerate(dict.fromkeys(r["orbit"] for r in rows)):
         sel = sorted((r for r in rows if r["orbit"] == name), key=lambda r: r["digits"])
         st = dict(marker=markers[i % len(markers)], color=f"C{i}")
         ax_t.loglog(
-            [r["digits"] for r in sel], [r["time"] for r in sel], label=name, **st
+            [r["digits"] for r in sel],
+            [r["time"] for r in sel],
+            label=family_tex(name),
+            **st,
         )
         err = [r for r in sel if r.get("trace_err") is not None]
         ax_e.semilogy(
             [r["digits"] for r in err],
             [max(r["trace_err"], 1e-300) for r in err],
-            label=name,
+            label=family_tex(name),
             **st,
         )
         if i == 0:
@@ -229,7 +243,7 @@ def plot_digit_cost(rows, title=None):
                     (r["digits"], r["time"]),
                     textcoords="offset points",
                     xytext=(4, -10),
-                    fontsize=7,
+                    fontsize="small",
                     color="0.3",
                 )
     d = sorted({r["digits"] for r in rows})
@@ -240,13 +254,14 @@ def plot_digit_cost(rows, title=None):
     ax_e.semilogy(
         d_err, [10.0**-k for k in d_err], "k:", lw=0.8, label=r"$10^{-\mathrm{digits}}$"
     )
-    ax_t.set_xlabel("significant digits requested (digits)")
-    ax_t.set_ylabel("wall time of one orbit and its tr M (s)")
-    ax_e.set_xlabel("significant digits requested (digits)")
-    ax_e.set_ylabel(r"relative error of $\mathrm{tr}\,M$ (against 100 digits)")
+    ax_t.set_xlabel("significant digits requested")
+    ax_t.set_ylabel(r"wall time of an orbit and $\mathrm{tr}\,M$ (s)")
+    ax_e.set_xlabel("significant digits requested")
+    ax_e.set_ylabel(r"rel. error of $\mathrm{tr}\,M$ (vs. 100 digits)")
     for ax in (ax_t, ax_e):
         ax.grid(True, which="major", alpha=0.3)
-        ax.legend(fontsize=7, loc="best")
+        ax.legend(fontsize="small", loc="best")
+    panel_letters([ax_t, ax_e])
     if title:
         fig.suptitle(title)
     fig.tight_layout()

@@ -5,11 +5,13 @@ from __future__ import annotations
 import matplotlib.pyplot as plt
 import numpy as np
 
+from . import COLUMN_WIDTH, family_tex, panel_letters
+
 
 def landscape(L, ax=None):
     """``d`` and ``|r|`` against the relative offset of ``p2(0)`` (log-log), with the minimiser's floor."""
     if ax is None:
-        fig, ax = plt.subplots(figsize=(6.4, 4.2))
+        fig, ax = plt.subplots(figsize=(COLUMN_WIDTH, 4.0))
     else:
         fig = ax.figure
     ax.loglog(
@@ -33,8 +35,8 @@ def landscape(L, ax=None):
     ax.axvline(eps, color="grey", ls=":", lw=1, label=r"$\epsilon$")
     ax.set_xlabel(r"relative offset $\delta$ of $p_2(0) = p_2^*(1+\delta)$")
     ax.set_ylabel(r"$d$ or $|r|$ (dimensionless)")
-    ax.set_title(f"${L.label}$, $u$ = {L.u:.3g}")
-    ax.legend(fontsize=7)
+    ax.set_title(f"{family_tex(L.label)}, $u = {L.u:.3g}$")
+    ax.legend(fontsize="small")
     return fig
 
 
@@ -44,8 +46,16 @@ def work_precision(wps, cost="integration"):
     ``cost='integration'``: total integration time in pendulum periods; ``'evaluations'``: count.
     """
     n = len(wps)
-    fig, axes = plt.subplots(1, n, figsize=(3.1 * n, 3.4), sharey=True)
-    axes = np.atleast_1d(axes)
+    fig, axes = plt.subplots(
+        (n + 1) // 2 if n > 2 else 1,
+        min(n, 2),
+        figsize=(COLUMN_WIDTH, 3.0 * ((n + 1) // 2 if n > 2 else 1)),
+        sharey=True,
+        squeeze=False,
+    )
+    for ax in axes.ravel()[n:]:
+        ax.axis("off")
+    axes = axes.ravel()[:n]
     for ax, w in zip(axes, wps):
         if cost == "integration":
             xp, xs, lab = (
@@ -75,9 +85,11 @@ def work_precision(wps, cost="integration"):
             label="symmetric shooting (root)",
         )
         ax.set_xlabel(lab)
-        ax.set_title(f"${w.label}$", fontsize=9)
-    axes[0].set_ylabel(r"$|E - E_\mathrm{ref}|$ (units $g$)")
-    axes[0].legend(fontsize=7)
+        ax.set_title(family_tex(w.label))
+        ax.set_ylabel(r"$|E - E_\mathrm{ref}|$ (units of $g$)")
+    axes[0].legend(fontsize="small")
+    if n > 1:
+        panel_letters(axes)
     fig.tight_layout()
     return fig
 
@@ -86,24 +98,33 @@ def amplitude_branch(branch, u_scan=None, r_scan=None, E_scan=None):
     """(a) ``E`` against the amplitude ``u`` along a family (a :class:`rotorlib.continuation.Branch`)
     with its fold; (b) ``r(u)`` at ``E_scan``."""
     ncols = 1 if u_scan is None else 2
-    fig, axes = plt.subplots(1, ncols, figsize=(6.2 * ncols, 4.2))
+    fig, axes = plt.subplots(
+        1, ncols, figsize=(COLUMN_WIDTH, 3.6 if ncols > 1 else 4.0)
+    )
     axes = np.atleast_1d(axes)
     ax = axes[0]
-    ax.plot(branch.u, branch.E, ".-", ms=3, label=f"${branch.label}$ from its birth")
+    ax.plot(
+        branch.u,
+        branch.E,
+        ".-",
+        ms=3,
+        label=f"{family_tex(branch.label)} from its birth",
+    )
     if branch.fold is not None:
         f = branch.fold
-        ax.plot([float(f.u)], [float(f.E)], "r^", label=f"fold, E = {float(f.E):.7f}")
-    ax.axhline(4.5, color="grey", ls=":", lw=1, label="E = 4.5 (maxima of V)")
+        ax.plot([float(f.u)], [float(f.E)], "r^", label=f"fold, $E = {float(f.E):.7f}$")
+    ax.axhline(4.5, color="grey", ls=":", lw=1, label="$E = 4.5$ (maxima of $V$)")
     if E_scan is not None:
-        ax.axhline(E_scan, color="C3", ls="--", lw=1, label=f"E = {E_scan:g}")
-    ax.set_xlabel(r"amplitude $u$ ($p_1(0)$ or $\alpha_1(0)$)")
-    ax.set_ylabel(r"energy $E$ (units $g$)")
-    ax.legend(fontsize=7)
+        ax.axhline(E_scan, color="C3", ls="--", lw=1, label=f"$E = {E_scan:g}$")
+    ax.set_xlabel(r"amplitude $u$: $p_1(0)$ or $\alpha_1(0)$ (rad)")
+    ax.set_ylabel(r"$E$ (units of $g$)")
+    ax.legend(fontsize="small")
     if u_scan is not None:
         ax = axes[1]
         ax.plot(u_scan, r_scan, "-", lw=1)
         ax.axhline(0, color="grey", lw=0.5)
         ax.set_xlabel(r"amplitude $u$ (the whole energy shell)")
-        ax.set_ylabel(f"residual $r(u)$ at E = {E_scan:g}")
+        ax.set_ylabel(f"residual $r(u)$ at $E = {E_scan:g}$")
+        panel_letters(axes)
     fig.tight_layout()
     return fig
