@@ -6,6 +6,13 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 
+def _tex(label):
+    r"""A family label in mathtext, without the dollars: 'IS^l_1' -> r'\mathrm{IS}^\ell_{1}'."""
+    kind, phase, n = label[:2], label[3], label[5:]
+    sup = r"\ell" if phase == "l" else phase
+    return rf"\mathrm{{{kind}}}^{sup}_{{{n}}}"
+
+
 def shapes(panels, title=None, ncols=4):
     """Eight panels of orbits in the (a2, a1) plane.
 
@@ -16,7 +23,7 @@ def shapes(panels, title=None, ncols=4):
     n = len(panels)
     nrows = int(np.ceil(n / ncols))
     fig, axes = plt.subplots(nrows, ncols, figsize=(3.2 * ncols, 2.7 * nrows))
-    for ax, p in zip(np.ravel(axes), panels):
+    for k, (ax, p) in enumerate(zip(np.ravel(axes), panels)):
         if "lin_a1" in p:
             ax.plot(
                 p["lin_a2"],
@@ -31,7 +38,8 @@ def shapes(panels, title=None, ncols=4):
         else:
             ax.plot(p["a2"], p["a1"], "-", color="C0", lw=1.2)
         ax.set_title(
-            f"${p['label']}$" + (f"  (E = {p['E']:.6g})" if "E" in p else ""),
+            f"({chr(ord('a') + k)}) ${_tex(p['label'])}$"
+            + (f"  ($E = {p['E']:.6g}$)" if "E" in p else ""),
             fontsize=9,
         )
         ax.set_xlabel(r"$\alpha_2$ (rad)")
@@ -61,7 +69,7 @@ def trace_vs_period(pendulum_curves, families, ax=None, title=None, ylim=(-4, 12
             ms=2.5,
             lw=1.0,
             color=f"C{i % 10}",
-            label=f"${lab}$",
+            label=f"${_tex(lab)}$",
         )
     ax.axhline(0, color="grey", lw=0.5)
     ax.axhline(4, color="grey", lw=0.5)

@@ -6,6 +6,13 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 
+def _tex(label):
+    r"""A family label in mathtext, without the dollars: 'IS^l_1' -> r'\mathrm{IS}^\ell_{1}'."""
+    kind, phase, n = label[:2], label[3], label[5:]
+    sup = r"\ell" if phase == "l" else phase
+    return rf"\mathrm{{{kind}}}^{sup}_{{{n}}}"
+
+
 def landscape(L, ax=None):
     """``d`` and ``|r|`` against the relative offset of ``p2(0)`` (log-log), with the minimiser's floor."""
     if ax is None:
@@ -31,9 +38,9 @@ def landscape(L, ax=None):
         label=r"Brent's stopping floor $\sqrt{\epsilon}$",
     )
     ax.axvline(eps, color="grey", ls=":", lw=1, label=r"$\epsilon$")
-    ax.set_xlabel(r"relative offset $\delta$ of $p_2(0) = p_2^*(1+\delta)$")
+    ax.set_xlabel(r"relative offset $\delta$ of $\pi_2(0) = \pi_2^*(1+\delta)$")
     ax.set_ylabel(r"$d$ or $|r|$ (dimensionless)")
-    ax.set_title(f"${L.label}$, $u$ = {L.u:.3g}")
+    ax.set_title(f"${_tex(L.label)}$, $u = {L.u:.3g}$")
     ax.legend(fontsize=7)
     return fig
 
@@ -46,7 +53,7 @@ def work_precision(wps, cost="integration"):
     n = len(wps)
     fig, axes = plt.subplots(1, n, figsize=(3.1 * n, 3.4), sharey=True)
     axes = np.atleast_1d(axes)
-    for ax, w in zip(axes, wps):
+    for k, (ax, w) in enumerate(zip(axes, wps)):
         if cost == "integration":
             xp, xs, lab = (
                 w.integration_paper,
@@ -75,7 +82,7 @@ def work_precision(wps, cost="integration"):
             label="symmetric shooting (root)",
         )
         ax.set_xlabel(lab)
-        ax.set_title(f"${w.label}$", fontsize=9)
+        ax.set_title(f"({chr(ord('a') + k)}) ${_tex(w.label)}$", fontsize=9)
     axes[0].set_ylabel(r"$|E - E_\mathrm{ref}|$ (units $g$)")
     axes[0].legend(fontsize=7)
     fig.tight_layout()
@@ -89,21 +96,25 @@ def amplitude_branch(branch, u_scan=None, r_scan=None, E_scan=None):
     fig, axes = plt.subplots(1, ncols, figsize=(6.2 * ncols, 4.2))
     axes = np.atleast_1d(axes)
     ax = axes[0]
-    ax.plot(branch.u, branch.E, ".-", ms=3, label=f"${branch.label}$ from its birth")
+    ax.plot(
+        branch.u, branch.E, ".-", ms=3, label=f"${_tex(branch.label)}$ from its birth"
+    )
     if branch.fold is not None:
         f = branch.fold
-        ax.plot([float(f.u)], [float(f.E)], "r^", label=f"fold, E = {float(f.E):.7f}")
-    ax.axhline(4.5, color="grey", ls=":", lw=1, label="E = 4.5 (maxima of V)")
+        ax.plot([float(f.u)], [float(f.E)], "r^", label=f"fold, $E = {float(f.E):.7f}$")
+    ax.axhline(4.5, color="grey", ls=":", lw=1, label=r"$E = 4.5$ (maxima of $V$)")
     if E_scan is not None:
-        ax.axhline(E_scan, color="C3", ls="--", lw=1, label=f"E = {E_scan:g}")
-    ax.set_xlabel(r"amplitude $u$ ($p_1(0)$ or $\alpha_1(0)$)")
+        ax.axhline(E_scan, color="C3", ls="--", lw=1, label=f"$E = {E_scan:g}$")
+    ax.set_xlabel(r"amplitude $u$ ($\pi_1(0)$ or $\alpha_1(0)$)")
     ax.set_ylabel(r"energy $E$ (units $g$)")
+    ax.set_title("(a)", loc="left")
     ax.legend(fontsize=7)
     if u_scan is not None:
         ax = axes[1]
         ax.plot(u_scan, r_scan, "-", lw=1)
         ax.axhline(0, color="grey", lw=0.5)
         ax.set_xlabel(r"amplitude $u$ (the whole energy shell)")
-        ax.set_ylabel(f"residual $r(u)$ at E = {E_scan:g}")
+        ax.set_ylabel(f"residual $r(u)$ at $E = {E_scan:g}$")
+        ax.set_title("(b)", loc="left")
     fig.tight_layout()
     return fig
