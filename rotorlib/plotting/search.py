@@ -8,6 +8,13 @@ import numpy as np
 from . import COLUMN_WIDTH, family_tex, panel_letters
 
 
+def _tex(label):
+    r"""A family label in mathtext, without the dollars: 'IS^l_1' -> r'\mathrm{IS}^\ell_{1}'."""
+    kind, phase, n = label[:2], label[3], label[5:]
+    sup = r"\ell" if phase == "l" else phase
+    return rf"\mathrm{{{kind}}}^{sup}_{{{n}}}"
+
+
 def landscape(L, ax=None):
     """``d`` and ``|r|`` against the relative offset of ``p2(0)`` (log-log), with the minimiser's floor."""
     if ax is None:
@@ -33,7 +40,7 @@ def landscape(L, ax=None):
         label=r"Brent's stopping floor $\sqrt{\epsilon}$",
     )
     ax.axvline(eps, color="grey", ls=":", lw=1, label=r"$\epsilon$")
-    ax.set_xlabel(r"relative offset $\delta$ of $p_2(0) = p_2^*(1+\delta)$")
+    ax.set_xlabel(r"relative offset $\delta$ of $\pi_2(0) = \pi_2^*(1+\delta)$")
     ax.set_ylabel(r"$d$ or $|r|$ (dimensionless)")
     ax.set_title(f"{family_tex(L.label)}, $u = {L.u:.3g}$")
     ax.legend(fontsize="small")
