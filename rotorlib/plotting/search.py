@@ -8,13 +8,6 @@ import numpy as np
 from . import COLUMN_WIDTH, family_tex, panel_letters
 
 
-def _tex(label):
-    r"""A family label in mathtext, without the dollars: 'IS^l_1' -> r'\mathrm{IS}^\ell_{1}'."""
-    kind, phase, n = label[:2], label[3], label[5:]
-    sup = r"\ell" if phase == "l" else phase
-    return rf"\mathrm{{{kind}}}^{sup}_{{{n}}}"
-
-
 def landscape(L, ax=None):
     """``d`` and ``|r|`` against the relative offset of ``p2(0)`` (log-log), with the minimiser's floor."""
     if ax is None:
