@@ -359,11 +359,10 @@ PLACEHOLDER = re.compile(
     r"identified from)\b|\?\?",
     re.IGNORECASE,
 )
-#: Entries that are still placeholders: brck-fork is cited by chapter 07 for the
-#: fork-like-bifurcation slope theorem, and the work could not be identified (the paper's
-#: LaTeX source has no reference list). The set may only shrink: the test fails if an entry
-#: listed here is resolved or deleted but left here, or if any other entry is a placeholder.
-UNRESOLVED = {"brck-fork"}
+#: Entries that are still placeholders. The set may only shrink (it is empty): the test
+#: fails if an entry listed here is resolved or deleted but left here, or if any other
+#: entry is a placeholder.
+UNRESOLVED: set[str] = set()
 ENTRY = re.compile(r"^@(\w+)\s*\{\s*([^,\s]+)\s*,(.*?)^\}", re.MULTILINE | re.DOTALL)
 CITE = re.compile(r"\{cite(?::[a-z]+)?\}`([^`]+)`")
 #: TeX that a bibliography style prints raw: mathematics, control words other than
