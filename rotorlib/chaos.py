@@ -38,12 +38,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .continuation import ContinuationOptions, Natural, continuation, member
+from .continuation import ContinuationOptions, FamilyEnd, Natural, continuation, member
 from .energy import as_float
 from .newborn import family_spec, follow, newborn_orbit
 from .parallel import pmap
 from .reversors import images
-from .shooting import FamilyEnd
 from .system import alpha_to_phi, energy_phi, potential_alpha, potential_phi
 
 __all__ = [

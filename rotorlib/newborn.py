@@ -57,6 +57,7 @@ from .bifurcations import parse_label, transition
 from .continuation import (
     PALC,
     ContinuationOptions,
+    FamilyEnd,
     Natural,
     continuation,
     member,
@@ -65,7 +66,7 @@ from .continuation import (
 from .flow import Section
 from .periodic import PeriodicOrbit, periodic_orbit
 from .precision import FLOAT64, REAL128, Tier, tier
-from .shooting import FamilyEnd, ShootingProblem, StartSet, solve
+from .shooting import ShootingProblem, StartSet, solve
 
 __all__ = [
     "FAMILIES",
@@ -346,7 +347,7 @@ def seed(label, name="float64"):
 
 def _path(spec: FamilySpec, E_target, t: Tier, steps=None):
     """Members from the seed to ``E_target``, continued in ``E`` (Natural, values spaced in
-    ``sqrt|E - E_n|``); raises :class:`~rotorlib.shooting.FamilyEnd` where it stops."""
+    ``sqrt|E - E_n|``); raises :class:`~rotorlib.continuation.FamilyEnd` where it stops."""
     m0, c = seed(spec.label, t.name)
     with t.context():
         E_target = t.num(E_target)
@@ -456,11 +457,36 @@ def newborn_orbit(label, E, digits=None, steps=None) -> PeriodicOrbit:
 
 
 def newborn_family(label, E_end=None, n=12, digits=None) -> list:
-    """Members from near birth to ``E_end`` spaced in ``sqrt(E - E_n)`` (default end: 4 for
-    libration, ``E_n + 0.05`` rotation, or the top of :func:`family_range` if lower).
-    ``digits``: the tier of the whole continuation (default float64 while
-    ``|E_n - 4| > FAMILY_FLOAT64_DEPTH``, else real128). Returns a list of
-    :class:`PeriodicOrbit`, birth first."""
+    """Members of a newborn family from its seed near birth to ``E_end``.
+
+    Parameters
+    ----------
+    label : str
+        The family (``IS^l_2``, ``PD^r_3``, ...).
+    E_end : float or str, optional
+        The last energy (default: 4 for libration, ``E_n + 0.05`` for rotation, or the
+        top of :func:`family_range` if lower).
+    n : int
+        The number of continuation steps, not of members: the energies ``E_1 .. E_n =
+        E_end`` are spaced equally in ``sqrt|E - E_n|`` from the seed. The list holds the
+        seed and one member per step, ``n + 1`` members, plus one member for each step
+        the continuation had to halve (so ``n + 1`` is a lower bound).
+    digits : int, optional
+        The tier of the whole continuation (default float64 while
+        ``|E_n - 4| > FAMILY_FLOAT64_DEPTH``, else real128).
+
+    Returns
+    -------
+    list of PeriodicOrbit
+        Birth first, increasing distance to ``E_n``; the last member is at ``E_end``.
+
+    Examples
+    --------
+    >>> from rotorlib.newborn import newborn_family
+    >>> fam = newborn_family("IS^l_2", n=4)
+    >>> len(fam), float(fam[-1].E)
+    (5, 4.0)
+    """
     spec = family_spec(label)
     if digits is None:
         t = FLOAT64 if spec.depth > FAMILY_FLOAT64_DEPTH else REAL128
@@ -499,7 +525,11 @@ def follow(
     ----------
     E_max, E_min : float, optional
         Stop outside ``[E_min, E_max]`` (default ``[E_n - 2|E_n - 4|, 4.2]`` for libration,
-        ``[E_n - 2|E_n - 4|, E_n + 6]`` for rotation).
+        ``[E_n - 2|E_n - 4|, E_n + 6]`` for rotation). The family is followed from its
+        seed near the birth energy ``E_n``, and the branch ends with the first member
+        outside the range, which is kept (it shows where the family went:
+        ``members[-1].E`` may exceed ``E_max`` by one step); a range that does not
+        contain ``E_n`` stops at once. ``Branch.reason`` says which rule stopped it.
     t1_max : float, optional
         Stop once ``t1`` exceeds it (default: the period 12 times its value at birth): the
         family runs into an orbit of infinite period (through the maxima of V, E -> 4.5).
@@ -519,7 +549,17 @@ def follow(
     Returns
     -------
     rotorlib.continuation.Branch
-        Members ``u, E, t1, period, trace``; special points ``fold``, ``E``, ``IS``, ``PD``.
+        Members ``u, E, t1, period, trace``; special points ``fold``, ``E``, ``IS``, ``PD``;
+        ``stop`` and ``reason``: why it ended.
+
+    Examples
+    --------
+    >>> from rotorlib.newborn import follow
+    >>> b = follow("IS^r_1", E_min=5.8, E_max=6.0)
+    >>> b.stop, len(b.members)
+    ('E range', 2)
+    >>> "outside E_range = (5.8, 6)" in b.reason and "first member" in b.reason
+    True
     """
     spec = family_spec(label)
     t = _tiers(spec, None)[0] if digits is None else tier(int(digits))

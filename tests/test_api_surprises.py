@@ -1,0 +1,91 @@
+"""The silent surprises of the public API: each returns what it documents, or says why not."""
+
+from __future__ import annotations
+
+import math
+
+import mpmath as mp
+import pytest
+
+from rotorlib.bifurcations import transition
+from rotorlib.continuation import ContinuationOptions, FamilyEnd, Natural, continuation
+from rotorlib.monodromy import monodromy, trace_monodromy
+from rotorlib.newborn import family_spec, newborn_family, seed
+
+
+def test_trace_monodromy_returns_the_extended_value():
+    t64 = trace_monodromy(E=3.9)
+    t40 = trace_monodromy(E=3.9, digits=40)
+    assert isinstance(t64, float)
+    assert isinstance(t40, mp.mpf)  # not its float64 rounding
+    ref = monodromy(E=3.9, digits=40).trace_str
+    with mp.workdps(50):
+        assert abs(t40 - mp.mpf(ref)) < mp.mpf(10) ** -40
+        # it carries digits a float64 cannot: differs from its own float64 rounding
+        assert abs(t40 - mp.mpf(float(t40))) > mp.mpf(10) ** -30
+    assert abs(float(t40) - t64) < 1e-12
+
+
+def test_monodromy_accepts_a_transition_energy():
+    tr = transition("IS^l_2")
+    M = monodromy(tr.energy)  # used to raise AttributeError
+    assert abs(M.trace - 4) < 1e-9
+    assert M.trace == monodromy(E=tr.energy).trace
+
+
+@pytest.mark.parametrize("bad", [4.0, "3.9", None.__class__])
+def test_monodromy_names_what_to_pass(bad):
+    if bad is None.__class__:
+        bad = object()
+    with pytest.raises(TypeError, match="pendulum or breather orbit"):
+        monodromy(bad)
+
+
+def test_newborn_family_n_counts_steps_as_documented():
+    doc = newborn_family.__doc__
+    assert "not of members" in doc and "n + 1" in doc
+    fam = newborn_family("IS^l_2", n=4)
+    assert len(fam) >= 4 + 1
+    assert float(fam[-1].E) == 4.0
+    E = [float(o.E) for o in fam]
+    assert all(a < b for a, b in zip(E, E[1:]))
+
+
+def _natural(values, **opts):
+    spec = family_spec("IS^l_2")
+    m0, _ = seed(spec.label)
+    alg = Natural("E", tuple(values), order=1, origin=spec.E_birth, origin_other=0.0)
+    return continuation(spec.problem, alg, ContinuationOptions(**opts), [m0])
+
+
+def test_natural_honours_the_stopping_rules():
+    spec = family_spec("IS^l_2")
+    En = spec.E_birth
+    vals = [En + (4 - En) * k / 8 for k in range(1, 9)]
+    full = _natural(vals)
+    assert full.stop == "values" and len(full.members) == 9
+    b = _natural(vals, max_steps=3)
+    assert b.stop == "steps" and len(b.members) == 4
+    b = _natural(vals, E_range=(0, vals[4]))
+    assert b.stop == "E range" and len(b.members) == 7  # the first one outside
+    assert "E_range" in b.reason and "7 members" in b.reason
+    t1 = full.t1
+    b = _natural(vals, t1_max=float(t1[3]) + 1e-9)
+    assert b.stop == "period" and len(b.members) == 5 and "t1_max" in b.reason
+
+
+def test_branch_says_why_it_stopped():
+    b = _natural([])
+    assert b.stop == "values" and b.reason.startswith("values: ended after 1 members")
+    assert issubclass(FamilyEnd, ValueError)
+    assert not hasattr(__import__("rotorlib.shooting").shooting, "FamilyEnd")
+    assert math.isfinite(float(b.members[0].E))
+
+
+def test_follow_says_why_it_stopped():
+    from rotorlib.newborn import follow
+
+    b = follow("IS^r_1", E_min=5.8, E_max=6.0)
+    assert b.stop == "E range" and len(b.members) == 2
+    assert "outside E_range = (5.8, 6)" in b.reason
+    assert "the first member" in b.reason  # the seed is outside the range too
