@@ -89,3 +89,39 @@ def test_follow_says_why_it_stopped():
     assert b.stop == "E range" and len(b.members) == 2
     assert "outside E_range = (5.8, 6)" in b.reason
     assert "the first member" in b.reason  # the seed is outside the range too
+
+
+def test_budget_model_reproduces_its_documented_calibration():
+    """The model against the CPU times its docstring records (measured once with
+    ``nice -n 10``; no timing is measured here)."""
+    import re
+
+    from rotorlib.atlas import budget_seconds
+
+    doc = " ".join(budget_seconds.__doc__.split())
+    m = re.search(r"([\d.]+), ([\d.]+) and ([\d.]+) s at T = (\d+), (\d+), (\d+)", doc)
+    assert m, doc
+    cpu, T = [float(v) for v in m.groups()[:3]], [float(v) for v in m.groups()[3:]]
+    for c, t in zip(cpu, T):
+        assert abs(budget_seconds([5.45], t) / c - 1) < 0.1, (t, c)
+
+
+def test_atlas_families_imports_no_private_names():
+    import ast
+    from pathlib import Path
+
+    import rotorlib.atlas_families as af
+
+    tree = ast.parse(Path(af.__file__).read_text())
+    private = [
+        a.name
+        for node in ast.walk(tree)
+        if isinstance(node, ast.ImportFrom) and node.level > 0
+        for a in node.names
+        if a.name.startswith("_")
+    ]
+    assert private == []
+
+
+def test_family_end_lives_with_the_engine():
+    assert FamilyEnd.__module__ == "rotorlib.continuation"
