@@ -146,6 +146,10 @@ class Monodromy:
 
 
 def _as_orbit(orbit=None, E=None, log_abs_dE=None, phase=None, family="pendulum"):
+    if orbit is None or isinstance(orbit, (PendulumOrbit, BreatherOrbit)):
+        pass
+    elif isinstance(getattr(orbit, "energy", None), (PendulumEnergy, BreatherEnergy)):
+        orbit = orbit.energy  # a transition, or an object carrying its orbit's energy
     if isinstance(orbit, PendulumEnergy):  # e.g. ``transition(...).energy``
         return PendulumOrbit(orbit)
     if isinstance(orbit, BreatherEnergy):
@@ -180,8 +184,9 @@ def monodromy(
 
     Parameters
     ----------
-    orbit : PendulumOrbit or BreatherOrbit, optional
-        The orbit; or give ``E`` / ``log_abs_dE`` (+ ``phase``) and ``family``
+    orbit : PendulumOrbit, BreatherOrbit, PendulumEnergy, BreatherEnergy, optional
+        The orbit, or its energy (e.g. ``transition(label).energy``, or the
+        transition itself); or give ``E`` / ``log_abs_dE`` (+ ``phase``) and ``family``
         (``pendulum``, ``breather`` or a breather family ``LG``, ``LD``, ``R``).
     digits : int, optional
         Requested significant digits. ``None`` or <= 15: float64; up to 31:
@@ -208,6 +213,8 @@ def monodromy(
     ------
     ValueError
         Bad precision request, or a float64 request beyond the float64 range.
+    TypeError
+        ``orbit`` is none of the above (the message names what to pass).
     """
     orbit = _as_orbit(orbit, E, log_abs_dE, phase, family)
     be, prec = precision_tier(digits, backend)

@@ -125,3 +125,8 @@ def test_atlas_families_imports_no_private_names():
 
 def test_family_end_lives_with_the_engine():
     assert FamilyEnd.__module__ == "rotorlib.continuation"
+
+
+def test_monodromy_accepts_a_transition():
+    tr = transition("PD^r_1")
+    assert abs(monodromy(tr).trace) < 1e-9  # tr M = 0 at a PD transition
