@@ -462,6 +462,7 @@ def _band_one(args):
         jump=0.05 if deep else None,
         t1_max=t1_max,
         energies=energies,
+        clip=False,  # the first member beyond E_max is reported (chapter 08)
     )
     E, tr = b.E, b.trace
     out = (tr < 0) | (tr > 4)

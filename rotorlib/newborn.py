@@ -45,6 +45,7 @@ default for members near E = 4.
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import math
 import time
@@ -518,6 +519,7 @@ def follow(
     ds=0.3,
     ds_max=1.0,
     max_steps=2000,
+    clip=True,
 ):
     """The family born at ``label`` followed in pseudo-arclength from its seed: passes folds.
 
@@ -526,10 +528,11 @@ def follow(
     E_max, E_min : float, optional
         Stop outside ``[E_min, E_max]`` (default ``[E_n - 2|E_n - 4|, 4.2]`` for libration,
         ``[E_n - 2|E_n - 4|, E_n + 6]`` for rotation). The family is followed from its
-        seed near the birth energy ``E_n``, and the branch ends with the first member
-        outside the range, which is kept (it shows where the family went:
-        ``members[-1].E`` may exceed ``E_max`` by one step); a range that does not
-        contain ``E_n`` stops at once. ``Branch.reason`` says which rule stopped it.
+        seed near the birth energy ``E_n``; the first member outside the range stops it
+        and is dropped (with ``clip``), so that every member after the seed, and every
+        special point, lies inside the range. A range that does not contain ``E_n``
+        stops at once (only the seed is left). ``Branch.reason`` says which rule stopped
+        it.
     t1_max : float, optional
         Stop once ``t1`` exceeds it (default: the period 12 times its value at birth): the
         family runs into an orbit of infinite period (through the maxima of V, E -> 4.5).
@@ -545,6 +548,9 @@ def follow(
         cancellation.
     jump : float, optional
         Refuse steps that change ``t1`` by more than this fraction.
+    clip : bool
+        Drop the member that left ``[E_min, E_max]`` (default). ``False`` keeps it, to
+        show where the family went one step beyond the range.
 
     Returns
     -------
@@ -557,7 +563,7 @@ def follow(
     >>> from rotorlib.newborn import follow
     >>> b = follow("IS^r_1", E_min=5.8, E_max=6.0)
     >>> b.stop, len(b.members)
-    ('E range', 2)
+    ('E range', 1)
     >>> "outside E_range = (5.8, 6)" in b.reason and "first member" in b.reason
     True
     """
@@ -599,7 +605,17 @@ def follow(
         energies=tuple(energies),
         r_max=r_max,
     )
-    return continuation(prob, alg, opts, [m0], t)
+    b = continuation(prob, alg, opts, [m0], t)
+    if not clip or b.stop != "E range" or len(b.members) < 2:
+        return b
+    keep = b.members[:-1]
+    pts = [
+        p
+        for p in b.special_points
+        if p.index < len(keep) and E_min <= p.member.E <= E_max
+    ]
+    why = b.reason + " (dropped: the branch ends with its last member inside)"
+    return dataclasses.replace(b, members=keep, special_points=tuple(pts), reason=why)
 
 
 # --------------------------------------------------------------------------- shapes (Fig. 5, Tables III-IV)

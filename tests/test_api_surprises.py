@@ -86,9 +86,20 @@ def test_follow_says_why_it_stopped():
     from rotorlib.newborn import follow
 
     b = follow("IS^r_1", E_min=5.8, E_max=6.0)
-    assert b.stop == "E range" and len(b.members) == 2
+    assert b.stop == "E range" and len(b.members) == 1  # the seed only
     assert "outside E_range = (5.8, 6)" in b.reason
     assert "the first member" in b.reason  # the seed is outside the range too
+    assert "dropped" in b.reason
+
+
+def test_follow_members_stay_inside_the_range():
+    from rotorlib.newborn import follow
+
+    b = follow("IS^r_1", E_max=4.3)
+    assert b.stop == "E range" and b.E.max() <= 4.3  # it ended at 4.309
+    assert all(float(p.member.E) <= 4.3 for p in b.special_points)
+    out = follow("IS^r_1", E_max=4.3, clip=False)
+    assert out.E.max() > 4.3 and len(out.members) == len(b.members) + 1
 
 
 def test_budget_model_reproduces_its_documented_calibration():
