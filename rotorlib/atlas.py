@@ -3,20 +3,18 @@
 The grid search for reversible systems (Markellos and coworkers; Tsirogiannis, Perdios and
 Markellos, Celest. Mech. Dyn. Astr. 103, 49 (2009)): a symmetric periodic orbit meets the
 fixed sets of two reversing symmetries half a period apart (:mod:`rotorlib.reversors`).
-For each class of fixed set (:func:`rotorlib.reversors.start_sets`) the start points are
-sampled on a grid of ``grid`` points along the curve; each is integrated for
-``T_max / 2`` and every crossing of every fixed set is recorded with the residual of its
-condition; a sign change between neighbouring start points, at the same crossing of the
-same fixed set, brackets an orbit, which the engine refines (a :class:`ShootingProblem`,
-Brent's method in the start parameter). Each root is verified: the orbit must close,
-modulo the configuration lattice, after ``2 t1`` times the order of the symmetry relating
-the two fixed sets; its primitive period is found; a root that closes only to ~1e-4 (a
-near-periodic trajectory beside a very unstable orbit) is dropped; orbits related by the
-symmetry group or by time reversal are merged (same period and action
-``2 (E T - int V dt)`` and an image of one start state on the other orbit, within
-``SAME_ORBIT``); its ``tr M`` is computed and it is named after the known family it
-belongs to (pendulum, breathers, the IS/PD daughters, PD^b) or ``new``. :func:`census`
-runs the scan through :func:`rotorlib.parallel.pmap` (process pool or Dask cluster).
+The start points of each class of fixed set (:func:`rotorlib.reversors.start_sets`), a
+grid of ``grid`` points, are integrated for ``T_max / 2`` and every crossing of every
+fixed set is recorded with the residual of its condition (:func:`scan`); a sign change
+between neighbours at the same crossing brackets an orbit (:func:`brackets`), refined by
+the engine (:func:`refine_bracket`: Brent's method in the start parameter) and verified:
+it must close, modulo the configuration lattice, after ``2 t1`` times the order of the
+symmetry relating the two fixed sets; its primitive period is found; a root closing only
+to ~1e-4 (beside a very unstable orbit) is dropped; orbits related by the symmetry group
+or time reversal are merged (same period and action ``2 (E T - int V dt)``, and an image
+of one start state on the other orbit within ``SAME_ORBIT``); it is named after its known
+family (pendulum, breathers, IS/PD daughters, PD^b) or ``new``. :func:`census` runs the
+scan through :func:`rotorlib.parallel.pmap` (process pool or Dask cluster).
 
 Precision: float64 scan and refinement (residual ~1e-13; ``tr M`` to ~1e-15 |tr M|); with
 ``digits=D`` every orbit is re-solved in the tier of ``D`` digits and given to ``D`` digits
@@ -40,24 +38,20 @@ from .precision import FLOAT64
 from .reversors import _group_images, start_sets, targets
 from .shooting import ShootingProblem, residual, solve
 
-__all__ = [
-    "AtlasOrbit",
-    "Atlas",
-    "census",
-    "atlas",
-    "budget_seconds",
-    "BUDGET",
-    "E_DOMAIN",
-]
+__all__ = ["AtlasOrbit", "Atlas", "census", "atlas", "budget_seconds", "BUDGET"]
+__all__ += ["E_DOMAIN", "BUDGET_MODEL", "SAME_ORBIT", "scan", "brackets"]
+__all__ += ["refine_bracket", "finish_orbit", "atlas_orbit", "lattice_shift"]
+__all__ += ["SampledOrbit", "distance_to_orbit"]
 
 #: Energies where the census is validated (``tests/test_atlas.py``). Below ``E = 0.1`` the
-#: two normal modes at G (pendulum and breather LG, periods ``-> 2 pi / sqrt 3``) differ by
-#: less than the closure test resolves (at ``E = 0.01`` one of them is missed); above
-#: ``E = 100`` the rotors are nearly free and every resonant torus is nearly degenerate.
+#: normal modes at G (pendulum, breather LG) differ by less than the closure test resolves;
+#: above ``E = 100`` the rotors are nearly free, every resonant torus nearly degenerate.
 E_DOMAIN = (0.1, 100.0)
 
-#: Largest accepted cost of one census, in seconds of one core (estimated; see budget_seconds).
+#: Largest accepted cost of one census in CPU seconds (:func:`budget_seconds`, whose
+#: model, fitted to ``atlas([5.45], T)``, is ``BUDGET_MODEL``).
 BUDGET = 3600.0
+BUDGET_MODEL = {"BASE": 2.2, "GROWTH": 23.0, "RATE": 0.36}
 
 
 @dataclass(frozen=True)
@@ -108,6 +102,7 @@ class AtlasOrbit:
         """The fields printed by ``python -m rotorlib atlas --json``."""
         keys = "label family E period trace stable state0_str period_str trace_str"
         out = {k: getattr(self, k) for k in keys.split()}
+        out["state0"] = [float(v) for v in self.state0]
         out["state0_str"] = list(self.state0_str)
         out.update(
             fixed_sets=list(self.fixed_sets), action=self.action, closure=self.closure
@@ -133,14 +128,21 @@ class Atlas:
 
 
 def budget_seconds(E_values, t_max, grid=300) -> float:
-    """An estimate of a census's cost (seconds of one core): ``45 s`` per energy at
-    ``T_max = 16``, ``grid = 300`` (measured at ``E = 5.45``, inside the band, the most
-    expensive energy), proportional to ``grid`` and growing like the number of orbits,
-    ``exp(h T_max)`` with ``h = 0.45`` (the growth rate measured in the band; it overestimates
-    the cost at energies with less chaos); above ``E = 5.45`` it grows like ``E`` (nearly
-    free rotors: the resonant orbits with ``T <= T_max`` grow like ``(T_max sqrt E)^2``)."""
+    """A census's cost in seconds of one core (CPU time): per energy ``(BASE + GROWTH
+    exp(RATE (T_max - 16)) grid / 300) max(1, E / 5.45)`` (:data:`BUDGET_MODEL`, fitted
+    to the CPU time of ``atlas([5.45], T)``, 3.5, 7.7 and 25.3 s at T = 8, 12, 16, serial,
+    ``nice -n 10`` on the 2-core CI machine). Measured accuracy: within 2% of that fit;
+    1.2-1.25x over at ``E = 8`` (T = 8, 12); over below the band (1.2-1.7x at
+    ``E = 4.3``, 3.7x at ``E = 2``, ``T = 8``); 0.7x at ``T = 4`` (a first run compiles
+    heyoka's integrators). Wall time on a loaded machine is longer (17.5 s at T = 8).
+
+    >>> round(budget_seconds([5.45], 8), 1), round(budget_seconds([5.45], 16), 1)
+    (3.5, 25.2)
+    """
+    m = BUDGET_MODEL
     return sum(
-        45.0 * (grid / 300) * math.exp(0.45 * (t_max - 16)) * max(1.0, E / 5.45)
+        (m["BASE"] + m["GROWTH"] * (grid / 300) * math.exp(m["RATE"] * (t_max - 16)))
+        * max(1.0, E / 5.45)
         for E in E_values
     )
 
@@ -219,7 +221,7 @@ def _needs_split(a, b, t_half):
     )
 
 
-def _brackets(us, rows, t_half):
+def brackets(us, rows, t_half):
     """Sign changes of the residual between neighbouring start points at the same crossing of
     the same fixed set, where that fixed set's crossings correspond on both sides (same
     number, times close); other fixed sets may change their crossings in between."""
@@ -239,7 +241,7 @@ def _brackets(us, rows, t_half):
     return out
 
 
-def _scan(si, E, t_half, grid, depth, executor, progress, window=None):
+def scan(si, E, t_half, grid, depth, executor, progress, window=None):
     """The start points of one class (on ``window = (lo, hi)``, default the whole span): a
     uniform grid, then every interval whose crossing structure changes bisected (up to
     ``depth`` times): ``(us, rows)``."""
@@ -296,7 +298,7 @@ def _problem(si, j, k, E, t_half):
     )
 
 
-def _lattice_shift(d, t=FLOAT64):
+def lattice_shift(d, t=FLOAT64):
     """``d`` reduced modulo the configuration lattice (generated by (0, 2 pi), (pi, pi)), in
     the tier ``t``."""
     with t.context():
@@ -317,7 +319,7 @@ def _closure_at(x0, times):
     _start(ta, FLOAT64, x0, False)
     out = ta.propagate_grid(np.array([0.0] + ts))[-1]
     res = {
-        t: max(abs(v) for v in _lattice_shift([a - b for a, b in zip(x, x0)]))
+        t: max(abs(v) for v in lattice_shift([a - b for a, b in zip(x, x0)]))
         for t, x in zip(ts, out[1:])
     }
     return [res[t] for t in times]
@@ -367,15 +369,15 @@ def _invariants(x0, T, E):
 SAME_ORBIT = 1e-6
 
 
-class _Curve:
-    """An orbit sampled densely, for :func:`_distance`."""
+class SampledOrbit:
+    """An orbit sampled densely, for :func:`distance_to_orbit`."""
 
     def __init__(self, x0, T, n=4000):
         self.x0 = list(x0)
         self.states, self.ts = sample(x0, T, n)
 
 
-def _distance(c: _Curve, y0) -> float:
+def distance_to_orbit(c: SampledOrbit, y0) -> float:
     """The phase-space distance (configuration modulo the lattice) from the nearest image of
     ``y0`` under the group to the orbit ``c``: every local minimum of the distance to the
     samples below 0.05 refined by Newton on the time along the orbit (short integrations)."""
@@ -384,7 +386,7 @@ def _distance(c: _Curve, y0) -> float:
 
     def gap(y, x):
         d = np.array(y) - x
-        d[:2] = _lattice_shift(d[:2])
+        d[:2] = lattice_shift(d[:2])
         return d
 
     ta, _ = _integrator(FLOAT64, None, False)
@@ -411,7 +413,7 @@ def _distance(c: _Curve, y0) -> float:
     return best
 
 
-def _refine(args):
+def refine_bracket(args):
     """One bracket: the root in ``u`` (Brent), its verification and invariants, or ``None``."""
     from scipy.optimize import brentq
 
@@ -435,7 +437,7 @@ def _refine(args):
     return (si, j, k, u, x0, T, *_invariants(x0, T, E)[1:])
 
 
-def _finish(args):
+def finish_orbit(args):
     """One orbit's trace and closure, and its state/period/trace as strings: float64 from the
     scan (``digits=None``), or re-solved at ``E`` in the tier that delivers ``digits``."""
     si, j, k, E, t_half, u, x0, T, digits = args
@@ -467,7 +469,7 @@ def _finish(args):
         Tm = 2 * sh.t1 * n.numerator / n.denominator
         M, xT, tr = monodromy_matrix(sh.x0, Tm, t)
         clo = max(
-            abs(float(v)) for v in _lattice_shift([a - b for a, b in zip(xT, sh.x0)], t)
+            abs(float(v)) for v in lattice_shift([a - b for a, b in zip(xT, sh.x0)], t)
         )
         return (
             tuple(t.text(v, digits) for v in sh.x0),
@@ -479,9 +481,9 @@ def _finish(args):
         )
 
 
-def _orbit(label, family, E, t_half, root, fin) -> AtlasOrbit:
+def atlas_orbit(label, family, E, t_half, root, fin) -> AtlasOrbit:
     """The :class:`AtlasOrbit` of a verified root ``(si, j, k, u, x0, T, S)`` of
-    :func:`_refine` and its :func:`_finish` ``(xs, Ts, trs, tr, Tf, closure)``."""
+    :func:`refine_bracket` and its :func:`finish_orbit` ``(xs, Ts, trs, tr, Tf, closure)``."""
     si, j, k, u, x0, T, S = root
     xs, Ts, trs, tr, Tf, clo = fin
     head = (label, family, E, Tf, tr, bool(0 < tr < 4), tuple(x0), xs, Ts, trs)
@@ -617,15 +619,15 @@ def census(
     t_half = t_max / 2 * 1.02
     jobs = []
     for si in range(len(start_sets(E))):
-        us, rows = _scan(si, E, t_half, grid, depth, executor, progress)
+        us, rows = scan(si, E, t_half, grid, depth, executor, progress)
         jobs += [
             (si, j, k, E, t_half, float(us[i]), float(us[i + 1]))
-            for i, j, k in _brackets(us, rows, t_half)
+            for i, j, k in brackets(us, rows, t_half)
         ]
     found = [
         f
         for f in pmap(
-            _refine,
+            refine_bracket,
             jobs,
             executor=executor,
             progress=progress,
@@ -641,16 +643,16 @@ def census(
         if T > t_max or any(
             abs(T - g[5]) < 1e-7 * T
             and abs(S - g[6]) < 1e-6 * S
-            and _distance(c, f[4]) < SAME_ORBIT
+            and distance_to_orbit(c, f[4]) < SAME_ORBIT
             for g, c in zip(unique, curves)
         ):
             continue
         unique.append(f)
-        curves.append(_Curve(f[4], T))
+        curves.append(SampledOrbit(f[4], T))
     if known is None:
         known = _known([E], t_max, executor)[E] if name else []
     fin = pmap(
-        _finish,
+        finish_orbit,
         [(si, j, k, E, t_half, u, x0, T, digits) for si, j, k, u, x0, T, S in unique],
         executor=executor,
         progress=progress,
@@ -664,7 +666,9 @@ def census(
             continue  # a near-periodic trajectory beside a very unstable orbit, not an orbit
         label = _name(T, S, known)
         family = label if label != "new" else f"N{i + 1}"
-        orbits.append(_orbit(label, family, E, t_half, (si, j, k, u, x0, T, S), fin_i))
+        orbits.append(
+            atlas_orbit(label, family, E, t_half, (si, j, k, u, x0, T, S), fin_i)
+        )
     return Atlas(E, t_max, grid, tuple(orbits), len(jobs), time.perf_counter() - t0)
 
 

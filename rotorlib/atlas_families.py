@@ -10,7 +10,7 @@ about the parent's at IS, twice it at PD) are found beside the parent at ``E = E
 A daughter orbit converges to the parent as ``dE -> 0``, so each of its points on a fixed set
 tends to a point of the parent on a fixed set: the daughter meets the start set of the parent
 near the parent's start, or the parent's target fixed set near the parent's symmetric point.
-Both neighbourhoods are scanned (the census scan, ``atlas._scan``, on a window of the start set,
+Both neighbourhoods are scanned (the census scan, ``atlas.scan``, on a window of the start set,
 the target point mapped onto its class's start set by the symmetry group) for symmetric
 orbits of the daughter's period, refined and verified as in the census. The daughters are
 atlas orbits: :func:`families` follows them in turn.
@@ -34,14 +34,14 @@ import numpy as np
 from .atlas import (
     SAME_ORBIT,
     AtlasOrbit,
-    _brackets,
-    _Curve,
-    _distance,
-    _finish,
-    _lattice_shift,
-    _orbit,
-    _refine,
-    _scan,
+    SampledOrbit,
+    atlas_orbit,
+    brackets,
+    distance_to_orbit,
+    finish_orbit,
+    lattice_shift,
+    refine_bracket,
+    scan,
 )
 from .continuation import PALC, ContinuationOptions, continuation, member
 from .flow import SectionNotReached
@@ -248,7 +248,7 @@ def _locate(y, E, tol=1e-7):
             except ValueError:
                 return math.inf
             d = x - ims
-            d[:, :2] = [_lattice_shift(v) for v in d[:, :2]]
+            d[:, :2] = [lattice_shift(v) for v in d[:, :2]]
             return float(np.min(np.max(np.abs(d), axis=1)))
 
         ds = np.array([dist(u) for u in us])
@@ -345,23 +345,25 @@ def daughters(
         s = residual(fam.problem, u_p, E)
         x0 = np.array(s.x0, float)
         T_p = float(fam.problem.factor * s.t1)
-        parent, T_d = _Curve(x0, T_p), (2 if kind == "PD" else 1) * T_p
+        parent, T_d = SampledOrbit(x0, T_p), (2 if kind == "PD" else 1) * T_p
         si0 = [k for k, st in enumerate(start_sets(E)) if st == fam.problem.start]
         windows = [(k, u_p) for k in si0] + _locate(np.array(s.x1, float), E)
         jobs = []
         for si, uc in windows:
-            us, rows = _scan(
+            us, rows = scan(
                 si, E, t_half, grid, 8, executor, False, (uc - width, uc + width)
             )
             jobs += [
                 (si, j, k, E, t_half, float(us[a]), float(us[a + 1]))
-                for a, j, k in _brackets(us, rows, t_half)
+                for a, j, k in brackets(us, rows, t_half)
             ]
-        found = [f for f in pmap(_refine, jobs, executor=executor) if f is not None]
+        found = [
+            f for f in pmap(refine_bracket, jobs, executor=executor) if f is not None
+        ]
         near = []
         for f in found:
             if abs(f[5] - T_d) <= max(10 * n * slope * dE, 1e-5 * T_d):
-                gap = _distance(parent, f[4])
+                gap = distance_to_orbit(parent, f[4])
                 if 10 * SAME_ORBIT < gap < width:  # not the parent
                     near.append((gap, f))
         # a daughter tends to the parent as dE -> 0, an orbit not born here does not: keep
@@ -372,21 +374,21 @@ def daughters(
         for _, f in sorted((v for v in near if v[0] < 2 * gmin), key=lambda v: v[0]):
             T = f[5]
             if any(
-                abs(T - g[5]) < 1e-7 * T and _distance(c, f[4]) < SAME_ORBIT
+                abs(T - g[5]) < 1e-7 * T and distance_to_orbit(c, f[4]) < SAME_ORBIT
                 for g, c in zip(here, curves)
             ):
                 continue
             here.append(f)
-            curves.append(_Curve(f[4], T))
+            curves.append(SampledOrbit(f[4], T))
         fin = pmap(
-            _finish,
+            finish_orbit,
             [(si, j, k, E, t_half, u, x0, T, None) for si, j, k, u, x0, T, S in here],
             executor=executor,
         )
         for f, fi in zip(here, fin):
             if fi[5] <= max(1e6, 1e2 * abs(fi[3])) * 1e-15:  # closure: an orbit
                 out.append(
-                    _orbit("new", f"{fam.orbit.family}/{kind}", E, t_half, f, fi)
+                    atlas_orbit("new", f"{fam.orbit.family}/{kind}", E, t_half, f, fi)
                 )
     return tuple(sorted(out, key=lambda o: (o.E, o.period)))
 

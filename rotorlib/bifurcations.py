@@ -51,6 +51,7 @@ from .hill import (
 )
 from .orbits import pendulum
 from .parallel import pmap
+from .precision import check_digits, json_number
 
 __all__ = [
     "Transition",
@@ -162,9 +163,9 @@ class Transition:
             "phase": self.phase,
             "n": self.n,
             "class": self.cls,
-            "log_abs_dE": self.log_abs_dE_str,
-            "E": self.energy.decimal_E(15),
-            "period": self.period_str or repr(self.period),
+            **json_number("log_abs_dE", self.log_abs_dE, self.log_abs_dE_str),
+            **json_number("E", self.E, self.energy.decimal_E(15)),
+            **json_number("period", self.period, self.period_str or None),
             "transition": self.transition,
             "delta_target": self.delta_target,
             "dtrace_dE": self.dtrace_dE,
@@ -540,13 +541,7 @@ def transition(label, digits=None) -> Transition:
         Bad label, or a transition beyond the float64 range of ``|E - 4|``.
     """
     kind, phase, n = parse_label(label)
-    if digits is not None and (
-        isinstance(digits, bool)
-        or not isinstance(digits, (int, np.integer))
-        or digits < 1
-        or digits > 200
-    ):
-        raise ValueError(f"digits must be an integer from 1 to 200, got {digits!r}")
+    check_digits(digits)
     roots, _, _ = _find(phase, (kind,), n)
     _, c, a, b, fa, fb = roots[n - 1]
     x = _refine(phase, c, a, b, fa - c, fb - c)

@@ -54,7 +54,7 @@ from .flow import Section, flow, sample, to_section
 from .monodromy import monodromy
 from .orbits import breather
 from .periodic import PeriodicOrbit, orbit_from_state
-from .precision import FLOAT64, tier
+from .precision import FLOAT64, json_number, tier
 from .shooting import ShootingProblem, StartSet, solve
 from .system import alpha_to_beta, beta_to_alpha, potential_beta
 
@@ -143,9 +143,9 @@ class BreatherTransition:
             "family": self.family,
             "phase": "rot",
             "n": 1,
-            "E": self.E_str,
-            "log_abs_dE_4.5": repr(math.log(abs(self.E - 4.5))),
-            "period": self.period_str,
+            **json_number("E", self.E, self.E_str),
+            **json_number("log_abs_dE_4.5", math.log(abs(self.E - 4.5))),
+            **json_number("period", self.period, self.period_str),
             "transition": self.transition,
             "slope": self.slope,
             "precision": self.precision,

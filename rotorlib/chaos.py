@@ -38,12 +38,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .continuation import ContinuationOptions, Natural, continuation, member
+from .continuation import ContinuationOptions, FamilyEnd, Natural, continuation, member
 from .energy import as_float
 from .newborn import family_spec, follow, newborn_orbit
 from .parallel import pmap
 from .reversors import images
-from .shooting import FamilyEnd
 from .system import alpha_to_phi, energy_phi, potential_alpha, potential_phi
 
 __all__ = [
@@ -463,6 +462,7 @@ def _band_one(args):
         jump=0.05 if deep else None,
         t1_max=t1_max,
         energies=energies,
+        clip=False,  # the first member beyond E_max is reported (chapter 08)
     )
     E, tr = b.E, b.trace
     out = (tr < 0) | (tr > 4)

@@ -11,6 +11,7 @@ from __future__ import annotations
 import argparse
 import importlib
 import json
+import math
 import re
 import sys
 
@@ -57,16 +58,32 @@ def build_parser(prog: str = "python -m rotorlib") -> argparse.ArgumentParser:
     return parser
 
 
-def emit(records, as_json: bool, columns) -> None:
-    """Print records as JSON (a list when several, one object when one) or as a table."""
+def finite(value):
+    """``value`` with every non-finite float (``nan``, ``inf``) replaced by ``None``:
+    JSON has no such numbers (the records say why in a ``*_note``)."""
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
+    if isinstance(value, dict):
+        return {k: finite(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [finite(v) for v in value]
+    return value
+
+
+def emit(records, as_json: bool, columns, one: bool = True) -> None:
+    """Print records as JSON (a list when several, one object when one and ``one``) or
+    as a table (a column shows ``<column>_str``, every digit, where a record has it)."""
     if as_json:
-        out = records[0] if len(records) == 1 else records
-        print(json.dumps(out, indent=2))
+        out = records[0] if one and len(records) == 1 else records
+        print(json.dumps(finite(out), indent=2, allow_nan=False))
         return
-    widths = [max(len(c), *(len(str(r.get(c, ""))) for r in records)) for c in columns]
+    rows = [[str(r.get(c + "_str", r.get(c, ""))) for c in columns] for r in records]
+    widths = [
+        max(len(c), *(len(row[i]) for row in rows)) for i, c in enumerate(columns)
+    ]
     print("  ".join(c.ljust(w) for c, w in zip(columns, widths)))
-    for r in records:
-        print("  ".join(str(r.get(c, "")).ljust(w) for c, w in zip(columns, widths)))
+    for row in rows:
+        print("  ".join(v.ljust(w) for v, w in zip(row, widths)))
 
 
 def console() -> int:

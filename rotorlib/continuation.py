@@ -1,29 +1,17 @@
 """Families of periodic orbits: one continuation engine for every :class:`ShootingProblem`.
 
 ``continuation(problem, algorithm, options, start)`` follows the curve ``r(u, w) = 0``
-of :func:`rotorlib.shooting.residual` from one or more known members and returns a
-:class:`Branch`: its members and its special points, detected along the way.
-
-Algorithms
-    :class:`Natural` steps one coordinate (``u`` or ``E``) through given values,
-    predicts the other by polynomial extrapolation and corrects it with the secant
-    (:func:`rotorlib.shooting.secant`); a step that fails is halved. It cannot pass
-    a fold of its parameter. :class:`PALC` (pseudo-arclength) steps along the
-    tangent in the plane ``(u, w)`` scaled by the current member (steps are relative
-    changes, so a branch spanning many decades costs few steps) and corrects with
-    Newton on ``[r = 0, tangent . (X - X_k) = ds]``, the gradient of ``r`` from the
-    variational equations; it passes folds.
-
-Events (:class:`SpecialPoint`)
-    ``fold`` (``E`` turns), ``E`` (a requested energy), ``IS`` / ``PD`` (``tr M``
-    crosses 4 / 0, with ``options.traces``), located between members by a secant on
-    the pseudo-arclength, each point re-solved. The branch ``stop`` says why it
-    ended: ``values``, ``steps``, ``E range``, ``period`` (the period grew beyond
-    ``options.t1_max``: the family runs into an orbit of infinite period) or
-    ``stuck`` (the step fell below its minimum).
-
-Precision: members satisfy ``|r| < options.r_max`` (default 1e-8 float64,
-``eps^(2/3)`` extended); located events are solved to the tier's precision.
+of :func:`rotorlib.shooting.residual` from known members and returns a :class:`Branch`:
+members and special points. :class:`Natural` steps ``u`` or ``E`` through given values
+(secant corrector, failed steps halved; it cannot pass a fold of its parameter);
+:class:`PALC` (pseudo-arclength, steps relative to the current member, Newton on
+``[r = 0, tangent . (X - X_k) = ds]``) passes folds. Both honour the stopping rules of
+:class:`ContinuationOptions`. Events (:class:`SpecialPoint`): ``fold``, ``E`` (a
+requested energy), ``IS`` / ``PD`` (``tr M`` crosses 4 / 0, with ``options.traces``),
+located between members and re-solved. ``Branch.stop`` says why it ended (``values``,
+``steps``, ``E range``, ``period``: ``t1`` beyond ``t1_max``, ``event``, ``stuck``),
+``Branch.reason`` in one sentence. Members satisfy ``|r| < options.r_max`` (default
+1e-8 float64, ``eps^(2/3)`` extended); located events are solved to the tier's precision.
 """
 
 from __future__ import annotations
@@ -34,12 +22,25 @@ from typing import Any
 
 from .flow import SectionNotReached, monodromy_matrix
 from .precision import FLOAT64, Tier
-from .shooting import FamilyEnd, NoConvergence, ShootingProblem, residual, solve
+from .shooting import NoConvergence, ShootingProblem, residual, solve
 
 __all__ = ["Member", "SpecialPoint", "Branch", "Natural", "PALC", "ContinuationOptions"]
-__all__ += ["continuation", "member", "switch", "switch_branch"]
+__all__ += ["continuation", "member", "switch", "switch_branch", "FamilyEnd"]
 
 NAN = float("nan")
+
+
+class FamilyEnd(ValueError):
+    """Natural continuation stopped: ``label, members, E_reached, E_asked`` (nan: u)."""
+
+    def __init__(self, label, members, E_asked, par):
+        self.label, self.members, self.E_asked = label, members, E_asked
+        self.E_reached = E = float(members[-1].E)
+        ask = f"; asked for E = {E_asked!r}" if E_asked == E_asked else ""
+        super().__init__(
+            f"{label}: the family was not found beyond E = {E!r} (a fold "
+            f"in {par}, or the orbit stops reaching its section){ask}"
+        )
 
 
 @dataclass(frozen=True)
@@ -84,7 +85,9 @@ class Branch:
     members : tuple of Member
     special_points : tuple of SpecialPoint
     stop : str
-        Why the continuation ended (see the module docstring).
+        Why the continuation ended, as a code (see the module docstring).
+    reason : str
+        The same as one sentence, with the numbers that triggered it.
     """
 
     problem: ShootingProblem
@@ -92,6 +95,7 @@ class Branch:
     members: tuple
     special_points: tuple = ()
     stop: str = ""
+    reason: str = ""
 
     def _col(self, name):
         import numpy as np
@@ -197,11 +201,12 @@ class PALC:
 
 @dataclass(frozen=True)
 class ContinuationOptions:
-    """Stopping rules and events.
+    """Stopping rules and events (honoured by :class:`Natural` and :class:`PALC` alike).
 
     Attributes
     ----------
     max_steps : int
+        Stop (``steps``) after this many members are added.
     E_range : (float, float)
         Stop (``E range``) once a member leaves it.
     t1_max : float
@@ -315,7 +320,7 @@ def _extrapolate(xs, ys, x, order, t: Tier):
         return out
 
 
-def _natural(problem, alg: Natural, opts, start, t: Tier):
+def _natural(problem, alg: Natural, opts, start, t: Tier, on_member=None):
     par = alg.parameter
     if par not in ("u", "E"):
         raise ValueError(f"Natural: parameter must be 'u' or 'E', got {par!r}")
@@ -334,8 +339,10 @@ def _natural(problem, alg: Natural, opts, start, t: Tier):
             xs.insert(0, s_of(t.num(alg.origin)) if par == "u" else t.num(0))
             ys.insert(0, t.num(alg.origin_other))
         targets = [t.num(v) for v in alg.values]
-        halvings = 0
+        halvings, steps = 0, 0
         while targets:
+            if steps >= opts.max_steps:
+                return members, "steps"
             v = targets[0]
             guess = _extrapolate(xs, ys, s_of(v), alg.order, t)
             try:
@@ -374,8 +381,10 @@ def _natural(problem, alg: Natural, opts, start, t: Tier):
             xs.append(s_of(v))
             ys.append(new.w if par == "u" else new.u)
             targets.pop(0)
-            if _crossed(opts, members):
-                return members, "event"
+            steps += 1
+            why = on_member(members) if on_member is not None else ""
+            if why or _crossed(opts, members):
+                return members, why or "event"
     return members, "values"
 
 
@@ -662,10 +671,30 @@ def continuation(
         return "event" if _crossed(opts, members) else ""
 
     if isinstance(algorithm, Natural):
-        members, stop = _natural(problem, algorithm, opts, start, t)
+        members, stop = _natural(problem, algorithm, opts, start, t, on_member)
     elif isinstance(algorithm, PALC):
         members, stop = _palc(problem, algorithm, opts, start, t, on_member)
     else:
         raise ValueError(f"algorithm must be Natural or PALC, got {algorithm!r}")
     special = _events(problem, t, members, opts, algorithm)
-    return Branch(problem, t, tuple(members), tuple(special), stop)
+    return Branch(
+        problem, t, tuple(members), tuple(special), stop, _reason(stop, members, opts)
+    )
+
+
+def _reason(stop: str, members, opts) -> str:
+    """One sentence saying why a continuation ended (:attr:`Branch.reason`)."""
+    m, n, (lo, hi) = members[-1], len(members), map(float, opts.E_range)
+    why = {
+        "values": "every value asked for was reached",
+        "steps": f"max_steps = {opts.max_steps} members were added",
+        "period": f"t1 = {float(m.t1):.6g} exceeds t1_max = {float(opts.t1_max):.6g} "
+        "(the family runs into an orbit of infinite period)",
+        "event": f"tr M crossed a level of stop_on = {opts.stop_on}",
+        "stuck": "the step fell below its minimum (the family ends or turns sharply)",
+        "section lost": "the orbit no longer reaches its section",
+        "E range": f"it is the first member outside E_range = ({lo:g}, {hi:g})",
+    }.get(stop, stop)
+    if stop == "E range" and not lo <= members[0].E <= hi:
+        why += f"; the first member, E = {float(members[0].E):.6g}, is outside it too"
+    return f"{stop}: ended after {n} members, the last at E = {float(m.E):.6g}: {why}"

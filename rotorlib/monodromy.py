@@ -30,6 +30,7 @@ from typing import Any
 
 import numpy as np
 
+from .energy import BreatherEnergy, PendulumEnergy
 from .hill import hill_problem, precision_tier, solve_hill
 from .orbits import BreatherOrbit, PendulumOrbit, breather, pendulum
 from .system import _A, _B, _Ainv, _Binv, jacobian_alpha, rhs_alpha
@@ -145,7 +146,22 @@ class Monodromy:
 
 
 def _as_orbit(orbit=None, E=None, log_abs_dE=None, phase=None, family="pendulum"):
+    if orbit is None or isinstance(orbit, (PendulumOrbit, BreatherOrbit)):
+        pass
+    elif isinstance(getattr(orbit, "energy", None), (PendulumEnergy, BreatherEnergy)):
+        orbit = orbit.energy  # a transition, or an object carrying its orbit's energy
+    if isinstance(orbit, PendulumEnergy):  # e.g. ``transition(...).energy``
+        return PendulumOrbit(orbit)
+    if isinstance(orbit, BreatherEnergy):
+        return BreatherOrbit(orbit)
     if orbit is not None:
+        if not isinstance(orbit, (PendulumOrbit, BreatherOrbit)):
+            raise TypeError(
+                "monodromy takes a pendulum or breather orbit "
+                "(rotorlib.pendulum(...), rotorlib.breather(...)) or its energy "
+                "(a PendulumEnergy / BreatherEnergy, e.g. transition(label).energy), "
+                f"or E=... / log_abs_dE=... keywords; got {type(orbit).__name__}"
+            )
         return orbit
     if family == "pendulum":
         return pendulum(E=E, log_abs_dE=log_abs_dE, phase=phase)
@@ -168,8 +184,9 @@ def monodromy(
 
     Parameters
     ----------
-    orbit : PendulumOrbit or BreatherOrbit, optional
-        The orbit; or give ``E`` / ``log_abs_dE`` (+ ``phase``) and ``family``
+    orbit : PendulumOrbit, BreatherOrbit, PendulumEnergy, BreatherEnergy, optional
+        The orbit, or its energy (e.g. ``transition(label).energy``, or the
+        transition itself); or give ``E`` / ``log_abs_dE`` (+ ``phase``) and ``family``
         (``pendulum``, ``breather`` or a breather family ``LG``, ``LD``, ``R``).
     digits : int, optional
         Requested significant digits. ``None`` or <= 15: float64; up to 31:
@@ -196,6 +213,8 @@ def monodromy(
     ------
     ValueError
         Bad precision request, or a float64 request beyond the float64 range.
+    TypeError
+        ``orbit`` is none of the above (the message names what to pass).
     """
     orbit = _as_orbit(orbit, E, log_abs_dE, phase, family)
     be, prec = precision_tier(digits, backend)
@@ -302,9 +321,33 @@ def _stability(tr, tol: float, orbit) -> tuple:
     return "marginal", note
 
 
-def trace_monodromy(orbit=None, **kwargs) -> float:
-    """``tr M`` of a pendulum or breather (float64); see :func:`monodromy` for arguments."""
-    return monodromy(orbit, **kwargs).trace
+def trace_monodromy(orbit=None, **kwargs) -> Any:
+    """``tr M`` of a pendulum or breather; see :func:`monodromy` for the arguments.
+
+    Returns
+    -------
+    float or mpmath.mpf
+        A float in float64 (``digits`` None or <= 15); with ``digits > 15`` the
+        extended-precision value, an ``mpf`` holding every digit of
+        :attr:`Monodromy.trace_str` (``digits`` significant digits), never its
+        float64 rounding.
+
+    Examples
+    --------
+    >>> from rotorlib import trace_monodromy
+    >>> round(trace_monodromy(E=3.9), 10)
+    0.0195119424
+    >>> import mpmath
+    >>> mpmath.nstr(trace_monodromy(E=3.9, digits=40), 40)
+    '0.0195119424111676105307516364433125540919'
+    """
+    M = monodromy(orbit, **kwargs)
+    if M.precision == "float64":
+        return M.trace
+    import mpmath as mp
+
+    with mp.workdps(len(M.trace_str) + 5):
+        return +mp.mpf(M.trace_str)
 
 
 @dataclass(frozen=True)

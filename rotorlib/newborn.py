@@ -45,6 +45,7 @@ default for members near E = 4.
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import math
 import time
@@ -57,6 +58,7 @@ from .bifurcations import parse_label, transition
 from .continuation import (
     PALC,
     ContinuationOptions,
+    FamilyEnd,
     Natural,
     continuation,
     member,
@@ -65,7 +67,7 @@ from .continuation import (
 from .flow import Section
 from .periodic import PeriodicOrbit, periodic_orbit
 from .precision import FLOAT64, REAL128, Tier, tier
-from .shooting import FamilyEnd, ShootingProblem, StartSet, solve
+from .shooting import ShootingProblem, StartSet, solve
 
 __all__ = [
     "FAMILIES",
@@ -346,7 +348,7 @@ def seed(label, name="float64"):
 
 def _path(spec: FamilySpec, E_target, t: Tier, steps=None):
     """Members from the seed to ``E_target``, continued in ``E`` (Natural, values spaced in
-    ``sqrt|E - E_n|``); raises :class:`~rotorlib.shooting.FamilyEnd` where it stops."""
+    ``sqrt|E - E_n|``); raises :class:`~rotorlib.continuation.FamilyEnd` where it stops."""
     m0, c = seed(spec.label, t.name)
     with t.context():
         E_target = t.num(E_target)
@@ -456,11 +458,36 @@ def newborn_orbit(label, E, digits=None, steps=None) -> PeriodicOrbit:
 
 
 def newborn_family(label, E_end=None, n=12, digits=None) -> list:
-    """Members from near birth to ``E_end`` spaced in ``sqrt(E - E_n)`` (default end: 4 for
-    libration, ``E_n + 0.05`` rotation, or the top of :func:`family_range` if lower).
-    ``digits``: the tier of the whole continuation (default float64 while
-    ``|E_n - 4| > FAMILY_FLOAT64_DEPTH``, else real128). Returns a list of
-    :class:`PeriodicOrbit`, birth first."""
+    """Members of a newborn family from its seed near birth to ``E_end``.
+
+    Parameters
+    ----------
+    label : str
+        The family (``IS^l_2``, ``PD^r_3``, ...).
+    E_end : float or str, optional
+        The last energy (default: 4 for libration, ``E_n + 0.05`` for rotation, or the
+        top of :func:`family_range` if lower).
+    n : int
+        The number of continuation steps, not of members: the energies ``E_1 .. E_n =
+        E_end`` are spaced equally in ``sqrt|E - E_n|`` from the seed. The list holds the
+        seed and one member per step, ``n + 1`` members, plus one member for each step
+        the continuation had to halve (so ``n + 1`` is a lower bound).
+    digits : int, optional
+        The tier of the whole continuation (default float64 while
+        ``|E_n - 4| > FAMILY_FLOAT64_DEPTH``, else real128).
+
+    Returns
+    -------
+    list of PeriodicOrbit
+        Birth first, increasing distance to ``E_n``; the last member is at ``E_end``.
+
+    Examples
+    --------
+    >>> from rotorlib.newborn import newborn_family
+    >>> fam = newborn_family("IS^l_2", n=4)
+    >>> len(fam), float(fam[-1].E)
+    (5, 4.0)
+    """
     spec = family_spec(label)
     if digits is None:
         t = FLOAT64 if spec.depth > FAMILY_FLOAT64_DEPTH else REAL128
@@ -492,6 +519,7 @@ def follow(
     ds=0.3,
     ds_max=1.0,
     max_steps=2000,
+    clip=True,
 ):
     """The family born at ``label`` followed in pseudo-arclength from its seed: passes folds.
 
@@ -499,7 +527,12 @@ def follow(
     ----------
     E_max, E_min : float, optional
         Stop outside ``[E_min, E_max]`` (default ``[E_n - 2|E_n - 4|, 4.2]`` for libration,
-        ``[E_n - 2|E_n - 4|, E_n + 6]`` for rotation).
+        ``[E_n - 2|E_n - 4|, E_n + 6]`` for rotation). The family is followed from its
+        seed near the birth energy ``E_n``; the first member outside the range stops it
+        and is dropped (with ``clip``), so that every member after the seed, and every
+        special point, lies inside the range. A range that does not contain ``E_n``
+        stops at once (only the seed is left). ``Branch.reason`` says which rule stopped
+        it.
     t1_max : float, optional
         Stop once ``t1`` exceeds it (default: the period 12 times its value at birth): the
         family runs into an orbit of infinite period (through the maxima of V, E -> 4.5).
@@ -515,11 +548,24 @@ def follow(
         cancellation.
     jump : float, optional
         Refuse steps that change ``t1`` by more than this fraction.
+    clip : bool
+        Drop the member that left ``[E_min, E_max]`` (default). ``False`` keeps it, to
+        show where the family went one step beyond the range.
 
     Returns
     -------
     rotorlib.continuation.Branch
-        Members ``u, E, t1, period, trace``; special points ``fold``, ``E``, ``IS``, ``PD``.
+        Members ``u, E, t1, period, trace``; special points ``fold``, ``E``, ``IS``, ``PD``;
+        ``stop`` and ``reason``: why it ended.
+
+    Examples
+    --------
+    >>> from rotorlib.newborn import follow
+    >>> b = follow("IS^r_1", E_min=5.8, E_max=6.0)
+    >>> b.stop, len(b.members)
+    ('E range', 1)
+    >>> "outside E_range = (5.8, 6)" in b.reason and "first member" in b.reason
+    True
     """
     spec = family_spec(label)
     t = _tiers(spec, None)[0] if digits is None else tier(int(digits))
@@ -559,7 +605,17 @@ def follow(
         energies=tuple(energies),
         r_max=r_max,
     )
-    return continuation(prob, alg, opts, [m0], t)
+    b = continuation(prob, alg, opts, [m0], t)
+    if not clip or b.stop != "E range" or len(b.members) < 2:
+        return b
+    keep = b.members[:-1]
+    pts = [
+        p
+        for p in b.special_points
+        if p.index < len(keep) and E_min <= p.member.E <= E_max
+    ]
+    why = b.reason + " (dropped: the branch ends with its last member inside)"
+    return dataclasses.replace(b, members=keep, special_points=tuple(pts), reason=why)
 
 
 # --------------------------------------------------------------------------- shapes (Fig. 5, Tables III-IV)

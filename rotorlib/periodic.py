@@ -9,10 +9,12 @@ import mpmath as mp
 import numpy as np
 
 from .flow import extrema, monodromy_matrix
-from .precision import FLOAT64, Tier
+from .precision import FLOAT64, Tier, json_number
 from .shooting import ShootingProblem, residual
 
 __all__ = ["PeriodicOrbit", "periodic_orbit", "orbit_from_state"]
+
+_NO_LOG = "log|E - 4| is not defined here (E = 4 exactly, or a breather's daughter)"
 
 
 @dataclass(frozen=True)
@@ -67,8 +69,8 @@ class PeriodicOrbit:
         """A JSON-serialisable dict (the ``orbit`` command's ``--json`` output)."""
         rec = {
             "label": self.label,
-            "E": repr(float(self.E)),
-            "log_abs_dE": repr(float(self.log_abs_dE)),
+            **json_number("E", self.E),
+            **json_number("log_abs_dE", self.log_abs_dE, note=_NO_LOG),
             "period": float(self.period),
             "state0": [float(v) for v in self.state0],
             "trace": float(self.trace),

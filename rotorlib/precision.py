@@ -16,12 +16,92 @@ from __future__ import annotations
 import math
 import os
 from dataclasses import dataclass
+from decimal import Decimal, InvalidOperation
 from functools import cache
 
 import mpmath as mp
 import numpy as np
 
 __all__ = ["Tier", "tier", "FLOAT64", "REAL128", "load_heyoka", "HEYOKA_CACHE_MB"]
+__all__ += ["DIGITS_RANGE", "check_digits", "json_number"]
+
+#: The significant digits every function (``digits=``) and command (``--digits``) accepts.
+DIGITS_RANGE = (1, 1000)
+
+
+def check_digits(digits, name: str = "digits"):
+    """``digits`` itself if it is ``None`` or an integer in :data:`DIGITS_RANGE`.
+
+    Raises
+    ------
+    ValueError
+        Anything else, with the one message every function and command uses.
+
+    Examples
+    --------
+    >>> check_digits(30)
+    30
+    >>> check_digits(0, "--digits")
+    Traceback (most recent call last):
+    ...
+    ValueError: --digits must be an integer from 1 to 1000, got 0
+    """
+    lo, hi = DIGITS_RANGE
+    if digits is None:
+        return None
+    if (
+        isinstance(digits, bool)
+        or not isinstance(digits, (int, np.integer))
+        or not lo <= digits <= hi
+    ):
+        raise ValueError(f"{name} must be an integer from {lo} to {hi}, got {digits!r}")
+    return digits
+
+
+def _same_decimal(text: str, v) -> bool:
+    """Whether ``text`` is the decimal ``repr(v)`` (``1.0e-300`` is ``1e-300``)."""
+    try:
+        return v is not None and math.isfinite(v) and Decimal(text) == Decimal(repr(v))
+    except InvalidOperation:
+        return False
+
+
+def json_number(key: str, value, text: str | None = None, note: str = "") -> dict:
+    """``key`` (and ``key_str``, ``key_note``) as the command line prints them in JSON.
+
+    The one rule of every ``--json`` output: a quantity is a JSON number, its float64
+    value, under ``key``; the digits beyond float64 (an extended tier, or an input with
+    more digits than a float64 holds) are the decimal string ``text``, given as
+    ``key_str`` when it says more than the number, which is then its float64 rounding. A value that float64 cannot hold
+    (overflow, ``nan``) is ``null``, with ``key_note`` saying why: JSON never holds
+    ``nan`` or ``inf``, as numbers or as strings.
+
+    Examples
+    --------
+    >>> json_number("E", 1.0, "1.0")
+    {'E': 1.0}
+    >>> json_number("E", 4.0, "3.99999999999999999999")
+    {'E': 4.0, 'E_str': '3.99999999999999999999'}
+    >>> json_number("trace", float("inf"), "2.5e+400")
+    {'trace': None, 'trace_str': '2.5e+400', 'trace_note': 'beyond the float64 range: see trace_str'}
+    """
+    v = None if value is None else float(value)
+    if text:  # the number is the float64 rounding of every digit, when they are given
+        try:
+            v = float(Decimal(str(text)))
+        except InvalidOperation:  # e.g. "4 + 5.07e-435": the value stays
+            pass
+    out: dict = {key: v if v is not None and math.isfinite(v) else None}
+    if text is not None and text != "" and not _same_decimal(str(text), v):
+        out[key + "_str"] = str(text)
+    if out[key] is None:
+        out[key + "_note"] = note or (
+            f"beyond the float64 range: see {key}_str"
+            if key + "_str" in out
+            else f"{key} is undefined here"
+        )
+    return out
+
 
 #: Default bound (MiB) of heyoka's on-disk cache of compiled integrators
 #: (``~/.cache/heyoka``; heyoka's own default is 20 GiB). One build of the book and one
@@ -188,14 +268,8 @@ def tier(digits=None, extra=0) -> Tier:
     number of digits the computation itself loses (e.g. ``log10(1/|E - 4|)`` for
     shooting near the separatrix).
     """
-    if digits is None:
+    if check_digits(digits) is None:
         return FLOAT64
-    if (
-        isinstance(digits, bool)
-        or not isinstance(digits, (int, np.integer))
-        or not (1 <= digits <= 1000)
-    ):
-        raise ValueError(f"digits must be an integer from 1 to 1000, got {digits!r}")
     d = int(digits) + max(0, int(math.ceil(extra)))
     if d <= 15:
         return FLOAT64

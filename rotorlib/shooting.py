@@ -35,7 +35,6 @@ __all__ = [
     "Shot",
     "Root",
     "NoConvergence",
-    "FamilyEnd",
     "residual",
     "secant",
     "solve",
@@ -343,31 +342,6 @@ class NoConvergence(ValueError):
             {k: float(v) for k, v in fixed.items()},
             best,
         )
-
-
-class FamilyEnd(ValueError):
-    """A natural continuation could not go on.
-
-    Attributes
-    ----------
-    label : str
-    members : list of Member
-        The members found before it stopped.
-    E_reached : float
-        The energy of the last member found.
-    E_asked : float
-        The energy asked for (``nan`` when stepping in ``u``).
-    """
-
-    def __init__(self, label, members, E_asked, par):
-        E_reached = float(members[-1].E)
-        self.members = members
-        super().__init__(
-            f"{label}: the family was not found beyond E = {E_reached!r} (a fold in {par}, or "
-            f"the orbit stops reaching its section)"
-            + (f"; asked for E = {E_asked!r}" if E_asked == E_asked else "")
-        )
-        self.label, self.E_reached, self.E_asked = label, E_reached, E_asked
 
 
 # --------------------------------------------------------------------------- PALC

@@ -30,7 +30,8 @@ def test_trace_json_against_independent_reference():
     for r, E in zip(recs, (1.0, 3.9, 5.0, 100.0)):
         ref, _ = textbook_reference("pendulum-E", E, "")
         assert abs(r["trace"] - float(ref)) < 1e-10 * max(1, abs(float(ref)))
-        assert isinstance(r["E"], str) and float(r["E"]) == E and r["period"] > 0
+        # the JSON rule: E is a number, as in every command (it was the string "1.0")
+        assert isinstance(r["E"], float) and r["E"] == E and r["period"] > 0
     for ph in ("lib", "rot"):
         rc, out, err = run(
             "trace",
@@ -52,7 +53,10 @@ def test_trace_json_against_independent_reference():
             assert abs(r["trace"] - float(ref)) < 1e-10 * max(1, abs(float(ref)))
             with mp.workdps(80):
                 assert (
-                    abs(mp.mpf(r["E"]) - (4 + (1 if ph == "rot" else -1) * mp.exp(x)))
+                    abs(
+                        mp.mpf(r["E_str"])
+                        - (4 + (1 if ph == "rot" else -1) * mp.exp(x))
+                    )
                     < mp.exp(x) * 1e-15
                 )
     rc, out, err = run("trace", "breather", "--E", "4.6", "9", "20", "--json")
@@ -81,7 +85,7 @@ def test_trace_digits_30_deep_rotation():
     r = json.loads(out)
     ref, _ = textbook_reference("pendulum-log", -60.0, "rot", 384)
     with mp.workdps(40):
-        assert abs(mp.mpf(r["trace"]) - ref) < mp.mpf(10) ** -20
+        assert abs(mp.mpf(r["trace_str"]) - ref) < mp.mpf(10) ** -20
     assert r["precision"] == "real128"
 
 
@@ -167,9 +171,9 @@ def test_bifurcations_digits_uses_extended_precision():
     assert [r["label"] for r in ext] == ["PD^r_1", "PD^r_2", "PD^r_3"]
     for a, b in zip(ext, f64):
         assert a["precision"] == "real128" and b["precision"] == "float64"
-        assert len(a["log_abs_dE"].lstrip("-").replace(".", "")) >= 25
-        assert abs(float(a["log_abs_dE"]) - float(b["log_abs_dE"])) < 1e-12 * max(
-            1, abs(float(b["log_abs_dE"]))
+        assert len(a["log_abs_dE_str"].lstrip("-").replace(".", "")) >= 25
+        assert abs(a["log_abs_dE"] - b["log_abs_dE"]) < 1e-12 * max(
+            1, abs(b["log_abs_dE"])
         )
 
 
@@ -216,11 +220,13 @@ def test_negative_numbers_any_notation_computed():
     )
     assert rc == 0, err
     rec = json.loads(out)
-    assert rec["log_abs_dE"] == "-1E+3" and rec["E"].startswith("4 + 5.0759588975494")
+    # -1E+3 is the float64 -1000 exactly: a number, no log_abs_dE_str (no more digits)
+    assert rec["log_abs_dE"] == -1000.0 and "log_abs_dE_str" not in rec
+    assert rec["E"] == 4.0 and rec["E_str"].startswith("4 + 5.0759588975494")
     ref = rotorlib.monodromy(
         rotorlib.pendulum(log_abs_dE=-1000, phase="rot"), digits=30
     ).trace_str
-    assert rec["trace"] == ref
+    assert rec["trace_str"] == ref and rec["trace"] == float(ref)
 
 
 def test_E0_and_tiny_E_marginal_documented():
@@ -234,7 +240,7 @@ def test_E0_and_tiny_E_marginal_documented():
         "1:1 resonance" in r0["stability_note"]
         and "2.86e-903 > 0 (stable)" in r1["stability_note"]
     )
-    assert r1["E"] == "1.0e-300"
+    assert r1["E"] == 1e-300 and "E_str" not in r1
     rc, out, err = run("trace", "-h")
     text = " ".join(out.split())
     assert rc == 0 and "marginal" in text and "1:1 resonance" in text and "-1e4" in text

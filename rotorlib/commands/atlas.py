@@ -13,6 +13,7 @@ import sys
 
 from ..cli import emit
 from ..energy import as_float
+from ..precision import check_digits
 
 COLUMNS = [
     "E",
@@ -46,7 +47,7 @@ def register(sub):
         "--digits",
         type=int,
         default=None,
-        help="re-solve every orbit in the tier that delivers these digits "
+        help="re-solve every orbit in the tier that delivers these digits (1..1000) "
         "(default: float64)",
     )
     p.add_argument("--json", action="store_true", help="print a JSON list of records")
@@ -81,8 +82,7 @@ def run(args):
 
     energies = [as_float(v, "E") for v in args.E]
     t_max = as_float(args.t_max, "--t-max")
-    if args.digits is not None and not 15 <= args.digits <= 100:
-        raise ValueError(f"--digits must be from 15 to 100, got {args.digits}")
+    check_digits(args.digits, "--digits")
     _check(energies, t_max, args.grid)  # refuses before any work is done
     with executor_for(args.workers, args.scheduler) as ex:
         recs = records(
@@ -98,7 +98,7 @@ def run(args):
         return 0
     rows = [
         dict(
-            r,
+            {k: v for k, v in r.items() if k not in ("period_str", "trace_str")},
             fixed_sets=" / ".join(r["fixed_sets"]),
             state0_str=" ".join(r["state0_str"]),
             period=f"{r['period']:.10g}",

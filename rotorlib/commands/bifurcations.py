@@ -9,9 +9,8 @@ Examples
 
 from __future__ import annotations
 
-import json
-
 from ..cli import emit
+from ..precision import check_digits
 
 #: Largest --n-max accepted on the command line (float64 reaches n ~ 125 in every sequence).
 N_MAX_LIMIT = 200
@@ -47,14 +46,12 @@ def register(sub):
 
 
 def run(args):
+    check_digits(args.digits, "--digits")
     if args.family == "breather":
         from ..breathers import breather_transitions
 
         records = [t.to_record() for t in breather_transitions()]
-        if args.json:
-            print(json.dumps(records, indent=2))
-        else:
-            emit(records, False, ["kind", "E", "period", "transition"])
+        emit(records, args.json, ["kind", "E", "period", "transition"], one=False)
         return 0
     from ..bifurcations import transition, transitions
 
@@ -70,18 +67,10 @@ def run(args):
         kinds = (args.kind.upper(),)
     else:
         raise ValueError(f"--kind must be IS or PD, got {args.kind!r}")
-    if args.digits is not None and not 1 <= args.digits <= 1000:
-        raise ValueError(f"--digits must be between 1 and 1000, got {args.digits}")
     trs = transitions(phase=args.phase, n_max=args.n_max, kinds=kinds)
     if args.digits is not None and args.digits > 15:
         trs = [transition(t.label, digits=args.digits) for t in trs]
     records = [t.to_record() for t in trs]
-    if args.json:
-        print(json.dumps(records, indent=2))  # always a list, even for one record
-    else:
-        emit(
-            records,
-            False,
-            ["label", "log_abs_dE", "E", "period", "transition", "precision"],
-        )
+    columns = ["label", "log_abs_dE", "E", "period", "transition", "precision"]
+    emit(records, args.json, columns, one=False)  # JSON: a list, even for one record
     return 0

@@ -13,6 +13,7 @@ import re
 
 from ..cli import emit
 from ..energy import as_float
+from ..precision import check_digits
 
 _BREATHER = re.compile(r"^PD\^?b$", re.IGNORECASE)
 
@@ -44,8 +45,7 @@ def record(label, E, digits=None) -> dict:
     """The record the command prints for ``label`` at energy ``E`` (a decimal string keeps
     its digits): the orbit's :meth:`~rotorlib.periodic.PeriodicOrbit.to_record`."""
     as_float(E, "E")
-    if digits is not None and not 1 <= digits <= 1000:
-        raise ValueError(f"--digits must be from 1 to 1000, got {digits}")
+    check_digits(digits, "--digits")
     if _BREATHER.match(str(label).strip()):
         from ..breathers import breather_daughter
 

@@ -17,6 +17,7 @@ import argparse
 from ..cli import emit
 from ..monodromy import monodromy
 from ..orbits import breather, pendulum
+from ..precision import check_digits, json_number
 
 _DESCRIPTION = """\
 tr M (full 4x4) of pendula or isosceles breathers, with the precision that produced it.
@@ -27,7 +28,7 @@ distance to the separatrix is carried, never E itself); only E equal to the sepa
 notation (-60, -1e4, -.5). Float64 covers |E - sep| >= 1.8e-307 (log >= -706.3); deeper energies
 need --digits > 15 (heyoka real128 to log|E - sep| ~ -11000, multiprecision beyond; the run time
 grows like |log|E - sep||: -1e4 takes ~1 s). Breather traces grow like |E - 4.5|^-2 and overflow
-float64 below log|E - 4.5| ~ -350 (the trace is then given as a decimal string).
+float64 below log|E - 4.5| ~ -350 (JSON: trace null, trace_str the value).
 
 stability is stable (0 < tr M < 4), unstable, or marginal: tr M within the accuracy of the tier
 (1e-12 in float64, 10^(2 - digits) above) of 0 or 4, where the computed value cannot decide. E = 0
@@ -81,31 +82,27 @@ def register(sub):
     p.set_defaults(func=run)
 
 
-def _record(M, digits):
+def _record(M, digits) -> dict:
+    """The JSON record of one monodromy (the rule of :func:`rotorlib.precision.json_number`:
+    numbers are float64 values, the digits beyond them in ``*_str`` decimal strings)."""
     ext = M.precision != "float64"
     en = M.energy
-    log = en.given[1] if en.given[0] == "log_abs_dE" else repr(en.log_abs_dE)
-    if M.family == "pendulum":
-        rec = {
-            "family": "pendulum",
-            "phase": en.phase,
-            "E": en.E_text(max(17, digits or 0)),
-            "log_abs_dE": log,
-        }
-    else:
-        rec = {
-            "family": "breather",
-            "breather_family": en.family,
-            "phase": en.phase,
-            "E": en.E_text(max(17, digits or 0)),
-            "log_abs_dE_4.5": log,
-        }
+    given_log = en.given[1] if en.given[0] == "log_abs_dE" else None
+    log_key = "log_abs_dE" if M.family == "pendulum" else "log_abs_dE_4.5"
+    rec: dict = {"family": "pendulum" if M.family == "pendulum" else "breather"}
+    if M.family != "pendulum":
+        rec["breather_family"] = en.family
+    rec["phase"] = en.phase
+    rec |= json_number("E", en.E, en.E_text(max(17, digits or 0)))
+    rec |= json_number(log_key, en.log_abs_dE, given_log)
     overflow = not ext and M.trace_str != repr(M.trace)
+    rec |= json_number("trace", M.trace, M.trace_str if ext or overflow else None)
+    rec |= json_number(
+        "trace_transverse", M.trace_transverse, note="beyond float64: see trace_str"
+    )
+    rec |= json_number("period", M.period, M.period_str if ext else None)
     rec.update(
         {
-            "trace": M.trace_str if ext or overflow else M.trace,
-            "trace_transverse": M.trace_transverse,
-            "period": M.period_str if ext else M.period,
             "stable": M.stable,
             "stability": M.stability,
             "stability_note": M.stability_note,
@@ -114,9 +111,9 @@ def _record(M, digits):
             ],
             "precision": M.precision,
             "backend": M.backend,
-            "residual": M.residual,
         }
     )
+    rec |= json_number("residual", M.residual)
     return rec
 
 
@@ -127,6 +124,7 @@ def run(args):
         raise ValueError("--family applies to breathers only")
     if by_log and args.family == "pendulum" and args.phase is None:
         raise ValueError("--log-dE needs --phase lib or rot")
+    check_digits(args.digits, "--digits")
     records = []
     for text in values:
         if args.family == "pendulum":

@@ -1,0 +1,143 @@
+"""The silent surprises of the public API: each returns what it documents, or says why not."""
+
+from __future__ import annotations
+
+import math
+
+import mpmath as mp
+import pytest
+
+from rotorlib.bifurcations import transition
+from rotorlib.continuation import ContinuationOptions, FamilyEnd, Natural, continuation
+from rotorlib.monodromy import monodromy, trace_monodromy
+from rotorlib.newborn import family_spec, newborn_family, seed
+
+
+def test_trace_monodromy_returns_the_extended_value():
+    t64 = trace_monodromy(E=3.9)
+    t40 = trace_monodromy(E=3.9, digits=40)
+    assert isinstance(t64, float)
+    assert isinstance(t40, mp.mpf)  # not its float64 rounding
+    ref = monodromy(E=3.9, digits=40).trace_str
+    with mp.workdps(50):
+        assert abs(t40 - mp.mpf(ref)) < mp.mpf(10) ** -40
+        # it carries digits a float64 cannot: differs from its own float64 rounding
+        assert abs(t40 - mp.mpf(float(t40))) > mp.mpf(10) ** -30
+    assert abs(float(t40) - t64) < 1e-12
+
+
+def test_monodromy_accepts_a_transition_energy():
+    tr = transition("IS^l_2")
+    M = monodromy(tr.energy)  # used to raise AttributeError
+    assert abs(M.trace - 4) < 1e-9
+    assert M.trace == monodromy(E=tr.energy).trace
+
+
+@pytest.mark.parametrize("bad", [4.0, "3.9", None.__class__])
+def test_monodromy_names_what_to_pass(bad):
+    if bad is None.__class__:
+        bad = object()
+    with pytest.raises(TypeError, match="pendulum or breather orbit"):
+        monodromy(bad)
+
+
+def test_newborn_family_n_counts_steps_as_documented():
+    doc = newborn_family.__doc__
+    assert "not of members" in doc and "n + 1" in doc
+    fam = newborn_family("IS^l_2", n=4)
+    assert len(fam) >= 4 + 1
+    assert float(fam[-1].E) == 4.0
+    E = [float(o.E) for o in fam]
+    assert all(a < b for a, b in zip(E, E[1:]))
+
+
+def _natural(values, **opts):
+    spec = family_spec("IS^l_2")
+    m0, _ = seed(spec.label)
+    alg = Natural("E", tuple(values), order=1, origin=spec.E_birth, origin_other=0.0)
+    return continuation(spec.problem, alg, ContinuationOptions(**opts), [m0])
+
+
+def test_natural_honours_the_stopping_rules():
+    spec = family_spec("IS^l_2")
+    En = spec.E_birth
+    vals = [En + (4 - En) * k / 8 for k in range(1, 9)]
+    full = _natural(vals)
+    assert full.stop == "values" and len(full.members) == 9
+    b = _natural(vals, max_steps=3)
+    assert b.stop == "steps" and len(b.members) == 4
+    b = _natural(vals, E_range=(0, vals[4]))
+    assert b.stop == "E range" and len(b.members) == 7  # the first one outside
+    assert "E_range" in b.reason and "7 members" in b.reason
+    t1 = full.t1
+    b = _natural(vals, t1_max=float(t1[3]) + 1e-9)
+    assert b.stop == "period" and len(b.members) == 5 and "t1_max" in b.reason
+
+
+def test_branch_says_why_it_stopped():
+    b = _natural([])
+    assert b.stop == "values" and b.reason.startswith("values: ended after 1 members")
+    assert issubclass(FamilyEnd, ValueError)
+    assert not hasattr(__import__("rotorlib.shooting").shooting, "FamilyEnd")
+    assert math.isfinite(float(b.members[0].E))
+
+
+def test_follow_says_why_it_stopped():
+    from rotorlib.newborn import follow
+
+    b = follow("IS^r_1", E_min=5.8, E_max=6.0)
+    assert b.stop == "E range" and len(b.members) == 1  # the seed only
+    assert "outside E_range = (5.8, 6)" in b.reason
+    assert "the first member" in b.reason  # the seed is outside the range too
+    assert "dropped" in b.reason
+
+
+def test_follow_members_stay_inside_the_range():
+    from rotorlib.newborn import follow
+
+    b = follow("IS^r_1", E_max=4.3)
+    assert b.stop == "E range" and b.E.max() <= 4.3  # it ended at 4.309
+    assert all(float(p.member.E) <= 4.3 for p in b.special_points)
+    out = follow("IS^r_1", E_max=4.3, clip=False)
+    assert out.E.max() > 4.3 and len(out.members) == len(b.members) + 1
+
+
+def test_budget_model_reproduces_its_documented_calibration():
+    """The model against the CPU times its docstring records (measured once with
+    ``nice -n 10``; no timing is measured here)."""
+    import re
+
+    from rotorlib.atlas import budget_seconds
+
+    doc = " ".join(budget_seconds.__doc__.split())
+    m = re.search(r"([\d.]+), ([\d.]+) and ([\d.]+) s at T = (\d+), (\d+), (\d+)", doc)
+    assert m, doc
+    cpu, T = [float(v) for v in m.groups()[:3]], [float(v) for v in m.groups()[3:]]
+    for c, t in zip(cpu, T):
+        assert abs(budget_seconds([5.45], t) / c - 1) < 0.1, (t, c)
+
+
+def test_atlas_families_imports_no_private_names():
+    import ast
+    from pathlib import Path
+
+    import rotorlib.atlas_families as af
+
+    tree = ast.parse(Path(af.__file__).read_text())
+    private = [
+        a.name
+        for node in ast.walk(tree)
+        if isinstance(node, ast.ImportFrom) and node.level > 0
+        for a in node.names
+        if a.name.startswith("_")
+    ]
+    assert private == []
+
+
+def test_family_end_lives_with_the_engine():
+    assert FamilyEnd.__module__ == "rotorlib.continuation"
+
+
+def test_monodromy_accepts_a_transition():
+    tr = transition("PD^r_1")
+    assert abs(monodromy(tr).trace) < 1e-9  # tr M = 0 at a PD transition
