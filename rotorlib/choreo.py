@@ -269,3 +269,38 @@ def solve_cg(E, u_guess=None, t: Tier = FLOAT64):
 
 
 __all__ += ["solve_cg", "tier"]
+
+
+def atlas_name(label: str, E, state0, period, name: bool = True) -> tuple:
+    """The atlas's name for an orbit it found: ``(label, choreography record or None)``.
+
+    A choreography (:func:`choreography_of`) not already named is ``CG`` or ``CT`` when
+    its period is that of the family at ``E`` (to 1e-7), else ``choreography``; its record
+    (:meth:`Choreography.to_record`) is the atlas's ``choreography`` field. With
+    ``name=False`` (an unnamed census) nothing is tested: ``(label, None)``.
+
+    Examples
+    --------
+    >>> from rotorlib.choreo import atlas_name
+    >>> from rotorlib.choreo_family import cg_orbit
+    >>> o = cg_orbit(5.3)
+    >>> atlas_name("new", 5.3, o.state0, o.period)[0]
+    'CG'
+    """
+    c = choreography_of(state0, period) if name else None
+    if c is None:
+        return label, None
+    if label != "new":
+        return label, c.to_record()
+    from .choreo_family import branch_range, cg_orbit
+
+    for lab in ("CG", "CT"):
+        lo, hi = branch_range(lab)
+        if lo < float(E) <= hi:
+            try:
+                T = cg_orbit(E, label=lab).period
+            except ValueError:
+                continue
+            if abs(T - float(period)) < 1e-7 * T:
+                return lab, c.to_record()
+    return "choreography", c.to_record()

@@ -413,7 +413,6 @@ _LEVELS = (
 
 @cache
 def _special_float() -> tuple:
-    b = follow()
     k_fold = _fold_index()
     trp, trm = _traces()
     us = _column("u")
