@@ -59,6 +59,8 @@ __all__ = [
     "cg_problem",
     "lindstedt_period",
     "reduced_trace",
+    "rotor_angles",
+    "atlas_name",
     "T0",
 ]
 
@@ -157,7 +159,8 @@ def choreography_of(
 
     Examples
     --------
-    >>> from rotorlib.choreo import choreography_of, cg_orbit
+    >>> from rotorlib.choreo import choreography_of
+    >>> from rotorlib.choreo_family import cg_orbit
     >>> o = cg_orbit(3)
     >>> c = choreography_of(o.state0, o.period)
     >>> c.sixth, c.rotating
@@ -224,36 +227,65 @@ def cg_problem() -> ShootingProblem:
     )
 
 
-def reduced_trace(state0, period, t: Tier = FLOAT64):
-    """``tr DP`` of the reduced map ``P = g^-1 phi_{T/6}`` (``g`` = :func:`sixth_map`) and
-    ``tr M`` (``M = DP^6``), as ``(tr DP, tr M)`` (tier numbers).
+def reduced_trace(state0, period, t: Tier = FLOAT64, order: int = 6, power: int = 1):
+    """``tr DP`` of the reduced map ``P = g^-1 phi_{T/order}`` and ``tr M`` (``M =
+    DP^order``), as ``(tr DP, tr M)`` (tier numbers).
 
-    ``DP`` has the multipliers ``1, 1, lambda, 1/lambda``: the orbit is stable when
-    ``0 < tr DP < 4``; ``tr M = 2 + lambda^6 + lambda^-6``.
+    ``order=6``: ``g = -C^{2 power}`` (:func:`sixth_map`; the ``D6`` rotating waves such as
+    ``CG``); ``order=3``: ``g = C^power`` (any choreography). ``DP`` has the multipliers
+    ``1, 1, lambda, 1/lambda``: the orbit is stable when ``0 < tr DP < 4``;
+    ``tr M = 2 + lambda^order + lambda^-order``.
 
     Examples
     --------
-    >>> from rotorlib.choreo import reduced_trace, cg_orbit
+    >>> from rotorlib.choreo import reduced_trace
+    >>> from rotorlib.choreo_family import cg_orbit
     >>> o = cg_orbit(3)
     >>> trp, trm = reduced_trace(o.state0, o.period)
     >>> 0 < trp < 4, abs(trm - o.trace) < 1e-9
     (True, True)
     """
+    if order not in (3, 6):
+        raise ValueError(f"order must be 3 or 6, got {order!r}")
+    g = -relabelling(2 * power) if order == 6 else relabelling(power)
     with t.context():
-        x, phi = flow([t.num(v) for v in state0], t.num(period) / 6, t, True)
-        gi = np.linalg.inv(sixth_map())
+        x, phi = flow([t.num(v) for v in state0], t.num(period) / order, t, True)
+        gi = np.rint(np.linalg.inv(g) * 2) / 2  # entries 0, +-1/2, +-1, +-3/2, +-2
         dp = [
             [sum(t.num(gi[i][k]) * phi[k][j] for k in range(4)) for j in range(4)]
             for i in range(4)
         ]
         trp = sum(dp[i][i] for i in range(4))
         m = dp
-        for _ in range(5):
+        for _ in range(order - 1):
             m = [
                 [sum(m[i][k] * dp[k][j] for k in range(4)) for j in range(4)]
                 for i in range(4)
             ]
         return trp, sum(m[i][i] for i in range(4))
+
+
+def rotor_angles(state0, period, n: int = 601) -> np.ndarray:
+    """The rotor angles ``theta (n, 3)`` over one period (centre of mass at rest at 0),
+    from the orbit in pendulum variables (float64).
+
+    Examples
+    --------
+    >>> from rotorlib.choreo import rotor_angles
+    >>> from rotorlib.choreo_family import cg_orbit
+    >>> o = cg_orbit(1)
+    >>> th = rotor_angles(o.state0, o.period, 7)
+    >>> bool(abs(th.sum(axis=1)).max() < 1e-12)
+    True
+    """
+    from .flow import sample
+
+    st, _ = sample([float(v) for v in state0], float(period), n)
+    phi1 = 2 * st[:, 0]
+    phi2 = st[:, 1] - st[:, 0]
+    return np.stack(
+        [(2 * phi1 + phi2) / 3, (phi2 - phi1) / 3, -(phi1 + 2 * phi2) / 3], axis=1
+    )
 
 
 def _guess_u(E):
