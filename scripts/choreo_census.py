@@ -1,0 +1,161 @@
+"""Every symmetric choreography with T <= 16 at a set of energies, and its family (a data product).
+
+Writes book/data/choreographies_T16.json. For each energy of ENERGIES the census of
+symmetric periodic orbits with period <= T_MAX (``rotorlib.atlas.census``) is taken and
+each orbit tested with ``rotorlib.choreo.choreography_of`` (``x(T/3) = C x(0)`` modulo
+the lattice). Each choreography not already on a family found before is followed with the
+engine through 0.05 <= E <= 12 (pseudo-arclength as ``rotorlib.atlas_families``,
+through folds, ``tr M`` of every member, folds and crossings of 4 and 0 located; a family
+stops where its period exceeds 40) and the reduced trace ``tr DP`` of every member
+is computed (``rotorlib.choreo.reduced_trace``: order 6 for the D6 rotating waves, 3 for
+the others). Chapter 10 (choreographies) reads the file and checks it: it recomputes the
+family CG itself and re-solves one member of every other family.
+
+Takes a few minutes of two cores (the energies: where the censuses with T <= 12 at
+E = 0.5, 1, 2, 3, 4.2, 5, 5.3, 6, 8, 12 find only CG and CT, the range with T <= 16 is
+scanned at 4.6, 5.0 and 5.6, and chapter 9's census at 5.45 is read from its own file). Re-run after changing rotorlib.atlas, the engine or
+rotorlib.choreo: python scripts/choreo_census.py
+"""
+
+from __future__ import annotations
+
+import json
+import time
+from concurrent.futures import ProcessPoolExecutor
+from dataclasses import replace
+from fractions import Fraction
+from pathlib import Path
+
+import numpy as np
+
+from rotorlib import atlas
+from rotorlib.choreo import atlas_name, choreography_of, reduced_trace
+from rotorlib.continuation import PALC, ContinuationOptions, continuation, member
+from rotorlib.shooting import residual
+
+ROOT = Path(__file__).resolve().parents[1]
+OUT = ROOT / "book" / "data" / "choreographies_T16.json"
+ENERGIES = (4.6, 5.0, 5.6)
+T_MAX = 16.0
+WINDOW = (0.05, 12.0)
+STEP = 0.05
+T_CAP = 40.0  # a family whose period grows beyond this is stopped ("period")
+
+
+def _on(fam, E, T, rel=2e-3):
+    """Whether ``(E, T)`` lies on the family's curve (linear interpolation)."""
+    for i in range(len(fam["E"]) - 1):
+        a, b = fam["E"][i], fam["E"][i + 1]
+        if min(a, b) <= E <= max(a, b) and a != b:
+            Ti = fam["period"][i] + (E - a) / (b - a) * (
+                fam["period"][i + 1] - fam["period"][i]
+            )
+            if abs(Ti - T) < rel * T:
+                return True
+    return False
+
+
+def follow(o, lo, hi, step, T_cap):
+    """The family of the atlas orbit ``o`` through ``lo <= E <= hi`` in both directions
+    (as ``rotorlib.atlas_families.families``, but up to the period ``T_cap``)."""
+    sh = residual(o.problem, o.u, o.E)
+    factor = float(Fraction(o.period / float(sh.t1)).limit_denominator(48))
+    prob = replace(o.problem, factor=factor)
+    m0 = member(prob, o.u, o.E, traces=True)
+    opts = ContinuationOptions(
+        max_steps=400,
+        E_range=(lo, hi),
+        t1_max=T_cap / factor,
+        jump=0.05,
+        traces=True,
+        folds=True,
+    )
+    ds = step / max(hi, 1.0)
+    alg = PALC(ds=ds, ds_max=ds, ds_min=1e-10, u_floor=1.0)
+    back, fwd = (
+        continuation(prob, replace(alg, direction=d), opts, [m0]) for d in (-1, 1)
+    )
+    ms = list(back.members[::-1]) + list(fwd.members[1:])
+    pts = [
+        (p.kind, float(p.member.E))
+        for p in list(back.special_points) + list(fwd.special_points)
+        if p.located and p.kind != "E"
+    ]
+    return prob, ms, sorted(pts, key=lambda v: v[1]), (back.stop, fwd.stop)
+
+
+def main():
+    t0 = time.perf_counter()
+    found, families = [], []
+    with ProcessPoolExecutor(2) as pool:
+        for E in ENERGIES:
+            a = atlas.census(E, T_MAX, executor=pool, name=False)
+            for o in a.orbits:
+                c = choreography_of(o.state0, o.period)
+                if c is None:
+                    continue
+                label, _ = atlas_name("new", E, o.state0, o.period)
+                found.append(
+                    {
+                        "E": E,
+                        "label": label,
+                        "period": o.period,
+                        "trace": o.trace,
+                        "state0": list(o.state0),
+                        "fixed_sets": list(o.fixed_sets),
+                        "choreography": c.to_record(),
+                    }
+                )
+                print(f"E = {E}: {label} T = {o.period:.6f} {c}", flush=True)
+                if any(_on(f, E, o.period) and f["sixth"] == c.sixth for f in families):
+                    continue
+                if label in ("CG", "CT"):
+                    continue  # followed by rotorlib.choreo_family (the chapter)
+                prob, ms, pts, stops = follow(o, *WINDOW, STEP, T_CAP)
+                order = 6 if c.sixth else 3
+                trp = []
+                for m in ms:
+                    T = float(prob.factor * m.t1)
+                    x0 = prob.state(m.u, m.w)
+                    tr = reduced_trace(x0, T, order=order, power=c.power)[0]
+                    trp.append(float(tr))
+                Es = [float(m.E) for m in ms]
+                Ts = [float(prob.factor * m.t1) for m in ms]
+                families.append(
+                    {
+                        "found_at": E,
+                        "label": label,
+                        "sixth": c.sixth,
+                        "rotating": c.rotating,
+                        "power": c.power,
+                        "fixed_sets": list(o.fixed_sets),
+                        "u0": float(o.u),
+                        "E": Es,
+                        "period": Ts,
+                        "trace": [float(m.trace) for m in ms],
+                        "trace_reduced": trp,
+                        "points": [[k, v] for k, v in pts],
+                        "stops": list(stops),
+                    }
+                )
+                print(
+                    f"  family: E {min(Es):.4f}..{max(Es):.4f}, "
+                    f"T {min(Ts):.3f}..{max(Ts):.3f}, points {pts}, stops {stops}",
+                    flush=True,
+                )
+    data = {
+        "energies": list(ENERGIES),
+        "t_max": T_MAX,
+        "window": list(WINDOW),
+        "step": STEP,
+        "choreographies": found,
+        "families": families,
+        "seconds": round(time.perf_counter() - t0),
+    }
+    OUT.write_text(json.dumps(data, indent=1) + "\n")
+    print(f"wrote {OUT} ({len(found)} choreographies, {len(families)} families)")
+
+
+if __name__ == "__main__":
+    np.seterr(all="ignore")
+    main()
