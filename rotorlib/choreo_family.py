@@ -480,7 +480,7 @@ def special_points(label: str = "CG", E_range=None, digits=None) -> tuple:
 def _refine(p: ChoreoPoint, digits: int) -> ChoreoPoint:
     t = tier(digits)
     u, E, T, tp, tm = fold(digits)
-    d = max(10, min(digits, t.dps - 8) // 2 * 2 - 4)
+    d = max(10, digits - 10)  # E at the fold: u to eps^(3/4), E (an extremum) to ~eps
     return ChoreoPoint(
         p.kind, p.branch, float(E), float(T), float(tp), float(tm), t.text(E, d)
     )

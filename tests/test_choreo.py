@@ -260,6 +260,9 @@ def test_fold_at_band_edge_and_refusal(capsys):
     below = record("CG", f"{E_f - 1e-8:.12f}")
     assert abs(below["trace_reduced"] - 4) < 1e-3
     assert cli.main(["family", "CG", "--E-range", "5.4", "6"]) == 2
+    # the fold re-solved in the 30-digit tier (family --digits 30)
+    p30 = special_points("CG", (5.3, 5.4), digits=30)[-1]
+    assert len(p30.E_str) >= 20 and abs(float(p30.E_str) - E_f) < 1e-13
 
 
 def test_family_stability_kinds():
@@ -309,7 +312,7 @@ def test_relabelling_and_refusals():
 def test_atlas_names_choreographies():
     from rotorlib.atlas import census
 
-    a = census(5.3, 8.0)
+    a = census(5.3, 8.0, known=[])  # the known daughter families are not needed here
     named = {o.label: o for o in a.orbits if o.choreography}
     assert set(named) == {"CG", "CT"}
     assert named["CG"].stable and not named["CT"].stable

@@ -11,7 +11,7 @@ import math
 import matplotlib.pyplot as plt
 import numpy as np
 
-__all__ = ["plot_family", "plot_orbits", "plot_birth", "BAND"]
+__all__ = ["plot_family", "plot_all_families", "plot_orbits", "plot_birth", "BAND"]
 
 #: The band of global chaos quoted by the paper (its edges, in units of g).
 BAND = (5.33, 5.6)
@@ -52,8 +52,7 @@ def plot_family(cg, ct, E_fold, marks=()):
     b.set_ylim(-0.5, 8)
     b.set_ylabel(r"$\mathrm{tr}\,DP$ (reduced map, $T/6$)")
     b.set_title("(b) reduced trace: the stability")
-    c.plot(cg["E"], cg["trm"], "C0")
-    c.plot(ct["E"], ct["trm"], "C1--")
+    c.plot(cg["E"], cg["trm"], "C0")  # CT: tr M > 4 (off the scale)
     for y in (0.0, 4.0):
         c.axhline(y, color="k", lw=0.6, ls=":")
     c.set_ylim(-0.5, 8)
@@ -126,5 +125,37 @@ def plot_birth(E, ratios, slopes):
     ax.set_xlabel(r"energy $E$ ($g$)")
     ax.set_ylabel(r"$(T/T_0 - 1)/E$, $T_0 = 2\pi/\sqrt{3}$")
     ax.legend(fontsize=8)
+    fig.tight_layout()
+    return fig
+
+
+def plot_all_families(families, cg, ct, E_fold):
+    """Period and reduced trace of every choreography family against E, the band shaded.
+
+    ``families``: list of dicts with ``label``, ``E``, ``period``, ``trace_reduced`` (the
+    families of ``scripts/choreo_census.py``); ``cg``, ``ct`` as for :func:`plot_family`.
+    """
+    fig, (a, b) = plt.subplots(1, 2, figsize=(10.5, 3.8))
+    for ax in (a, b):
+        _band(ax)
+        ax.axvline(E_fold, color="C3", lw=0.8, ls="--")
+        ax.set_xlabel(r"energy $E$ ($g$, with $m = g = r = 1$)")
+    a.plot(cg["E"], cg["period"], "C0", label="CG")
+    a.plot(ct["E"], ct["period"], "C1--", label="CT")
+    b.plot(cg["E"], cg["trp"], "C0")
+    b.plot(ct["E"], ct["trp"], "C1--")
+    for k, f in enumerate(families):
+        E = np.asarray(f["E"])
+        a.plot(E, f["period"], f"C{k + 2}", lw=1.2, label=f["label"])
+        b.plot(E, f["trace_reduced"], f"C{k + 2}", lw=1.2)
+    for y in (0.0, 4.0):
+        b.axhline(y, color="k", lw=0.6, ls=":")
+    a.set_yscale("log")
+    a.set_ylabel(r"period $T$ (units $\sqrt{m r^2/g}$)")
+    a.set_title("(a) period")
+    a.legend(fontsize=7, ncol=2)
+    b.set_yscale("symlog", linthresh=4)
+    b.set_ylabel(r"$\mathrm{tr}\,DP$ (reduced map)")
+    b.set_title(r"(b) stable where $0 < \mathrm{tr}\,DP < 4$")
     fig.tight_layout()
     return fig
