@@ -4,7 +4,7 @@ Writes book/data/choreographies_T16.json. For each energy of ENERGIES the census
 symmetric periodic orbits with period <= T_MAX (``rotorlib.atlas.census``) is taken and
 each orbit tested with ``rotorlib.choreo.choreography_of`` (``x(T/3) = C x(0)`` modulo
 the lattice). Each choreography not already on a family found before is followed with the
-engine through 0.05 <= E <= 12 (pseudo-arclength as ``rotorlib.atlas_families``,
+engine through 3 <= E <= 8 (pseudo-arclength as ``rotorlib.atlas_families``,
 through folds, ``tr M`` of every member, folds and crossings of 4 and 0 located; a family
 stops where its period exceeds 40) and the reduced trace ``tr DP`` of every member
 is computed (``rotorlib.choreo.reduced_trace``: order 6 for the D6 rotating waves, 3 for
@@ -13,13 +13,15 @@ family CG itself and re-solves one member of every other family.
 
 Takes a few minutes of two cores (the energies: where the censuses with T <= 12 at
 E = 0.5, 1, 2, 3, 4.2, 5, 5.3, 6, 8, 12 find only CG and CT, the range with T <= 16 is
-scanned at 4.6, 5.0 and 5.6, and chapter 9's census at 5.45 is read from its own file). Re-run after changing rotorlib.atlas, the engine or
+scanned at 4.6 and 5.6, and chapter 9's census at 5.45 is read from its own file; at
+most 150 continuation steps each way). Re-run after changing rotorlib.atlas, the engine or
 rotorlib.choreo: python scripts/choreo_census.py
 """
 
 from __future__ import annotations
 
 import json
+import pickle
 import time
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import replace
@@ -35,9 +37,9 @@ from rotorlib.shooting import residual
 
 ROOT = Path(__file__).resolve().parents[1]
 OUT = ROOT / "book" / "data" / "choreographies_T16.json"
-ENERGIES = (4.6, 5.0, 5.6)
+ENERGIES = (4.6, 5.6)
 T_MAX = 16.0
-WINDOW = (0.05, 12.0)
+WINDOW = (3.0, 8.0)
 STEP = 0.05
 T_CAP = 40.0  # a family whose period grows beyond this is stopped ("period")
 
@@ -63,7 +65,7 @@ def follow(o, lo, hi, step, T_cap):
     prob = replace(o.problem, factor=factor)
     m0 = member(prob, o.u, o.E, traces=True)
     opts = ContinuationOptions(
-        max_steps=400,
+        max_steps=150,
         E_range=(lo, hi),
         t1_max=T_cap / factor,
         jump=0.05,
@@ -84,12 +86,83 @@ def follow(o, lo, hi, step, T_cap):
     return prob, ms, sorted(pts, key=lambda v: v[1]), (back.stop, fwd.stop)
 
 
+def _label(families, found):
+    """Name the families other than CG and CT: ``CZk`` (non-rotating, Z3 symmetry only),
+    ``CRk`` (rotating), ``CXk`` (D6 rotating waves other than CG), ``k`` in the order of
+    their period at the energy where the census found them; the census orbits on a
+    family take its label."""
+    groups = {}
+    for f in families:
+        key = "CR" if f["rotating"] else "CX" if f["sixth"] else "CZ"
+        groups.setdefault(key, []).append(f)
+    for key, fs in groups.items():
+        fs.sort(key=lambda f: (f["found_at"], f["found_period"]))
+        for k, f in enumerate(fs, 1):
+            f["label"] = f"{key}{k}"
+    for c in found:
+        if c["label"] == "choreography":
+            for f in families:
+                if (
+                    _on(f, c["E"], c["period"])
+                    and f["sixth"] == c["choreography"]["sixth"]
+                ):
+                    c["label"] = f["label"]
+
+
+def _family(args):
+    """Follow one census orbit (a process-pool task): the family's record."""
+    o, c, E = args
+    prob, ms, pts, stops = follow(o, *WINDOW, STEP, T_CAP)
+    order = 6 if c.sixth else 3
+    trp = []
+    for m in ms:
+        T = float(prob.factor * m.t1)
+        tr = reduced_trace(prob.state(m.u, m.w), T, order=order, power=c.power)[0]
+        trp.append(float(tr))
+    Es = [float(m.E) for m in ms]
+    Ts = [float(prob.factor * m.t1) for m in ms]
+    return {
+        "found_at": E,
+        "found_period": o.period,
+        "label": "choreography",
+        "sixth": c.sixth,
+        "rotating": c.rotating,
+        "power": c.power,
+        "fixed_sets": list(o.fixed_sets),
+        "u0": float(o.u),
+        "E": Es,
+        "period": Ts,
+        "trace": [float(m.trace) for m in ms],
+        "trace_reduced": trp,
+        "points": [[k, v] for k, v in pts],
+        "stops": list(stops),
+    }
+
+
+def _write(found, families, t0):
+    data = {
+        "energies": list(ENERGIES),
+        "t_max": T_MAX,
+        "window": list(WINDOW),
+        "step": STEP,
+        "choreographies": found,
+        "families": families,
+        "seconds": round(time.perf_counter() - t0),
+    }
+    OUT.write_text(json.dumps(data, indent=1) + "\n")
+
+
 def main():
     t0 = time.perf_counter()
-    found, families = [], []
+    found, tasks = [], []
     with ProcessPoolExecutor(2) as pool:
-        for E in ENERGIES:
-            a = atlas.census(E, T_MAX, executor=pool, name=False)
+        for E in ENERGIES:  # 1. the censuses
+            cache = Path(f"/tmp/choreo_census_{E}_{T_MAX}.pickle")
+            if cache.is_file():
+                a = pickle.loads(cache.read_bytes())
+            else:
+                a = atlas.census(E, T_MAX, executor=pool, name=False)
+                cache.write_bytes(pickle.dumps(a))
             for o in a.orbits:
                 c = choreography_of(o.state0, o.period)
                 if c is None:
@@ -107,52 +180,26 @@ def main():
                     }
                 )
                 print(f"E = {E}: {label} T = {o.period:.6f} {c}", flush=True)
-                if any(_on(f, E, o.period) and f["sixth"] == c.sixth for f in families):
-                    continue
-                if label in ("CG", "CT"):
-                    continue  # followed by rotorlib.choreo_family (the chapter)
-                prob, ms, pts, stops = follow(o, *WINDOW, STEP, T_CAP)
-                order = 6 if c.sixth else 3
-                trp = []
-                for m in ms:
-                    T = float(prob.factor * m.t1)
-                    x0 = prob.state(m.u, m.w)
-                    tr = reduced_trace(x0, T, order=order, power=c.power)[0]
-                    trp.append(float(tr))
-                Es = [float(m.E) for m in ms]
-                Ts = [float(prob.factor * m.t1) for m in ms]
-                families.append(
-                    {
-                        "found_at": E,
-                        "label": label,
-                        "sixth": c.sixth,
-                        "rotating": c.rotating,
-                        "power": c.power,
-                        "fixed_sets": list(o.fixed_sets),
-                        "u0": float(o.u),
-                        "E": Es,
-                        "period": Ts,
-                        "trace": [float(m.trace) for m in ms],
-                        "trace_reduced": trp,
-                        "points": [[k, v] for k, v in pts],
-                        "stops": list(stops),
-                    }
-                )
-                print(
-                    f"  family: E {min(Es):.4f}..{max(Es):.4f}, "
-                    f"T {min(Ts):.3f}..{max(Ts):.3f}, points {pts}, stops {stops}",
-                    flush=True,
-                )
-    data = {
-        "energies": list(ENERGIES),
-        "t_max": T_MAX,
-        "window": list(WINDOW),
-        "step": STEP,
-        "choreographies": found,
-        "families": families,
-        "seconds": round(time.perf_counter() - t0),
-    }
-    OUT.write_text(json.dumps(data, indent=1) + "\n")
+                if label not in ("CG", "CT"):  # those: rotorlib.choreo_family
+                    tasks.append((o, c, E))
+        _write(found, [], t0)
+        families = []  # 2. their families, merged where one contains another's orbit
+        for fam in pool.map(_family, tasks):
+            if any(
+                _on(f, fam["found_at"], fam["found_period"])
+                and f["sixth"] == fam["sixth"]
+                for f in families
+            ):
+                continue
+            families.append(fam)
+            print(
+                f"  family from E = {fam['found_at']}, T = {fam['found_period']:.6f}: "
+                f"E {min(fam['E']):.4f}..{max(fam['E']):.4f}, "
+                f"points {fam['points']}, stops {fam['stops']}",
+                flush=True,
+            )
+    _label(families, found)
+    _write(found, families, t0)
     print(f"wrote {OUT} ({len(found)} choreographies, {len(families)} families)")
 
 

@@ -71,10 +71,18 @@ def plot_orbits(orbits):
     angles over one period (centre of mass at rest).
     """
     n = len(orbits)
-    fig, axes = plt.subplots(2, n, figsize=(2.6 * n, 5.4))
-    axes = np.atleast_2d(axes).reshape(2, n)
+    ncol = min(n, 3)
+    blocks = -(-n // ncol)
+    fig, axes = plt.subplots(
+        2 * blocks, ncol, figsize=(2.9 * ncol, 5.6 * blocks), squeeze=False
+    )
+    for k in range(n, blocks * ncol):  # empty slots of the last block
+        r, col = divmod(k, ncol)
+        axes[2 * r, col].set_visible(False)
+        axes[2 * r + 1, col].set_visible(False)
     for k, (title, th) in enumerate(orbits):
-        a, b = axes[0, k], axes[1, k]
+        r, col = divmod(k, ncol)
+        a, b = axes[2 * r, col], axes[2 * r + 1, col]
         phi1 = th[:, 0] - th[:, 1]
         phi2 = th[:, 1] - th[:, 2]
         w1 = np.mod(phi1 + math.pi, 2 * math.pi) - math.pi
