@@ -406,7 +406,7 @@ _LEVELS = (
     (3.0, "tr M = 4 (no change: theta = pi/3)"),
     (1.0, "tr M = 4 (no change: theta = 2 pi/3)"),
     (2.0 + math.sqrt(3), "tr M = 0 (no change: theta = pi/6)"),
-    (2.0, "tr M = 0 (no change: theta = pi/2)"),
+    (2.0, "tr M = 0 (no change: theta = pi/2; the map over T/3 has multipliers -1)"),
     (2.0 - math.sqrt(3), "tr M = 0 (no change: theta = 5 pi/6)"),
 )
 
