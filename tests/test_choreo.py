@@ -321,3 +321,25 @@ def test_atlas_names_choreographies():
     assert abs(named["CG"].period - cg_orbit(5.3).period) < 1e-9
     others = [o for o in a.orbits if not o.choreography]
     assert others and all(o.to_record()["choreography"] is None for o in others)
+
+
+def test_z3_family_cr1_against_the_census():
+    """The rotating Z3 choreography CR1 followed live from its seed: its PD and its fold
+    are those the census's data product located (book/data/choreographies_T16.json)."""
+    import json
+    from pathlib import Path
+
+    from rotorlib.choreo_z3 import z3_family
+
+    data = json.loads(
+        (Path(__file__).parents[1] / "book/data/choreographies_T16.json").read_text()
+    )
+    (cr1,) = [f for f in data["families"] if f["label"] == "CR1"]
+    stored = {k: e for k, e in cr1["points"] if k in ("PD", "fold") and e > 5.7}
+    r = z3_family("CR1", (5.65, 5.75))
+    got = dict(r.points)
+    assert set(got) == {"PD", "fold"}
+    for k in ("PD", "fold"):
+        assert abs(got[k] - stored[k]) < 1e-7
+    assert any(m[4] for m in r.members) or got["fold"] - got["PD"] < 1e-3
+    assert cli.main(["family", "CZ9", "--E-range", "4", "5"]) == 2

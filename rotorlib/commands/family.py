@@ -10,11 +10,14 @@ Examples
 ``python -m rotorlib family CG --E-range 5 5.4``
 ``python -m rotorlib family CT --E-range 4.5 5.4 --json``
 ``python -m rotorlib family CG --E-range 5.3 5.4 --digits 30`` (the fold to 30 digits)
+``python -m rotorlib family CR1 --E-range 5.6 5.8`` (a rotating Z3 choreography:
+:mod:`rotorlib.choreo_z3`, followed live from its seed, ~10-60 s)
 """
 
 from __future__ import annotations
 
 import json
+import math
 
 
 def register(sub):
@@ -25,7 +28,11 @@ def register(sub):
         "with the continuation engine and print the members with E in the range and "
         "the special points (folds, stability changes with their kind).",
     )
-    p.add_argument("label", help="CG (born at G) or CT (its partner beyond the fold)")
+    p.add_argument(
+        "label",
+        help="CG (born at G), CT (its partner beyond the fold), or a Z3 choreography "
+        "CZ1, CZ2 (non-rotating), CR1 (rotating)",
+    )
     p.add_argument(
         "--E-range", nargs=2, required=True, metavar=("A", "B"), help="energies A < B"
     )
@@ -45,12 +52,39 @@ def _num(v, name):
     return as_float(v, name)
 
 
+def _run_z3(args, lo, hi):
+    from ..choreo_z3 import z3_family
+
+    if args.digits is not None:
+        raise ValueError(f"{args.label}: --digits is available for CG and CT only")
+    rec = z3_family(args.label, (lo, hi)).to_record()
+    if args.json:
+        print(json.dumps(rec, indent=2))
+        return 0
+    print(
+        f"{rec['label']}: {rec['description']}; followed over {rec['span'][0]:.6f} <= E "
+        f"<= {rec['span'][1]:.6f} (ends: {' / '.join(rec['stops'])})"
+    )
+    print(f"{'E':>18}  {'period':>18}  {'tr DP':>14}  {'tr M':>14}  stable")
+    for m in rec["members"]:
+        print(
+            f"{m['E']:18.12f}  {m['period']:18.12f}  {m['trace_reduced']:14.8g}  "
+            f"{m['trace']:14.8g}  {'yes' if m['stable'] else 'no'}"
+        )
+    print("special points (IS, PD: stability changes; E to ~1e-8):")
+    for p in rec["special_points"] or [{"kind": "none in the range", "E": math.nan}]:
+        print(f"  {p['kind']}  E = {p['E']:.8f}")
+    return 0
+
+
 def run(args):
     from ..choreo_family import family
 
     if args.digits is not None and not 1 <= args.digits <= 60:
         raise ValueError(f"--digits must be from 1 to 60, got {args.digits}")
     lo, hi = (_num(v, "--E-range") for v in args.E_range)
+    if str(args.label).strip().upper() in ("CZ1", "CZ2", "CR1"):
+        return _run_z3(args, lo, hi)
     rep = family(args.label, (lo, hi), digits=args.digits)
     rec = rep.to_record()
     if args.json:
