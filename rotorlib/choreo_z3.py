@@ -170,9 +170,9 @@ def z3_family(label: str, E_range, step: float = 0.02) -> Z3Report:
     Examples
     --------
     >>> from rotorlib.choreo_z3 import z3_family
-    >>> r = z3_family("CZ2", (4.55, 4.7))
-    >>> [k for k, _ in r.points]
-    ['PD', 'fold']
+    >>> r = z3_family("CR1", (5.65, 5.75))  # ~20 s
+    >>> [(k, round(e, 6)) for k, e in r.points]
+    [('PD', 5.706951), ('fold', 5.707703)]
     """
     lab = _label(label)
     lo, hi = (float(v) for v in E_range)
