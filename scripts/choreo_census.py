@@ -8,13 +8,16 @@ engine through 3 <= E <= 8 (pseudo-arclength as ``rotorlib.atlas_families``,
 through folds, ``tr M`` of every member, folds and crossings of 4 and 0 located; a family
 stops where its period exceeds 40) and the reduced trace ``tr DP`` of every member
 is computed (``rotorlib.choreo.reduced_trace``: order 6 for the D6 rotating waves, 3 for
-the others). Chapter 10 (choreographies) reads the file and checks it: it recomputes the
-family CG itself and re-solves one member of every other family.
+the others); the families are labelled CZk (non-rotating, Z3 only), CRk (rotating), CXk
+(other D6 rotating waves). CG and CT are recognised (``rotorlib.choreo.atlas_name``) and not
+followed here: ``rotorlib.choreo_family`` follows them. Chapter 10 (choreographies) reads
+the file and checks it: CG and CT against its own family, and the census orbit of every
+other family re-integrated (it closes and is a choreography).
 
-Takes a few minutes of two cores (the energies: where the censuses with T <= 12 at
-E = 0.5, 1, 2, 3, 4.2, 5, 5.3, 6, 8, 12 find only CG and CT, the range with T <= 16 is
-scanned at 4.6 and 5.6, and chapter 9's census at 5.45 is read from its own file; at
-most 150 continuation steps each way). Re-run after changing rotorlib.atlas, the engine or
+Scope: T <= 16 at E = 4.6 and 5.6 (chapter 9's census at 5.45 is read from its own data
+product by the chapter); at most 150 continuation steps of 0.05 each way. The censuses are
+cached in /tmp (choreo_census_<E>_<T_MAX>.pickle) so that a rerun of the families is cheap.
+About ten minutes of two cores. Re-run after changing rotorlib.atlas, the engine or
 rotorlib.choreo: python scripts/choreo_census.py
 """
 
