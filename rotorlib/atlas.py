@@ -27,11 +27,12 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from fractions import Fraction
 
 import numpy as np
 
+from .choreo import atlas_name
 from .flow import Section, SectionNotReached, crossings, monodromy_matrix, sample
 from .parallel import pmap
 from .precision import FLOAT64
@@ -80,6 +81,8 @@ class AtlasOrbit:
         ``max |x(T) - x(0) - lattice|`` in the working precision.
     u : float
         The start parameter on its fixed set.
+    choreography : dict or None
+        How it is a choreography (``rotorlib.choreo.atlas_name``; named censuses only).
     """
 
     label: str
@@ -97,6 +100,7 @@ class AtlasOrbit:
     closure: float
     u: float
     problem: ShootingProblem | None = field(repr=False, default=None)
+    choreography: dict | None = None
 
     def to_record(self) -> dict:
         """The fields printed by ``python -m rotorlib atlas --json``."""
@@ -107,6 +111,7 @@ class AtlasOrbit:
         out.update(
             fixed_sets=list(self.fixed_sets), action=self.action, closure=self.closure
         )
+        out["choreography"] = self.choreography
         return out
 
 
@@ -664,11 +669,10 @@ def census(
         tr, clo = fin_i[3], fin_i[5]
         if not clo <= max(1e6, 1e2 * abs(tr)) * 10.0**-D:
             continue  # a near-periodic trajectory beside a very unstable orbit, not an orbit
-        label = _name(T, S, known)
+        label, chor = atlas_name(_name(T, S, known), E, x0, T, name)
         family = label if label != "new" else f"N{i + 1}"
-        orbits.append(
-            atlas_orbit(label, family, E, t_half, (si, j, k, u, x0, T, S), fin_i)
-        )
+        o = atlas_orbit(label, family, E, t_half, (si, j, k, u, x0, T, S), fin_i)
+        orbits.append(replace(o, choreography=chor))
     return Atlas(E, t_max, grid, tuple(orbits), len(jobs), time.perf_counter() - t0)
 
 

@@ -5,6 +5,8 @@ Examples
 ``python -m rotorlib orbit IS^l_2 --E 4 --json``
 ``python -m rotorlib orbit PDr3 --E 4.0002``
 ``python -m rotorlib orbit PD^b --E 8.9 --json`` (the breather's period-doubled daughter)
+``python -m rotorlib orbit CG --E 3 --digits 30`` (the choreography born at G; ``CT`` its
+unstable partner beyond the fold, :mod:`rotorlib.choreo_family`)
 """
 
 from __future__ import annotations
@@ -16,15 +18,18 @@ from ..energy import as_float
 from ..precision import check_digits
 
 _BREATHER = re.compile(r"^PD\^?b$", re.IGNORECASE)
+_CHOREO = re.compile(r"^C[GT]$", re.IGNORECASE)
 
 
 def register(sub):
     p = sub.add_parser(
         "orbit",
-        help="a newborn periodic orbit (families IS^l_n, PD^l_n, IS^r_n, PD^r_n, PD^b)",
+        help="a newborn periodic orbit (families IS^l_n, PD^l_n, IS^r_n, PD^r_n, PD^b), "
+        "or a choreography (CG, CT)",
         description="Find the member with energy E of the family of periodic orbits born at a "
         "pendulum bifurcation (symmetry-reduced shooting + continuation in energy; "
-        "paper §6-7), or of the breather's period-doubled daughter (PD^b).",
+        "paper §6-7), of the breather's period-doubled daughter (PD^b), or of the "
+        "choreographies born at G (CG, and CT beyond its fold).",
     )
     p.add_argument("label", help="family label: IS^l_2, ISl2, PD^r_3, PDr3, PD^b ...")
     p.add_argument("--E", required=True, metavar="V", help="energy (m = g = r = 1)")
@@ -46,6 +51,15 @@ def record(label, E, digits=None) -> dict:
     its digits): the orbit's :meth:`~rotorlib.periodic.PeriodicOrbit.to_record`."""
     as_float(E, "E")
     check_digits(digits, "--digits")
+    if _CHOREO.match(str(label).strip()):
+        from ..choreo import choreography_of
+        from ..choreo_family import cg_orbit
+
+        o = cg_orbit(E, digits=digits, label=str(label).strip())
+        rec = o.to_record()
+        c = choreography_of(o.state0, o.period)
+        rec["choreography"] = c.to_record() if c else None
+        return rec
     if _BREATHER.match(str(label).strip()):
         from ..breathers import breather_daughter
 
@@ -57,9 +71,8 @@ def record(label, E, digits=None) -> dict:
 
 def run(args):
     rec = record(args.label, args.E, args.digits)
-    emit(
-        [rec],
-        args.json,
-        ["label", "E", "period", "trace", "alpha1_max", "alpha2_max", "precision"],
-    )
+    cols = ["label", "E", "period", "trace", "alpha1_max", "alpha2_max", "precision"]
+    if "trace_reduced" in rec:  # a choreography: its reduced map decides the stability
+        cols[4:6] = ["trace_reduced", "stable"]
+    emit([rec], args.json, cols)
     return 0

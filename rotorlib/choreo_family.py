@@ -1,0 +1,559 @@
+"""The family of choreographies born at G, followed to the end: ``CG`` and ``CT``.
+
+The engine (:func:`rotorlib.continuation.continuation`, pseudo-arclength) follows the
+shooting problem :func:`rotorlib.choreo.cg_problem` from small ``E``. The family leaves G
+with ``T -> 2 pi / sqrt 3``, its period grows with ``E``, and at ``E_f ~ 5.3153`` (just
+below the band of global chaos) it folds back: a saddle-node (the reduced multipliers meet
+at ``+1``, ``tr DP = 4``) in which the stable branch ``CG`` meets an unstable branch,
+labelled ``CT``. ``CT`` comes back down in energy and ends at ``E -> 4.5`` with
+``T -> infinity``: its orbits spend longer and longer near the maxima ``T1``, ``T2`` of the
+potential (three rotors ``2 pi/3`` apart). Beyond ``E_f`` the family does not exist.
+
+:func:`follow` (the branch, cached), :func:`fold_energy`, :func:`branch_range`,
+:func:`cg_orbit` (one member, any precision), :func:`special_points` (folds, stability
+changes of the reduced map, and the energies where ``tr M`` touches 4 or 0 without a
+change of stability).
+
+Precision: members ``|r| < 1e-8`` (typically 1e-15); special points located by the
+Illinois method on the amplitude ``u`` (each value solved for ``E``) to ``|du| < 1e-13``,
+``E`` to ~1e-14 (the fold: an extremum, ``E`` to ~1e-15); with ``digits`` each is
+re-solved in the tier.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from functools import cache
+
+import numpy as np
+
+from .choreo import T0, cg_problem, choreography_of, reduced_trace
+from .continuation import PALC, ContinuationOptions, Natural, continuation, member
+from .periodic import PeriodicOrbit, periodic_orbit
+from .precision import FLOAT64, Tier, tier
+from .shooting import FamilyEnd, residual, solve
+
+__all__ = [
+    "LABELS",
+    "follow",
+    "fold",
+    "fold_energy",
+    "branch_range",
+    "cg_orbit",
+    "ChoreoPoint",
+    "special_points",
+    "FamilyReport",
+    "family",
+]
+
+#: The two branches of the family, with a one-line description.
+LABELS = {
+    "CG": "choreography born at G (stable, up to the fold)",
+    "CT": "its unstable partner, from the fold down to E -> 4.5 (T -> infinity at T1, T2)",
+}
+
+_E_START = 0.02  # the first members (u ~ -0.06)
+_U_FOLD = (
+    -1.46,
+    -1.50,
+)  # a bracket of the fold's amplitude (checked: tr DP - 4 changes sign)
+_T1_MAX = 90.0 / 12  # the continuation stops at T = 90 (E - 4.5 ~ 1e-7)
+
+
+def _label(label: str) -> str:
+    lab = str(label).strip()
+    up = {k.upper(): k for k in LABELS}
+    if lab.upper() not in up:
+        raise ValueError(
+            f"unknown choreography family {label!r} (known: {', '.join(LABELS)})"
+        )
+    return up[lab.upper()]
+
+
+@cache
+def follow():
+    """The branch ``CG`` + ``CT`` (a :class:`~rotorlib.continuation.Branch`, float64, with
+    its fold located), from ``E = 0.02`` to ``T = 400``.
+
+    Examples
+    --------
+    >>> from rotorlib.choreo_family import follow
+    >>> b = follow()
+    >>> b.stop, len(b.points("fold"))
+    ('period', 1)
+    """
+    p = cg_problem()
+    start = []
+    for E in (_E_START, 1.2 * _E_START):
+        root = solve(p, -math.sqrt(E / 6), E=E)
+        start.append(member(p, root.x, E))
+    return continuation(
+        p,
+        PALC(ds=0.1, ds_max=0.25, E_ref=0.0),
+        ContinuationOptions(max_steps=400, E_range=(0.01, 10.0), t1_max=_T1_MAX),
+        start,
+    )
+
+
+@cache
+def _fold(digits=None) -> tuple:
+    t = tier(digits) if digits is not None and digits > 15 else FLOAT64
+    with t.context():
+        tol = 1e-14 if not t.extended else t.num(t.eps) ** t.num(0.75)
+        u, r = _locate(
+            lambda r: r[2] - 4, t.num(_U_FOLD[0]), t.num(_U_FOLD[1]), 5.3, t, tol=tol
+        )
+        return (u, *r)
+
+
+def fold(digits: int | None = None) -> tuple:
+    """The fold of the family as the root of ``tr DP = 4`` (the reduced multipliers meet
+    at +1), by the Illinois method in the amplitude ``u`` on ``-1.50 < u < -1.46``, each
+    ``u`` solved for ``E`` by the engine: ``(u, E, T, tr DP, tr M)`` (tier numbers;
+    ``digits`` > 15 in that tier). Independent of the engine's own location of the fold
+    as the maximum of ``E`` along :func:`follow` (they agree to ~1e-13).
+
+    Precision: ``u`` to ~1e-14 relative in float64, so ``E`` (an extremum) to ~1e-15;
+    ``digits=D``: ``u`` to ``eps^(3/4)``, ``E`` to ``~eps``.
+
+    Examples
+    --------
+    >>> from rotorlib.choreo_family import fold
+    >>> u, E, T, trp, trm = fold()
+    >>> round(float(E), 9), round(float(T), 6)
+    (5.315323913, 7.396377)
+    """
+    return _fold(digits)
+
+
+def fold_energy() -> float:
+    """The energy of the fold where ``CG`` and ``CT`` meet (float64, :func:`fold`).
+
+    Examples
+    --------
+    >>> from rotorlib.choreo_family import fold_energy
+    >>> round(fold_energy(), 6)
+    5.315324
+    """
+    return float(fold()[1])
+
+
+def _fold_index() -> int:
+    (f,) = [p for p in follow().points("fold") if p.located]
+    return f.index
+
+
+def branch_range(label: str) -> tuple:
+    """``(E_min, E_max)`` of a branch (open at ``E_min``: G at 0 for ``CG``, the maxima
+    of ``V`` at 4.5 for ``CT``; closed at the fold).
+
+    Examples
+    --------
+    >>> from rotorlib.choreo_family import branch_range
+    >>> branch_range("CT")[0]
+    4.5
+    """
+    lab = _label(label)
+    return (0.0 if lab == "CG" else 4.5, fold_energy())
+
+
+def _check_E(label, E):
+    lab = _label(label)
+    try:
+        Ef = float(E)
+    except (TypeError, ValueError):
+        raise ValueError(f"E must be a number, got {E!r}") from None
+    lo, hi = branch_range(lab)
+    if not math.isfinite(Ef):
+        raise ValueError(f"E must be finite, got {E!r}")
+    if Ef > hi:
+        raise ValueError(
+            f"{lab} does not exist at E = {E}: the family ends at the fold E = {hi:.10f} "
+            f"(a saddle-node where CG and CT meet; beyond it neither exists)"
+        )
+    if Ef <= lo:
+        why = (
+            "G is the equilibrium itself (E = 0)"
+            if lab == "CG"
+            else "CT ends at E -> 4.5, where its period diverges (the maxima T1, T2)"
+        )
+        raise ValueError(f"{lab} needs E > {lo:g}, got E = {E}: {why}")
+    if lab == "CG" and Ef < 1e-6:
+        raise ValueError(
+            f"CG at E = {E} is within 1e-6 of G: the orbit is the normal mode "
+            f"(T = 2 pi / sqrt 3 (1 + E/24)); the shooting resolves E >= 1e-6"
+        )
+    if lab == "CT" and Ef < 4.5 + 1e-9:
+        raise ValueError(
+            f"CT at E = {E} is within 1e-9 of 4.5: the period exceeds ~150, beyond the "
+            f"range followed"
+        )
+    return lab, Ef
+
+
+def _solve_u(lab, E, t: Tier):
+    """The root ``u`` of the branch ``lab`` at energy ``E`` (a tier number), followed by
+    the engine's natural continuation in ``E``: ``CG`` below ``E = 4`` from its first
+    members near G; ``CG`` above 4 and ``CT`` from the fold, stepping in
+    ``sqrt(E_f - E)`` (:class:`~rotorlib.continuation.Natural` with ``origin`` at the
+    fold, where ``u - u_f ~ +-sqrt(E_f - E)``); then re-solved in the tier."""
+    Ef = float(E)
+    p = cg_problem()
+    uf, Efold = (float(v) for v in fold()[:2])
+    if Efold - Ef < 1e-13:
+        u = uf
+    elif lab == "CG" and Ef <= 4.0:
+        E0 = min(Ef, _E_START)
+        m0 = member(p, solve(p, -math.sqrt(E0 / 6), E=E0).x, E0)
+        vals = tuple(np.geomspace(E0, Ef, 12)[1:]) if Ef > E0 else ()
+        u = float(_natural_last(p, Natural("E", vals), m0)) if vals else float(m0.u)
+    else:
+        side = 1 if lab == "CG" else -1
+        h = 1e-3
+        E1 = solve(p, Efold, u=uf + side * h).x
+        m1 = member(p, uf + side * h, E1)
+        if Ef >= E1:  # between the fold and uf +- h: E(u) monotone
+            u = _u_at_E(p, uf + side * h, uf, E1, Efold, Ef)
+        elif lab == "CG":
+            d = np.geomspace(Efold - E1, Efold - Ef, 14)[1:]
+            vals = tuple(Efold - d)
+            u = float(
+                _natural_last(p, Natural("E", vals, origin=Efold, origin_other=uf), m1)
+            )
+        else:  # CT: step in u towards the maximum (u = -2 pi/3), solving for E
+            uT = -2 * math.pi / 3
+            us = uT + np.geomspace(uf - h - uT, 1e-7, 80)[1:]
+            try:
+                ms = continuation(
+                    p,
+                    Natural("u", tuple(us)),
+                    ContinuationOptions(folds=False, jump=0.5),
+                    [m1],
+                ).members
+            except FamilyEnd as end:  # the shots fail at E - 4.5 ~ 1e-8
+                ms = end.members
+            Es = [float(m.E) for m in ms]
+            k = next((i for i in range(len(Es) - 1) if Es[i + 1] <= Ef), None)
+            if k is None:
+                raise ValueError(
+                    f"CT at E = {E}: below the energies followed (E - 4.5 >= "
+                    f"{Es[-1] - 4.5:.1e}, T <= {float(12 * ms[-1].t1):.0f})"
+                )
+            a_, b_ = ms[k], ms[k + 1]
+            u = _u_at_E(p, float(a_.u), float(b_.u), float(a_.E), float(b_.E), Ef)
+    if not t.extended:
+        return u
+    with t.context():
+        u = t.num(u)
+        return solve(p, u, u * (1 + t.num("1e-12")), E=str(E), t=t, r_max=t.eps**0.6).x
+
+
+def _u_at_E(p, a, b, Ea, Eb, E):
+    """The ``u`` in ``(a, b)`` where the member has energy ``E`` (``E(u)`` monotone there,
+    ``E(a) = Ea``, ``E(b) = Eb``): Illinois on ``E(u) - E``, each ``u`` solved for ``E``
+    by the engine (robust beside the fold, where a secant at fixed ``E`` is not)."""
+    ga, gb = Ea - E, Eb - E
+    c, last = a, None
+    for _ in range(200):
+        c = (a * gb - b * ga) / (gb - ga)
+        gc = float(solve(p, E, u=c).x) - E
+        if gc == 0 or abs(gc) < 2e-16 * E or (last is not None and c == last):
+            break
+        last = c
+        if (gc > 0) == (gb > 0):
+            b, gb, ga = c, gc, ga / 2
+        else:
+            a, ga, gb = c, gc, gb / 2
+    return c
+
+
+def _natural_last(p, alg, m0):
+    b = continuation(p, alg, ContinuationOptions(folds=False), [m0])
+    return b.members[-1].u
+
+
+def cg_orbit(E, digits: int | None = None, label: str = "CG") -> PeriodicOrbit:
+    """The member of ``CG`` (or ``CT``) with energy ``E`` (a decimal string keeps its
+    digits), as a :class:`~rotorlib.periodic.PeriodicOrbit` whose ``extra`` holds the
+    reduced trace ``trace_reduced`` (``tr DP``), ``stable`` and the choreography's
+    symmetry.
+
+    Raises ValueError beyond the family's range (:func:`branch_range`), with the reason.
+
+    Precision: float64, period to ~1e-14 relative; ``digits=D`` re-solves the orbit in
+    the tier of ``D`` digits and gives ``period_str`` etc. to ``D`` digits.
+
+    Examples
+    --------
+    >>> from rotorlib.choreo_family import cg_orbit
+    >>> o = cg_orbit(3)
+    >>> round(o.period, 9), o.extra["stable"]
+    (4.29745632, True)
+    """
+    lab, Ef = _check_E(label, E)
+    t = tier(digits) if digits is not None and digits > 15 else FLOAT64
+    with t.context():
+        u = _solve_u(lab, E, t)
+        w = t.num(E) if not t.extended else t.num(str(E))
+        o = periodic_orbit(
+            cg_problem(), u, w, t, label=lab, digits=digits if t.extended else None
+        )
+        s = residual(cg_problem(), u, w, t)
+        trp, _ = reduced_trace(s.x0, 12 * s.t1, t)
+    c = choreography_of(o.state0, o.period)
+    extra = dict(o.extra)
+    extra.update(
+        trace_reduced=float(trp),
+        stable=bool(0 < float(trp) < 4),
+        choreography=c.to_record() if c else None,
+    )
+    if t.extended:
+        extra["trace_reduced_str"] = t.text(trp, int(digits) - 8)
+    from dataclasses import replace
+
+    return replace(o, extra=extra)
+
+
+@dataclass(frozen=True)
+class ChoreoPoint:
+    """A special point of the family: ``kind`` (``fold``, ``stable -> unstable`` ...,
+    ``tr M = 4 (no change)``, ``tr M = 0 (no change)``), the branch it lies on, its
+    energy, period, ``tr DP`` and ``tr M`` (floats; ``E_str`` with every digit)."""
+
+    kind: str
+    branch: str
+    E: float
+    period: float
+    trace_reduced: float
+    trace: float
+    E_str: str = ""
+
+    def to_record(self) -> dict:
+        return {
+            "kind": self.kind,
+            "branch": self.branch,
+            "E": self.E,
+            "E_str": self.E_str or repr(self.E),
+            "period": self.period,
+            "trace_reduced": self.trace_reduced,
+            "trace": self.trace,
+        }
+
+
+def _at_u(u, E_guess, t: Tier = FLOAT64):
+    """``(E, T, tr DP, tr M)`` of the member with amplitude ``u``."""
+    p = cg_problem()
+    with t.context():
+        w = solve(p, t.num(E_guess), u=t.num(u), t=t).x
+        s = residual(p, u, w, t)
+        T = 12 * s.t1
+        trp, trm = reduced_trace(s.x0, T, t)
+        return w, T, trp, trm
+
+
+def _locate(g, ua, ub, Ea, t: Tier, tol=1e-13):
+    """The ``u`` in ``(ua, ub)`` where ``g(at(u)) = 0`` by the Illinois method; returns
+    ``(u, at(u))``."""
+    E_last = [Ea]
+
+    def at(u):
+        r = _at_u(u, E_last[0], t)
+        E_last[0] = r[0]
+        return r
+
+    fa, fb = g(at(ua)), g(at(ub))
+    a, b, side = ua, ub, 0
+    r = None
+    for _ in range(80):
+        c = (a * fb - b * fa) / (fb - fa)
+        r = at(c)
+        fc = g(r)
+        if fc == 0 or abs(b - a) < tol * abs(c):
+            break
+        if (fc > 0) == (fb > 0):
+            b, fb = c, fc
+            fa = fa / 2 if side == -1 else fa
+            side = -1
+        else:
+            a, fa = c, fc
+            fb = fb / 2 if side == 1 else fb
+            side = 1
+        if abs(b - a) < tol * abs(c):
+            break
+    return c, r
+
+
+def _column(name):
+    b = follow()
+    return np.array([float(getattr(m, name)) for m in b.members])
+
+
+@cache
+def _traces():
+    """``(tr DP, tr M)`` of every member of :func:`follow`."""
+    b = follow()
+    out = [reduced_trace(b.state(m), 12 * m.t1) for m in b.members]
+    return np.array([o[0] for o in out]), np.array([o[1] for o in out])
+
+
+#: Levels of ``tr DP = 2 + 2 cos theta``: leaving ``[0, 4]`` changes the stability;
+#: ``6 theta = 0 mod 2 pi`` (``tr M = 4``) and ``6 theta = pi mod 2 pi`` (``tr M = 0``)
+#: do not.
+_LEVELS = (
+    (4.0, " (tr DP = 4)"),
+    (0.0, " (tr DP = 0)"),
+    (3.0, "tr M = 4 (no change: theta = pi/3)"),
+    (1.0, "tr M = 4 (no change: theta = 2 pi/3)"),
+    (2.0 + math.sqrt(3), "tr M = 0 (no change: theta = pi/6)"),
+    (2.0, "tr M = 0 (no change: theta = pi/2; the map over T/3 has multipliers -1)"),
+    (2.0 - math.sqrt(3), "tr M = 0 (no change: theta = 5 pi/6)"),
+)
+
+
+@cache
+def _special_float() -> tuple:
+    k_fold = _fold_index()
+    trp, trm = _traces()
+    us = _column("u")
+    Es = _column("E")
+    out = []
+    _, E_f, T_f, trp_f, trm_f = fold()
+    out.append(
+        ChoreoPoint(
+            "fold (saddle-node)",
+            "CG/CT",
+            float(E_f),
+            float(T_f),
+            float(trp_f),
+            float(trm_f),
+        )
+    )
+    for i in range(len(us) - 1):
+        branch = "CG" if i < k_fold else "CT" if i > k_fold else None
+        if branch is None:
+            continue
+        for lev, kind in _LEVELS:
+            if not (trp[i] - lev) * (trp[i + 1] - lev) < 0:
+                continue
+            u, r = _locate(
+                lambda r, lev=lev: r[2] - lev,
+                float(us[i]),
+                float(us[i + 1]),
+                float(Es[i]),
+                FLOAT64,
+            )
+            E, T, tp, tm = (float(v) for v in r)
+            if lev in (0.0, 4.0):
+                up = (trp[i + 1] > trp[i]) == (Es[i + 1] > Es[i])  # tr DP up with E
+                into = (lev == 4.0) == up  # leaves [0, 4] as E grows
+                kind = ("stable -> unstable" if into else "unstable -> stable") + kind
+            out.append(ChoreoPoint(kind, branch, E, T, tp, tm))
+    return tuple(out)
+
+
+def special_points(label: str = "CG", E_range=None, digits=None) -> tuple:
+    """The special points of a branch (``CG`` or ``CT``) within ``E_range``, ordered by
+    energy: the fold, the stability changes (``tr DP`` through 4 or 0, ``DP`` the reduced
+    map of :func:`rotorlib.choreo.reduced_trace`) and the energies where ``tr M`` touches
+    4 or 0 without one (``6 theta = 0 mod pi`` for the reduced multipliers
+    ``e^{+-i theta}``). With ``digits`` (> 15) the fold is re-solved in that tier as the
+    root of ``tr DP = 4`` (an independent location: the engine finds the fold as the
+    extremum of ``E``).
+
+    Examples
+    --------
+    >>> from rotorlib.choreo_family import special_points
+    >>> [p.kind for p in special_points("CG")][-1]
+    'fold (saddle-node)'
+    """
+    lab = _label(label)
+    pts = [p for p in _special_float() if lab in p.branch.split("/")]
+    if E_range is not None:
+        lo, hi = (float(v) for v in E_range)
+        pts = [p for p in pts if lo <= p.E <= hi]
+    if digits is not None and digits > 15:
+        pts = [_refine(p, int(digits)) if p.kind.startswith("fold") else p for p in pts]
+    return tuple(sorted(pts, key=lambda p: p.E))
+
+
+def _refine(p: ChoreoPoint, digits: int) -> ChoreoPoint:
+    t = tier(digits)
+    u, E, T, tp, tm = fold(digits)
+    d = max(10, digits - 10)  # E at the fold: u to eps^(3/4), E (an extremum) to ~eps
+    return ChoreoPoint(
+        p.kind, p.branch, float(E), float(T), float(tp), float(tm), t.text(E, d)
+    )
+
+
+@dataclass(frozen=True)
+class FamilyReport:
+    """``family LABEL --E-range A B``: the branch's members in the range (``E``, period,
+    ``tr DP``, ``tr M``, stable) and its special points."""
+
+    label: str
+    E_range: tuple
+    members: tuple
+    points: tuple
+
+    def to_record(self) -> dict:
+        return {
+            "label": self.label,
+            "description": LABELS[self.label],
+            "E_range": list(self.E_range),
+            "E_min": branch_range(self.label)[0],
+            "E_max": branch_range(self.label)[1],
+            "members": [
+                dict(zip(("E", "period", "trace_reduced", "trace", "stable"), m))
+                for m in self.members
+            ],
+            "special_points": [p.to_record() for p in self.points],
+        }
+
+
+def family(label: str, E_range, digits: int | None = None) -> FamilyReport:
+    """The members of the branch ``label`` with ``E`` in ``E_range`` and its special points
+    there (:func:`special_points`). A range entirely outside the branch raises ValueError.
+
+    Examples
+    --------
+    >>> from rotorlib.choreo_family import family
+    >>> r = family("CG", (5.0, 5.4))
+    >>> r.points[-1].kind
+    'fold (saddle-node)'
+    """
+    lab = _label(label)
+    lo, hi = (float(v) for v in E_range)
+    if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi):
+        raise ValueError(f"--E-range must be two finite energies A < B, got {E_range}")
+    e0, e1 = branch_range(lab)
+    if lo > e1 or hi <= e0:
+        raise ValueError(
+            f"{lab} exists only for {e0:g} < E <= {e1:.10f} (G or the maxima T1, T2 at "
+            f"the low end, the fold at the top): the range {lo:g}..{hi:g} misses it"
+        )
+    b, k = follow(), _fold_index()
+    trp, trm = _traces()
+    idx = range(0, k + 1) if lab == "CG" else range(k + 1, len(b.members))
+    rows = []
+    for i in idx:
+        m = b.members[i]
+        if lo <= float(m.E) <= hi:
+            rows.append(
+                (
+                    float(m.E),
+                    float(12 * m.t1),
+                    float(trp[i]),
+                    float(trm[i]),
+                    bool(0 < trp[i] < 4),
+                )
+            )
+    rows.sort()
+    return FamilyReport(
+        lab, (lo, hi), tuple(rows), special_points(lab, (lo, hi), digits)
+    )
+
+
+def period_ratio(E) -> float:
+    """``T(E) / T0`` of ``CG`` (``T0 = 2 pi / sqrt 3``)."""
+    return cg_orbit(E).period / T0

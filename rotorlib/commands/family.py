@@ -1,0 +1,113 @@
+"""``python -m rotorlib family CG --E-range A B``: a family of choreographies followed.
+
+Prints the members of the branch with energy in ``[A, B]`` (period, ``tr DP`` of the
+reduced map, ``tr M``, stability) and its special points there: the fold, the stability
+changes and the energies where ``tr M`` touches 4 or 0 without one
+(:mod:`rotorlib.choreo_family`).
+
+Examples
+--------
+``python -m rotorlib family CG --E-range 5 5.4``
+``python -m rotorlib family CT --E-range 4.5 5.4 --json``
+``python -m rotorlib family CG --E-range 5.3 5.4 --digits 30`` (the fold to 30 digits)
+``python -m rotorlib family CR1 --E-range 5.6 5.8`` (a rotating Z3 choreography:
+:mod:`rotorlib.choreo_z3`, followed live from its seed, ~10-60 s)
+"""
+
+from __future__ import annotations
+
+import json
+import math
+
+
+def register(sub):
+    p = sub.add_parser(
+        "family",
+        help="a family of choreographies (CG, CT): members, folds, stability changes",
+        description="Follow the choreographies born at G (CG, and CT beyond its fold) "
+        "with the continuation engine and print the members with E in the range and "
+        "the special points (folds, stability changes with their kind).",
+    )
+    p.add_argument(
+        "label",
+        help="CG (born at G), CT (its partner beyond the fold), or a Z3 choreography "
+        "CZ1, CZ2 (non-rotating), CR1 (rotating)",
+    )
+    p.add_argument(
+        "--E-range", nargs=2, required=True, metavar=("A", "B"), help="energies A < B"
+    )
+    p.add_argument(
+        "--digits",
+        type=int,
+        default=None,
+        help="> 15: the fold re-solved in the tier of that many digits (E_str)",
+    )
+    p.add_argument("--json", action="store_true", help="print one JSON object")
+    p.set_defaults(func=run)
+
+
+def _num(v, name):
+    from ..energy import as_float
+
+    return as_float(v, name)
+
+
+def _run_z3(args, lo, hi):
+    from ..choreo_z3 import z3_family
+
+    if args.digits is not None:
+        raise ValueError(f"{args.label}: --digits is available for CG and CT only")
+    rec = z3_family(args.label, (lo, hi)).to_record()
+    if args.json:
+        print(json.dumps(rec, indent=2))
+        return 0
+    print(
+        f"{rec['label']}: {rec['description']}; followed over {rec['span'][0]:.6f} <= E "
+        f"<= {rec['span'][1]:.6f} (ends: {' / '.join(rec['stops'])})"
+    )
+    print(f"{'E':>18}  {'period':>18}  {'tr DP':>14}  {'tr M':>14}  stable")
+    for m in rec["members"]:
+        print(
+            f"{m['E']:18.12f}  {m['period']:18.12f}  {m['trace_reduced']:14.8g}  "
+            f"{m['trace']:14.8g}  {'yes' if m['stable'] else 'no'}"
+        )
+    print("special points (IS, PD: stability changes; E to ~1e-8):")
+    for p in rec["special_points"] or [{"kind": "none in the range", "E": math.nan}]:
+        print(f"  {p['kind']}  E = {p['E']:.8f}")
+    return 0
+
+
+def run(args):
+    from ..choreo_family import family
+
+    if args.digits is not None and not 1 <= args.digits <= 60:
+        raise ValueError(f"--digits must be from 1 to 60, got {args.digits}")
+    lo, hi = (_num(v, "--E-range") for v in args.E_range)
+    if str(args.label).strip().upper() in ("CZ1", "CZ2", "CR1"):
+        return _run_z3(args, lo, hi)
+    rep = family(args.label, (lo, hi), digits=args.digits)
+    rec = rep.to_record()
+    if args.json:
+        print(json.dumps(rec, indent=2))
+        return 0
+    print(
+        f"{rec['label']}: {rec['description']}; exists for {rec['E_min']:g} < E <= "
+        f"{rec['E_max']:.12f}"
+    )
+    print(f"{'E':>18}  {'period':>18}  {'tr DP':>14}  {'tr M':>14}  stable")
+    for m in rec["members"]:
+        print(
+            f"{m['E']:18.12f}  {m['period']:18.12f}  {m['trace_reduced']:14.8g}  "
+            f"{m['trace']:14.8g}  {'yes' if m['stable'] else 'no'}"
+        )
+    print("special points:")
+    if not rec["special_points"]:
+        print("  none in the range")
+    for p in rec["special_points"]:
+        e = p["E_str"] if p["E_str"] != repr(p["E"]) else f"{p['E']:.13f}"
+        print(
+            f"  E = {e}  "
+            f"T = {p['period']:.10f}  tr DP = {p['trace_reduced']:.10f}  "
+            f"{p['kind']}  [{p['branch']}]"
+        )
+    return 0

@@ -1,0 +1,211 @@
+"""Every symmetric choreography with T <= 16 at a set of energies, and its family (a data product).
+
+Writes book/data/choreographies_T16.json. For each energy of ENERGIES the census of
+symmetric periodic orbits with period <= T_MAX (``rotorlib.atlas.census``) is taken and
+each orbit tested with ``rotorlib.choreo.choreography_of`` (``x(T/3) = C x(0)`` modulo
+the lattice). Each choreography not already on a family found before is followed with the
+engine through 3 <= E <= 8 (pseudo-arclength as ``rotorlib.atlas_families``,
+through folds, ``tr M`` of every member, folds and crossings of 4 and 0 located; a family
+stops where its period exceeds 40) and the reduced trace ``tr DP`` of every member
+is computed (``rotorlib.choreo.reduced_trace``: order 6 for the D6 rotating waves, 3 for
+the others); the families are labelled CZk (non-rotating, Z3 only), CRk (rotating), CXk
+(other D6 rotating waves). CG and CT are recognised (``rotorlib.choreo.atlas_name``) and not
+followed here: ``rotorlib.choreo_family`` follows them. Chapter 10 (choreographies) reads
+the file and checks it: CG and CT against its own family, and the census orbit of every
+other family re-integrated (it closes and is a choreography).
+
+Scope: T <= 16 at E = 4.6 and 5.6 (chapter 9's census at 5.45 is read from its own data
+product by the chapter); at most 150 continuation steps of 0.05 each way. The censuses are
+cached in /tmp (choreo_census_<E>_<T_MAX>.pickle) so that a rerun of the families is cheap.
+About ten minutes of two cores. Re-run after changing rotorlib.atlas, the engine or
+rotorlib.choreo: python scripts/choreo_census.py
+"""
+
+from __future__ import annotations
+
+import json
+import pickle
+import time
+from concurrent.futures import ProcessPoolExecutor
+from dataclasses import replace
+from fractions import Fraction
+from pathlib import Path
+
+import numpy as np
+
+from rotorlib import atlas
+from rotorlib.choreo import atlas_name, choreography_of, reduced_trace
+from rotorlib.continuation import PALC, ContinuationOptions, continuation, member
+from rotorlib.shooting import residual
+
+ROOT = Path(__file__).resolve().parents[1]
+OUT = ROOT / "book" / "data" / "choreographies_T16.json"
+ENERGIES = (4.6, 5.6)
+T_MAX = 16.0
+WINDOW = (3.0, 8.0)
+STEP = 0.05
+T_CAP = 40.0  # a family whose period grows beyond this is stopped ("period")
+
+
+def _on(fam, E, T, rel=2e-3):
+    """Whether ``(E, T)`` lies on the family's curve (linear interpolation)."""
+    for i in range(len(fam["E"]) - 1):
+        a, b = fam["E"][i], fam["E"][i + 1]
+        if min(a, b) <= E <= max(a, b) and a != b:
+            Ti = fam["period"][i] + (E - a) / (b - a) * (
+                fam["period"][i + 1] - fam["period"][i]
+            )
+            if abs(Ti - T) < rel * T:
+                return True
+    return False
+
+
+def follow(o, lo, hi, step, T_cap):
+    """The family of the atlas orbit ``o`` through ``lo <= E <= hi`` in both directions
+    (as ``rotorlib.atlas_families.families``, but up to the period ``T_cap``)."""
+    sh = residual(o.problem, o.u, o.E)
+    factor = float(Fraction(o.period / float(sh.t1)).limit_denominator(48))
+    prob = replace(o.problem, factor=factor)
+    m0 = member(prob, o.u, o.E, traces=True)
+    opts = ContinuationOptions(
+        max_steps=150,
+        E_range=(lo, hi),
+        t1_max=T_cap / factor,
+        jump=0.05,
+        traces=True,
+        folds=True,
+    )
+    ds = step / max(hi, 1.0)
+    alg = PALC(ds=ds, ds_max=ds, ds_min=1e-10, u_floor=1.0)
+    back, fwd = (
+        continuation(prob, replace(alg, direction=d), opts, [m0]) for d in (-1, 1)
+    )
+    ms = list(back.members[::-1]) + list(fwd.members[1:])
+    pts = [
+        (p.kind, float(p.member.E))
+        for p in list(back.special_points) + list(fwd.special_points)
+        if p.located and p.kind != "E"
+    ]
+    return prob, ms, sorted(pts, key=lambda v: v[1]), (back.stop, fwd.stop)
+
+
+def _label(families, found):
+    """Name the families other than CG and CT: ``CZk`` (non-rotating, Z3 symmetry only),
+    ``CRk`` (rotating), ``CXk`` (D6 rotating waves other than CG), ``k`` in the order of
+    their period at the energy where the census found them; the census orbits on a
+    family take its label."""
+    groups = {}
+    for f in families:
+        key = "CR" if f["rotating"] else "CX" if f["sixth"] else "CZ"
+        groups.setdefault(key, []).append(f)
+    for key, fs in groups.items():
+        fs.sort(key=lambda f: (f["found_at"], f["found_period"]))
+        for k, f in enumerate(fs, 1):
+            f["label"] = f"{key}{k}"
+    for c in found:
+        if c["label"] == "choreography":
+            for f in families:
+                if (
+                    _on(f, c["E"], c["period"])
+                    and f["sixth"] == c["choreography"]["sixth"]
+                ):
+                    c["label"] = f["label"]
+
+
+def _family(args):
+    """Follow one census orbit (a process-pool task): the family's record."""
+    o, c, E = args
+    prob, ms, pts, stops = follow(o, *WINDOW, STEP, T_CAP)
+    order = 6 if c.sixth else 3
+    trp = []
+    for m in ms:
+        T = float(prob.factor * m.t1)
+        tr = reduced_trace(prob.state(m.u, m.w), T, order=order, power=c.power)[0]
+        trp.append(float(tr))
+    Es = [float(m.E) for m in ms]
+    Ts = [float(prob.factor * m.t1) for m in ms]
+    return {
+        "found_at": E,
+        "found_period": o.period,
+        "label": "choreography",
+        "sixth": c.sixth,
+        "rotating": c.rotating,
+        "power": c.power,
+        "fixed_sets": list(o.fixed_sets),
+        "u0": float(o.u),
+        "E": Es,
+        "period": Ts,
+        "trace": [float(m.trace) for m in ms],
+        "trace_reduced": trp,
+        "points": [[k, v] for k, v in pts],
+        "stops": list(stops),
+    }
+
+
+def _write(found, families, t0):
+    data = {
+        "energies": list(ENERGIES),
+        "t_max": T_MAX,
+        "window": list(WINDOW),
+        "step": STEP,
+        "choreographies": found,
+        "families": families,
+        "seconds": round(time.perf_counter() - t0),
+    }
+    OUT.write_text(json.dumps(data, indent=1) + "\n")
+
+
+def main():
+    t0 = time.perf_counter()
+    found, tasks = [], []
+    with ProcessPoolExecutor(2) as pool:
+        for E in ENERGIES:  # 1. the censuses
+            cache = Path(f"/tmp/choreo_census_{E}_{T_MAX}.pickle")
+            if cache.is_file():
+                a = pickle.loads(cache.read_bytes())
+            else:
+                a = atlas.census(E, T_MAX, executor=pool, name=False)
+                cache.write_bytes(pickle.dumps(a))
+            for o in a.orbits:
+                c = choreography_of(o.state0, o.period)
+                if c is None:
+                    continue
+                label, _ = atlas_name("new", E, o.state0, o.period)
+                found.append(
+                    {
+                        "E": E,
+                        "label": label,
+                        "period": o.period,
+                        "trace": o.trace,
+                        "state0": list(o.state0),
+                        "fixed_sets": list(o.fixed_sets),
+                        "choreography": c.to_record(),
+                    }
+                )
+                print(f"E = {E}: {label} T = {o.period:.6f} {c}", flush=True)
+                if label not in ("CG", "CT"):  # those: rotorlib.choreo_family
+                    tasks.append((o, c, E))
+        _write(found, [], t0)
+        families = []  # 2. their families, merged where one contains another's orbit
+        for fam in pool.map(_family, tasks):
+            if any(
+                _on(f, fam["found_at"], fam["found_period"])
+                and f["sixth"] == fam["sixth"]
+                for f in families
+            ):
+                continue
+            families.append(fam)
+            print(
+                f"  family from E = {fam['found_at']}, T = {fam['found_period']:.6f}: "
+                f"E {min(fam['E']):.4f}..{max(fam['E']):.4f}, "
+                f"points {fam['points']}, stops {fam['stops']}",
+                flush=True,
+            )
+    _label(families, found)
+    _write(found, families, t0)
+    print(f"wrote {OUT} ({len(found)} choreographies, {len(families)} families)")
+
+
+if __name__ == "__main__":
+    np.seterr(all="ignore")
+    main()

@@ -1,0 +1,345 @@
+"""The choreographies born at G (rotorlib.choreo, rotorlib.choreo_family, ``orbit CG``,
+``family``) against independent computations written here in the rotor angles.
+
+The independent route: three rotors ``theta_i`` with ``H = sum p_i^2/2 + sum (1 -
+cos(theta_i - theta_j))`` (zero total momentum, so ``H = E``), started on the mirror
+``theta = (s, 0, -s)`` (``phi1 = phi2 = s``) with velocity ``-v (1, -2, 1)`` at right
+angles, and the choreography condition itself imposed: the state after ``T/3`` is the
+relabelled start, ``theta_i(T/3) = theta_{i+1}(0)``. Unknowns ``(s, T)``, solved by
+``scipy.optimize.least_squares`` on scipy's DOP853 (rtol 1e-13); ``tr M`` from the 6x6
+variational equations (``tr M = tr M6 - 2``: the centre of mass adds a Jordan block at 1).
+The real128 checks integrate the same equations with heyoka's real128 Taylor method.
+"""
+
+from __future__ import annotations
+
+import math
+
+import mpmath as mp
+import numpy as np
+import pytest
+from scipy.integrate import solve_ivp
+from scipy.optimize import least_squares
+
+from rotorlib import cli
+from rotorlib.choreo import T0, cg_problem, relabelling
+from rotorlib.choreo_family import (
+    cg_orbit,
+    family,
+    fold,
+    fold_energy,
+    follow,
+    special_points,
+)
+from rotorlib.commands.orbit import record
+from rotorlib.shooting import residual, solve
+
+PAIRS = ((0, 1), (1, 2), (2, 0))
+
+
+def _rhs(t, y):
+    th, p = y[:3], y[3:]
+    f = np.zeros(3)
+    for i, j in PAIRS:
+        s = math.sin(th[i] - th[j])
+        f[i] -= s
+        f[j] += s
+    return np.concatenate([p, f])
+
+
+def _rhs_var(t, y):
+    th = y[:3]
+    out = np.empty_like(y)
+    out[:6] = _rhs(t, y[:6])
+    H = np.zeros((3, 3))  # d^2 V / d theta^2
+    for i, j in PAIRS:
+        c = math.cos(th[i] - th[j])
+        H[i, i] += c
+        H[j, j] += c
+        H[i, j] -= c
+        H[j, i] -= c
+    J = np.zeros((6, 6))
+    J[:3, 3:] = np.eye(3)
+    J[3:, :3] = -H
+    out[6:] = (J @ y[6:].reshape(6, 6)).ravel()
+    return out
+
+
+def _start(s, E):
+    V = 3 - 2 * math.cos(s) - math.cos(2 * s)
+    # kinetic energy v^2 (1 + 4 + 1)/2 = 3 v^2; the sense of rotation of rotorlib's CG
+    v = -math.sqrt(max(E - V, 0.0) / 3)
+    return np.array([s, 0.0, -s, v, -2 * v, v])
+
+
+def _choreo_residual(x, E):
+    s, T = x
+    y0 = _start(s, E)
+    y = solve_ivp(_rhs, (0, T / 3), y0, method="DOP853", rtol=1e-13, atol=1e-15).y[
+        :, -1
+    ]
+    # theta_i(T/3) = theta_{i+1}(0) up to a common shift: compare differences, momenta
+    d_now = np.array([y[0] - y[1], y[1] - y[2]])
+    d_want = np.array([y0[1] - y0[2], y0[2] - y0[0]])
+    dd = (d_now - d_want + math.pi) % (2 * math.pi) - math.pi
+    return np.concatenate([dd, y[3:] - np.roll(y0[3:], -1)])
+
+
+def independent_cg(E, s0, T0_):
+    """``(s, T, tr M)`` of the choreography at ``E`` near ``(s0, T0_)``."""
+    sol = least_squares(
+        _choreo_residual, [s0, T0_], args=(E,), xtol=1e-15, ftol=1e-15, gtol=1e-15
+    )
+    s, T = sol.x
+    y0 = np.concatenate([_start(s, E), np.eye(6).ravel()])
+    y = solve_ivp(_rhs_var, (0, T), y0, method="DOP853", rtol=1e-13, atol=1e-15)
+    M6 = y.y[6:, -1].reshape(6, 6)
+    return s, T, np.trace(M6) - 2, float(np.max(np.abs(sol.fun)))
+
+
+def _theta_state(rec_state):
+    """Rotor angles and momenta (zero total momentum) of a state ``[a1, a2, p1, p2]``."""
+    a1, a2, p1, p2 = rec_state
+    phi1, phi2 = 2 * a1, a2 - a1
+    # theta = (t1, t1 - phi1, t1 - phi1 - phi2), centred; momenta from phi' (H = E)
+    th = np.array([0.0, -phi1, -phi1 - phi2])
+    th -= th.mean()
+    # a1' = p1/2, a2' = 3 p2/2 -> phi1' = p1, phi2' = 3 p2/2 - p1/2
+    d1, d2 = p1, 1.5 * p2 - 0.5 * p1
+    w = np.array([0.0, -d1, -d1 - d2])
+    return th, w - w.mean()
+
+
+@pytest.mark.parametrize("E", [0.1, 3.0, 5.0, 5.3])
+def test_orbit_cg_against_independent_shooting(E):
+    rec = record("CG", str(E))
+    a1, a2, p1, p2 = rec["state0"]
+    s0 = 2 * a1  # phi1 = phi2 = s on the start mirror
+    s0 = (s0 + math.pi) % (2 * math.pi) - math.pi
+    s, T, tr, res = independent_cg(E, s0 * (1 + 1e-4), rec["period"] * (1 + 1e-4))
+    assert res < 1e-11
+    assert abs(s - s0) < 1e-8
+    assert abs(T - rec["period"]) < 1e-9
+    assert abs(tr - rec["trace"]) < 1e-8
+    assert rec["choreography"]["sixth"] and not rec["choreography"]["rotating"]
+    assert 0 < rec["trace_reduced"] < 4 and rec["stable"]
+
+
+def _real128_closure(x0, w0, T):
+    """``max |x(T) - x(0)|`` (relative angles, momenta) by heyoka's real128 Taylor method
+    on the rotor equations (``x0``, ``w0``, ``T`` decimal strings or floats)."""
+    hy = pytest.importorskip("heyoka")
+    th = hy.make_vars("t1", "t2", "t3")
+    ps = hy.make_vars("q1", "q2", "q3")
+    f = [0, 0, 0]
+    for i, j in PAIRS:
+        s = hy.sin(th[i] - th[j])
+        f[i] = f[i] - s
+        f[j] = f[j] + s
+    sys = list(zip(th, ps)) + [(ps[k], f[k]) for k in range(3)]
+    R = hy.real128
+    y0 = np.array([R(str(v)) for v in list(x0) + list(w0)])
+    ta = hy.taylor_adaptive(sys, y0, fp_type=R)
+    ta.propagate_until(R(str(T)))
+    y = ta.state
+    with mp.workdps(40):
+        a = [mp.mpf(str(v)) for v in y]
+        b = [mp.mpf(str(v)) for v in y0]
+        d = [(a[0] - a[1]) - (b[0] - b[1]), (a[1] - a[2]) - (b[1] - b[2])]
+        two_pi = 2 * mp.pi
+        d = [v - two_pi * mp.nint(v / two_pi) for v in d]
+        d += [a[k] - b[k] for k in range(3, 6)]
+        return float(max(abs(v) for v in d))
+
+
+def _decimal_theta(state_str):
+    """The rotor state of a ``[a1, a2, p1, p2]`` given as decimal strings, at 40 digits."""
+    with mp.workdps(40):
+        a1, a2, p1, p2 = (mp.mpf(v) for v in state_str)
+        phi1, phi2 = 2 * a1, a2 - a1
+        th = [mp.mpf(0), -phi1, -phi1 - phi2]
+        d1, d2 = p1, 3 * p2 / 2 - p1 / 2
+        w = [mp.mpf(0), -d1, -d1 - d2]
+        mt, mw = sum(th) / 3, sum(w) / 3
+        return [mp.nstr(v - mt, 38) for v in th], [mp.nstr(v - mw, 38) for v in w]
+
+
+@pytest.mark.parametrize("E", ["3", "5.3"])
+def test_closure_under_independent_real128(E):
+    # the float64 orbit closes to its own precision (tr M amplifies ~1e-16)
+    rec = record("CG", E)
+    th, w = _theta_state(rec["state0"])
+    assert _real128_closure(th, w, repr(rec["period"])) < 1e-12
+    # the 30-digit orbit closes to ~30 digits
+    rec30 = record("CG", E, digits=30)
+    th, w = _decimal_theta(rec30["state0_str"])
+    assert _real128_closure(th, w, rec30["period_str"]) < 1e-25
+
+
+def test_digits30_period_against_independent_real128_newton():
+    """The 30-digit period at E = 3 against a Newton solve of the T/3 choreography
+    condition written here, integrated by heyoka in real128 (finite-difference
+    Jacobian in mpmath)."""
+    hy = pytest.importorskip("heyoka")
+    rec = record("CG", "3", digits=30)
+    R = hy.real128
+    th = hy.make_vars("t1", "t2", "t3")
+    ps = hy.make_vars("q1", "q2", "q3")
+    f = [0, 0, 0]
+    for i, j in PAIRS:
+        s = hy.sin(th[i] - th[j])
+        f[i], f[j] = f[i] - s, f[j] + s
+    sys = list(zip(th, ps)) + [(ps[k], f[k]) for k in range(3)]
+    ta = hy.taylor_adaptive(sys, [R(0)] * 6, fp_type=R)
+    mp.mp.dps = 40
+    E = mp.mpf(3)
+
+    def F(s, T):
+        V = 3 - 2 * mp.cos(s) - mp.cos(2 * s)
+        v = -mp.sqrt((E - V) / 3)
+        y0 = [s, 0, -s, v, -2 * v, v]
+        ta.time = R(0)
+        ta.state[:] = np.array([R(mp.nstr(x, 38)) for x in y0])
+        ta.propagate_until(R(mp.nstr(T / 3, 38)))
+        y = [mp.mpf(str(x)) for x in ta.state]
+        return [(y[0] - y[1]) - (y0[1] - y0[2]), y[3] - y0[4]]
+
+    a1 = mp.mpf(rec["state0_str"][0])
+    s = 2 * a1
+    s = s - 2 * mp.pi * mp.nint(s / (2 * mp.pi))
+    T = mp.mpf(repr(rec["period"]))
+    for _ in range(4):
+        r = F(s, T)
+        h = mp.mpf("1e-16")
+        rs, rt = F(s + h, T), F(s, T + h)
+        J = mp.matrix([[(rs[i] - r[i]) / h, (rt[i] - r[i]) / h] for i in range(2)])
+        ds, dT = mp.lu_solve(J, mp.matrix(r))
+        s, T = s - ds, T - dT
+    assert abs(T - mp.mpf(rec["period_str"])) < mp.mpf("1e-20")
+    mp.mp.dps = 15
+
+
+def test_fold_at_band_edge_and_refusal(capsys):
+    E_f = fold_energy()
+    # two locations: the engine's maximum of E along the branch, the root of tr DP = 4
+    assert abs(float(follow().fold.E) - E_f) < 1e-12
+    # independent: E(s) of the rotor shooting near its maximum (a cubic through 7 points)
+    u_f = float(fold()[0])
+    hs = np.linspace(-3e-3, 3e-3, 7)
+    Es = []
+    for h in hs:
+        s = u_f + h  # phi1 = phi2 = u on the engine's start line
+
+        def res(x, s=s):
+            return _choreo_residual([s, x[1]], x[0])
+
+        # a guess from the engine's member with this amplitude, moved off by 1e-6
+        w = solve(cg_problem(), E_f, u=u_f + h)
+        T_g = 12 * residual(cg_problem(), u_f + h, w.x).t1
+        rec = least_squares(
+            res,
+            [w.x + 1e-6, T_g * (1 + 1e-6)],
+            xtol=1e-15,
+            ftol=1e-15,
+            gtol=1e-15,
+        )
+        assert np.max(np.abs(rec.fun)) < 1e-11
+        Es.append(rec.x[0])
+    c = np.polyfit(hs, Es, 3)
+    r = np.roots(np.polyder(c))
+    h_max = r[np.argmin(np.abs(r))].real
+    assert abs(np.polyval(c, h_max) - E_f) < 1e-9
+    # family CG prints it, and the orbit beyond it is refused in one line (exit 2)
+    rep = family("CG", (5.3, 5.4))
+    assert (
+        rep.points[-1].kind.startswith("fold") and abs(rep.points[-1].E - E_f) < 1e-12
+    )
+    assert cli.main(["orbit", "CG", "--E", f"{E_f + 1e-8:.12f}"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "fold" in err[0]
+    below = record("CG", f"{E_f - 1e-8:.12f}")
+    assert abs(below["trace_reduced"] - 4) < 1e-3
+    assert cli.main(["family", "CG", "--E-range", "5.4", "6"]) == 2
+    # the fold re-solved in the 30-digit tier (family --digits 30)
+    p30 = special_points("CG", (5.3, 5.4), digits=30)[-1]
+    assert len(p30.E_str) >= 20 and abs(float(p30.E_str) - E_f) < 1e-13
+
+
+def test_family_stability_kinds():
+    """CG is stable from G to the fold (tr DP rises from 1 to 4): its tr M = 0, 4 are no
+    stability changes; CT is unstable throughout (tr DP > 4)."""
+    pts = special_points("CG")
+    assert [p.kind.split(" (")[0] for p in pts] == [
+        "tr M = 0",
+        "tr M = 4",
+        "tr M = 0",
+        "fold",
+    ]
+    for p in pts[:-1]:
+        assert 0 < p.trace_reduced < 4
+        assert min(abs(p.trace), abs(p.trace - 4)) < 1e-8
+    assert special_points("CT") == pts[-1:]
+    rep = family("CT", (4.6, 5.3))
+    assert rep.members and all(not m[4] and m[2] > 4 for m in rep.members)
+
+
+def test_lindstedt_first_correction():
+    """(T/T0 - 1)/E -> 1/24 for CG: the slope at E = 1e-3 and 2e-3 extrapolated to 0."""
+    r = [(cg_orbit(E).period / T0 - 1) / E for E in (1e-3, 2e-3)]
+    slope0 = 2 * r[0] - r[1]
+    assert abs(slope0 - 1 / 24) < 1e-6
+
+
+def test_relabelling_and_refusals():
+    C = relabelling()
+    assert np.allclose(np.linalg.matrix_power(C, 3), np.eye(4))
+    rng = np.random.default_rng(0)
+    for x in rng.uniform(-3, 3, (5, 4)):
+        a1, a2, p1, p2 = x
+        y = C @ x
+
+        def H(a1, a2, p1, p2):
+            V = 3 - math.cos(2 * a1) - math.cos(a2 - a1) - math.cos(a1 + a2)
+            return p1 * p1 / 4 + 3 * p2 * p2 / 4 + V
+
+        assert abs(H(*x) - H(*y)) < 1e-12
+    for bad in ("-1", "0", "nan"):
+        assert cli.main(["orbit", "CG", "--E", bad]) == 2
+    assert cli.main(["orbit", "CT", "--E", "4.4"]) == 2
+    assert cli.main(["family", "CX", "--E-range", "1", "2"]) == 2
+
+
+def test_atlas_names_choreographies():
+    from rotorlib.atlas import census
+
+    a = census(5.3, 8.0, known=[])  # the known daughter families are not needed here
+    named = {o.label: o for o in a.orbits if o.choreography}
+    assert set(named) == {"CG", "CT"}
+    assert named["CG"].stable and not named["CT"].stable
+    rec = named["CG"].to_record()
+    assert rec["choreography"]["sixth"] and not rec["choreography"]["rotating"]
+    assert abs(named["CG"].period - cg_orbit(5.3).period) < 1e-9
+    others = [o for o in a.orbits if not o.choreography]
+    assert others and all(o.to_record()["choreography"] is None for o in others)
+
+
+def test_z3_family_cr1_against_the_census():
+    """The rotating Z3 choreography CR1 followed live from its seed: its PD and its fold
+    are those the census's data product located (book/data/choreographies_T16.json)."""
+    import json
+    from pathlib import Path
+
+    from rotorlib.choreo_z3 import z3_family
+
+    data = json.loads(
+        (Path(__file__).parents[1] / "book/data/choreographies_T16.json").read_text()
+    )
+    (cr1,) = [f for f in data["families"] if f["label"] == "CR1"]
+    stored = {k: e for k, e in cr1["points"] if k in ("PD", "fold") and e > 5.7}
+    r = z3_family("CR1", (5.65, 5.75))
+    got = dict(r.points)
+    assert set(got) == {"PD", "fold"}
+    for k in ("PD", "fold"):
+        assert abs(got[k] - stored[k]) < 1e-7
+    assert any(m[4] for m in r.members) or got["fold"] - got["PD"] < 1e-3
+    assert cli.main(["family", "CZ9", "--E-range", "4", "5"]) == 2
