@@ -428,7 +428,7 @@ def _sliced(Hs, E_max):
             stack += [(c, b), (a, c)]
             continue
         out.append(_slice(Hs, a, b, k))
-    w = np.sort(np.concatenate(out))
+    w = np.sort(np.concatenate(out)) if out else np.empty(0)
     if len(w) != counts[E_max]:
         raise SlicingFailed("slices do not add up")
     return w
