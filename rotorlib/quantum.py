@@ -32,13 +32,16 @@ symmetry-adapted functions of one row of its irrep, built orbit by orbit of the 
 the levels of E1 and E2 are doubly degenerate in the full spectrum.
 
 Precision: float64 throughout. The basis is every plane wave with kinetic energy
-``hbar^2 |k|^2/2 <= cutoff``; the levels converge from above (nested bases,
-Cauchy interlacing) and :func:`spectrum` states the change when the cut-off is raised by
-``cutoff_step(hbar)`` (``convergence``, typically < 1e-11). The eigenvalues of each block are
-those of LAPACK's banded solver (``dsbevx``, backward stable: absolute error
-~1e-15 * ||H|| ~ 1e-13 at E ~ 8) after a reverse Cuthill-McKee ordering, or of ``dsyevr``
-for small blocks. Checked against an independent plane-wave diagonalization in the rotor
-wave numbers (``tests/test_quantum.py``).
+``hbar^2 |k|^2/2 <= cutoff``; the levels converge from above (nested bases, Cauchy
+interlacing) and :func:`spectrum` states their change when the cut-off is lowered by
+``cutoff_step(hbar)`` (``convergence``, typically < 1e-11 with the default cut-off).
+Blocks of up to ``DENSE_MAX`` functions are diagonalized by LAPACK ``dsyevr``; larger
+ones by spectrum slicing: Sylvester inertia counts from a sparse factorization of
+``H - x`` (SuperLU, symmetric ordering, no pivoting) cut ``[0, E_max]`` into slices of at
+most ``SLICE`` levels, each solved by shift-and-invert Lanczos (ARPACK) at its midpoint
+and checked against its count (dense ``dsyevr`` if a count fails). Both are backward
+stable: absolute error ~1e-15 ||H|| ~ 1e-13 at E ~ 8. Checked against independent
+diagonalizations in the rotor wave numbers (``tests/test_quantum.py``).
 """
 
 from __future__ import annotations
@@ -448,11 +451,13 @@ def basis_size(hbar: float, cutoff: float) -> int:
 
 
 def memory_estimate(hbar: float, E_max: float, cutoff: float | None = None) -> int:
-    """Peak bytes of one sector's computation (full sparse H, the block, its band).
+    """Peak bytes of one sector's computation, estimated (not allocated).
 
-    The largest block (a row of E1 or E2) holds ~N/6 functions of the N plane waves; its
-    band after reverse Cuthill-McKee ordering is ~sqrt(N) wide. Estimated, not measured:
-    ``benchmarks/bench_quantum.py`` prints the measured peak.
+    The full sparse H (7 entries per plane wave), the group images of the lattice
+    (12 x 3 integers per plane wave), and the sparse factorization of the largest block
+    (a row of E1 or E2, ~N/6 functions, ~100 nonzeros per row after fill-in), plus the
+    interpreter. ``benchmarks/bench_quantum.py`` prints the measured peak (114 MiB at
+    hbar = 0.03, E_max = 6.5, where this gives 91 MB).
 
     Examples
     --------
@@ -463,8 +468,7 @@ def memory_estimate(hbar: float, E_max: float, cutoff: float | None = None) -> i
     K = default_cutoff(hbar, E_max) + cutoff_step(hbar) if cutoff is None else cutoff
     N = basis_size(hbar, K)
     nb = N / 6.0
-    band = 1.2 * math.sqrt(N)
-    return int(N * 7 * 16 * 3 + N * 12 * 3 * 8 * 3 + nb * band * 8 * 2 + 5e7)
+    return int(N * (7 * 12 * 2 + 12 * 3 * 8 + 96) + nb * 100 * 12 * 3 + 5e7)
 
 
 def available_memory() -> int:
