@@ -16,7 +16,7 @@ import re
 import sys
 
 #: Command modules, in help order. A module missing from the package is skipped.
-COMMANDS = ("trace", "bifurcations", "orbit", "family", "atlas")
+COMMANDS = ("trace", "bifurcations", "orbit", "family", "atlas", "spectrum")
 
 
 #: A negative number in any notation (-5, -1.5, -.5, -1e6, -1E+3, -inf, -nan). argparse's own matcher
