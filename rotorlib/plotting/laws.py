@@ -2,8 +2,20 @@
 
 from __future__ import annotations
 
+import re
+
 import matplotlib.pyplot as plt
 import numpy as np
+
+
+def _tex(label):
+    """A family label in mathtext: 'PD^r_3' -> '$\\mathrm{PD}^r_{3}$'."""
+    m = re.fullmatch(r"(IS|PD)\^([lrb])_?(\w*)", label)
+    if not m:
+        return label
+    fam, sup, n = m.groups()
+    sup = r"\ell" if sup == "l" else sup
+    return rf"$\mathrm{{{fam}}}^{sup}_{{{n}}}$"
 
 
 def fans(panels, figsize=(15, 4.3)):
@@ -22,8 +34,8 @@ def fans(panels, figsize=(15, 4.3)):
         for v in np.atleast_1d(p.get("fan", [])):
             ax.plot([4.0], [v], "k*", ms=10)
         ax.axvline(4.0, color="grey", lw=0.6)
-        ax.set_xlabel("E (m = g = r = 1)")
-        ax.set_ylabel("tr M")
+        ax.set_xlabel(r"$E$ ($m = g = r = 1$)")
+        ax.set_ylabel(r"$\mathrm{tr}\,M$")
         ax.set_title(p["title"], fontsize=10)
         ax.legend(fontsize=7)
     fig.tight_layout()
@@ -35,21 +47,27 @@ def shapes_fig8(t6, a1_6, a2_6, a2_pend, t_r, a2_r, a2dot_r):
     (c) a2(t) and (d) a2'(t) of IS^r_1 near its birth."""
     fig, ax = plt.subplots(2, 2, figsize=(11, 7))
     ax[0, 0].plot(t6, a1_6)
-    ax[0, 0].set_title(r"(a) $\alpha_1(t)$ of $IS^l_6$ at $E = 4$", fontsize=10)
+    ax[0, 0].set_title(
+        r"(a) $\alpha_1(t)$ of $\mathrm{IS}^\ell_6$ at $E = 4$", fontsize=10
+    )
     ax[0, 0].set_ylabel(r"$\alpha_1$ (rad)")
-    ax[0, 1].plot(t6, a2_6, "-", lw=2.5, label=r"$IS^l_6$ at $E=4$")
-    ax[0, 1].plot(t6, a2_pend, "--", color="k", label=r"pendulum at $E(IS^l_6)$")
+    ax[0, 1].plot(t6, a2_6, "-", lw=2.5, label=r"$\mathrm{IS}^\ell_6$ at $E=4$")
+    ax[0, 1].plot(
+        t6, a2_pend, "--", color="k", label=r"pendulum at $E(\mathrm{IS}^\ell_6)$"
+    )
     ax[0, 1].set_title(r"(b) $\alpha_2(t)$", fontsize=10)
     ax[0, 1].set_ylabel(r"$\alpha_2$ (rad)")
     ax[0, 1].legend(fontsize=8)
     ax[1, 0].plot(t_r, a2_r)
-    ax[1, 0].set_title(r"(c) $\alpha_2(t)$ of $IS^r_1$ near birth", fontsize=10)
+    ax[1, 0].set_title(
+        r"(c) $\alpha_2(t)$ of $\mathrm{IS}^r_1$ near birth", fontsize=10
+    )
     ax[1, 0].set_ylabel(r"$\alpha_2$ (rad)")
     ax[1, 1].plot(t_r, a2dot_r)
-    ax[1, 1].set_title(r"(d) $\dot\alpha_2(t)$ of $IS^r_1$", fontsize=10)
+    ax[1, 1].set_title(r"(d) $\dot\alpha_2(t)$ of $\mathrm{IS}^r_1$", fontsize=10)
     ax[1, 1].set_ylabel(r"$\dot\alpha_2$ (rad per unit time)")
     for a in ax.ravel():
-        a.set_xlabel("t (units of sqrt(r/g))")
+        a.set_xlabel(r"$t$ (units of $\sqrt{r/g}$)")
     fig.tight_layout()
     return fig
 
@@ -113,22 +131,24 @@ def duality(ns, diffs, fit, lame, figsize=(12, 4)):
     ax[0].semilogy(ns, diffs, "o", label="measured")
     b, a = fit
     nn = np.asarray(ns, float)
-    ax[0].semilogy(nn, np.exp(a - b * nn), "-", label=f"fit: exp({a:.2f} - {b:.3f} n)")
-    ax[0].set_xlabel(r"n (of $IS^\ell_n$)")
+    ax[0].semilogy(
+        nn, np.exp(a - b * nn), "-", label=f"fit: $\\exp({a:.2f} - {b:.3f}\\,n)$"
+    )
+    ax[0].set_xlabel(r"$n$ (of $\mathrm{IS}^\ell_n$)")
     ax[0].set_ylabel(r"$\log(4 - E_\ell) - \log(E_r - 4)$")
     ax[0].legend(fontsize=8)
     ax[1].plot(
         lame["w"],
         lame["lib"],
         lw=2.5,
-        label=r"$IS^\ell_1$: $\alpha_1(z)$, $z = \sqrt{3}\,t$",
+        label=r"$\mathrm{IS}^\ell_1$: $\alpha_1(z)$, $z = \sqrt{3}\,t$",
     )
     ax[1].plot(
         lame["w"],
         lame["rot"],
         "--",
         color="k",
-        label=r"$IS^r_1$: $\alpha_1(z)$, $z = \sqrt{3}\,k_r t$",
+        label=r"$\mathrm{IS}^r_1$: $\alpha_1(z)$, $z = \sqrt{3}\,k_r t$",
     )
     ax[1].set_xlabel(r"$z / z_{\max}$ (one librational period, two rotational periods)")
     ax[1].set_ylabel(r"$\alpha_1 / \alpha_1(0)$")
@@ -146,8 +166,8 @@ def rotational_reach(profiles, levels, figsize=(12, 4.2)):
     """
     fig, ax = plt.subplots(1, 2, figsize=figsize)
     for i, p in enumerate(profiles):
-        ax[0].plot(p.u, p.dE, ".-", ms=3, color=f"C{i}", label=f"${p.label}$")
-        ax[1].plot(p.t1, p.dE, ".-", ms=3, color=f"C{i}", label=f"${p.label}$")
+        ax[0].plot(p.u, p.dE, ".-", ms=3, color=f"C{i}", label=_tex(p.label))
+        ax[1].plot(p.t1, p.dE, ".-", ms=3, color=f"C{i}", label=_tex(p.label))
     for j, (lab, v) in enumerate(levels):
         for a in ax:
             a.axhline(v, color="k", lw=0.8, ls=[":", "--", "-."][j % 3], label=lab)

@@ -241,7 +241,7 @@ def plot_digit_cost(rows, title=None):
         d_err, [10.0**-k for k in d_err], "k:", lw=0.8, label=r"$10^{-\mathrm{digits}}$"
     )
     ax_t.set_xlabel("significant digits requested (digits)")
-    ax_t.set_ylabel("wall time of one orbit and its tr M (s)")
+    ax_t.set_ylabel(r"wall time of one orbit and its $\mathrm{tr}\,M$ (s)")
     ax_e.set_xlabel("significant digits requested (digits)")
     ax_e.set_ylabel(r"relative error of $\mathrm{tr}\,M$ (against 100 digits)")
     for ax in (ax_t, ax_e):
