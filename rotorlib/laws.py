@@ -70,6 +70,7 @@ __all__ += ["expected_ratio", "fan_prediction", "fan_traces", "amplitudes", "rat
 __all__ += ["asymptotic_a1", "asymptotic_a2_deficit", "DualPair", "dual_label"]
 __all__ += ["duality_pairs", "fit_rate", "dual_lame", "RotationalMember", "NotReached"]
 __all__ += ["rotational_member", "RotationalRatio", "rotational_ratios", "dE_str"]
+__all__ += ["rotational_members"]
 
 #: ``sqrt(3) pi``; ``delta^l = e^{sqrt3 pi}`` (230.76), ``sqrt(delta^l) = e^{sqrt3 pi / 2}`` (15.19).
 SQRT3_PI = math.sqrt(3.0) * math.pi
@@ -593,11 +594,7 @@ class RotationalRatio:
     reason: str = ""
 
 
-def rotational_ratios(specs, executor=None, progress=False) -> list:
-    """:class:`RotationalRatio` for each ``(kind, n)`` of ``specs`` (``n >= 3``); the members
-    (each once) through :func:`rotorlib.parallel.pmap` (``executor``: any
-    :class:`concurrent.futures.Executor`). Precision: ratios to ~1e-8 (float64 members) or
-    ~1e-15 (real128) relative, far below their distance to the limit."""
+def _check_specs(specs) -> list:
     specs = [(str(k), int(n)) for k, n in specs]
     for k, n in specs:
         if k not in ("IS", "PD") or n < 3:
@@ -605,8 +602,18 @@ def rotational_ratios(specs, executor=None, progress=False) -> list:
                 f"need kind 'IS' or 'PD' and n >= 3 (E_(n-2) must exist), "
                 f"got {(k, n)!r}"
             )
+    return specs
+
+
+def rotational_members(specs, executor=None, progress=False) -> dict:
+    """The members that :func:`rotational_ratios` needs for ``specs``, each once:
+    ``{(label, dE): RotationalMember}``, ``dE`` the decimal string of ``E - 4``
+    (:func:`dE_str`), or the :class:`NotReached` message (a string) for a family that
+    ends below ``dE``. Computed through :func:`rotorlib.parallel.pmap` (``executor``:
+    any :class:`concurrent.futures.Executor`); precision as in
+    :func:`rotational_member`."""
     tasks = []
-    for k, n in specs:
+    for k, n in _check_specs(specs):
         for task in (
             (f"{k}^r_{n}", dE_str(f"{k}^r_{n - 2}")),
             (f"{k}^r_{n + 2}", dE_str(f"{k}^r_{n}")),
@@ -620,7 +627,17 @@ def rotational_ratios(specs, executor=None, progress=False) -> list:
         progress=progress,
         desc="rotational members",
     )
-    res = dict(zip(tasks, found))
+    return dict(zip(tasks, found))
+
+
+def rotational_ratios(specs, executor=None, progress=False, members=None) -> list:
+    """:class:`RotationalRatio` for each ``(kind, n)`` of ``specs`` (``n >= 3``); the members
+    (each once) from :func:`rotational_members` (``executor``: any
+    :class:`concurrent.futures.Executor`), or from ``members``, a dict of the same form
+    (e.g. members stored by a script and checked). Precision: ratios to ~1e-8 (float64
+    members) or ~1e-15 (real128) relative, far below their distance to the limit."""
+    specs = _check_specs(specs)
+    res = rotational_members(specs, executor, progress) if members is None else members
     out = []
     with mp.workdps(40):
         for k, n in specs:

@@ -287,3 +287,21 @@ def test_rotational_member_too_unstable_for_float64_is_re_solved_in_real128():
         abs(m.a1_max / r.a1_max - 1) < 1e-12
         and abs(m.a2dot_min / r.a2dot_min - 1) < 1e-9
     )
+
+
+def test_rotational_ratios_from_given_members():
+    """rotational_ratios(members=...) forms the ratios from members given (as stored by
+    scripts/rotational_members.py) without computing any: the ratio is the quotient of the
+    amplitudes given, and a member given as a NotReached message makes the ratio nan."""
+    num_key = ("IS^r_3", laws.dE_str("IS^r_1"))
+    den_key = ("IS^r_5", laws.dE_str("IS^r_3"))
+    fields = dict(precision="float64", dE=1.0, dE_str="1", u=0.1, q=0.1, period=1.0)
+    fields.update(state0=np.zeros(4), trace=4.0, closure=0.0, residual=0.0)
+    num = laws.RotationalMember("IS^r_3", a1_max=6.0, a2dot_min=3.0, **fields)
+    den = laws.RotationalMember("IS^r_5", a1_max=2.0, a2dot_min=1.5, **fields)
+    (r,) = laws.rotational_ratios([("IS", 3)], members={num_key: num, den_key: den})
+    assert (r.alpha, r.beta) == (3.0, 2.0) and r.numerator is num and not r.reason
+    (r,) = laws.rotational_ratios(
+        [("IS", 3)], members={num_key: "IS^r_3 does not reach", den_key: den}
+    )
+    assert math.isnan(r.alpha) and r.numerator is None and "does not reach" in r.reason
