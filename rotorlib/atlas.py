@@ -13,14 +13,12 @@ symmetry relating the two fixed sets; its primitive period is found; a root clos
 to ~1e-4 (beside a very unstable orbit) is dropped; orbits related by the symmetry group
 or time reversal are merged (same period and action ``2 (E T - int V dt)``, and an image
 of one start state on the other orbit within ``SAME_ORBIT``); it is named after its known
-family (pendulum, breathers, IS/PD daughters, PD^b) or ``new``. :func:`census` runs the
-scan through :func:`rotorlib.parallel.pmap` (process pool or Dask cluster).
+family (pendulum, breathers, IS/PD daughters, PD^b, choreographies) or ``new``.
+:func:`census` runs the scan through :func:`rotorlib.parallel.pmap`.
 
 Precision: float64 scan and refinement (residual ~1e-13; ``tr M`` to ~1e-15 |tr M|); with
-``digits=D`` every orbit is re-solved in the tier of ``D`` digits and given to ``D`` digits
-(``tr M`` to ``D - 5``). Tested against an independent real128 integration and an
-independent census at E = 4.3, 5.45, 6.2, T_max = 16 (``tests/test_atlas.py``). Families
-and branch switching: :mod:`rotorlib.atlas_families`.
+``digits=D`` every orbit is re-solved and given to ``D`` digits (``tr M`` to ``D - 5``).
+Tested against an independent real128 integration and census (``tests/test_atlas.py``).
 """
 
 from __future__ import annotations

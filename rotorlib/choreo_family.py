@@ -29,10 +29,17 @@ from functools import cache
 import numpy as np
 
 from .choreo import T0, cg_problem, choreography_of, reduced_trace
-from .continuation import PALC, ContinuationOptions, Natural, continuation, member
+from .continuation import (
+    PALC,
+    ContinuationOptions,
+    FamilyEnd,
+    Natural,
+    continuation,
+    member,
+)
 from .periodic import PeriodicOrbit, periodic_orbit
 from .precision import FLOAT64, Tier, tier
-from .shooting import FamilyEnd, residual, solve
+from .shooting import residual, solve
 
 __all__ = [
     "LABELS",
@@ -308,7 +315,7 @@ def cg_orbit(E, digits: int | None = None, label: str = "CG") -> PeriodicOrbit:
         stable=bool(0 < float(trp) < 4),
         choreography=c.to_record() if c else None,
     )
-    if t.extended:
+    if t.extended and digits is not None:
         extra["trace_reduced_str"] = t.text(trp, int(digits) - 8)
     from dataclasses import replace
 

@@ -219,12 +219,12 @@ def weyl_correction(E, dE: float = 1e-5):
     -0.0833
     """
     E = np.atleast_1d(np.asarray(E, float))
-    out = []
+    values = []
     for e in E:
         lo = max(e - dE, 0.0)
         d = (_phase_space(e + dE, "area") - _phase_space(lo, "area")) / (e + dE - lo)
-        out.append(-(3.0 - e) * d / (24.0 * math.sqrt(3.0) * math.pi))
-    out = np.array(out)
+        values.append(-(3.0 - e) * d / (24.0 * math.sqrt(3.0) * math.pi))
+    out = np.array(values)
     return out if out.size > 1 else float(out[0])
 
 
@@ -287,12 +287,12 @@ def ratio_statistics(sectors, edges) -> RatioStatistics:
         raise ValueError(
             "edges must be an increasing sequence of at least two energies"
         )
-    E, r = [], []
+    E_parts, r_parts = [], []
     for lev in sectors:
         e, x = spacing_ratios(lev)
-        E.append(e)
-        r.append(x)
-    E, r = np.concatenate(E), np.concatenate(r)
+        E_parts.append(e)
+        r_parts.append(x)
+    E, r = np.concatenate(E_parts), np.concatenate(r_parts)
     idx = np.digitize(E, edges) - 1
     n = len(edges) - 1
     mean, err, cnt = np.full(n, np.nan), np.full(n, np.nan), np.zeros(n, int)
