@@ -174,9 +174,6 @@ def _check(E_values, t_max, grid):
         )
 
 
-# --------------------------------------------------------------------------- the scan
-
-
 def _scan_one(args):
     """Crossings of every fixed set from one start point: ``[(target, k, t, residual)]``."""
     si, u, E, t_half = args
@@ -280,9 +277,6 @@ def scan(si, E, t_half, grid, depth, executor, progress, window=None):
             us.insert(i + 1, u)
             rows.insert(i + 1, r)
     return us, rows
-
-
-# --------------------------------------------------------------------------- orbits
 
 
 def _problem(si, j, k, E, t_half):
