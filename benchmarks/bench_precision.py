@@ -1,7 +1,7 @@
 """Speed against accuracy: work-precision measurements for tr M and for a bifurcation.
 
 Run ``.venv/bin/python benchmarks/bench_precision.py`` (``--quick`` for fewer
-repeats). It prints the tables that ``book/10_precision.ipynb`` draws
+repeats). It prints the tables that ``book/12_precision.ipynb`` draws
 (time, error, integrator steps per method and setting) and checks the
 targets of issue 7, printing (never asserting) the outcome.
 
