@@ -33,6 +33,8 @@ _THEBE_HANDLERS = {"init_thebe_core", "update_thebe_context"}
 _LITERAL = re.compile(r"(``.+?``|`[^`]+`)")
 _UNDERLINE = re.compile(r"^\s*([-=~^\"'`#*+])\1{2,}\s*$")
 _TABLE_LINE = re.compile(r"^\s*[|+]")
+# the border of a reStructuredText simple table ("====  ======  ===")
+_SIMPLE_TABLE_BORDER = re.compile(r"^\s*=+(\s+=+)+\s*$")
 
 
 def _disconnect_thebe(app: Sphinx) -> None:
@@ -89,13 +91,18 @@ def _process_docstring(app, what, name, obj, options, lines: list[str]) -> None:
     out: list[str] = []
     i = 0
     literal = None  # indentation of the paragraph that opened a literal block (::)
+    borders = 0  # border lines of a simple table seen so far (inside while 1 or 2)
     while i < len(lines):
         line = lines[i]
         nxt = lines[i + 1] if i + 1 < len(lines) else ""
         indent = len(line) - len(line.lstrip())
         if literal is not None and line.strip() and indent <= literal:
             literal = None
-        if literal is None and line.strip():
+        if _SIMPLE_TABLE_BORDER.match(line):
+            borders = (borders + 1) % 3  # top, under the header, bottom
+        # a simple table's columns are as wide as its borders: typesetting a label
+        # would make a cell wider than its column ("Malformed table")
+        if literal is None and line.strip() and not borders:
             if line.rstrip().endswith("::"):
                 literal = indent
             line = _typeset_labels(line)
