@@ -132,7 +132,7 @@ class Atlas:
 
 def budget_seconds(E_values, t_max, grid=300) -> float:
     """A census's cost in seconds of one core (CPU time): per energy ``(BASE + GROWTH
-    exp(RATE (T_max - 16)) grid / 300) max(1, E / 5.45)`` (:data:`BUDGET_MODEL`, fitted
+    exp(RATE (T_max - 16)) grid / 300) max(1, E / 5.45)`` (``BUDGET_MODEL``, fitted
     to the CPU time of ``atlas([5.45], T)``, 3.5, 7.7 and 25.3 s at T = 8, 12, 16, serial,
     ``nice -n 10`` on the 2-core CI machine). Measured accuracy: within 2% of that fit;
     1.2-1.25x over at ``E = 8`` (T = 8, 12); over below the band (1.2-1.7x at

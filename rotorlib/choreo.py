@@ -308,7 +308,7 @@ def atlas_name(label: str, E, state0, period, name: bool = True) -> tuple:
 
     A choreography (:func:`choreography_of`) not already named is ``CG`` or ``CT`` when
     its period is that of the family at ``E`` (to 1e-7), else ``choreography``; its record
-    (:meth:`Choreography.to_record`) is the atlas's ``choreography`` field. With
+    (``Choreography.to_record()``) is the atlas's ``choreography`` field. With
     ``name=False`` (an unnamed census) nothing is tested: ``(label, None)``.
 
     Examples

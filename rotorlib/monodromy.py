@@ -329,7 +329,7 @@ def trace_monodromy(orbit=None, **kwargs) -> Any:
     float or mpmath.mpf
         A float in float64 (``digits`` None or <= 15); with ``digits > 15`` the
         extended-precision value, an ``mpf`` holding every digit of
-        :attr:`Monodromy.trace_str` (``digits`` significant digits), never its
+        ``Monodromy.trace_str`` (``digits`` significant digits), never its
         float64 rounding.
 
     Examples
