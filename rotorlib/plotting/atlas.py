@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import matplotlib.pyplot as plt
 import numpy as np
+from matplotlib.ticker import MaxNLocator
 
 __all__ = [
     "plot_sweep",
@@ -29,13 +30,14 @@ def plot_sweep(atlases, cf=None):
     ax.plot([], [], "o", color="C3", label="linearly stable")
     for x in (ax, bx):
         x.axvspan(*BAND, color="C0", alpha=0.12, lw=0)
-        x.set_xlabel("energy E (units of g)")
-    ax.set_ylabel("period T (units of sqrt(m r^2 / g))")
+        x.set_xlabel(r"energy $E$ ($g$)")
+    ax.set_ylabel(r"period $T$ ($\sqrt{m r^2 / g}$)")
     ax.legend(loc="upper left", fontsize=8)
-    ax.set_title("symmetric periodic orbits, T <= T_max")
+    ax.set_title(r"symmetric periodic orbits, $T \leq T_\max$")
     E = [a.E for a in atlases]
     bx.step(E, [len(a.stable) for a in atlases], where="mid", color="C3")
     bx.set_ylabel("number of linearly stable orbits", color="C3")
+    bx.yaxis.set_major_locator(MaxNLocator(integer=True))
     if cf is not None:
         cx = bx.twinx()
         cx.errorbar(cf.E, cf.fraction, cf.stderr, fmt="s-", color="C0", ms=4)
@@ -50,12 +52,12 @@ def plot_growth(periods, T_fit, slope, intercept):
     """``N(T)``: the number of orbits with period ``<= T`` (log scale) and the fit."""
     fig, ax = plt.subplots(figsize=(6, 4))
     T = np.sort(periods)
-    ax.step(T, np.arange(1, len(T) + 1), where="post", label="N(T), census")
+    ax.step(T, np.arange(1, len(T) + 1), where="post", label=r"$N(T)$, census")
     t = np.linspace(*T_fit, 50)
-    ax.plot(t, np.exp(intercept + slope * t), "--", label=f"exp({slope:.2f} T)")
+    ax.plot(t, np.exp(intercept + slope * t), "--", label=rf"$\exp({slope:.2f}\,T)$")
     ax.set_yscale("log")
-    ax.set_xlabel("period T (units of sqrt(m r^2 / g))")
-    ax.set_ylabel("number of orbits with period <= T")
+    ax.set_xlabel(r"period $T$ ($\sqrt{m r^2 / g}$)")
+    ax.set_ylabel(r"number $N(T)$ of orbits with period $\leq T$")
     ax.legend()
     fig.tight_layout()
     return fig
@@ -65,15 +67,22 @@ def plot_family_trace(fam, E_fold=None):
     """``tr M`` against E along one atlas family, the stable strip ``0 < tr M < 4``."""
     fig, ax = plt.subplots(figsize=(6.5, 4))
     ax.axhspan(
-        0, 4, color="C2", alpha=0.15, lw=0, label="linearly stable: 0 < tr M < 4"
+        0,
+        4,
+        color="C2",
+        alpha=0.15,
+        lw=0,
+        label=r"linearly stable: $0 < \mathrm{tr}\,M < 4$",
     )
-    ax.plot(fam.E, fam.trace, ".-", color="C3", label="tr M along the family")
+    ax.plot(
+        fam.E, fam.trace, ".-", color="C3", label=r"$\mathrm{tr}\,M$ along the family"
+    )
     for kind, E in fam.points:
         ax.axvline(E, color="0.5", lw=0.8, ls=":")
     if E_fold is not None:
         ax.axvline(E_fold, color="k", lw=1, ls="--", label="fold of the family")
-    ax.set_xlabel("energy E (units of g)")
-    ax.set_ylabel("tr M")
+    ax.set_xlabel(r"energy $E$ ($g$)")
+    ax.set_ylabel(r"$\mathrm{tr}\,M$")
     ax.legend(fontsize=8)
     fig.tight_layout()
     return fig
@@ -99,12 +108,14 @@ def plot_islands(sections, checks):
                 color="C3" if st else "k",
                 ms=6,
                 mfc="none" if st else None,
-                label=f"T = {c.orbit.period:.3f}, tr M = {c.orbit.trace:.3g}",
+                label=rf"$T = {c.orbit.period:.3f}$, $\mathrm{{tr}}\,M = {c.orbit.trace:.3g}$",
             )
-        ax.set_xlabel("phi2 (rad), section phi1 = 0, phi1' > 0")
-        ax.set_ylabel("P2 (units of sqrt(m r^2 g))")
-        ax.set_title(f"E = {E:g}")
-        ax.legend(fontsize=7, loc="upper right")
+        ax.set_xlabel(
+            r"$\varphi_2$ (rad), section $\varphi_1 = 0$, $\dot\varphi_1 > 0$"
+        )
+        ax.set_ylabel(r"$P_2$ ($\sqrt{m r^2 g}$)")
+        ax.set_title(f"$E = {E:g}$")
+        ax.legend(fontsize=8, loc="upper right")
     fig.tight_layout()
     return fig
 
@@ -116,7 +127,12 @@ def plot_cascade(cas):
     fig, ax = plt.subplots(figsize=(7, 4))
     E0 = cas.births[-1]
     ax.axhspan(
-        0, 4, color="C2", alpha=0.15, lw=0, label="linearly stable: 0 < tr M < 4"
+        0,
+        4,
+        color="C2",
+        alpha=0.15,
+        lw=0,
+        label=r"linearly stable: $0 < \mathrm{tr}\,M < 4$",
     )
     for n, (f, T) in enumerate(zip(cas.families[1:], cas.periods), start=2):
         keep = np.abs(f.trace) < 40
@@ -125,14 +141,14 @@ def plot_cascade(cas):
             f.trace[keep],
             ".-",
             ms=3,
-            label=f"generation {n}, T = {T:.3f}",
+            label=f"generation {n}, $T = {T:.3f}$",
         )
     for E in cas.births:
         ax.axvline(E - E0, color="0.5", lw=0.8, ls=":")
     ax.set_xscale("symlog", linthresh=1e-7)
     ax.set_ylim(-6, 10)
-    ax.set_xlabel(f"E - {E0:.10f} (units of g)")
-    ax.set_ylabel("tr M")
+    ax.set_xlabel(f"$E - {E0:.10f}$ ($g$)")
+    ax.set_ylabel(r"$\mathrm{tr}\,M$")
     ax.legend(fontsize=8)
     fig.tight_layout()
     return fig

@@ -21,7 +21,7 @@ BAND = (5.33, 5.6)
 
 
 def _band(ax):
-    ax.axvspan(*BAND, color="0.85", zorder=0, label="band 5.33-5.6")
+    ax.axvspan(*BAND, color="0.85", zorder=0, label=r"band $5.33 \leq E \leq 5.6$")
 
 
 def plot_band_traces(curves):
@@ -56,12 +56,14 @@ def plot_sections(sections, ncols=3):
     n = len(sections)
     nrows = (n + ncols - 1) // ncols
     fig, axes = plt.subplots(
-        nrows, ncols, figsize=(4 * ncols, 3.4 * nrows), squeeze=False, dpi=80
+        nrows, ncols, figsize=(4 * ncols, 3.4 * nrows), squeeze=False, dpi=150
     )
     for ax, s in zip(axes.ravel(), sections):
         for k, (x, y) in enumerate(zip(s.phi2, s.P2)):
-            ax.plot(x, y, ",", color=plt.cm.tab10(k % 10), antialiased=False)
-        ax.set_title(f"E = {s.E:g}" + ("  (band)" if BAND[0] <= s.E <= BAND[1] else ""))
+            ax.plot(x, y, ".", ms=1.5, mew=0, color=plt.cm.tab10(k % 10))
+        ax.set_title(
+            f"$E = {s.E:g}$" + ("  (band)" if BAND[0] <= s.E <= BAND[1] else "")
+        )
         ax.set_xlabel(r"$\varphi_2$ (rad)")
         ax.set_ylabel(r"$\tilde p_2$")
         ax.set_xlim(0, 2 * np.pi)
@@ -82,9 +84,9 @@ def plot_fraction(cf):
         fmt="o-",
         ms=3,
         capsize=2,
-        label=rf"FTLE $> {cf.threshold:g}$ (N = {cf.N}, T = {cf.T:g})",
+        label=rf"$\lambda_T > {cf.threshold:g}$ ($N = {cf.N}$, $T = {cf.T:g}$)",
     )
-    ax.axvline(4.0, color="C3", lw=0.6, ls="--", label="E = 4 (pendulum separatrix)")
+    ax.axvline(4.0, color="C3", lw=0.6, ls="--", label=r"$E = 4$ (pendulum separatrix)")
     ax.set_ylim(-0.03, 1.03)
     ax.set_xlabel(r"energy $E$ ($g$)")
     ax.set_ylabel("fraction of the energy shell")
@@ -99,7 +101,7 @@ def plot_ftle_histograms(cf, energies, threshold=None):
     bins = np.linspace(0, max(0.8, max(np.max(x) for x in cf.ftles)), 60)
     for E in energies:
         k = int(np.argmin(np.abs(cf.E - E)))
-        ax.hist(cf.ftles[k], bins=bins, histtype="step", label=f"E = {cf.E[k]:g}")
+        ax.hist(cf.ftles[k], bins=bins, histtype="step", label=f"$E = {cf.E[k]:g}$")
     ax.axvline(
         threshold if threshold is not None else cf.threshold,
         color="k",
@@ -131,8 +133,18 @@ def plot_rotational_branches(branches, E_max=4.5, trace_cap=1e12):
     )
     for i, b in enumerate(branches):
         tr = np.where(np.abs(b.trace) <= trace_cap, b.trace, np.nan)
-        ax.plot(b.E, tr, ".-", ms=2, lw=1, color=f"C{i % 10}", label=f"${b.label}$")
-    ax.axvline(E_max, color="k", ls="--", lw=0.8, label=f"E = {E_max:g} (max of V)")
+        ax.plot(
+            b.E,
+            tr,
+            ".-",
+            ms=2,
+            lw=1,
+            color=f"C{i % 10}",
+            label="$\\mathrm{{{}}}^{}$".format(*b.label.split("^", 1)),
+        )
+    ax.axvline(
+        E_max, color="k", ls="--", lw=0.8, label=f"$E = {E_max:g}$ (maximum of $V$)"
+    )
     ax.set_yscale("symlog", linthresh=5.0, linscale=2.0)
     ax.set_ylim(-2 * trace_cap, 2 * trace_cap)
     ax.set_xlabel(r"energy $E$ ($g$, with $m = g = r = 1$)")
