@@ -82,12 +82,16 @@ source scripts/perturbed_env.sh   # defines `perturbed` (used below)
 "$PY" scripts/fp_environment.py
 NBVAL=(--nbval --nbval-current-env --nbval-cell-timeout=600
        --nbval-sanitize-with book/nbval_sanitize.cfg book/)
-part "nbval book/" run_pytest "$n_nb" "${XDIST[@]}" "${NBVAL[@]}"
+mkdir -p _build
+part "nbval book/" run_pytest "$n_nb" "${XDIST[@]}" "${NBVAL[@]}" --junitxml=_build/nbval.xml
 
 # The same notebooks again, in a floating-point environment that imitates another
 # CPU (OpenBLAS kernel, numpy SIMD groups, one thread: scripts/perturbed_env.sh).
 # A number that moves there is printed with more digits than its computation has.
-part "nbval book/ (perturbed)" perturbed run_pytest "$n_nb" "${XDIST[@]}" "${NBVAL[@]}"
+part "nbval book/ (perturbed)" perturbed run_pytest "$n_nb" "${XDIST[@]}" "${NBVAL[@]}" \
+    --junitxml=_build/nbval_perturbed.xml
+# each chapter's execution time in both runs (the sum of its cells' times)
+"$PY" scripts/chapter_times.py _build/nbval.xml _build/nbval_perturbed.xml || true
 
 if [ "${#failed[@]}" -gt 0 ]; then
     echo "run_tests: FAILED: $(IFS=,; echo "${failed[*]}" | sed 's/,/, /g')"
