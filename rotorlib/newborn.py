@@ -10,14 +10,11 @@ from the energy. The Lamé analysis of the transverse equation (the coefficient-
 at the half period of the coefficient is ``[[Delta/2, 2 y2 y2'], [2 y1 y1',
 Delta/2]]``) fixes where and how the orbit meets the second fixed set:
 
-========  ==========================  ========================  =========================
-family    section (event)             condition                 period
-========  ==========================  ========================  =========================
-IS^l      ``p2 = 0`` (a2 turns)       ``p1 = 0`` or ``a1 = 0``  ``4 t1`` (= tau)
-PD^l      ``a2 = 0`` going down       ``a1 = 0``                ``4 t1`` (= 2 tau)
-IS^r      ``a2 = pi``                 same type as start        ``2 t1`` (= tau)
-PD^r      ``a2 = pi``                 other type                ``4 t1`` (= 2 tau)
-========  ==========================  ========================  =========================
+* IS^l: section ``p2 = 0`` (a2 turns), condition ``p1 = 0`` or ``a1 = 0``, period
+  ``4 t1`` (= tau);
+* PD^l: section ``a2 = 0`` going down, condition ``a1 = 0``, period ``4 t1`` (= 2 tau);
+* IS^r: section ``a2 = pi``, condition of the start's type, period ``2 t1`` (= tau);
+* PD^r: section ``a2 = pi``, condition of the other type, period ``4 t1`` (= 2 tau).
 
 For IS^l the condition is of the start's type when ``Delta = +2`` at the
 bifurcation (IS^l_{1,2,5,6}) and of the other type when ``Delta = -2``

@@ -82,8 +82,11 @@ def json_number(key: str, value, text: str | None = None, note: str = "") -> dic
     {'E': 1.0}
     >>> json_number("E", 4.0, "3.99999999999999999999")
     {'E': 4.0, 'E_str': '3.99999999999999999999'}
-    >>> json_number("trace", float("inf"), "2.5e+400")
-    {'trace': None, 'trace_str': '2.5e+400', 'trace_note': 'beyond the float64 range: see trace_str'}
+    >>> rec = json_number("trace", float("inf"), "2.5e+400")
+    >>> rec["trace"], rec["trace_str"]
+    (None, '2.5e+400')
+    >>> rec["trace_note"]
+    'beyond the float64 range: see trace_str'
     """
     v = None if value is None else float(value)
     if text:  # the number is the float64 rounding of every digit, when they are given

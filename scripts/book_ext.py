@@ -92,6 +92,7 @@ def _process_docstring(app, what, name, obj, options, lines: list[str]) -> None:
     i = 0
     literal = None  # indentation of the paragraph that opened a literal block (::)
     borders = 0  # border lines of a simple table seen so far (inside while 1 or 2)
+    last_column = 0  # where the last column of that table starts
     while i < len(lines):
         line = lines[i]
         nxt = lines[i + 1] if i + 1 < len(lines) else ""
@@ -100,9 +101,13 @@ def _process_docstring(app, what, name, obj, options, lines: list[str]) -> None:
             literal = None
         if _SIMPLE_TABLE_BORDER.match(line):
             borders = (borders + 1) % 3  # top, under the header, bottom
-        # a simple table's columns are as wide as its borders: typesetting a label
-        # would make a cell wider than its column ("Malformed table")
-        if literal is None and line.strip() and not borders:
+            last_column = line.rstrip().rfind(" ") + 1
+        # a simple table's columns are as wide as its borders: a typeset label would
+        # make a cell wider than its column ("Malformed table"), except in the last
+        # column, whose text may run past the border
+        if literal is None and borders and len(line) > last_column:
+            line = line[:last_column] + _typeset_labels(line[last_column:])
+        elif literal is None and line.strip() and not borders:
             if line.rstrip().endswith("::"):
                 literal = indent
             line = _typeset_labels(line)
