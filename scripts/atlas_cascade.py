@@ -13,8 +13,6 @@ cores; chapter 09 reads this file and checks it by recomputing the first generat
 
 from __future__ import annotations
 
-import argparse
-import json
 import sys
 import time
 from concurrent.futures import ProcessPoolExecutor
@@ -22,6 +20,8 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
+
+from data_product import arguments, write_json  # noqa: E402
 
 from rotorlib import atlas  # noqa: E402
 from rotorlib import atlas_families as af  # noqa: E402
@@ -58,12 +58,8 @@ def record(f) -> dict:
 
 
 def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--workers", type=int, default=2)
-    ap.add_argument("--out", type=Path, default=OUT)
-    args = ap.parse_args(argv)
-    if args.workers < 1:
-        print("atlas_cascade: --workers must be >= 1", file=sys.stderr)
+    args = arguments("atlas_cascade", __doc__, OUT, argv)
+    if args is None:
         return 2
     t0 = time.perf_counter()
     with ProcessPoolExecutor(args.workers) as pool:
@@ -84,12 +80,7 @@ def main(argv=None) -> int:
         "periods": list(cas.periods),
         "families": [record(f) for f in cas.families[1:]],
     }
-    args.out.parent.mkdir(parents=True, exist_ok=True)
-    args.out.write_text(json.dumps(data, indent=1) + "\n")
-    print(
-        f"atlas_cascade: {GENERATIONS} generations written to {args.out} "
-        f"in {time.perf_counter() - t0:.0f} s"
-    )
+    write_json("atlas_cascade", args.out, data, f"{GENERATIONS} generations", t0)
     return 0
 
 

@@ -13,8 +13,6 @@ orbits with T <= 12, recomputed in the chapter and compared point by point).
 
 from __future__ import annotations
 
-import argparse
-import json
 import sys
 import time
 from concurrent.futures import ProcessPoolExecutor
@@ -22,6 +20,8 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
+
+from data_product import arguments, write_json  # noqa: E402
 
 from rotorlib import atlas  # noqa: E402
 from rotorlib import atlas_families as af  # noqa: E402
@@ -31,12 +31,8 @@ OUT = ROOT / "book" / "data" / "atlas_families_E5.45_T16.json"
 
 
 def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--workers", type=int, default=2)
-    ap.add_argument("--out", type=Path, default=OUT)
-    args = ap.parse_args(argv)
-    if args.workers < 1:
-        print("atlas_families: --workers must be >= 1", file=sys.stderr)
+    args = arguments("atlas_families", __doc__, OUT, argv)
+    if args is None:
         return 2
     t0 = time.perf_counter()
     with ProcessPoolExecutor(args.workers) as pool:
@@ -66,12 +62,7 @@ def main(argv=None) -> int:
         "generated_by": "scripts/atlas_families.py",
         "families": records,
     }
-    args.out.parent.mkdir(parents=True, exist_ok=True)
-    args.out.write_text(json.dumps(data, indent=1) + "\n")
-    print(
-        f"atlas_families: {len(records)} families written to {args.out} "
-        f"in {time.perf_counter() - t0:.0f} s"
-    )
+    write_json("atlas_families", args.out, data, f"{len(records)} families", t0)
     return 0
 
 

@@ -10,8 +10,6 @@ file and checks it by recomputing the censuses at three of its energies.
 
 from __future__ import annotations
 
-import argparse
-import json
 import sys
 import time
 from concurrent.futures import ProcessPoolExecutor
@@ -19,6 +17,8 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
+
+from data_product import arguments, write_json  # noqa: E402
 
 from rotorlib import atlas  # noqa: E402
 
@@ -28,12 +28,8 @@ OUT = ROOT / "book" / "data" / "atlas_sweep_T8.json"
 
 
 def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--workers", type=int, default=2)
-    ap.add_argument("--out", type=Path, default=OUT)
-    args = ap.parse_args(argv)
-    if args.workers < 1:
-        print("atlas_sweep: --workers must be >= 1", file=sys.stderr)
+    args = arguments("atlas_sweep", __doc__, OUT, argv)
+    if args is None:
         return 2
     t0 = time.perf_counter()
     with ProcessPoolExecutor(args.workers) as pool:
@@ -63,12 +59,7 @@ def main(argv=None) -> int:
             for a in sweep
         ],
     }
-    args.out.parent.mkdir(parents=True, exist_ok=True)
-    args.out.write_text(json.dumps(data, indent=1) + "\n")
-    print(
-        f"atlas_sweep: {len(sweep)} censuses written to {args.out} "
-        f"in {time.perf_counter() - t0:.0f} s"
-    )
+    write_json("atlas_sweep", args.out, data, f"{len(sweep)} censuses", t0)
     return 0
 
 

@@ -11,8 +11,6 @@ recomputes four of the fits itself to check it.
 
 from __future__ import annotations
 
-import argparse
-import json
 import sys
 import time
 from concurrent.futures import ProcessPoolExecutor
@@ -21,6 +19,8 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
+
+from data_product import arguments, write_json  # noqa: E402
 
 from rotorlib import laws  # noqa: E402
 from rotorlib.parallel import pmap  # noqa: E402
@@ -31,12 +31,8 @@ OUT = ROOT / "book" / "data" / "newborn_slopes.json"
 
 
 def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--workers", type=int, default=2)
-    ap.add_argument("--out", type=Path, default=OUT)
-    args = ap.parse_args(argv)
-    if args.workers < 1:
-        print("newborn_slopes: --workers must be >= 1", file=sys.stderr)
+    args = arguments("newborn_slopes", __doc__, OUT, argv)
+    if args is None:
         return 2
     t0 = time.perf_counter()
     with ProcessPoolExecutor(args.workers) as pool:
@@ -53,12 +49,7 @@ def main(argv=None) -> int:
         "generated_by": "scripts/newborn_slopes.py",
         "slopes": records,
     }
-    args.out.parent.mkdir(parents=True, exist_ok=True)
-    args.out.write_text(json.dumps(data, indent=1) + "\n")
-    print(
-        f"newborn_slopes: {len(records)} fits written to {args.out} "
-        f"in {time.perf_counter() - t0:.0f} s"
-    )
+    write_json("newborn_slopes", args.out, data, f"{len(records)} fits", t0)
     return 0
 
 

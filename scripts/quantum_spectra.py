@@ -11,7 +11,6 @@ against levels it recomputes itself (the A1 sector at hbar = 0.03 below E = 4).
 
 from __future__ import annotations
 
-import argparse
 import sys
 import time
 from concurrent.futures import ProcessPoolExecutor
@@ -22,6 +21,8 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
+from data_product import arguments  # noqa: E402
+
 from rotorlib import quantum  # noqa: E402
 
 RUNS = ((0.03, 8.0), (0.02, 6.5))
@@ -29,12 +30,8 @@ OUT = ROOT / "book" / "data" / "quantum_spectra.npz"
 
 
 def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--workers", type=int, default=2)
-    ap.add_argument("--out", type=Path, default=OUT)
-    args = ap.parse_args(argv)
-    if args.workers < 1:
-        print("quantum_spectra: --workers must be >= 1", file=sys.stderr)
+    args = arguments("quantum_spectra", __doc__, OUT, argv)
+    if args is None:
         return 2
     data = {}
     ex = ProcessPoolExecutor(args.workers) if args.workers > 1 else None

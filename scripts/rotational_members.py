@@ -14,8 +14,6 @@ it, and recomputes some of the members itself to check it.
 
 from __future__ import annotations
 
-import argparse
-import json
 import sys
 import time
 from concurrent.futures import ProcessPoolExecutor
@@ -24,6 +22,8 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
+
+from data_product import arguments, write_json  # noqa: E402
 
 from rotorlib import laws  # noqa: E402
 
@@ -41,12 +41,8 @@ def as_record(label, dE, m) -> dict:
 
 
 def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--workers", type=int, default=2)
-    ap.add_argument("--out", type=Path, default=OUT)
-    args = ap.parse_args(argv)
-    if args.workers < 1:
-        print("rotational_members: --workers must be >= 1", file=sys.stderr)
+    args = arguments("rotational_members", __doc__, OUT, argv)
+    if args is None:
         return 2
     t0 = time.perf_counter()
     with ProcessPoolExecutor(args.workers) as pool:
@@ -59,12 +55,7 @@ def main(argv=None) -> int:
         "generated_by": "scripts/rotational_members.py",
         "members": [as_record(lab, dE, m) for (lab, dE), m in found.items()],
     }
-    args.out.parent.mkdir(parents=True, exist_ok=True)
-    args.out.write_text(json.dumps(data, indent=1) + "\n")
-    print(
-        f"rotational_members: {len(found)} members written to {args.out} "
-        f"in {time.perf_counter() - t0:.0f} s"
-    )
+    write_json("rotational_members", args.out, data, f"{len(found)} members", t0)
     return 0
 
 
