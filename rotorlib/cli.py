@@ -70,6 +70,19 @@ def finite(value):
     return value
 
 
+def add_executor_arguments(p: argparse.ArgumentParser) -> None:
+    """``--workers N`` or ``--scheduler ADDRESS`` (one of them): where a scanning command
+    runs, for :func:`rotorlib.parallel.executor_for`."""
+    g = p.add_mutually_exclusive_group()
+    g.add_argument("--workers", type=int, default=None, help="local worker processes")
+    g.add_argument(
+        "--scheduler",
+        default=None,
+        metavar="ADDRESS",
+        help="tcp:// address of a running Dask scheduler",
+    )
+
+
 def emit(records, as_json: bool, columns, one: bool = True) -> None:
     """Print records as JSON (a list when several, one object when one and ``one``) or
     as a table (a column shows ``<column>_str``, every digit, where a record has it)."""

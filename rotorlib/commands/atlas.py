@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import sys
 
-from ..cli import emit
+from ..cli import add_executor_arguments, emit
 from ..energy import as_float
 from ..precision import check_digits
 
@@ -51,14 +51,7 @@ def register(sub):
         "(default: float64)",
     )
     p.add_argument("--json", action="store_true", help="print a JSON list of records")
-    g = p.add_mutually_exclusive_group()
-    g.add_argument("--workers", type=int, default=None, help="local worker processes")
-    g.add_argument(
-        "--scheduler",
-        default=None,
-        metavar="ADDRESS",
-        help="tcp:// address of a running Dask scheduler",
-    )
+    add_executor_arguments(p)
     p.set_defaults(func=run)
 
 

@@ -11,7 +11,7 @@ from __future__ import annotations
 import argparse
 import math
 
-from ..cli import emit
+from ..cli import add_executor_arguments, emit
 from ..energy import as_float
 
 _DESCRIPTION = """\
@@ -47,14 +47,7 @@ def register(sub):
         action="store_true",
         help="print one JSON object (levels, sectors, convergence, basis sizes)",
     )
-    g = p.add_mutually_exclusive_group()
-    g.add_argument("--workers", type=int, default=None, help="local worker processes")
-    g.add_argument(
-        "--scheduler",
-        default=None,
-        metavar="ADDRESS",
-        help="tcp:// address of a running Dask scheduler",
-    )
+    add_executor_arguments(p)
     p.set_defaults(func=run)
 
 
