@@ -35,6 +35,7 @@ from .continuation import (
     FamilyEnd,
     Natural,
     continuation,
+    illinois,
     member,
 )
 from .periodic import PeriodicOrbit, periodic_orbit
@@ -360,35 +361,21 @@ def _at_u(u, E_guess, t: Tier = FLOAT64):
 
 
 def _locate(g, ua, ub, Ea, t: Tier, tol=1e-13):
-    """The ``u`` in ``(ua, ub)`` where ``g(at(u)) = 0`` by the Illinois method; returns
-    ``(u, at(u))``."""
+    """The ``u`` in ``(ua, ub)`` where ``g(at(u)) = 0``, by the engine's Illinois method
+    (:func:`rotorlib.continuation.illinois`); returns ``(u, at(u))``."""
     E_last = [Ea]
 
-    def at(u):
+    def at(v):
+        u = ua + v
         r = _at_u(u, E_last[0], t)
         E_last[0] = r[0]
-        return r
+        return u, r
 
-    fa, fb = g(at(ua)), g(at(ub))
-    a, b, side = ua, ub, 0
-    r = None
-    for _ in range(80):
-        c = (a * fb - b * fa) / (fb - fa)
-        r = at(c)
-        fc = g(r)
-        if fc == 0 or abs(b - a) < tol * abs(c):
-            break
-        if (fc > 0) == (fb > 0):
-            b, fb = c, fc
-            fa = fa / 2 if side == -1 else fa
-            side = -1
-        else:
-            a, fa = c, fc
-            fb = fb / 2 if side == 1 else fb
-            side = 1
-        if abs(b - a) < tol * abs(c):
-            break
-    return c, r
+    def g_of(m):
+        return g(m[1])
+
+    fa, fb = g_of(at(0 * (ub - ua))), g_of(at(ub - ua))
+    return illinois(g_of, at, ub - ua, fa, fb, tol)
 
 
 def _column(name):

@@ -8,9 +8,8 @@ members and special points. :class:`Natural` steps ``u`` or ``E`` through given 
 ``[r = 0, tangent . (X - X_k) = ds]``) passes folds. Both honour the stopping rules of
 :class:`ContinuationOptions`. Events (:class:`SpecialPoint`): ``fold``, ``E`` (a
 requested energy), ``IS`` / ``PD`` (``tr M`` crosses 4 / 0, with ``options.traces``),
-located between members and re-solved. ``Branch.stop`` says why it ended (``values``,
-``steps``, ``E range``, ``period``: ``t1`` beyond ``t1_max``, ``event``, ``stuck``),
-``Branch.reason`` in one sentence. Members satisfy ``|r| < options.r_max`` (default
+located between members by :func:`illinois`. ``Branch.stop`` says why it ended (``values``,
+``steps``, ``E range``, ``period``: ``t1 > t1_max``, ``event``, ``stuck``); ``reason`` too. Members satisfy ``|r| < options.r_max`` (default
 1e-8 float64, ``eps^(2/3)`` extended); located events are solved to the tier's precision.
 """
 
@@ -26,6 +25,7 @@ from .shooting import NoConvergence, ShootingProblem, residual, solve
 
 __all__ = ["Member", "SpecialPoint", "Branch", "Natural", "PALC", "ContinuationOptions"]
 __all__ += ["continuation", "member", "switch", "switch_branch", "FamilyEnd"]
+__all__ += ["illinois"]
 
 NAN = float("nan")
 
@@ -554,7 +554,7 @@ def _between(problem, t, alg, members, i, j, opts):
     return at, Xb[k]
 
 
-def _illinois(g, at, vb, ga, gb, tol, maxiter=100):
+def illinois(g, at, vb, ga, gb, tol, maxiter=100):
     """The member ``at(v)`` where ``g`` vanishes for ``v`` in ``(0, vb)`` (``g`` of opposite
     signs ``ga``, ``gb`` at the ends): the Illinois variant of regula falsi, a bracketing
     superlinear method that works on floats and mpf alike."""
@@ -601,7 +601,7 @@ def _events(problem, t, branch_members, opts, alg):
                     if t.extended and kind != "E":  # tr M has ~d - log10|M| digits
                         tol = t.num(t.eps) ** t.num(0.5)
                     out.append(
-                        SpecialPoint(kind, _illinois(g, at, vb, g(a), g(b), tol), k - 1)
+                        SpecialPoint(kind, illinois(g, at, vb, g(a), g(b), tol), k - 1)
                     )
                 except (SectionNotReached, ValueError):
                     out.append(SpecialPoint(kind, b, k - 1, False))
