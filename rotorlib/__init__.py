@@ -4,6 +4,9 @@ A small library reproducing Krishnaswami & Yadav, "Bifurcation cascade,
 self-similarity and duality in the 3-rotor problem", Chaos 33, 083101 (2023),
 arXiv:2303.01057. Units m = g = r = 1 throughout.
 
+Front door (:mod:`rotorlib.api`): ``orbit``, ``family``, ``transition``, ``census``;
+``digits`` the one precision argument; every result has ``to_dict()``.
+
 Modules, by section of the paper
 --------------------------------
 ===============  ======  ======================================================================
@@ -37,6 +40,7 @@ parallel         --      sweeps on a process pool or a Dask cluster (pmap)
 ===============  ======  ======================================================================
 """
 
+from .api import LABELS, census, family, orbit, transition
 from .energy import BreatherEnergy, PendulumEnergy, breather_energy, pendulum_energy
 from .hill import heyoka_available, precision_tier
 from .monodromy import (
@@ -55,6 +59,7 @@ from .orbits import (
     pendulum,
     separatrix_pendulum_state,
 )
+from .periodic import PeriodicOrbit
 from .system import (
     BREATHER_SEPARATRIX_ENERGY,
     SEPARATRIX_ENERGY,
@@ -69,6 +74,12 @@ from .system import (
 __version__ = "0.1.0"
 
 __all__ = [
+    "orbit",
+    "family",
+    "transition",
+    "census",
+    "LABELS",
+    "PeriodicOrbit",
     "BreatherEnergy",
     "PendulumEnergy",
     "breather_energy",

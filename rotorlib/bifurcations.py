@@ -155,7 +155,7 @@ class Transition:
         """The §5 class: ``IS^l_odd``, ``IS^l_even``, ``PD^l``, ``IS^r_odd``, ... ."""
         return transition_class(self.kind, self.phase, self.n)
 
-    def to_record(self) -> dict:
+    def to_dict(self) -> dict:
         """JSON-serialisable dict (the ``bifurcations --json`` output)."""
         return {
             "label": self.label,

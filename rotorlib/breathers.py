@@ -135,7 +135,7 @@ class BreatherTransition:
     slope: float
     precision: str
 
-    def to_record(self) -> dict:
+    def to_dict(self) -> dict:
         """JSON-serialisable record (the ``bifurcations --family breather`` output)."""
         return {
             "label": self.label,
@@ -319,7 +319,7 @@ def daughter_orbit(
 
 
 def _finish(x0, T, E, tq, xq, t, method, extra=None, digits=None):
-    o = orbit_from_state("PD^b", x0, T, t, DAUGHTER.lattice, E, digits=digits)
+    o = orbit_from_state("PD^b", x0, T, t, DAUGHTER.lattice, E, shown=digits)
     traj = _beta_traj(x0, float(T), 401)
     b2max = float(np.max(np.abs(traj[:, 1])))
     ex = dict(

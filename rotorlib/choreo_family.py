@@ -305,7 +305,7 @@ def cg_orbit(E, digits: int | None = None, label: str = "CG") -> PeriodicOrbit:
         u = _solve_u(lab, E, t)
         w = t.num(E) if not t.extended else t.num(str(E))
         o = periodic_orbit(
-            cg_problem(), u, w, t, label=lab, digits=digits if t.extended else None
+            cg_problem(), u, w, t, label=lab, shown=digits if t.extended else None
         )
         s = residual(cg_problem(), u, w, t)
         trp, _ = reduced_trace(s.x0, 12 * s.t1, t)

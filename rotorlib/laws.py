@@ -258,14 +258,13 @@ def fan_traces(labels, E=4.0) -> dict:
 def amplitudes(orbit) -> tuple:
     """``(a1max, pi - a2max)`` of a librational newborn orbit, its turning points located in
     real128 from its 32-digit state (``pi - a2max`` formed in mpmath: no cancellation).
-    Falls back to the orbit's float64 extrema when no ``state0_str`` was stored."""
-    st = orbit.extra.get("state0_str")
-    if st is None:
+    Falls back to the orbit's float64 extrema for a float64 orbit."""
+    if orbit.digits <= 15:
         return float(orbit.alpha1_max), float(math.pi - orbit.alpha2_max)
     hits = flow.crossings(
-        st,
+        orbit.state0_str,
         (flow.Section((0, 0, 1, 0)), flow.Section((0, 0, 0, 1))),
-        orbit.extra.get("period_str", orbit.period),
+        orbit.period_str,
         REAL128,
     )
     with REAL128.context():

@@ -450,7 +450,7 @@ def newborn_orbit(label, E, digits=None, steps=None) -> PeriodicOrbit:
             "steps": len(path) - 1,
             "seconds": time.perf_counter() - t0,
         },
-        digits=digits if digits and digits > 15 else None,
+        shown=digits if digits and digits > 15 else None,
     )
 
 

@@ -3,28 +3,86 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass, field
+from typing import Any
 
 import mpmath as mp
 import numpy as np
 
 from .flow import extrema, monodromy_matrix
-from .precision import FLOAT64, Tier, json_number
+from .monodromy import multipliers_from_trace
+from .precision import FLOAT64, Tier, json_number, tier
 from .shooting import ShootingProblem, residual
 
-__all__ = ["PeriodicOrbit", "periodic_orbit", "orbit_from_state"]
+__all__ = [
+    "PeriodicOrbit",
+    "OrbitResult",
+    "stability_of",
+    "periodic_orbit",
+    "orbit_from_state",
+]
 
-_NO_LOG = "log|E - 4| is not defined here (E = 4 exactly, or a breather's daughter)"
+_NO_LOG = "log|E - 4| is not defined here (E = 4 exactly, or an orbit not born of the pendulum)"
+
+
+def stability_of(trace: float, digits: int = 15) -> str:
+    """``stable`` (``0 < tr M < 4``), ``unstable`` or ``marginal``: ``tr M`` within
+    ``max(1, |tr M|) 10^(7 - digits)`` of 0 or 4, where the computed trace cannot decide.
+
+    Examples
+    --------
+    >>> stability_of(2.0), stability_of(5.0), stability_of(4.0 - 1e-12)
+    ('stable', 'unstable', 'marginal')
+    """
+    tr = float(trace)
+    if not math.isfinite(tr):
+        return "unstable"
+    tol = max(1.0, abs(tr)) * 10.0 ** (7 - int(digits))
+    if min(abs(tr), abs(tr - 4.0)) <= tol:
+        return "marginal"
+    return "stable" if 0.0 < tr < 4.0 else "unstable"
+
+
+class OrbitResult:
+    """The result protocol shared by :class:`PeriodicOrbit`, the members of a
+    :class:`~rotorlib.continuation.Branch` and a :class:`~rotorlib.bifurcations.Transition`.
+
+    Subclasses carry ``label``, ``E``, ``period``, ``trace``, ``state0`` and ``digits``
+    (and ``E_str``, ``period_str``, ``trace_str``, ``state0_str``, the decimal strings
+    with every verified digit); this class adds the multipliers and the stability.
+    """
+
+    trace: float
+    digits: int
+
+    @property
+    def multipliers(self) -> tuple[complex, complex, complex, complex]:
+        """The four Floquet multipliers ``(1, 1, mu, 1/mu)``: a periodic orbit of a
+        two-degree-of-freedom Hamiltonian has the pair 1, 1 (the flow and the energy) and
+        ``mu + 1/mu = tr M - 2``."""
+        mu = multipliers_from_trace(float(self.trace) - 2.0)
+        return (1 + 0j, 1 + 0j, complex(mu[0]), complex(mu[1]))
+
+    @property
+    def stability(self) -> str:
+        """``stable``, ``unstable`` or ``marginal`` (:func:`stability_of`)."""
+        return stability_of(self.trace, self.digits)
+
+    @property
+    def stable(self) -> bool:
+        """``stability == 'stable'``."""
+        return self.stability == "stable"
 
 
 @dataclass(frozen=True)
-class PeriodicOrbit:
-    """A periodic orbit found numerically.
+class PeriodicOrbit(OrbitResult):
+    """A periodic orbit: the one orbit result of rotorlib.
 
     Attributes
     ----------
     label : str
-        Family label in the paper's notation, e.g. ``IS^l_2``, ``PD^r_3``, ``PD^b``.
+        Family label in the paper's notation, e.g. ``IS^l_2``, ``PD^r_3``, ``PD^b``, ``CG``.
     E : float
         Energy (m = g = r = 1).
     period : float
@@ -32,7 +90,7 @@ class PeriodicOrbit:
     state0 : ndarray (4,)
         Initial state ``[a1, a2, p1, p2]`` (float64 rounding of the computed state).
     monodromy : ndarray (4, 4)
-        Monodromy matrix in the state order ``[a1, a2, p1, p2]``.
+        Monodromy matrix in the state order ``[a1, a2, p1, p2]`` (float64 rounding).
     trace : float
         ``tr M``.
     residual : float
@@ -47,8 +105,25 @@ class PeriodicOrbit:
     log_abs_dE : float
         ``log|E - 4|`` (nan when not meaningful).
     extra : dict
-        Search details (unknowns, section, ...); extended tiers add ``state0_str``,
-        ``period_str``, ``trace_str`` and ``E_str`` with every verified digit.
+        How it was found (unknowns ``u``, symmetric time ``t1``, section, ...).
+    digits : int
+        Significant digits of ``E_str``, ``period_str`` and ``state0_str`` (15: float64).
+    E_str, period_str, trace_str : str
+        ``E``, the period and ``tr M`` with every verified digit (``repr`` in float64).
+    state0_str : tuple of str
+        The initial state with every verified digit.
+
+    The protocol (:class:`OrbitResult`) adds ``multipliers``, ``stability`` and ``stable``;
+    a choreography's stability is decided by its reduced map (``extra['stability']``).
+
+    Examples
+    --------
+    >>> import rotorlib
+    >>> o = rotorlib.orbit("pendulum", 3.9)
+    >>> o.label, o.stability, round(o.period, 9)
+    ('pendulum', 'stable', 7.493684782)
+    >>> sorted(o.to_dict())[:4]
+    ['E', 'alpha1_max', 'alpha2_max', 'digits']
     """
 
     label: str
@@ -63,17 +138,41 @@ class PeriodicOrbit:
     alpha1_max: float
     alpha2_max: float
     log_abs_dE: float = float("nan")
-    extra: dict = field(default_factory=dict)
+    extra: dict[str, Any] = field(default_factory=dict)
+    digits: int = 15
+    E_str: str = ""
+    period_str: str = ""
+    trace_str: str = ""
+    state0_str: tuple[str, ...] = ()
 
-    def to_record(self) -> dict:
-        """A JSON-serialisable dict (the ``orbit`` command's ``--json`` output)."""
-        rec = {
+    def __post_init__(self) -> None:
+        for k in ("E", "period", "trace"):
+            if not getattr(self, k + "_str"):
+                object.__setattr__(self, k + "_str", repr(float(getattr(self, k))))
+        if not self.state0_str:
+            object.__setattr__(
+                self, "state0_str", tuple(repr(float(v)) for v in self.state0)
+            )
+
+    @property
+    def stability(self) -> str:
+        """``stable``, ``unstable`` or ``marginal`` (a choreography: its reduced map's)."""
+        return self.extra.get("stability") or stability_of(self.trace, self.digits)
+
+    def to_dict(self) -> dict[str, Any]:
+        """The JSON the ``orbit`` command prints (:func:`~rotorlib.precision.json_number`:
+        float64 values as numbers, digits beyond float64 in ``*_str`` strings)."""
+        ext = self.digits > 15
+        rec: dict[str, Any] = {
             "label": self.label,
-            **json_number("E", self.E),
+            **json_number("E", self.E, self.E_str if ext else None),
             **json_number("log_abs_dE", self.log_abs_dE, note=_NO_LOG),
-            "period": float(self.period),
+            **json_number("period", self.period, self.period_str if ext else None),
             "state0": [float(v) for v in self.state0],
-            "trace": float(self.trace),
+            **json_number("trace", self.trace, self.trace_str if ext else None),
+            "multipliers": [[z.real, z.imag] for z in self.multipliers],
+            "stability": self.stability,
+            "digits": self.digits,
             "alpha1_max": float(self.alpha1_max),
             "alpha2_max": float(self.alpha2_max),
             "residual": float(self.residual),
@@ -83,32 +182,37 @@ class PeriodicOrbit:
                 [float(v) for v in row] for row in np.asarray(self.monodromy)
             ],
         }
+        if ext:
+            rec["state0_str"] = list(self.state0_str)
         rec.update(
             {
                 k: v
                 for k, v in self.extra.items()
-                if isinstance(v, (str, int, float, list))
+                if isinstance(v, (str, int, float, list)) and k not in rec
             }
         )
         return rec
 
 
 def orbit_from_state(
-    label,
-    x0,
-    period,
-    t: Tier = FLOAT64,
-    lattice=(0.0, 0.0),
-    E=None,
-    extra=None,
-    digits=None,
+    label: str,
+    x0: Sequence[Any],
+    period: Any,
+    digits: int | Tier | None = None,
+    lattice: tuple[float, float] = (0.0, 0.0),
+    E: Any = None,
+    extra: dict[str, Any] | None = None,
+    *,
+    shown: int | None = None,
 ) -> PeriodicOrbit:
-    """A :class:`PeriodicOrbit` from its initial state and period, integrated in tier ``t``:
-    the monodromy from the 4x4 variational equations over one period, the closure against the
-    lattice vector ``lattice`` (units of pi); extended tiers add the state, period, trace and
-    energy as strings of ``digits`` significant digits (default: the tier's, less 8)."""
+    """A :class:`PeriodicOrbit` from its initial state and period, integrated in the tier
+    of ``digits`` (:func:`~rotorlib.precision.tier`): the monodromy from the 4x4
+    variational equations over one period, the closure against the lattice vector
+    ``lattice`` (units of pi); extended tiers give the state, period, trace and energy as
+    strings of ``shown`` significant digits (default: the tier's, less 8)."""
     from .system import energy_alpha
 
+    t = tier(digits)
     with t.context():
         x0 = [t.num(v) for v in x0]
         T = t.num(period)
@@ -129,15 +233,18 @@ def orbit_from_state(
         eps = abs(E - 4)
         xf = np.array([float(v) for v in x0])
         a1m, a2m = extrema(xf, float(T), FLOAT64)
-        ex = dict(extra or {})
-        if t.extended:
-            d = digits or t.dps - 8
-            ex.update(
-                state0_str=[t.text(v, d) for v in x0],
-                period_str=t.text(T, d),
-                trace_str=t.text(tr, d if digits else d - 7),
+        d = shown or t.dps - 8
+        strs: dict[str, Any] = (
+            dict(
+                digits=d,
                 E_str=t.text(E, d),
+                period_str=t.text(T, d),
+                trace_str=t.text(tr, d if shown else d - 7),
+                state0_str=tuple(t.text(v, d) for v in x0),
             )
+            if t.extended
+            else {}
+        )
         return PeriodicOrbit(
             label,
             float(E),
@@ -151,20 +258,23 @@ def orbit_from_state(
             a1m,
             a2m,
             float(mp.log(eps)) if eps else math.nan,
-            ex,
+            dict(extra or {}),
+            **strs,
         )
 
 
 def periodic_orbit(
     problem: ShootingProblem,
-    u,
-    w,
-    t: Tier = FLOAT64,
-    label=None,
-    extra=None,
-    digits=None,
+    u: Any,
+    w: Any,
+    digits: int | Tier | None = None,
+    label: str | None = None,
+    extra: dict[str, Any] | None = None,
+    *,
+    shown: int | None = None,
 ) -> PeriodicOrbit:
     """The :class:`PeriodicOrbit` of ``problem`` at ``(u, w)`` (:func:`orbit_from_state`)."""
+    t = tier(digits)
     with t.context():
         s = residual(problem, u, w, t)
         ex = {"u": float(u), "t1": float(s.t1)}
@@ -177,5 +287,5 @@ def periodic_orbit(
             problem.lattice,
             problem.energy(u, w, t),
             ex,
-            digits,
+            shown=shown,
         )

@@ -263,17 +263,26 @@ REAL128 = Tier("real128")
 
 
 @cache
-def tier(digits=None, extra=0) -> Tier:
+def tier(digits: int | Tier | None = None, extra: float = 0) -> Tier:
     """The tier that delivers ``digits`` significant digits after losing ``extra``.
 
     ``digits=None`` or ``digits + extra <= 15``: float64; up to 31: real128; beyond:
     ``mp<bits>`` with ``bits = ceil((digits + extra + 8) * 3.33)``. ``extra`` is the
     number of digits the computation itself loses (e.g. ``log10(1/|E - 4|)`` for
-    shooting near the separatrix).
+    shooting near the separatrix). A :class:`Tier` is returned as it is: ``digits``, an
+    int or a Tier, is the one precision argument of rotorlib.
+
+    Examples
+    --------
+    >>> tier(None).name, tier(20).name, tier(40).name, tier(REAL128).name
+    ('float64', 'real128', 'mp160', 'real128')
     """
-    if check_digits(digits) is None:
+    if isinstance(digits, Tier):
+        return digits
+    checked = check_digits(digits)
+    if checked is None:
         return FLOAT64
-    d = int(digits) + max(0, int(math.ceil(extra)))
+    d = int(checked) + max(0, int(math.ceil(extra)))
     if d <= 15:
         return FLOAT64
     if d <= 31:

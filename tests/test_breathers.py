@@ -51,7 +51,7 @@ def test_pd_energy_and_period_independent(pd30):
 
 
 def test_pd_record_contract():
-    recs = [t.to_record() for t in B.breather_transitions()]
+    recs = [t.to_dict() for t in B.breather_transitions()]
     assert len(recs) == 1
     r = recs[0]
     assert r["kind"] == "PD" and r["family"] == "R" and isinstance(r["E"], float)

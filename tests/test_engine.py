@@ -180,11 +180,11 @@ def test_same_member_in_every_tier():
     ) and o40.precision.startswith("mp")
     assert (
         abs(o64.trace - o40.trace) < 1e-10
-        and abs(float(o128.extra["trace_str"]) - o40.trace) < 1e-15
+        and abs(float(o128.trace_str) - o40.trace) < 1e-15
     )
     with mp.workdps(60):
         assert abs(
-            mp.mpf(o128.extra["period_str"]) - mp.mpf(o40.extra["period_str"])
+            mp.mpf(o128.period_str) - mp.mpf(o40.period_str)
         ) < mp.mpf("1e-24")
 
 

@@ -50,7 +50,7 @@ def run(args):
     if args.family == "breather":
         from ..breathers import breather_transitions
 
-        records = [t.to_record() for t in breather_transitions()]
+        records = [t.to_dict() for t in breather_transitions()]
         emit(records, args.json, ["kind", "E", "period", "transition"], one=False)
         return 0
     from ..bifurcations import transition, transitions
@@ -70,7 +70,7 @@ def run(args):
     trs = transitions(phase=args.phase, n_max=args.n_max, kinds=kinds)
     if args.digits is not None and args.digits > 15:
         trs = [transition(t.label, digits=args.digits) for t in trs]
-    records = [t.to_record() for t in trs]
+    records = [t.to_dict() for t in trs]
     columns = ["label", "log_abs_dE", "E", "period", "transition", "precision"]
     emit(records, args.json, columns, one=False)  # JSON: a list, even for one record
     return 0

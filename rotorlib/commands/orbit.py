@@ -48,7 +48,7 @@ def register(sub):
 
 def record(label, E, digits=None) -> dict:
     """The record the command prints for ``label`` at energy ``E`` (a decimal string keeps
-    its digits): the orbit's :meth:`~rotorlib.periodic.PeriodicOrbit.to_record`."""
+    its digits): the orbit's :meth:`~rotorlib.periodic.PeriodicOrbit.to_dict`."""
     as_float(E, "E")
     check_digits(digits, "--digits")
     if _CHOREO.match(str(label).strip()):
@@ -56,17 +56,17 @@ def record(label, E, digits=None) -> dict:
         from ..choreo_family import cg_orbit
 
         o = cg_orbit(E, digits=digits, label=str(label).strip())
-        rec = o.to_record()
+        rec = o.to_dict()
         c = choreography_of(o.state0, o.period)
         rec["choreography"] = c.to_record() if c else None
         return rec
     if _BREATHER.match(str(label).strip()):
         from ..breathers import breather_daughter
 
-        return breather_daughter(E, digits=digits).to_record()
+        return breather_daughter(E, digits=digits).to_dict()
     from ..newborn import newborn_orbit
 
-    return newborn_orbit(label, E, digits=digits).to_record()
+    return newborn_orbit(label, E, digits=digits).to_dict()
 
 
 def run(args):

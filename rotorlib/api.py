@@ -1,0 +1,252 @@
+"""The front door: one call per task, ``digits`` the one precision knob.
+
+==========================================  =================================================
+call                                        returns
+==========================================  =================================================
+``orbit(label, E, *, digits=None)``         one :class:`~rotorlib.periodic.PeriodicOrbit`
+``family(label, E_range, *, digits=None)``  one :class:`~rotorlib.continuation.Branch`
+``transition(label, *, digits=None)``       one :class:`~rotorlib.bifurcations.Transition`
+``census(E, t_max, *, digits=None, ...)``   one :class:`~rotorlib.atlas.Atlas`
+==========================================  =================================================
+
+``digits=None`` is float64 (near a separatrix the tier that keeps 15 digits); an integer
+asks for that many significant digits (real128 up to 31, multiprecision beyond). Every
+result has ``label``, ``E``, ``period``, ``trace``, ``multipliers``, ``stability``,
+``state0``, ``digits``, the decimal strings ``E_str``, ``period_str``, ``trace_str``,
+``state0_str``, and ``to_dict()``, the JSON the command line prints.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from typing import Any
+
+import numpy as np
+
+from .periodic import PeriodicOrbit
+from .precision import Tier, check_digits
+
+__all__ = ["orbit", "family", "transition", "census", "LABELS"]
+
+#: The orbit labels :func:`orbit` accepts, by kind (IS/PD labels take any ``n >= 1``).
+LABELS = {
+    "closed form": ("pendulum", "R", "LG", "LD"),
+    "newborn": ("IS^l_n", "PD^l_n", "IS^r_n", "PD^r_n"),
+    "breather daughter": ("PD^b",),
+    "choreography": ("CG", "CT", "CZ1", "CZ2", "CR1"),
+}
+
+_BREATHER_DAUGHTER = re.compile(r"^PD\^?b$", re.IGNORECASE)
+_CHOREO = re.compile(r"^C(G|T|Z1|Z2|R1)$", re.IGNORECASE)
+_NEWBORN = re.compile(r"^\s*(IS|PD)\s*\^?\s*(l|r|ℓ)", re.IGNORECASE)
+
+
+def _digits(digits: int | Tier | None) -> int | None:
+    if isinstance(digits, Tier):
+        return None if not digits.extended else digits.dps - 8
+    return check_digits(digits)
+
+
+def _closed_form(label: str, E: Any, digits: int | None) -> PeriodicOrbit:
+    """A pendulum or breather as a PeriodicOrbit: state from the closed form, monodromy and
+    trace from the symmetry-reduced (Hill) problem at ``digits``."""
+    from .monodromy import monodromy
+    from .orbits import breather, pendulum
+
+    orb = pendulum(E) if label == "pendulum" else breather(E, family=label)
+    m = monodromy(orb, digits=digits)
+    en = orb.energy
+    d = digits if digits and digits > 15 else 15
+    E_str = en.decimal_E(d) if hasattr(en, "decimal_E") else repr(float(orb.E))
+    state0 = np.asarray(orb.state0, dtype=float)
+    try:
+        ts = np.linspace(0.0, float(m.period), 2001)
+        xs = orb.state(ts)
+        a1m = float(np.max(np.abs(xs[:, 0])))
+        a2m = float(np.max(np.abs(xs[:, 1] - xs[0, 1])))
+        if label == "pendulum" and en.phase == "rot":
+            a2m = math.pi
+    except ValueError:  # beyond the float64 range of the closed form
+        a1m = a2m = math.nan
+    log_abs = getattr(en, "log_abs_dE", math.nan)
+    return PeriodicOrbit(
+        label,
+        float(orb.E),
+        float(m.period),
+        state0,
+        m.in_alpha_state_order(),
+        float(m.trace),
+        float(m.residual),
+        0.0,
+        m.precision,
+        a1m,
+        a2m,
+        float(log_abs) if label == "pendulum" else math.nan,
+        {"stability": m.stability, "family": m.family},
+        digits=d,
+        E_str=E_str,
+        period_str=m.period_str or repr(float(m.period)),
+        trace_str=m.trace_str,
+    )
+
+
+def orbit(
+    label: str, E: float | str, *, digits: int | Tier | None = None
+) -> PeriodicOrbit:
+    """The periodic orbit ``label`` at energy ``E``.
+
+    Parameters
+    ----------
+    label : str
+        ``pendulum`` (libration for ``E < 4``, rotation above), the isosceles breathers
+        ``R``, ``LG``, ``LD``; a family born at a pendulum bifurcation, ``IS^l_n``,
+        ``PD^l_n``, ``IS^r_n``, ``PD^r_n`` (also ``ISl2``, ``PDr3``); the breather's
+        period-doubled daughter ``PD^b``; a choreography ``CG``, ``CT``, ``CZ1``, ``CZ2``,
+        ``CR1`` (:data:`LABELS`).
+    E : float or str
+        Energy (m = g = r = 1). A decimal string keeps every digit (e.g. ``"4.0000001"``).
+    digits : int or Tier, optional
+        Significant digits of the state, period and trace. ``None``: float64 (the tier that
+        keeps 15 digits near E = 4); 16-31: real128; more: multiprecision.
+
+    Returns
+    -------
+    PeriodicOrbit
+
+    Raises
+    ------
+    ValueError
+        An unknown label, an energy outside the family's range (with the range and why),
+        or ``digits`` outside 1-1000.
+
+    Examples
+    --------
+    >>> import rotorlib
+    >>> o = rotorlib.orbit("pendulum", 3.9)
+    >>> round(o.trace, 10), o.stability
+    (0.0195119424, 'stable')
+    >>> o40 = rotorlib.orbit("pendulum", "3.9", digits=40)
+    >>> o40.trace_str[:32]
+    '0.019511942411167610530751636443'
+    >>> rotorlib.orbit("ISl2", 4.0).stability
+    'unstable'
+    """
+    d = _digits(digits)
+    lab = str(label).strip()
+    if lab.lower() in ("pendulum", "p"):
+        return _closed_form("pendulum", E, d)
+    if lab.upper() in ("R", "LG", "LD"):
+        return _closed_form(lab.upper(), E, d)
+    if _BREATHER_DAUGHTER.match(lab):
+        from .breathers import breather_daughter
+
+        return breather_daughter(E, digits=d)
+    if _CHOREO.match(lab):
+        from . import choreo_family
+
+        get = getattr(choreo_family, "choreography_orbit", None)
+        if get is not None:
+            return get(lab.upper(), E, digits=d)
+        return choreo_family.cg_orbit(E, digits=d, label=lab.upper())
+    if _NEWBORN.match(lab):
+        from .newborn import newborn_orbit
+
+        return newborn_orbit(lab, E, digits=d)
+    raise ValueError(
+        f"unknown orbit label {label!r}: use one of "
+        + "; ".join(f"{k}: {', '.join(v)}" for k, v in LABELS.items())
+    )
+
+
+def family(
+    label: str, E_range: tuple[float, float], *, digits: int | Tier | None = None
+) -> Any:
+    """The family ``label`` followed over ``E_range = (lo, hi)``.
+
+    Members lie inside ``E_range``, never outside it; the special points (folds, the
+    energies where ``tr M`` crosses 4 (``IS``) or 0 (``PD``)) are located by the
+    continuation engine, and ``reason`` says why the branch stopped.
+
+    Examples
+    --------
+    >>> import rotorlib
+    >>> b = rotorlib.family("IS^l_1", (3.9, 3.99))
+    >>> bool(all(3.9 <= E <= 3.99 for E in b.E))
+    True
+    """
+    lo, hi = (float(v) for v in E_range)
+    if not lo < hi:
+        raise ValueError(f"E_range must be (lo, hi) with lo < hi, got {E_range!r}")
+    lab = str(label).strip()
+    d = _digits(digits)
+    if _CHOREO.match(lab):
+        from . import choreo_family
+
+        if lab.upper() in ("CG", "CT"):
+            return choreo_family.family(lab.upper(), (lo, hi), digits=d)
+        from .choreo_z3 import z3_family
+
+        return z3_family(lab.upper(), (lo, hi))
+    if _NEWBORN.match(lab):
+        from . import newborn
+
+        fam = getattr(newborn, "family", None)
+        if fam is not None:
+            return fam(lab, (lo, hi), digits=d)
+        return newborn.follow(lab, E_min=lo, E_max=hi, digits=d, traces=True)
+    raise ValueError(
+        f"unknown family label {label!r}: families are the newborn IS^l_n, PD^l_n, "
+        "IS^r_n, PD^r_n and the choreographies CG, CT, CZ1, CZ2, CR1"
+    )
+
+
+def transition(label: str, *, digits: int | Tier | None = None) -> Any:
+    """The stability transition ``label`` of the pendulum (``IS^l_n``, ``PD^r_n``, ...) or
+    of the breather (``PD^b``): exact decimal energy, period and kind.
+
+    Examples
+    --------
+    >>> import rotorlib
+    >>> tr = rotorlib.transition("IS^l_2", digits=20)
+    >>> tr.kind, tr.label
+    ('IS', 'IS^l_2')
+    """
+    from . import bifurcations
+
+    d = _digits(digits)
+    if _BREATHER_DAUGHTER.match(str(label).strip()):
+        from .breathers import pd_transition
+
+        return pd_transition(digits=d)
+    return bifurcations.transition(label, digits=d)
+
+
+def census(
+    E: float,
+    t_max: float,
+    *,
+    digits: int | Tier | None = None,
+    workers: int | None = None,
+    scheduler: str | None = None,
+) -> Any:
+    """Every symmetric periodic orbit with period ``<= t_max`` at energy ``E``.
+
+    ``workers`` processes (or a Dask ``scheduler`` address) share the work; the result
+    does not depend on them.
+
+    Examples
+    --------
+    >>> import rotorlib
+    >>> a = rotorlib.census(4.3, 6.0)
+    >>> [o.label for o in a.orbits][:2]
+    ['pendulum', 'CG']
+    """
+    from .atlas import census as _census
+    from .parallel import executor_for
+
+    d = _digits(digits)
+    if workers is None and scheduler is None:
+        return _census(E, t_max, digits=d)
+    with executor_for(workers, scheduler) as ex:
+        return _census(E, t_max, digits=d, executor=ex)
