@@ -1,7 +1,8 @@
-"""``python -m rotorlib orbit LABEL --E V``: a periodic orbit born at a pendulum bifurcation.
+"""``python -m rotorlib orbit LABEL --E V``: one periodic orbit (:func:`rotorlib.orbit`).
 
 Examples
 --------
+``python -m rotorlib orbit pendulum --E 3.9 --digits 40``
 ``python -m rotorlib orbit IS^l_2 --E 4 --json``
 ``python -m rotorlib orbit PDr3 --E 4.0002``
 ``python -m rotorlib orbit PD^b --E 8.9 --json`` (the breather's period-doubled daughter)
@@ -17,21 +18,23 @@ from ..cli import emit
 from ..energy import as_float
 from ..precision import check_digits
 
-_BREATHER = re.compile(r"^PD\^?b$", re.IGNORECASE)
-_CHOREO = re.compile(r"^C[GT]$", re.IGNORECASE)
+_CHOREO = re.compile(r"^C(G|T|Z1|Z2|R1)$", re.IGNORECASE)
 
 
 def register(sub):
     p = sub.add_parser(
         "orbit",
-        help="a newborn periodic orbit (families IS^l_n, PD^l_n, IS^r_n, PD^r_n, PD^b), "
-        "or a choreography (CG, CT)",
-        description="Find the member with energy E of the family of periodic orbits born at a "
-        "pendulum bifurcation (symmetry-reduced shooting + continuation in energy; "
+        help="a periodic orbit: pendulum, breathers R/LG/LD, newborn IS^l_n, PD^l_n, "
+        "IS^r_n, PD^r_n, PD^b, choreographies CG, CT, CZ1, CZ2, CR1",
+        description="The periodic orbit LABEL at energy E (rotorlib.orbit): the pendulum or a "
+        "breather (closed form, monodromy from the reduced problem), the member with energy "
+        "E of the family of periodic orbits born at a pendulum bifurcation (symmetry-reduced shooting + continuation in energy; "
         "paper §6-7), of the breather's period-doubled daughter (PD^b), or of the "
         "choreographies born at G (CG, and CT beyond its fold).",
     )
-    p.add_argument("label", help="family label: IS^l_2, ISl2, PD^r_3, PDr3, PD^b ...")
+    p.add_argument(
+        "label", help="pendulum, R, LG, LD, IS^l_2, ISl2, PD^r_3, PDr3, PD^b, CG ..."
+    )
     p.add_argument("--E", required=True, metavar="V", help="energy (m = g = r = 1)")
     p.add_argument(
         "--digits",
@@ -48,25 +51,21 @@ def register(sub):
 
 def record(label, E, digits=None) -> dict:
     """The record the command prints for ``label`` at energy ``E`` (a decimal string keeps
-    its digits): the orbit's :meth:`~rotorlib.periodic.PeriodicOrbit.to_dict`."""
+    its digits): :meth:`rotorlib.orbit(label, E, digits=digits).to_dict()
+    <rotorlib.periodic.PeriodicOrbit.to_dict>`, the choreographies with their
+    ``choreography`` field."""
+    from ..api import orbit
+
     as_float(E, "E")
     check_digits(digits, "--digits")
-    if _CHOREO.match(str(label).strip()):
+    o = orbit(label, E, digits=digits)
+    rec = o.to_dict()
+    if _CHOREO.match(str(label).strip()) and "choreography" not in rec:
         from ..choreo import choreography_of
-        from ..choreo_family import cg_orbit
 
-        o = cg_orbit(E, digits=digits, label=str(label).strip())
-        rec = o.to_dict()
         c = choreography_of(o.state0, o.period)
-        rec["choreography"] = c.to_record() if c else None
-        return rec
-    if _BREATHER.match(str(label).strip()):
-        from ..breathers import breather_daughter
-
-        return breather_daughter(E, digits=digits).to_dict()
-    from ..newborn import newborn_orbit
-
-    return newborn_orbit(label, E, digits=digits).to_dict()
+        rec["choreography"] = c.to_dict() if c else None
+    return rec
 
 
 def run(args):
