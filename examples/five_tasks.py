@@ -20,7 +20,6 @@ import sys
 
 import heyoka as hy
 import mpmath as mp
-import numpy as np
 
 import rotorlib
 
@@ -31,7 +30,7 @@ o39_40 = rotorlib.orbit("pendulum", "3.9", digits=40)
 newborn = rotorlib.orbit(
     "IS^l_2", "3.999", digits=30
 )  # 2. a newborn orbit, multipliers
-branch = rotorlib.family("IS^l_1", (3.9, 3.99))  # 3. period against E over a range
+branch = rotorlib.family("IS^l_1", (4.0, 4.2))  # 3. period against E over a range
 atlas = rotorlib.census(4.3, 8.0)  # 4. the stable orbits of a census
 tr = rotorlib.transition("IS^l_2", digits=25)  # 5. a transition energy to 25 digits
 
@@ -53,7 +52,7 @@ print(
     [complex(round(z.real, 9), round(z.imag, 9)) for z in newborn.multipliers],
 )
 print(
-    f"task 3: {len(branch.members)} members of IS^l_1 with 3.9 <= E <= 3.99; stop: {branch.reason}"
+    f"task 3: {len(branch.members)} members of IS^l_1 with 4.0 <= E <= 4.2; stop: {branch.reason}"
 )
 for m in branch.members[:: max(1, len(branch.members) // 4)]:
     print(
@@ -158,7 +157,7 @@ with mp.workdps(60):
         1e-9,
     )
     Es = [float(m.E) for m in branch.members]
-    check("3. members outside (3.9, 3.99)", sum(not 3.9 <= E <= 3.99 for E in Es), 1)
+    check("3. members outside (4.0, 4.2)", sum(not 4.0 <= E <= 4.2 for E in Es), 1)
     for m in branch.members[:: max(1, len(branch.members) // 3)]:
         x_T, _ = flow([repr(float(v)) for v in m.state0], repr(float(m.period)), 113)
         gap = max(abs(float(x_T[i]) - float(m.state0[i])) for i in range(4))

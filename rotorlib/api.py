@@ -22,6 +22,7 @@ import math
 import re
 from typing import Any
 
+import mpmath as mp
 import numpy as np
 
 from .periodic import PeriodicOrbit
@@ -60,6 +61,17 @@ def _closed_form(label: str, E: Any, digits: int | None) -> PeriodicOrbit:
     d = digits if digits and digits > 15 else 15
     E_str = en.decimal_E(d) if hasattr(en, "decimal_E") else repr(float(orb.E))
     state0 = np.asarray(orb.state0, dtype=float)
+    period_str = m.period_str or repr(float(m.period))
+    state0_str: tuple[str, ...] = ()
+    if d > 15:  # the base point in closed form: G (pendulum, LG, R) or D (LD)
+        with mp.workdps(d + 10):
+            Em = mp.mpf(E_str)
+            x = {
+                "pendulum": (0, 0, 0, mp.sqrt(4 * Em / 3)),
+                "LD": (mp.pi / 2, 3 * mp.pi / 2, -mp.sqrt(Em - 4), -mp.sqrt(Em - 4)),
+            }.get(label, (0, 0, mp.sqrt(Em), mp.sqrt(Em)))
+            state0_str = tuple(mp.nstr(mp.mpf(v), d) if v else "0.0" for v in x)
+        d = min(d, len(period_str.lstrip("-0.").replace(".", "").split("e")[0]))
     try:
         ts = np.linspace(0.0, float(m.period), 2001)
         xs = orb.state(ts)
@@ -86,8 +98,9 @@ def _closed_form(label: str, E: Any, digits: int | None) -> PeriodicOrbit:
         {"stability": m.stability, "family": m.family},
         digits=d,
         E_str=E_str,
-        period_str=m.period_str or repr(float(m.period)),
+        period_str=period_str,
         trace_str=m.trace_str,
+        state0_str=state0_str,
     )
 
 
@@ -171,8 +184,8 @@ def family(
     Examples
     --------
     >>> import rotorlib
-    >>> b = rotorlib.family("IS^l_1", (3.9, 3.99))
-    >>> bool(all(3.9 <= E <= 3.99 for E in b.E))
+    >>> b = rotorlib.family("IS^l_1", (4.0, 4.2))
+    >>> bool(all(4.0 <= E <= 4.2 for E in b.E))
     True
     """
     lo, hi = (float(v) for v in E_range)

@@ -21,6 +21,7 @@ OUT = ROOT / "book" / "api.md"
 # Reading order for the core modules; the others follow alphabetically, plotting last.
 FIRST = [
     "rotorlib",
+    "rotorlib.api",
     "rotorlib.system",
     "rotorlib.energy",
     "rotorlib.elliptic",
@@ -61,6 +62,17 @@ def render() -> str:
         "autodoc + numpydoc). Units m = g = r = 1 throughout; each docstring states the",
         "precision of what it returns. The names re-exported by `import rotorlib` are",
         "documented in the module that defines them.",
+        "",
+        "## Python in 10 lines",
+        "",
+        "Five everyday tasks through the front door (`rotorlib.orbit`, `family`,",
+        "`transition`, `census`; `digits` the one precision argument); the same file is",
+        "`examples/ten_lines.py`, and `examples/five_tasks.py` checks each number against an",
+        "independent computation.",
+        "",
+        "```{literalinclude} ../examples/ten_lines.py",
+        ":language: python",
+        "```",
         "",
     ]
     for mod in modules():
