@@ -43,23 +43,24 @@ from __future__ import annotations
 import functools
 import math
 from dataclasses import dataclass, field, replace
+from typing import Any
 
 import mpmath as mp
 import numpy as np
 from scipy import optimize
 
+from .bifurcations import Transition, locate_root, refine_root
 from .continuation import ContinuationOptions, Natural, continuation, switch
 from .energy import as_float
 from .flow import Section, flow, sample, to_section
 from .monodromy import monodromy
 from .orbits import breather
 from .periodic import PeriodicOrbit, orbit_from_state
-from .precision import FLOAT64, json_number, tier
+from .precision import FLOAT64, tier
 from .shooting import ShootingProblem, StartSet, solve
 from .system import alpha_to_beta, beta_to_alpha, potential_beta
 
 __all__ = [
-    "BreatherTransition",
     "breather_transitions",
     "pd_transition",
     "pd_eigenstructure",
@@ -98,65 +99,13 @@ def breather_trace(E, family="R", digits=None):
 # ----------------------------------------------------------------------------------------------
 
 
-@dataclass(frozen=True)
-class BreatherTransition:
-    """A stability transition of the isosceles breather family.
-
-    Attributes
-    ----------
-    label : str
-        ``PD^b``.
-    kind : str
-        ``PD`` (``tr M = 0``) or ``IS`` (``tr M = 4``).
-    family : str
-        Breather family (``R``).
-    E : float
-        Transition energy (float64).
-    E_str : str
-        Energy as a decimal string with every digit the precision supports.
-    period, period_str : float, str
-        Period of the breather at ``E``.
-    transition : str
-        ``unstable->stable`` or ``stable->unstable`` as ``E`` increases.
-    slope : float
-        ``d tr M / dE`` at ``E``.
-    precision : str
-        ``float64`` or the extended tier used for ``E_str``.
-    """
-
-    label: str
-    kind: str
-    family: str
-    E: float
-    E_str: str
-    period: float
-    period_str: str
-    transition: str
-    slope: float
-    precision: str
-
-    def to_dict(self) -> dict:
-        """JSON-serialisable record (the ``bifurcations --family breather`` output)."""
-        return {
-            "label": self.label,
-            "kind": self.kind,
-            "family": self.family,
-            "phase": "rot",
-            "n": 1,
-            **json_number("E", self.E, self.E_str),
-            **json_number("log_abs_dE_4.5", math.log(abs(self.E - 4.5))),
-            **json_number("period", self.period, self.period_str),
-            "transition": self.transition,
-            "slope": self.slope,
-            "precision": self.precision,
-        }
-
-
-def _trace_slope(E, family="R", h=1e-5):
+def _trace_slope(E: float, family: str = "R", h: float = 1e-5) -> float:
     return (breather_trace(E + h, family) - breather_trace(E - h, family)) / (2 * h)
 
 
-def breather_transitions(family="R", digits=None, E_max=1e4):
+def breather_transitions(
+    family: str = "R", digits: int | None = None, E_max: float = 1e4
+) -> list[Transition]:
     """Every stability transition (``tr M`` crossing 0 or 4) of a breather family.
 
     Parameters
@@ -164,13 +113,16 @@ def breather_transitions(family="R", digits=None, E_max=1e4):
     family : {'R', 'LG', 'LD'}
         Only ``R`` has transitions (LG and LD have ``tr M > 4`` throughout: an empty list).
     digits : int, optional
-        ``> 15``: refine each energy with the trace at that many digits.
+        ``> 15``: each energy re-located with the trace at that many digits
+        (:func:`rotorlib.bifurcations.refine_root`); ``E_str`` and ``period_str`` then
+        carry ``digits - 5`` significant digits.
     E_max : float
         Upper end of the scan for R.
 
     Returns
     -------
-    list of BreatherTransition
+    list of Transition
+        Float64: ``E`` to ~1e-15 (the engine's Illinois method on a scan of ``tr M``).
     """
     if family not in ("R", "LG", "LD"):
         raise ValueError(f"breather family must be R, LG or LD; got {family!r}")
@@ -187,47 +139,68 @@ def breather_transitions(family="R", digits=None, E_max=1e4):
     for level, kind in ((0.0, "PD"), (4.0, "IS")):
         s = np.sign(tr - level)
         for i in np.nonzero(s[:-1] * s[1:] < 0)[0]:
-            f = lambda E: breather_trace(E, family) - level  # noqa: E731
-            E = optimize.brentq(
-                f, grid[i], grid[i + 1], xtol=1e-15, rtol=8.9e-16, maxiter=200
-            )
-            out.append(_make_transition(E, kind, level, family, digits))
+
+            def g(E: float, level: float = level) -> float:
+                return breather_trace(E, family) - level
+
+            a, b = grid[i], grid[i + 1]
+            E = locate_root(g, a, b, g(a), g(b), 1e-15)
+            out.append(_make_transition(float(E), kind, level, family, digits))
     return sorted(out, key=lambda t: t.E)
 
 
-def _make_transition(E, kind, level, family, digits):
+def _make_transition(
+    E: float, kind: str, level: float, family: str, digits: int | None
+) -> Transition:
     slope = _trace_slope(E, family)
-    orbit = breather(E, family)
-    period = orbit.period
     up = (slope > 0) == (kind == "IS")  # tr M rising through 4 or falling through 0
     direction = "stable->unstable" if up else "unstable->stable"
-    E_str, per_str, precision = repr(E), repr(period), "float64"
-    if digits is not None and digits > 15:
-        M = monodromy(orbit, digits=digits)
-        dT = orbit.dperiod_dE
-        with mp.workdps(digits + 10):
-            corr = -(mp.mpf(M.trace_str) - level) / mp.mpf(slope)
-            # the extended trace is evaluated at the decimal repr(E)
-            E_ext = mp.mpf(repr(E)) + corr
-            per = mp.mpf(M.period_str) + mp.mpf(dT) * corr
-            E_str, per_str = mp.nstr(E_ext, digits - 5), mp.nstr(per, digits - 5)
-        E, period, precision = float(E_ext), float(per), M.precision
-    return BreatherTransition(
+    d = None if digits is None or digits <= 15 else int(digits)
+    if d is None:
+        orbit = breather(E, family)
+        E_str, per_str = repr(E), repr(orbit.period)
+        p_str = repr(float(orbit.state0[3]))
+    else:
+        dps = d + 10
+
+        def trace_at(v: Any) -> Any:
+            M = monodromy(breather(mp.nstr(v, dps), family), digits=d)
+            return mp.mpf(M.trace_str) - level
+
+        with mp.workdps(dps):
+            E_ext = refine_root(trace_at, E, d)
+            per = breather(mp.nstr(E_ext, dps), family).closed_form(dps)["period"]
+            E_str, per_str = mp.nstr(E_ext, d - 5), mp.nstr(per, d - 5)
+            p_str = mp.nstr(mp.sqrt(E_ext), d - 5)
+        orbit = breather(E_str, family)
+    return Transition.at_base_point(
         "PD^b" if kind == "PD" else "IS^b",
         kind,
         family,
-        E,
-        E_str,
-        period,
-        per_str,
+        orbit.energy,
+        (orbit.period, per_str),
+        (p_str, p_str),
         direction,
         slope,
-        precision,
+        None if d is None else d - 5,
+        E_str,
+        phase=orbit.energy.phase,
+        log_abs_dE=orbit.energy.log_abs_dE,
+        delta_target=level - 2.0 if family == "R" else float("nan"),
     )
 
 
-def pd_transition(digits=None) -> BreatherTransition:
-    """The period-doubling transition of the rotational breather R (paper: E ~ 8.97, period ~ 2.63)."""
+def pd_transition(digits: int | None = None) -> Transition:
+    """The period-doubling transition ``PD^b`` of the rotational breather R (paper:
+    E ~ 8.97, period ~ 2.63).
+
+    Examples
+    --------
+    >>> from rotorlib.breathers import pd_transition
+    >>> t = pd_transition()
+    >>> t.label, t.family, t.transition, round(t.E, 9), round(t.period, 9)
+    ('PD^b', 'R', 'unstable->stable', 8.968972047, 2.633423826)
+    """
     pds = [t for t in breather_transitions("R", digits=digits) if t.kind == "PD"]
     if len(pds) != 1:
         raise RuntimeError(f"expected one PD transition of R, found {len(pds)}")
