@@ -16,9 +16,12 @@ separately.
 
 Method: ``Delta`` is tabulated on a grid in ``x`` (step 0.05; ``Delta`` is
 asymptotically periodic in ``x`` with period ``2 sqrt(3) pi = 10.88``, and
-consecutive roots of one equation are >= 1.1 apart), sign changes are refined
-with Brent's method to ``xtol = 1e-14`` (absolute), with heyoka's float64
-Taylor integrator (~0.1 ms per ``Delta``).
+consecutive roots of one equation are >= 1.1 apart), sign changes are located
+by :func:`locate_root` (the engine's Illinois method,
+:func:`rotorlib.continuation.illinois`: the one locator of ``tr M = 4`` and ``0``,
+for pendula and breathers) to ``1e-15`` (absolute), with heyoka's float64
+Taylor integrator (~0.1 ms per ``Delta``). :func:`refine_root` locates them again
+in an extended tier (the same method on mpmath numbers).
 
 Precision: ``Delta`` is accurate to ~1e-13 absolute at any depth, and
 ``|dDelta/dx| > 0.5`` at every root, so ``log|E - 4|`` is accurate to ~2e-13
@@ -28,7 +31,9 @@ absolute (>= 13 significant digits for ``|x| > 1``; for ``PD^r_1``, at
 ``tests/test_bifurcations.py`` re-locates every one of the first 80 roots with
 heyoka real128 (~32 digits) and checks a few with the textbook 4x4
 variational equations in 256-bit arithmetic. ``transition(label, digits=30)``
-returns a root refined in real128.
+returns a root refined in real128. The breather's transition ``PD^b``
+(:mod:`rotorlib.breathers`) is a :class:`Transition` too, and
+:func:`transition` returns it.
 """
 
 from __future__ import annotations
@@ -36,7 +41,8 @@ from __future__ import annotations
 import dataclasses
 import math
 import re
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
+from concurrent.futures import Executor
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -45,11 +51,11 @@ import numpy as np
 
 from .continuation import illinois
 from .energy import BreatherEnergy, PendulumEnergy, pendulum_energy
-from .hill import heyoka_available, hill_problem, solve_hill
+from .hill import hill_problem, precision_tier, solve_hill
 from .orbits import PendulumOrbit, pendulum
 from .parallel import pmap
 from .periodic import OrbitResult
-from .precision import Tier, check_digits, json_number, tier
+from .precision import Tier, json_number, tier
 
 __all__ = [
     "Transition",
@@ -264,7 +270,7 @@ _LABEL_RE = re.compile(
 )
 
 
-def parse_label(text) -> tuple:
+def parse_label(text: Any) -> tuple[str, str, int]:
     """Parse a transition label.
 
     Accepts ``IS^l_3``, ``ISl3``, ``IS^l_{3}``, ``PDr2`` (kind and phase letter
@@ -307,11 +313,7 @@ def _label(kind, phase, n):
 def delta(x: float, phase: str) -> float:
     """``Delta`` at ``x = log|E - 4|`` in float64 (~1e-13 absolute; heyoka, else scipy)."""
     prob = hill_problem(pendulum(log_abs_dE=float(x), phase=phase))
-    return solve_hill(prob, _float64_backend(), "float64").delta
-
-
-def _float64_backend() -> str:
-    return "heyoka" if heyoka_available() else "scipy"
+    return solve_hill(prob, *precision_tier(None)).delta
 
 
 def trace_of_delta(d: Any, phase: str) -> Any:
@@ -334,7 +336,7 @@ def delta_mp(x: Any, phase: str, digits: int = 30) -> Any:
     float64 rounding enters.
     """
     dps = digits + 15
-    prob = hill_problem(_mp_pendulum(x, phase, dps), dps=dps)
+    prob = hill_problem(_mp_pendulum(x, phase, dps), digits=digits)
     sol = solve_hill(prob, "heyoka", tier(digits).name)
     with mp.workdps(dps):
         return mp.mpf(sol.delta_exact)
@@ -517,8 +519,12 @@ def _make(
 
 
 def transitions(
-    phase="both", n_max=20, kinds=("IS", "PD"), executor=None, progress=False
-) -> list:
+    phase: str = "both",
+    n_max: int = 20,
+    kinds: str | Sequence[str] = ("IS", "PD"),
+    executor: Executor | None = None,
+    progress: bool = False,
+) -> list[Transition]:
     """All transitions with ``n <= n_max`` of the requested kinds and phases.
 
     Parameters
@@ -561,7 +567,9 @@ def transitions(
     return out
 
 
-def trace_curve(xs, phase, executor=None, progress=False):
+def trace_curve(
+    xs: Any, phase: str, executor: Executor | None = None, progress: bool = False
+) -> tuple[np.ndarray, np.ndarray]:
     """``tr M`` and the period of the pendulum on a grid of ``x = log|E - 4|`` (float64, ~1e-13).
 
     Returns
@@ -645,7 +653,8 @@ def transition(label: str, *, digits: int | Tier | None = None) -> Transition:
     >>> t.E_str
     '5.59714143224631939243'
     """
-    d = _as_digits(digits)
+    t = tier(digits)  # a Tier delivers the digits its working digits keep, less 9
+    d = None if not t.extended else (digits if isinstance(digits, int) else t.dps - 9)
     if isinstance(label, str) and _BREATHER_RE.match(label):
         from .breathers import pd_transition
 
@@ -667,12 +676,3 @@ def transition(label: str, *, digits: int | Tier | None = None) -> Transition:
     with mp.workdps(d + 10):
         xs = mp.nstr(xm, d, strip_zeros=False)
     return _make(kind, phase, n, float(xm), c, x_str=xs, digits=d)
-
-
-def _as_digits(digits: int | Tier | None) -> int | None:
-    """``None`` (float64) or the significant digits an extended request delivers (a
-    Tier: those its working digits keep, less 9)."""
-    if isinstance(digits, Tier):
-        return None if not digits.extended else digits.dps - 9
-    check_digits(digits)
-    return None if digits is None or digits <= 15 else int(digits)

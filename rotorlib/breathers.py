@@ -8,9 +8,12 @@ with ``tr M = 2 + Delta`` for R (``Delta^2`` for LG, LD); it comes from
 
 Transition
     :func:`breather_transitions` locates the single stability transition of R
-    (``tr M = 0``, a period doubling; paper E ~ 8.97, period ~ 2.63) by ``brentq``
-    in float64 (~1e-15) and, with ``digits > 15``, refines it by one Newton step
-    with the trace evaluated at that many digits (heyoka real128 / multiprecision).
+    (``tr M = 0``, a period doubling; paper E ~ 8.97, period ~ 2.63) with the one
+    locator of pendula and breathers (:func:`rotorlib.bifurcations.locate_root`, the
+    engine's Illinois method) in float64 (~2e-15) and, with ``digits > 15``, again
+    with the trace evaluated at that many digits (heyoka real128 / multiprecision,
+    :func:`rotorlib.bifurcations.refine_root`). It is a
+    :class:`rotorlib.bifurcations.Transition`, as the pendulum's are.
 
 Daughter family ``PD^b``
     Born at the transition with the doubled period. Two searches:
@@ -53,10 +56,10 @@ from .bifurcations import Transition, locate_root, refine_root
 from .continuation import ContinuationOptions, Natural, continuation, switch
 from .energy import as_float
 from .flow import Section, flow, sample, to_section
-from .monodromy import monodromy
+from .monodromy import monodromy, trace_monodromy
 from .orbits import breather
 from .periodic import PeriodicOrbit, orbit_from_state
-from .precision import FLOAT64, tier
+from .precision import FLOAT64, Tier, tier
 from .shooting import ShootingProblem, StartSet, solve
 from .system import alpha_to_beta, beta_to_alpha, potential_beta
 
@@ -88,10 +91,11 @@ DEFAULT_DELTAS = np.concatenate(
 _SCAN = np.concatenate([np.linspace(4.55, 20.0, 160), np.geomspace(20.0, 1e4, 40)[1:]])
 
 
-def breather_trace(E, family="R", digits=None):
-    """``tr M`` of the breather ``family`` at energy ``E`` (float64 unless ``digits > 15``)."""
-    M = monodromy(breather(E, family), digits=digits)
-    return M.trace if digits is None or digits <= 15 else M
+def breather_trace(E: Any, family: str = "R", digits: int | None = None) -> Any:
+    """``tr M`` of the breather ``family`` at energy ``E``: a float in float64, an mpf
+    with every digit of ``trace_str`` when ``digits > 15``
+    (:func:`rotorlib.monodromy.trace_monodromy`)."""
+    return trace_monodromy(breather(E, family), digits=digits)
 
 
 # ----------------------------------------------------------------------------------------------
@@ -234,7 +238,7 @@ class PDEigenstructure:
     basis: tuple
 
 
-def pd_eigenstructure(E=None, tol=1e-8) -> PDEigenstructure:
+def pd_eigenstructure(E: float | None = None, tol: float = 1e-8) -> PDEigenstructure:
     """Eigenvalues and eigenvectors of M of the breather R at its PD transition (or at ``E``)."""
     if E is None:
         E = pd_transition().E
@@ -278,17 +282,23 @@ def _beta(x):
 
 
 def daughter_orbit(
-    E, delta, t=FLOAT64, method="symmetric shooting (quarter period)", digits=None
+    E: Any,
+    delta: Any,
+    digits: int | Tier | None = None,
+    method: str = "symmetric shooting (quarter period)",
+    *,
+    shown: int | None = None,
 ) -> PeriodicOrbit:
-    """The daughter orbit of the member ``(delta, E)`` (:data:`DAUGHTER`), integrated in tier
-    ``t``: monodromy over the full period; ``alpha1_max = alpha2_max = max|b2| / 4`` (the
+    """The daughter orbit of the member ``(delta, E)`` (:data:`DAUGHTER`), integrated in the
+    tier of ``digits`` (extended: strings of ``shown`` digits): monodromy over the full period; ``alpha1_max = alpha2_max = max|b2| / 4`` (the
     largest excursion of ``a1`` and ``a2`` from the parent's line ``a2 = 3 a1`` at fixed
     ``b1``); ``extra`` has ``delta_b2``, ``q1_0``, ``quarter_period``, ``beta2_max`` and
     ``symmetric_residual`` (``|b2|`` at ``b1 = 2 pi``)."""
+    t = tier(digits)
     with t.context():
         x0 = DAUGHTER.state(delta, E, t)
         tq, x1 = to_section(x0, DAUGHTER.section, t, t_max=DAUGHTER.t_max)
-        return _finish(x0, 4 * tq, E, tq, x1, t, method, digits=digits)
+        return _finish(x0, 4 * tq, E, tq, x1, t, method, digits=shown)
 
 
 def _finish(x0, T, E, tq, xq, t, method, extra=None, digits=None):
@@ -349,7 +359,9 @@ class DaughterFamily:
     branch: object = None
 
 
-def daughter_family(deltas=None, E_PD=None, delta_fit=0.12) -> DaughterFamily:
+def daughter_family(
+    deltas: Any = None, E_PD: float | None = None, delta_fit: float = 0.12
+) -> DaughterFamily:
     """Continue the daughter family in ``delta = b2(0)`` from the bifurcation (the engine's
     natural continuation, predictor linear in ``delta^2`` from the parent at ``(0, E_PD)``,
     with ``tr M`` of every member and the exit from the stable window located).
@@ -399,7 +411,9 @@ def daughter_family(deltas=None, E_PD=None, delta_fit=0.12) -> DaughterFamily:
     )
 
 
-def daughter_by_er_minimisation(delta, q1_guess, width=0.05) -> PeriodicOrbit:
+def daughter_by_er_minimisation(
+    delta: float, q1_guess: float, width: float = 0.05
+) -> PeriodicOrbit:
     """The paper's search: fix ``b2(0) = delta``, minimise ``Er(pi1(0))`` over two breather
     periods (Brent from the bracket ``q1_guess -+ width``; ``pi1(0)`` to ~1e-8). The orbit
     returned has the energy of ``(0, delta, pi1(0), 0)``, the period ``t*`` (time to
@@ -428,7 +442,7 @@ def daughter_by_er_minimisation(delta, q1_guess, width=0.05) -> PeriodicOrbit:
     )
 
 
-def er_function(q1_0, delta):
+def er_function(q1_0: float, delta: float) -> float:
     """The paper's ``Er(pi_1(0))``: integrate ``(0, delta, q1_0, 0)`` until ``b1 = 8 pi``."""
     x0 = list(beta_to_alpha(np.array([0.0, delta, q1_0, 0.0])))
     _, x = to_section(x0, Section((1, 1, 0, 0), 8.0, 1), t_max=100.0)
@@ -441,7 +455,7 @@ def _branch_table():
     return daughter_family()
 
 
-def breather_daughter(E, digits=None) -> PeriodicOrbit:
+def breather_daughter(E: Any, digits: int | None = None) -> PeriodicOrbit:
     """The orbit of the daughter family ``PD^b`` at energy ``E`` (the ``orbit PD^b`` command).
 
     ``delta`` is bracketed by the members of :func:`daughter_family` and solved at ``E`` by
@@ -476,10 +490,10 @@ def breather_daughter(E, digits=None) -> PeriodicOrbit:
             d = solve(
                 DAUGHTER, t.num(d), t.num(d) * (1 + t.num("1e-12")), E=str(E), t=t
             ).x
-    return daughter_orbit(str(E) if t.extended else Ef, d, t, digits=digits)
+    return daughter_orbit(str(E) if t.extended else Ef, d, t, shown=digits)
 
 
-def daughter_trajectory(orbit: PeriodicOrbit, n=801) -> np.ndarray:
+def daughter_trajectory(orbit: PeriodicOrbit, n: int = 801) -> np.ndarray:
     """States ``[b1, b2, q1, q2]`` at ``n`` equally spaced times over one period of a daughter."""
     return _beta_traj(orbit.state0, orbit.period, int(n))
 

@@ -37,6 +37,7 @@ from __future__ import annotations
 import contextlib
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -115,7 +116,7 @@ class PendulumOrbit(_ClosedForm):
     def E(self) -> float:
         return self.energy.E
 
-    def closed_form(self, dps=None, derivative=False) -> dict:
+    def closed_form(self, dps: int | None = None, derivative: bool = False) -> dict:
         """E, eps, m, m1, K, period (and with ``derivative`` d(period)/dE) of the closed form.
 
         Parameters
@@ -167,7 +168,7 @@ class PendulumOrbit(_ClosedForm):
         """Initial state at G, ``[a1, a2, p1, p2] = [0, 0, 0, sqrt(4E/3)]``."""
         return np.array([0.0, 0.0, 0.0, math.sqrt(4.0 * self.E / 3.0)])
 
-    def state(self, t) -> np.ndarray:
+    def state(self, t: Any) -> np.ndarray:
         """State ``[a1, a2, p1, p2]`` at times ``t`` (shape ``t.shape + (4,)``); float64 range only.
 
         In rotation ``a2`` is continuous (it grows by 2 pi per period).
@@ -192,7 +193,7 @@ class PendulumOrbit(_ClosedForm):
         return np.stack([z, a2, z, p2], axis=-1)
 
 
-def separatrix_pendulum_state(t) -> np.ndarray:
+def separatrix_pendulum_state(t: Any) -> np.ndarray:
     """The homoclinic pendulum at E = 4: sin(a2/2) = tanh(sqrt(3) t)."""
     t = np.asarray(t, dtype=float)
     a2 = 2.0 * np.arcsin(np.tanh(SQRT3 * t))
@@ -201,7 +202,9 @@ def separatrix_pendulum_state(t) -> np.ndarray:
     return np.stack([z, a2, z, p2], axis=-1)
 
 
-def pendulum(E=None, log_abs_dE=None, phase=None) -> PendulumOrbit:
+def pendulum(
+    E: Any = None, log_abs_dE: Any = None, phase: str | None = None
+) -> PendulumOrbit:
     """The pendulum orbit at ``E`` or at ``log|E-4|`` in a phase (see :func:`rotorlib.energy.pendulum_energy`)."""
     if isinstance(E, PendulumEnergy):
         return PendulumOrbit(E)
@@ -262,7 +265,7 @@ class BreatherOrbit(_ClosedForm):
         en.require_float64()
         return _breather_params(en.family, en.E, en.eps, math.sqrt)
 
-    def closed_form(self, dps=None, derivative=False) -> dict:
+    def closed_form(self, dps: int | None = None, derivative: bool = False) -> dict:
         """:attr:`params` plus E, eps, K, period (and with ``derivative`` d(period)/dE), float64 or mpmath.
 
         Parameters
@@ -311,7 +314,7 @@ class BreatherOrbit(_ClosedForm):
             p["dperiod_dE"] = 4 * (dkdm(m, p["m1"]) * dm * nu - K * dnu) / (nu * nu)
             return p
 
-    def phi(self, t):
+    def phi(self, t: Any) -> tuple[np.ndarray, np.ndarray]:
         """phi(t) and phi'(t) of the breather."""
         t = np.asarray(t, dtype=float)
         p = self.params
@@ -348,19 +351,21 @@ class BreatherOrbit(_ClosedForm):
         """Initial state ``[a1, a2, p1, p2]`` at the base point (G, or D for LD)."""
         return self.state(0.0)
 
-    def state(self, t) -> np.ndarray:
+    def state(self, t: Any) -> np.ndarray:
         """State ``[a1, a2, p1, p2] = [phi/2, 3 phi/2, phi', phi']``."""
         f, df = self.phi(t)
         return np.stack([0.5 * f, 1.5 * f, df, df], axis=-1)
 
-    def state_beta(self, t) -> np.ndarray:
+    def state_beta(self, t: Any) -> np.ndarray:
         """State ``[b1, b2, q1, q2] = [2 phi, 0, phi', 0]`` (paper §8)."""
         f, df = self.phi(t)
         z = np.zeros_like(f)
         return np.stack([2.0 * f, z, df, z], axis=-1)
 
 
-def breather(E=None, family=None, log_abs_dE=None) -> BreatherOrbit:
+def breather(
+    E: Any = None, family: str | None = None, log_abs_dE: Any = None
+) -> BreatherOrbit:
     """The isosceles breather of ``family`` (LG, LD, R) at energy ``E``."""
     if isinstance(E, BreatherEnergy):
         return BreatherOrbit(E)

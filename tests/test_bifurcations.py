@@ -25,6 +25,7 @@ from conftest import requires_heyoka
 
 import rotorlib
 from rotorlib import bifurcations as bf
+from rotorlib.precision import Tier
 
 pytestmark = requires_heyoka
 
@@ -238,7 +239,7 @@ def test_textbook_variational_at_located_roots(label):
         E = 4 - mp.exp(x) if t.phase == "lib" else 4 + mp.exp(x)
         state0 = ["0", "0", "0", mp.nstr(mp.sqrt(4 * E / 3), 45)]
         v = rotorlib.variational_monodromy(
-            state0, mp.nstr(per, 45), method="heyoka", precision="mp256"
+            state0, mp.nstr(per, 45), digits=Tier("mp256")
         )
         tr = mp.mpf(v.trace_str)
     assert v.closure < 1e-25

@@ -15,6 +15,7 @@ import pytest
 from conftest import requires_heyoka, textbook_reference
 
 import rotorlib
+from rotorlib.monodromy import _monodromy
 
 CASES = (
     [("pendulum-E", E, "") for E in (1.0, 3.9, 5.0, 100.0)]
@@ -125,7 +126,7 @@ def test_multipliers():
 def test_mpmath_backend_independent_integrator():
     """mpmath's Taylor integrator (no heyoka) reproduces the real128 value at E = 5."""
     o = rotorlib.pendulum(5.0)
-    a = rotorlib.monodromy(o, digits=20, backend="mpmath")
+    a = _monodromy(o, 20, "mpmath")
     b = rotorlib.monodromy(o)
     assert abs(float(a.trace_str) - b.trace) < 1e-12
     assert a.backend == "mpmath"
@@ -136,6 +137,8 @@ def test_bad_precision_requests():
     with pytest.raises(ValueError):
         rotorlib.monodromy(o, digits=0)
     with pytest.raises(ValueError):
-        rotorlib.monodromy(o, digits=30, backend="scipy")
+        _monodromy(o, 30, "scipy")
     with pytest.raises(ValueError):
-        rotorlib.monodromy(o, backend="fortran")
+        _monodromy(o, None, "fortran")
+    with pytest.raises(TypeError):  # one precision argument: digits
+        rotorlib.monodromy(o, backend="scipy")

@@ -13,10 +13,11 @@ Examples
 from __future__ import annotations
 
 import argparse
+from typing import Any
 
 from ..cli import emit
 from ..monodromy import monodromy
-from ..orbits import breather, pendulum
+from ..orbits import BreatherOrbit, PendulumOrbit, breather, pendulum
 from ..precision import check_digits, json_number
 
 _DESCRIPTION = """\
@@ -38,7 +39,7 @@ tr M = 4: marginal (neutrally stable), with a note. For small E > 0 the pendulum
 E = 1e-300): marginal, and the note gives the series value."""
 
 
-def register(sub):
+def register(sub: Any) -> None:
     p = sub.add_parser(
         "trace",
         help="trace of the monodromy matrix of pendula or breathers",
@@ -73,7 +74,6 @@ def register(sub):
         default=None,
         help="significant digits (default float64; > 15 uses heyoka real128/multiprecision)",
     )
-    p.add_argument("--backend", choices=["heyoka", "scipy", "mpmath"], default=None)
     p.add_argument(
         "--json",
         action="store_true",
@@ -117,7 +117,7 @@ def _record(M, digits) -> dict:
     return rec
 
 
-def run(args):
+def run(args: argparse.Namespace) -> int:
     values = args.E if args.E is not None else args.log_dE
     by_log = args.E is None
     if args.family == "pendulum" and args.breather_family:
@@ -126,6 +126,7 @@ def run(args):
         raise ValueError("--log-dE needs --phase lib or rot")
     check_digits(args.digits, "--digits")
     records = []
+    orb: PendulumOrbit | BreatherOrbit
     for text in values:
         if args.family == "pendulum":
             orb = (
@@ -144,11 +145,7 @@ def run(args):
                 orb = breather(log_abs_dE=text, family=fam)
             else:
                 orb = breather(E=text, family=fam)
-        records.append(
-            _record(
-                monodromy(orb, digits=args.digits, backend=args.backend), args.digits
-            )
-        )
+        records.append(_record(monodromy(orb, digits=args.digits), args.digits))
     emit(
         records,
         args.json,
