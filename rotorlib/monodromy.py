@@ -541,6 +541,13 @@ def textbook_monodromy(
     (:func:`variational_monodromy`). It shares no code with the Hill reduction, so it
     is an independent reference. Near E = 4 it loses about ``2 log10(1/|E-4|)``
     digits: choose ``digits >= 2 log10(1/|E-4|)`` plus the digits wanted.
+
+    Examples
+    --------
+    >>> import rotorlib
+    >>> V = textbook_monodromy(rotorlib.pendulum(E=3.9))
+    >>> V.precision, V.trace_str[:22]
+    ('mp256', '0.01951194241116761053')
     """
     import mpmath as mp
 

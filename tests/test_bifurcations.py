@@ -534,3 +534,20 @@ def test_locators_agree_with_brent():
         assert abs(r - mp.cbrt(2)) < mp.mpf("1e-20")
     with pytest.raises(RuntimeError):
         bf.refine_root(lambda v: v * v + 1, 0.0, 20)
+
+
+def test_cli_json_is_to_dict_for_both_families(capsys):
+    """``bifurcations --json`` prints Transition.to_dict(), breathers included, and
+    --digits applies to the breather too."""
+    from rotorlib.cli import main
+
+    assert (
+        main(["bifurcations", "--family", "breather", "--digits", "30", "--json"]) == 0
+    )
+    (rec,) = json.loads(capsys.readouterr().out)
+    assert rec == json.loads(json.dumps(bf.transition("PD^b", digits=30).to_dict()))
+    assert rec["precision"] == "real128" and len(rec["E_str"]) > 20
+    assert main(["bifurcations", "--n-max", "1", "--kind", "PD", "--json"]) == 0
+    recs = json.loads(capsys.readouterr().out)
+    assert [r["label"] for r in recs] == ["PD^l_1", "PD^r_1"]
+    assert recs[1] == json.loads(json.dumps(by_label()["PD^r_1"].to_dict()))

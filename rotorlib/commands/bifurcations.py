@@ -53,7 +53,7 @@ def run(args: argparse.Namespace) -> int:
     if args.family == "breather":
         from ..breathers import breather_transitions
 
-        records = [t.to_dict() for t in breather_transitions()]
+        records = [t.to_dict() for t in breather_transitions(digits=args.digits)]
         emit(records, args.json, ["kind", "E", "period", "transition"], one=False)
         return 0
     from ..bifurcations import transition, transitions
