@@ -495,13 +495,16 @@ def variational_monodromy(
             Mv, xT, tr = monodromy_matrix(x0, T, t)
             xf, steps, backend = np.array([float(v) for v in xT]), 0, "heyoka-taylor"
             tr_str = t.text(tr, None if t.extended else 17)
+        from .periodic import stability_of  # the result protocol's rule
+
         x0f = np.array([float(v) for v in x0])
         closure = float(np.max(np.abs(_unwind(xf - x0f))))
         trf = float(tr)
+        stability = stability_of(trf, t.dps - 9 if t.extended else 15)
         return Monodromy(
             "orbit", float(energy_alpha(x0f)), float(T), Mv, STATE_ORDER, None, None,
             trf, trf - 2.0, tr_str, multipliers_from_trace(trf - 2.0), 0 < trf < 4,
-            t.name, backend, closure, None, t.text(T), "", "",
+            t.name, backend, closure, None, t.text(T), stability, "",
             final_state=xf, closure=closure, steps=steps,
         )  # fmt: skip
 
