@@ -53,7 +53,7 @@ import numpy as np
 from scipy import optimize
 
 from .bifurcations import Transition, locate_root, refine_root
-from .continuation import ContinuationOptions, Natural, continuation, switch
+from .continuation import Branch, ContinuationOptions, Natural, continuation, switch
 from .energy import as_float
 from .flow import Section, flow, sample, to_section
 from .monodromy import monodromy, trace_monodromy
@@ -324,13 +324,16 @@ def _beta_traj(x0, T, n):
 
 
 @dataclass(frozen=True)
-class DaughterFamily:
-    """The daughter family ``PD^b`` continued in ``delta = b2(0)``.
+class DaughterFamily(Branch):
+    """The daughter family ``PD^b``: the engine's :class:`~rotorlib.continuation.Branch`
+    (continued in ``delta = b2(0)``; ``E``, ``period``, ``trace`` = ``tr M`` of the full
+    4x4 monodromy, ``members``, ``special_points``, ``stop``) with the analysis of its
+    birth.
 
     Attributes
     ----------
-    delta, E, period, trace : ndarray
-        Along the branch (``trace`` = ``tr M`` of the full 4x4 monodromy).
+    delta : ndarray
+        ``b2(0)`` of the members (the branch's ``u``).
     E_PD : float
         The parent's transition energy.
     slope_ratio : float
@@ -343,20 +346,19 @@ class DaughterFamily:
     unstable_crossing : str
         ``tr M = 0`` or ``tr M = 4``: which boundary is crossed there.
     fit : dict
-    branch : rotorlib.continuation.Branch
+        The quadratic fits (``E_fit``, ``trace_fit``) and their values at birth.
     """
 
-    delta: np.ndarray
-    E: np.ndarray
-    period: np.ndarray
-    trace: np.ndarray
-    E_PD: float
-    slope_ratio: float
-    parent_slope: float
-    E_unstable: float
-    unstable_crossing: str
-    fit: dict = field(default_factory=dict)
-    branch: object = None
+    E_PD: float = math.nan
+    slope_ratio: float = math.nan
+    parent_slope: float = math.nan
+    E_unstable: float = math.nan
+    unstable_crossing: str = "none"
+    fit: dict[str, Any] = field(default_factory=dict)
+
+    @property
+    def delta(self) -> np.ndarray:
+        return self.u
 
 
 def daughter_family(
@@ -384,7 +386,7 @@ def daughter_family(
     b = continuation(
         DAUGHTER, alg, ContinuationOptions(traces=True, folds=False), [first]
     )
-    Es, trs, per = b.E, b.trace, b.period
+    Es, trs = b.E, b.trace
     sel = deltas <= delta_fit
     s = deltas[sel] ** 2
     pE, pT = np.polyfit(s, Es[sel], 2), np.polyfit(s, trs[sel], 2)
@@ -397,17 +399,18 @@ def daughter_family(
                 "tr M = 4" if p.kind == "IS" else "tr M = 0",
             )
     return DaughterFamily(
-        deltas,
-        Es,
-        per,
-        trs,
+        b.problem,
+        b.tier,
+        b.members,
+        b.special_points,
+        b.stop,
+        b.reason,
         E_PD,
         float((pT[-2] / pE[-2]) / parent),
         float(parent),
         E_unst,
         which,
         {"E_fit": pE, "trace_fit": pT, "E_at_birth": pE[-1], "trace_at_birth": pT[-1]},
-        b,
     )
 
 
