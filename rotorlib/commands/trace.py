@@ -88,13 +88,12 @@ def _record(M, digits) -> dict:
     ext = M.precision != "float64"
     en = M.energy
     given_log = en.given[1] if en.given[0] == "log_abs_dE" else None
-    log_key = "log_abs_dE" if M.family == "pendulum" else "log_abs_dE_4.5"
     rec: dict = {"family": "pendulum" if M.family == "pendulum" else "breather"}
     if M.family != "pendulum":
         rec["breather_family"] = en.family
     rec["phase"] = en.phase
     rec |= json_number("E", en.E, en.E_text(max(17, digits or 0)))
-    rec |= json_number(log_key, en.log_abs_dE, given_log)
+    rec |= json_number("log_abs_dE", en.log_abs_dE, given_log)  # to E = 4 or 4.5
     overflow = not ext and M.trace_str != repr(M.trace)
     rec |= json_number("trace", M.trace, M.trace_str if ext or overflow else None)
     rec |= json_number(
