@@ -26,6 +26,7 @@ import mpmath as mp
 
 import rotorlib as rl
 from rotorlib.hill import hill_problem, solve_hill
+from rotorlib.precision import Tier
 
 #: Digits of the reference computation (heyoka multiprecision, ~260 bits).
 REF_DIGITS = 70
@@ -64,9 +65,9 @@ def _tm(orbit, **kw):
     return (M.trace_str if M.precision != "float64" else M.trace), None
 
 
-def _hill(orbit, backend, precision, tol=None, dps=None):
+def _hill(orbit, backend, precision, tol=None, digits=None):
     """Hill reduction, returning the trace and the integrator steps."""
-    prob = hill_problem(orbit, dps=dps)
+    prob = hill_problem(orbit, digits)
     sol = solve_hill(prob, backend, precision, tol=tol)
     with mp.workdps(80):
         d = mp.mpf(sol.delta_exact) if precision != "float64" else mp.mpf(sol.delta)
@@ -128,17 +129,17 @@ def trace_methods(quick=False, mpmath_tier=True):
                     "Hill reduction, heyoka real128",
                     "tol=" + (f"{tol:g}" if tol else "eps"),
                     "real128",
-                    lambda o, t=tol: _hill(o, "heyoka", "real128", t, dps=45),
+                    lambda o, t=tol: _hill(o, "heyoka", "real128", t, digits=30),
                 )
             )
         for digits in (40, 50):
-            _, prec = rl.precision_tier(digits, "heyoka")
+            _, prec = rl.precision_tier(digits)
             ms.append(
                 Method(
                     "Hill reduction, heyoka multiprecision",
                     f"digits={digits} ({prec})",
                     prec,
-                    lambda o, d=digits, p=prec: _hill(o, "heyoka", p, None, dps=d + 15),
+                    lambda o, d=digits, p=prec: _hill(o, "heyoka", p, None, digits=d),
                     repeats=1 if quick else 2,
                 )
             )
@@ -148,7 +149,7 @@ def trace_methods(quick=False, mpmath_tier=True):
                 "Hill reduction, mpmath odefun",
                 "digits=16 (mpmath21)",
                 "mpmath21",
-                lambda o: _hill(o, "mpmath", "mpmath21", None, dps=31),
+                lambda o: _hill(o, "mpmath", "mpmath21", None, digits=16),
                 repeats=1,
                 max_energies=1,
             )
@@ -158,9 +159,7 @@ def trace_methods(quick=False, mpmath_tier=True):
 
 def reference_trace(x, phase, digits=REF_DIGITS):
     """tr M at ``log|E - 4| = x`` with ``digits`` digits (Hill reduction, heyoka multiprecision)."""
-    M = rl.monodromy(
-        rl.pendulum(log_abs_dE=x, phase=phase), digits=digits, backend="heyoka"
-    )
+    M = rl.monodromy(rl.pendulum(log_abs_dE=x, phase=phase), digits=digits)
     with mp.workdps(digits + 10):
         return mp.mpf(M.trace_str)
 
@@ -299,7 +298,7 @@ def locate_methods(quick=False):
             ("Hill, heyoka real128 + Anderson-Bjorck", "real128", mp_locator(30)),
             (
                 "Hill, heyoka mp + Anderson-Bjorck",
-                rl.precision_tier(45, "heyoka")[1],
+                rl.precision_tier(45)[1],
                 mp_locator(45),
             ),
         ]
@@ -409,7 +408,9 @@ def textbook_reference(x, phase, bits=512):
     ``p2 = sqrt(4E/3)``, period ``4K(E/4)/sqrt3`` or ``2 kappa K(kappa^2)/sqrt3``
     with ``kappa^2 = 4/E``); no Hill reduction and no closed-form orbit involved.
     """
-    return rl.textbook_monodromy(rl.pendulum(log_abs_dE=float(x), phase=phase), bits)
+    return rl.textbook_monodromy(
+        rl.pendulum(log_abs_dE=float(x), phase=phase), Tier(f"mp{bits}")
+    )
 
 
 def _fmt_rows(rows, cols):

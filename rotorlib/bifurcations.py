@@ -16,9 +16,12 @@ separately.
 
 Method: ``Delta`` is tabulated on a grid in ``x`` (step 0.05; ``Delta`` is
 asymptotically periodic in ``x`` with period ``2 sqrt(3) pi = 10.88``, and
-consecutive roots of one equation are >= 1.1 apart), sign changes are refined
-with Brent's method to ``xtol = 1e-14`` (absolute), with heyoka's float64
-Taylor integrator (~0.1 ms per ``Delta``).
+consecutive roots of one equation are >= 1.1 apart), sign changes are located
+by :func:`locate_root` (the engine's Illinois method,
+:func:`rotorlib.continuation.illinois`: the one locator of ``tr M = 4`` and ``0``,
+for pendula and breathers) to ``1e-15`` (absolute), with heyoka's float64
+Taylor integrator (~0.1 ms per ``Delta``). :func:`refine_root` locates them again
+in an extended tier (the same method on mpmath numbers).
 
 Precision: ``Delta`` is accurate to ~1e-13 absolute at any depth, and
 ``|dDelta/dx| > 0.5`` at every root, so ``log|E - 4|`` is accurate to ~2e-13
@@ -28,7 +31,9 @@ absolute (>= 13 significant digits for ``|x| > 1``; for ``PD^r_1``, at
 ``tests/test_bifurcations.py`` re-locates every one of the first 80 roots with
 heyoka real128 (~32 digits) and checks a few with the textbook 4x4
 variational equations in 256-bit arithmetic. ``transition(label, digits=30)``
-returns a root refined in real128.
+returns a root refined in real128. The breather's transition ``PD^b``
+(:mod:`rotorlib.breathers`) is a :class:`Transition` too, and
+:func:`transition` returns it.
 """
 
 from __future__ import annotations
@@ -36,22 +41,21 @@ from __future__ import annotations
 import dataclasses
 import math
 import re
-from dataclasses import dataclass
+from collections.abc import Callable, Sequence
+from concurrent.futures import Executor
+from dataclasses import dataclass, field
+from typing import Any
 
 import mpmath as mp
 import numpy as np
 
-from .energy import PendulumEnergy, pendulum_energy
-from .hill import (
-    HillProblem,
-    heyoka_available,
-    hill_problem,
-    precision_tier,
-    solve_hill,
-)
-from .orbits import pendulum
+from .continuation import illinois
+from .energy import BreatherEnergy, PendulumEnergy, pendulum_energy
+from .hill import hill_problem, precision_tier, solve_hill
+from .orbits import PendulumOrbit, pendulum
 from .parallel import pmap
-from .precision import check_digits, json_number
+from .periodic import OrbitResult
+from .precision import Tier, json_number, tier
 
 __all__ = [
     "Transition",
@@ -63,6 +67,9 @@ __all__ = [
     "trace_of_delta",
     "trace_curve",
     "refine_mp",
+    "refine_root",
+    "locate_root",
+    "BREATHER_LABELS",
     "SQRT3_PI",
     "CLASSES",
     "transition_class",
@@ -102,75 +109,153 @@ CLASSES = {
 
 
 @dataclass(frozen=True)
-class Transition:
-    """A stability transition (bifurcation) of the pendulum family.
+class Transition(OrbitResult):
+    """A stability transition (bifurcation) of the pendulum or of a breather family.
+
+    It follows the result protocol (:class:`~rotorlib.periodic.OrbitResult`): at the
+    transition ``tr M`` is exactly 4 (``IS``) or 0 (``PD``), so ``stability`` is
+    ``'marginal'`` and the multipliers are ``(1, 1, 1, 1)`` or ``(1, 1, -1, -1)``.
 
     Attributes
     ----------
     label : str
-        Paper notation, ``IS^l_3``, ``PD^r_2``.
+        Paper notation: ``IS^l_3``, ``PD^r_2`` (pendulum), ``PD^b`` (breather R).
     kind : {'IS', 'PD'}
         Isochronous (``tr M = 4``) or period doubling (``tr M = 0``).
-    phase : {'lib', 'rot'}
-    n : int
-        Index in the paper's numbering (1, 2, ...).
-    log_abs_dE : float
-        ``log|E - 4|`` (natural log); accurate to ~2e-13 absolute in float64.
-    log_abs_dE_str : str
-        The same as a decimal string (17 significant digits in float64; all the
-        digits of the refined root when ``digits > 15``).
-    E : float
-        Energy in float64 (use ``energy.eps`` / ``energy.decimal_E()`` for ``E - 4``).
-    energy : PendulumEnergy
-        The energy, carrying ``log_abs_dE_str`` as its decimal input.
-    period : float
-        Pendulum period ``4K/sqrt3`` (lib) or ``2 kappa K/sqrt3`` (rot), ~3e-13 absolute.
-    delta_target : float
-        Value of ``Delta`` at the transition (+2, -2 or 0).
+    family : {'pendulum', 'R', 'LG', 'LD'}
+        The family whose stability changes.
+    E, E_str : float, str
+        Energy, and as a decimal with every verified digit (pendulum: the digits after
+        the leading ``4.000``, :meth:`~rotorlib.energy.PendulumEnergy.decimal_E`).
+    period, period_str : float, str
+        Period of the orbit at ``E`` (pendulum ``4K/sqrt3`` or ``2 kappa K/sqrt3``).
+    trace, trace_str : float, str
+        ``tr M`` at the transition: 4 or 0 exactly.
+    state0, state0_str : ndarray (4,), tuple of str
+        State ``[a1, a2, p1, p2]`` of the orbit at the base point G, from the closed
+        form (``p2 = sqrt(4E/3)``; breather R: ``p1 = p2 = sqrt(E)``).
     transition : str
         ``stable->unstable``, ``unstable->stable`` or ``stable->stable`` (``PD^l``:
         double zero of ``tr M``), with increasing ``E``.
-    dtrace_dE : float
-        Slope ``d tr M / dE`` of the pendulum family at the transition (0 for ``PD^l``).
+    slope : float
+        ``d tr M / dE`` of the family at the transition (0 for ``PD^l``).
+    digits : int
+        Significant digits of the strings (15: float64).
+    precision : str
+        The tier that located the root (``float64``, ``real128``, ``mp<bits>``).
+    phase, n : str, int
+        ``lib`` or ``rot`` and the index in the paper's numbering (breather: ``rot``, 1).
+    log_abs_dE, log_abs_dE_str : float, str
+        ``log|E - 4|`` (breathers: ``log|E - 4.5|``); the pendulum's float64 root is
+        accurate to ~2e-13 absolute.
+    energy : PendulumEnergy or BreatherEnergy
+        The energy, carrying ``log_abs_dE_str`` (or ``E_str``) as its decimal input:
+        ``monodromy(transition)`` evaluates ``M`` there.
+    delta_target : float
+        ``Delta`` at the transition (+2, -2 or 0; ``tr M = Delta^2`` in libration,
+        ``2 + Delta`` in rotation).
+    dtrace_dx : float
+        ``d tr M / d log|E - 4|`` (pendulum).
+
+    Examples
+    --------
+    >>> from rotorlib.bifurcations import transition
+    >>> t = transition("IS^l_1")
+    >>> t.kind, t.family, t.stability, t.transition, round(t.E, 6)
+    ('IS', 'pendulum', 'marginal', 'stable->unstable', 3.990588)
+    >>> t.to_dict()["class"], t.trace
+    ('IS^l_odd', 4.0)
     """
 
     label: str
     kind: str
-    phase: str
-    n: int
-    log_abs_dE: float
-    log_abs_dE_str: str
+    family: str
     E: float
-    energy: PendulumEnergy
+    E_str: str
     period: float
-    delta_target: float
+    period_str: str
+    trace: float
+    trace_str: str
+    state0: np.ndarray
+    state0_str: tuple[str, ...]
     transition: str
-    dtrace_dE: float
-    dtrace_dx: float = float("nan")
-    period_str: str = ""
+    slope: float
+    digits: int = 15
     precision: str = "float64"
+    phase: str = "rot"
+    n: int = 1
+    log_abs_dE: float = float("nan")
+    log_abs_dE_str: str = ""
+    energy: PendulumEnergy | BreatherEnergy | None = field(default=None, repr=False)
+    delta_target: float = float("nan")
+    dtrace_dx: float = float("nan")
+
+    @classmethod
+    def at_base_point(
+        cls,
+        label: str,
+        kind: str,
+        family: str,
+        energy: PendulumEnergy | BreatherEnergy,
+        period: tuple[float, str],
+        momenta: tuple[str, str],
+        transition: str,
+        slope: float,
+        digits: int | None,
+        E_str: str,
+        **pendulum_only: Any,
+    ) -> Transition:
+        """The transition of the orbit through G with momenta ``(p1, p2)`` (decimal
+        strings) and ``period = (value, string)``; ``digits`` None: float64."""
+        state0_str = ("0.0", "0.0", *momenta)
+        level = 4.0 if kind == "IS" else 0.0
+        return cls(
+            label, kind, family, energy.E, E_str, period[0], period[1], level,
+            repr(level), np.array([float(v) for v in state0_str]), state0_str,
+            transition, slope, digits or 15, tier(digits).name, energy=energy,
+            **pendulum_only,
+        )  # fmt: skip
 
     @property
     def cls(self) -> str:
-        """The §5 class: ``IS^l_odd``, ``IS^l_even``, ``PD^l``, ``IS^r_odd``, ... ."""
+        """The §5 class: ``IS^l_odd``, ``IS^l_even``, ``PD^l``, ``IS^r_odd``, ...
+        (a breather transition: its label)."""
+        if self.family != "pendulum":
+            return self.label
         return transition_class(self.kind, self.phase, self.n)
 
-    def to_dict(self) -> dict:
-        """JSON-serialisable dict (the ``bifurcations --json`` output)."""
-        return {
+    @property
+    def dtrace_dE(self) -> float:
+        """``slope`` (the name of the pendulum's tables)."""
+        return self.slope
+
+    def to_dict(self) -> dict[str, Any]:
+        """The JSON ``bifurcations --json`` prints (:func:`~rotorlib.precision.json_number`:
+        float64 values as numbers, more digits in ``*_str`` strings)."""
+        ext = self.digits > 15
+        rec: dict[str, Any] = {
             "label": self.label,
             "kind": self.kind,
+            "family": self.family,
             "phase": self.phase,
             "n": self.n,
             "class": self.cls,
             **json_number("log_abs_dE", self.log_abs_dE, self.log_abs_dE_str),
-            **json_number("E", self.E, self.energy.decimal_E(15)),
-            **json_number("period", self.period, self.period_str or None),
+            **json_number("E", self.E, self.E_str),
+            **json_number("period", self.period, self.period_str),
+            "trace": self.trace,
+            "state0": [float(v) for v in self.state0],
+            "multipliers": [[z.real, z.imag] for z in self.multipliers],
+            "stability": self.stability,
             "transition": self.transition,
             "delta_target": self.delta_target,
-            "dtrace_dE": self.dtrace_dE,
+            "slope": self.slope,
+            "digits": self.digits,
             "precision": self.precision,
         }
+        if ext:
+            rec["state0_str"] = list(self.state0_str)
+        return rec
 
 
 def transition_class(kind: str, phase: str, n: int) -> str:
@@ -185,7 +270,7 @@ _LABEL_RE = re.compile(
 )
 
 
-def parse_label(text) -> tuple:
+def parse_label(text: Any) -> tuple[str, str, int]:
     """Parse a transition label.
 
     Accepts ``IS^l_3``, ``ISl3``, ``IS^l_{3}``, ``PDr2`` (kind and phase letter
@@ -227,71 +312,34 @@ def _label(kind, phase, n):
 
 def delta(x: float, phase: str) -> float:
     """``Delta`` at ``x = log|E - 4|`` in float64 (~1e-13 absolute; heyoka, else scipy)."""
-    orb = pendulum(log_abs_dE=float(x), phase=phase)
-    prob = hill_problem(orb)
-    return _solve(prob)
+    prob = hill_problem(pendulum(log_abs_dE=float(x), phase=phase))
+    return solve_hill(prob, *precision_tier(None)).delta
 
 
-def _solve(prob):
-    be = "heyoka" if heyoka_available() else "scipy"
-    return solve_hill(prob, be, "float64").delta
-
-
-def trace_of_delta(d, phase):
+def trace_of_delta(d: Any, phase: str) -> Any:
     """``tr M`` from ``Delta``: ``Delta^2`` (lib) or ``2 + Delta`` (rot)."""
     return d * d if phase == "lib" else 2 + d
 
 
-def _mp_problem(x, phase, dps):
-    """The Hill problem at an mpmath ``x = log|E-4|`` (no float64 rounding of the energy)."""
-    dps = (
-        dps + int(max(0.0, -float(x) / math.log(10))) + 10
-    )  # m = 1 - O(eps) needs the extra digits
+def _mp_pendulum(x: Any, phase: str, dps: int) -> PendulumOrbit:
+    """The pendulum at an mpmath/decimal ``x = log|E - 4|``, read at ``dps`` digits."""
     with mp.workdps(dps):
-        x = mp.mpf(x)
-        eps = mp.exp(x)
-        if phase == "lib":
-            E = 4 - eps
-            m1, m = eps / 4, E / 4
-        else:
-            E = 4 + eps
-            m1, m = eps / E, 4 / E
-        K = mp.ellipk(m)
-        du_dt = math.sqrt(3.0) if phase == "lib" else math.sqrt(3.0 / float(m))
-        return HillProblem(
-            "pendulum-" + phase,
-            +m,
-            +m1,
-            +K,
-            2 * m / 3,
-            0.0,
-            2 if phase == "lib" else 1,
-            du_dt,
-            2.0,
-        )
+        return pendulum(log_abs_dE=mp.nstr(mp.mpf(x), dps), phase=phase)
 
 
-def delta_mp(x, phase: str, digits: int = 30):
-    """``Delta`` at an mpmath/decimal ``x`` with heyoka real128 (``digits <= 31``) or multiprecision.
+def delta_mp(x: Any, phase: str, digits: int = 30) -> Any:
+    """``Delta`` at an mpmath/decimal ``x`` in the tier of ``digits`` (heyoka real128 for
+    ``digits <= 31``, multiprecision beyond).
 
     Returns an ``mpmath.mpf`` (caller's working precision should be >= ``digits``).
     The energy is built from ``x`` in mpmath at ``digits + 15`` digits, so no
     float64 rounding enters.
     """
-    be, prec = precision_tier(digits, "heyoka")
     dps = digits + 15
-    prob = _mp_problem(x, phase, dps)
-    sol = solve_hill(prob, be, prec)
+    prob = hill_problem(_mp_pendulum(x, phase, dps), digits=digits)
+    sol = solve_hill(prob, "heyoka", tier(digits).name)
     with mp.workdps(dps):
         return mp.mpf(sol.delta_exact)
-
-
-def _period_mp(x, phase, dps):
-    with mp.workdps(dps):
-        prob = _mp_problem(x, phase, dps)
-        if phase == "lib":
-            return 4 * prob.K / mp.sqrt(3)
-        return 2 * mp.sqrt(prob.m) * prob.K / mp.sqrt(3)
 
 
 # --------------------------------------------------------------------------- scanning
@@ -303,15 +351,65 @@ def _scan_chunk(args):
     return np.array([delta(x, phase) for x in xs])
 
 
-def _refine(phase, c, a, b, fa, fb):
-    from scipy.optimize import brentq  # (lazy: scipy.optimize is slow to import)
+def locate_root(
+    f: Callable[[Any], Any],
+    a: Any,
+    b: Any,
+    fa: Any,
+    fb: Any,
+    xtol: Any,
+    maxiter: int = 100,
+) -> Any:
+    """The root of ``f`` between ``a`` and ``b`` (``fa``, ``fb`` of opposite signs) to
+    ``|dx| <= xtol``: the engine's Illinois method (:func:`rotorlib.continuation.illinois`),
+    in float64 or in mpmath numbers alike. The one locator of ``tr M = 4`` and ``0`` of
+    pendula and breathers.
 
-    f = lambda x: delta(x, phase) - c  # noqa: E731
-    if fa == 0.0:
+    Examples
+    --------
+    >>> round(locate_root(lambda x: x * x - 2, 1.0, 2.0, -1.0, 2.0, 1e-14), 12)
+    1.414213562373
+    """
+    if fa == 0:
         return a
-    if fb == 0.0:
+    if fb == 0:
         return b
-    return brentq(f, a, b, xtol=1e-14, rtol=1e-15, maxiter=200)
+    return illinois(f, lambda v: a + v, b - a, fa, fb, xtol / abs(b - a), maxiter)
+
+
+def refine_root(
+    f: Callable[[Any], Any],
+    x0: Any,
+    digits: int,
+    h: float = 1e-11,
+    reach: float = 1e-6,
+    maxiter: int = 100,
+) -> Any:
+    """Re-locate the root of ``f`` near the float64 root ``x0`` to ``digits`` significant
+    digits: ``f`` (evaluated in an extended tier, on mpmath numbers at ``digits + 10``
+    working digits) is bracketed on ``x0 -+ h max(1, |x0|)`` (widened 100-fold until
+    its signs differ, at most to ``reach``) and the root located there by
+    :func:`locate_root` to ``10^-(digits + 1) max(1, |x0|)``. Returns an mpf.
+
+    Raises
+    ------
+    RuntimeError
+        No sign change within ``x0 -+ reach max(1, |x0|)``.
+    """
+    with mp.workdps(digits + 10):
+        x0 = mp.mpf(x0)
+        scale = max(mp.mpf(1), abs(x0))
+        w = mp.mpf(h)
+        while True:
+            a, b = x0 - w * scale, x0 + w * scale
+            fa, fb = f(a), f(b)
+            if fa * fb <= 0:
+                break
+            w *= 100
+            if w > reach:
+                raise RuntimeError(f"root refinement found no root near {x0}")
+        tol = mp.mpf(10) ** (-(digits + 1)) * scale
+        return locate_root(f, a, b, fa, fb, tol, maxiter)
 
 
 def _slope(x, phase, h=1e-4):
@@ -381,45 +479,52 @@ def _find(phase, kinds, n_max, executor=None, progress=False):
     return roots, xs, ds
 
 
-def _make(kind, phase, n, x, c, x_str=None, precision="float64", period_str=""):
-    en = pendulum_energy(log_abs_dE=float(x), phase=phase)
+def _make(
+    kind: str,
+    phase: str,
+    n: int,
+    x: float,
+    c: float,
+    x_str: str | None = None,
+    digits: int | None = None,
+) -> Transition:
     x_str = x_str or f"{float(x):.17g}"
-    en = dataclasses.replace(en, given=("log_abs_dE", x_str))
+    en = dataclasses.replace(
+        pendulum_energy(log_abs_dE=float(x), phase=phase), given=("log_abs_dE", x_str)
+    )
     orb = pendulum(en)
     d = _slope(float(x), phase)
     dtr_dx = 2 * c * d if phase == "lib" else d
     # x = log|E-4|: dx/dE = 1/(E-4) (rot), -1/(4-E) (lib)
-    dx_dE = (1.0 / en.eps) if phase == "rot" else (-1.0 / en.eps)
-    dtr_dE = dtr_dx * dx_dE
+    dtr_dE = dtr_dx * ((1.0 / en.eps) if phase == "rot" else (-1.0 / en.eps))
     if kind == "PD" and phase == "lib":
-        sense = "stable->stable"
-        dtr_dE = 0.0
-        dtr_dx = 0.0
+        sense, dtr_dE, dtr_dx = "stable->stable", 0.0, 0.0
     else:  # tr M rising through 4 (IS) destabilises, rising through 0 (PD) stabilises
         up = (dtr_dE > 0) == (kind == "IS")
         sense = "stable->unstable" if up else "unstable->stable"
-    return Transition(
-        _label(kind, phase, n),
-        kind,
-        phase,
-        n,
-        float(x),
-        x_str,
-        en.E,
-        en,
-        orb.period,
-        c,
-        sense,
-        float(dtr_dE),
-        float(dtr_dx),
-        period_str,
-        precision,
-    )
+    if digits is None:
+        shown, per_s, p2_s = 15, repr(orb.period), repr(float(orb.state0[3]))
+    else:
+        shown, dps = digits, digits + 10
+        with mp.workdps(dps):
+            per_s = mp.nstr(orb.closed_form(dps)["period"], digits, strip_zeros=False)
+            E = en.mp_E_eps(dps)[0]
+            p2_s = mp.nstr(mp.sqrt(4 * E / 3), digits, strip_zeros=False)
+    return Transition.at_base_point(
+        _label(kind, phase, n), kind, "pendulum", en, (orb.period, per_s), ("0.0", p2_s),
+        sense, float(dtr_dE), digits, en.decimal_E(shown), phase=phase, n=n,
+        log_abs_dE=float(x), log_abs_dE_str=x_str, delta_target=c,
+        dtrace_dx=float(dtr_dx),
+    )  # fmt: skip
 
 
 def transitions(
-    phase="both", n_max=20, kinds=("IS", "PD"), executor=None, progress=False
-) -> list:
+    phase: str = "both",
+    n_max: int = 20,
+    kinds: str | Sequence[str] = ("IS", "PD"),
+    executor: Executor | None = None,
+    progress: bool = False,
+) -> list[Transition]:
     """All transitions with ``n <= n_max`` of the requested kinds and phases.
 
     Parameters
@@ -458,12 +563,13 @@ def transitions(
         for kind in _KINDS:
             rk = [r for r in roots if r[0] == kind]
             for n, (_, c, a, b, fa, fb) in enumerate(rk, start=1):
-                x = _refine(ph, c, a, b, fa - c, fb - c)
-                out.append(_make(kind, ph, n, x, c))
+                out.append(_make(kind, ph, n, _root64(ph, c, a, b, fa, fb), c))
     return out
 
 
-def trace_curve(xs, phase, executor=None, progress=False):
+def trace_curve(
+    xs: Any, phase: str, executor: Executor | None = None, progress: bool = False
+) -> tuple[np.ndarray, np.ndarray]:
     """``tr M`` and the period of the pendulum on a grid of ``x = log|E - 4|`` (float64, ~1e-13).
 
     Returns
@@ -486,70 +592,87 @@ def _check_phase(phase):
     raise ValueError(f"phase must be 'lib', 'rot' or 'both', got {phase!r}")
 
 
-def refine_mp(x0, phase, target, digits=30, maxiter=10):
+def _root64(phase: str, c: float, a: float, b: float, fa: float, fb: float) -> float:
+    """The float64 root of ``Delta = c`` between grid points ``a`` and ``b`` (~1e-13)."""
+    return locate_root(lambda x: delta(x, phase) - c, a, b, fa - c, fb - c, 1e-15)
+
+
+def refine_mp(
+    x0: Any, phase: str, target: float, digits: int = 30, maxiter: int = 100
+) -> tuple[Any, Any]:
     """Re-locate a root of ``Delta = target`` near ``x0`` at ``digits`` precision.
 
-    Chord iteration in mpmath: the slope from one secant over ``h = 1e-7``
-    (relative error ~1e-7), then ``x <- x - f(x)/slope`` (each step gains ~7
-    digits; robust when ``f`` reaches the noise level of the arithmetic).
-    Delta is evaluated with heyoka real128 (``digits <= 31``) or
-    multiprecision. Returns ``(x, period)`` as mpmath numbers (``digits + 10``
-    working digits).
+    :func:`refine_root` with ``Delta`` from :func:`delta_mp` (heyoka real128 for
+    ``digits <= 31``, multiprecision beyond). Returns ``(x, period)`` as mpmath numbers
+    (``digits + 10`` working digits).
 
     Raises
     ------
     RuntimeError
-        If the iteration leaves the neighbourhood of ``x0`` (|x - x0| > 1e-6).
+        No root of ``Delta = target`` within ``1e-6 max(1, |x0|)`` of ``x0``.
     """
+    x = refine_root(
+        lambda v: delta_mp(v, phase, digits) - target, x0, digits, maxiter=maxiter
+    )
     dps = digits + 10
     with mp.workdps(dps):
-        x = mp.mpf(x0)
-        h = mp.mpf("1e-7")
-        f0 = delta_mp(x, phase, digits) - target
-        slope = (delta_mp(x + h, phase, digits) - target - f0) / h
-        f = f0
-        tol = mp.mpf(10) ** (-(digits + 1)) * max(1, abs(x))
-        for _ in range(maxiter):
-            step = f / slope
-            x = x - step
-            if abs(x - mp.mpf(x0)) > mp.mpf("1e-6"):
-                raise RuntimeError(
-                    f"root refinement left the neighbourhood of {x0!r} ({phase})"
-                )
-            if abs(step) < tol:
-                break
-            f = delta_mp(x, phase, digits) - target
-        return x, _period_mp(x, phase, dps)
+        return x, _mp_pendulum(x, phase, dps).closed_form(dps)["period"]
 
 
-def transition(label, digits=None) -> Transition:
-    """One transition by its label (``'IS^l_3'``, ``'PDr2'``).
+#: The breather transitions that exist (:func:`rotorlib.breathers.breather_transitions`).
+BREATHER_LABELS = ("PD^b",)
+_BREATHER_RE = re.compile(r"^\s*(PD)\s*\^?\s*(\{\s*b\s*\}|b)\s*$", re.IGNORECASE)
+
+
+def transition(label: str, *, digits: int | Tier | None = None) -> Transition:
+    """One transition by its label: a pendulum's (``'IS^l_3'``, ``'PDr2'``) or the
+    breather's (``'PD^b'``, ``'PDb'``).
 
     Parameters
     ----------
     label : str
-        See :func:`parse_label`.
-    digits : int, optional
-        ``None`` or <= 15: float64 (~13 significant digits in ``log|E-4|``).
-        16..31: the float64 root re-located with heyoka real128 (secant in
-        mpmath), giving ``log_abs_dE_str`` and ``period_str`` with ``digits``
-        significant digits (~30 correct); more digits use heyoka multiprecision.
+        ``IS^l_n``, ``PD^l_n``, ``IS^r_n``, ``PD^r_n`` (:func:`parse_label`) or ``PD^b``.
+    digits : int or Tier, optional
+        ``None`` or <= 15: float64 (pendulum: ~13 significant digits in ``log|E-4|``).
+        More: the float64 root re-located in the tier of ``digits`` (heyoka real128 up
+        to 31, multiprecision beyond) by :func:`refine_root`; the strings carry
+        ``digits`` significant digits (the breather's ``E_str``: ``digits - 5``).
 
     Raises
     ------
     ValueError
-        Bad label, or a transition beyond the float64 range of ``|E - 4|``.
+        Bad label (the message names the accepted forms), or a pendulum transition
+        beyond the float64 range of ``|E - 4|``.
+
+    Examples
+    --------
+    >>> from rotorlib.bifurcations import transition
+    >>> t = transition("PD^r_1", digits=20)
+    >>> t.label, t.kind, t.precision, t.log_abs_dE_str
+    ('PD^r_1', 'PD', 'real128', '0.46821542651777454106')
+    >>> t.E_str
+    '5.59714143224631939243'
     """
-    kind, phase, n = parse_label(label)
-    check_digits(digits)
+    t = tier(digits)  # a Tier delivers the digits its working digits keep, less 9
+    d = None if not t.extended else (digits if isinstance(digits, int) else t.dps - 9)
+    if isinstance(label, str) and _BREATHER_RE.match(label):
+        from .breathers import pd_transition
+
+        return pd_transition(digits=d)
+    try:
+        kind, phase, n = parse_label(label)
+    except ValueError as exc:
+        raise ValueError(
+            f"{exc}; the transitions are the pendulum's IS^l_n, PD^l_n, IS^r_n, PD^r_n "
+            f"(n >= 1; ASCII 'ISl3', 'PDr2' too) and the breather's "
+            f"{', '.join(BREATHER_LABELS)} ('PDb')"
+        ) from None
     roots, _, _ = _find(phase, (kind,), n)
     _, c, a, b, fa, fb = roots[n - 1]
-    x = _refine(phase, c, a, b, fa - c, fb - c)
-    if digits is None or digits <= 15:
+    x = _root64(phase, c, a, b, fa, fb)
+    if d is None:
         return _make(kind, phase, n, x, c)
-    xm, per = refine_mp(x, phase, c, digits=digits)
-    with mp.workdps(digits + 10):
-        xs = mp.nstr(xm, digits, strip_zeros=False)
-        ps = mp.nstr(per, digits, strip_zeros=False)
-    prec = "real128" if digits <= 31 else "mp"
-    return _make(kind, phase, n, float(xm), c, x_str=xs, precision=prec, period_str=ps)
+    xm, _ = refine_mp(x, phase, c, digits=d)
+    with mp.workdps(d + 10):
+        xs = mp.nstr(xm, d, strip_zeros=False)
+    return _make(kind, phase, n, float(xm), c, x_str=xs, digits=d)

@@ -8,9 +8,12 @@ with ``tr M = 2 + Delta`` for R (``Delta^2`` for LG, LD); it comes from
 
 Transition
     :func:`breather_transitions` locates the single stability transition of R
-    (``tr M = 0``, a period doubling; paper E ~ 8.97, period ~ 2.63) by ``brentq``
-    in float64 (~1e-15) and, with ``digits > 15``, refines it by one Newton step
-    with the trace evaluated at that many digits (heyoka real128 / multiprecision).
+    (``tr M = 0``, a period doubling; paper E ~ 8.97, period ~ 2.63) with the one
+    locator of pendula and breathers (:func:`rotorlib.bifurcations.locate_root`, the
+    engine's Illinois method) in float64 (~2e-15) and, with ``digits > 15``, again
+    with the trace evaluated at that many digits (heyoka real128 / multiprecision,
+    :func:`rotorlib.bifurcations.refine_root`). It is a
+    :class:`rotorlib.bifurcations.Transition`, as the pendulum's are.
 
 Daughter family ``PD^b``
     Born at the transition with the doubled period. Two searches:
@@ -43,23 +46,24 @@ from __future__ import annotations
 import functools
 import math
 from dataclasses import dataclass, field, replace
+from typing import Any
 
 import mpmath as mp
 import numpy as np
 from scipy import optimize
 
-from .continuation import ContinuationOptions, Natural, continuation, switch
+from .bifurcations import Transition, locate_root, refine_root
+from .continuation import Branch, ContinuationOptions, Natural, continuation, switch
 from .energy import as_float
 from .flow import Section, flow, sample, to_section
-from .monodromy import monodromy
+from .monodromy import monodromy, trace_monodromy
 from .orbits import breather
 from .periodic import PeriodicOrbit, orbit_from_state
-from .precision import FLOAT64, json_number, tier
+from .precision import FLOAT64, Tier, tier
 from .shooting import ShootingProblem, StartSet, solve
 from .system import alpha_to_beta, beta_to_alpha, potential_beta
 
 __all__ = [
-    "BreatherTransition",
     "breather_transitions",
     "pd_transition",
     "pd_eigenstructure",
@@ -87,10 +91,11 @@ DEFAULT_DELTAS = np.concatenate(
 _SCAN = np.concatenate([np.linspace(4.55, 20.0, 160), np.geomspace(20.0, 1e4, 40)[1:]])
 
 
-def breather_trace(E, family="R", digits=None):
-    """``tr M`` of the breather ``family`` at energy ``E`` (float64 unless ``digits > 15``)."""
-    M = monodromy(breather(E, family), digits=digits)
-    return M.trace if digits is None or digits <= 15 else M
+def breather_trace(E: Any, family: str = "R", digits: int | None = None) -> Any:
+    """``tr M`` of the breather ``family`` at energy ``E``: a float in float64, an mpf
+    with every digit of ``trace_str`` when ``digits > 15``
+    (:func:`rotorlib.monodromy.trace_monodromy`)."""
+    return trace_monodromy(breather(E, family), digits=digits)
 
 
 # ----------------------------------------------------------------------------------------------
@@ -98,65 +103,13 @@ def breather_trace(E, family="R", digits=None):
 # ----------------------------------------------------------------------------------------------
 
 
-@dataclass(frozen=True)
-class BreatherTransition:
-    """A stability transition of the isosceles breather family.
-
-    Attributes
-    ----------
-    label : str
-        ``PD^b``.
-    kind : str
-        ``PD`` (``tr M = 0``) or ``IS`` (``tr M = 4``).
-    family : str
-        Breather family (``R``).
-    E : float
-        Transition energy (float64).
-    E_str : str
-        Energy as a decimal string with every digit the precision supports.
-    period, period_str : float, str
-        Period of the breather at ``E``.
-    transition : str
-        ``unstable->stable`` or ``stable->unstable`` as ``E`` increases.
-    slope : float
-        ``d tr M / dE`` at ``E``.
-    precision : str
-        ``float64`` or the extended tier used for ``E_str``.
-    """
-
-    label: str
-    kind: str
-    family: str
-    E: float
-    E_str: str
-    period: float
-    period_str: str
-    transition: str
-    slope: float
-    precision: str
-
-    def to_dict(self) -> dict:
-        """JSON-serialisable record (the ``bifurcations --family breather`` output)."""
-        return {
-            "label": self.label,
-            "kind": self.kind,
-            "family": self.family,
-            "phase": "rot",
-            "n": 1,
-            **json_number("E", self.E, self.E_str),
-            **json_number("log_abs_dE_4.5", math.log(abs(self.E - 4.5))),
-            **json_number("period", self.period, self.period_str),
-            "transition": self.transition,
-            "slope": self.slope,
-            "precision": self.precision,
-        }
-
-
-def _trace_slope(E, family="R", h=1e-5):
+def _trace_slope(E: float, family: str = "R", h: float = 1e-5) -> float:
     return (breather_trace(E + h, family) - breather_trace(E - h, family)) / (2 * h)
 
 
-def breather_transitions(family="R", digits=None, E_max=1e4):
+def breather_transitions(
+    family: str = "R", digits: int | None = None, E_max: float = 1e4
+) -> list[Transition]:
     """Every stability transition (``tr M`` crossing 0 or 4) of a breather family.
 
     Parameters
@@ -164,13 +117,16 @@ def breather_transitions(family="R", digits=None, E_max=1e4):
     family : {'R', 'LG', 'LD'}
         Only ``R`` has transitions (LG and LD have ``tr M > 4`` throughout: an empty list).
     digits : int, optional
-        ``> 15``: refine each energy with the trace at that many digits.
+        ``> 15``: each energy re-located with the trace at that many digits
+        (:func:`rotorlib.bifurcations.refine_root`); ``E_str`` and ``period_str`` then
+        carry ``digits - 5`` significant digits.
     E_max : float
         Upper end of the scan for R.
 
     Returns
     -------
-    list of BreatherTransition
+    list of Transition
+        Float64: ``E`` to ~1e-15 (the engine's Illinois method on a scan of ``tr M``).
     """
     if family not in ("R", "LG", "LD"):
         raise ValueError(f"breather family must be R, LG or LD; got {family!r}")
@@ -187,47 +143,68 @@ def breather_transitions(family="R", digits=None, E_max=1e4):
     for level, kind in ((0.0, "PD"), (4.0, "IS")):
         s = np.sign(tr - level)
         for i in np.nonzero(s[:-1] * s[1:] < 0)[0]:
-            f = lambda E: breather_trace(E, family) - level  # noqa: E731
-            E = optimize.brentq(
-                f, grid[i], grid[i + 1], xtol=1e-15, rtol=8.9e-16, maxiter=200
-            )
-            out.append(_make_transition(E, kind, level, family, digits))
+
+            def g(E: float, level: float = level) -> float:
+                return breather_trace(E, family) - level
+
+            a, b = grid[i], grid[i + 1]
+            E = locate_root(g, a, b, g(a), g(b), 1e-15)
+            out.append(_make_transition(float(E), kind, level, family, digits))
     return sorted(out, key=lambda t: t.E)
 
 
-def _make_transition(E, kind, level, family, digits):
+def _make_transition(
+    E: float, kind: str, level: float, family: str, digits: int | None
+) -> Transition:
     slope = _trace_slope(E, family)
-    orbit = breather(E, family)
-    period = orbit.period
     up = (slope > 0) == (kind == "IS")  # tr M rising through 4 or falling through 0
     direction = "stable->unstable" if up else "unstable->stable"
-    E_str, per_str, precision = repr(E), repr(period), "float64"
-    if digits is not None and digits > 15:
-        M = monodromy(orbit, digits=digits)
-        dT = orbit.dperiod_dE
-        with mp.workdps(digits + 10):
-            corr = -(mp.mpf(M.trace_str) - level) / mp.mpf(slope)
-            # the extended trace is evaluated at the decimal repr(E)
-            E_ext = mp.mpf(repr(E)) + corr
-            per = mp.mpf(M.period_str) + mp.mpf(dT) * corr
-            E_str, per_str = mp.nstr(E_ext, digits - 5), mp.nstr(per, digits - 5)
-        E, period, precision = float(E_ext), float(per), M.precision
-    return BreatherTransition(
+    d = None if digits is None or digits <= 15 else int(digits)
+    if d is None:
+        orbit = breather(E, family)
+        E_str, per_str = repr(E), repr(orbit.period)
+        p_str = repr(float(orbit.state0[3]))
+    else:
+        dps = d + 10
+
+        def trace_at(v: Any) -> Any:
+            M = monodromy(breather(mp.nstr(v, dps), family), digits=d)
+            return mp.mpf(M.trace_str) - level
+
+        with mp.workdps(dps):
+            E_ext = refine_root(trace_at, E, d)
+            per = breather(mp.nstr(E_ext, dps), family).closed_form(dps)["period"]
+            E_str, per_str = mp.nstr(E_ext, d - 5), mp.nstr(per, d - 5)
+            p_str = mp.nstr(mp.sqrt(E_ext), d - 5)
+        orbit = breather(E_str, family)
+    return Transition.at_base_point(
         "PD^b" if kind == "PD" else "IS^b",
         kind,
         family,
-        E,
-        E_str,
-        period,
-        per_str,
+        orbit.energy,
+        (orbit.period, per_str),
+        (p_str, p_str),
         direction,
         slope,
-        precision,
+        None if d is None else d - 5,
+        E_str,
+        phase=orbit.energy.phase,
+        log_abs_dE=orbit.energy.log_abs_dE,
+        delta_target=level - 2.0 if family == "R" else float("nan"),
     )
 
 
-def pd_transition(digits=None) -> BreatherTransition:
-    """The period-doubling transition of the rotational breather R (paper: E ~ 8.97, period ~ 2.63)."""
+def pd_transition(digits: int | None = None) -> Transition:
+    """The period-doubling transition ``PD^b`` of the rotational breather R (paper:
+    E ~ 8.97, period ~ 2.63).
+
+    Examples
+    --------
+    >>> from rotorlib.breathers import pd_transition
+    >>> t = pd_transition()
+    >>> t.label, t.family, t.transition, round(t.E, 9), round(t.period, 9)
+    ('PD^b', 'R', 'unstable->stable', 8.968972047, 2.633423826)
+    """
     pds = [t for t in breather_transitions("R", digits=digits) if t.kind == "PD"]
     if len(pds) != 1:
         raise RuntimeError(f"expected one PD transition of R, found {len(pds)}")
@@ -261,7 +238,7 @@ class PDEigenstructure:
     basis: tuple
 
 
-def pd_eigenstructure(E=None, tol=1e-8) -> PDEigenstructure:
+def pd_eigenstructure(E: float | None = None, tol: float = 1e-8) -> PDEigenstructure:
     """Eigenvalues and eigenvectors of M of the breather R at its PD transition (or at ``E``)."""
     if E is None:
         E = pd_transition().E
@@ -305,17 +282,23 @@ def _beta(x):
 
 
 def daughter_orbit(
-    E, delta, t=FLOAT64, method="symmetric shooting (quarter period)", digits=None
+    E: Any,
+    delta: Any,
+    digits: int | Tier | None = None,
+    method: str = "symmetric shooting (quarter period)",
+    *,
+    shown: int | None = None,
 ) -> PeriodicOrbit:
-    """The daughter orbit of the member ``(delta, E)`` (:data:`DAUGHTER`), integrated in tier
-    ``t``: monodromy over the full period; ``alpha1_max = alpha2_max = max|b2| / 4`` (the
+    """The daughter orbit of the member ``(delta, E)`` (:data:`DAUGHTER`), integrated in the
+    tier of ``digits`` (extended: strings of ``shown`` digits): monodromy over the full period; ``alpha1_max = alpha2_max = max|b2| / 4`` (the
     largest excursion of ``a1`` and ``a2`` from the parent's line ``a2 = 3 a1`` at fixed
     ``b1``); ``extra`` has ``delta_b2``, ``q1_0``, ``quarter_period``, ``beta2_max`` and
     ``symmetric_residual`` (``|b2|`` at ``b1 = 2 pi``)."""
+    t = tier(digits)
     with t.context():
         x0 = DAUGHTER.state(delta, E, t)
         tq, x1 = to_section(x0, DAUGHTER.section, t, t_max=DAUGHTER.t_max)
-        return _finish(x0, 4 * tq, E, tq, x1, t, method, digits=digits)
+        return _finish(x0, 4 * tq, E, tq, x1, t, method, digits=shown)
 
 
 def _finish(x0, T, E, tq, xq, t, method, extra=None, digits=None):
@@ -341,13 +324,16 @@ def _beta_traj(x0, T, n):
 
 
 @dataclass(frozen=True)
-class DaughterFamily:
-    """The daughter family ``PD^b`` continued in ``delta = b2(0)``.
+class DaughterFamily(Branch):
+    """The daughter family ``PD^b``: the engine's :class:`~rotorlib.continuation.Branch`
+    (continued in ``delta = b2(0)``; ``E``, ``period``, ``trace`` = ``tr M`` of the full
+    4x4 monodromy, ``members``, ``special_points``, ``stop``) with the analysis of its
+    birth.
 
     Attributes
     ----------
-    delta, E, period, trace : ndarray
-        Along the branch (``trace`` = ``tr M`` of the full 4x4 monodromy).
+    delta : ndarray
+        ``b2(0)`` of the members (the branch's ``u``).
     E_PD : float
         The parent's transition energy.
     slope_ratio : float
@@ -360,23 +346,24 @@ class DaughterFamily:
     unstable_crossing : str
         ``tr M = 0`` or ``tr M = 4``: which boundary is crossed there.
     fit : dict
-    branch : rotorlib.continuation.Branch
+        The quadratic fits (``E_fit``, ``trace_fit``) and their values at birth.
     """
 
-    delta: np.ndarray
-    E: np.ndarray
-    period: np.ndarray
-    trace: np.ndarray
-    E_PD: float
-    slope_ratio: float
-    parent_slope: float
-    E_unstable: float
-    unstable_crossing: str
-    fit: dict = field(default_factory=dict)
-    branch: object = None
+    E_PD: float = math.nan
+    slope_ratio: float = math.nan
+    parent_slope: float = math.nan
+    E_unstable: float = math.nan
+    unstable_crossing: str = "none"
+    fit: dict[str, Any] = field(default_factory=dict)
+
+    @property
+    def delta(self) -> np.ndarray:
+        return self.u
 
 
-def daughter_family(deltas=None, E_PD=None, delta_fit=0.12) -> DaughterFamily:
+def daughter_family(
+    deltas: Any = None, E_PD: float | None = None, delta_fit: float = 0.12
+) -> DaughterFamily:
     """Continue the daughter family in ``delta = b2(0)`` from the bifurcation (the engine's
     natural continuation, predictor linear in ``delta^2`` from the parent at ``(0, E_PD)``,
     with ``tr M`` of every member and the exit from the stable window located).
@@ -399,7 +386,7 @@ def daughter_family(deltas=None, E_PD=None, delta_fit=0.12) -> DaughterFamily:
     b = continuation(
         DAUGHTER, alg, ContinuationOptions(traces=True, folds=False), [first]
     )
-    Es, trs, per = b.E, b.trace, b.period
+    Es, trs = b.E, b.trace
     sel = deltas <= delta_fit
     s = deltas[sel] ** 2
     pE, pT = np.polyfit(s, Es[sel], 2), np.polyfit(s, trs[sel], 2)
@@ -412,21 +399,24 @@ def daughter_family(deltas=None, E_PD=None, delta_fit=0.12) -> DaughterFamily:
                 "tr M = 4" if p.kind == "IS" else "tr M = 0",
             )
     return DaughterFamily(
-        deltas,
-        Es,
-        per,
-        trs,
+        b.problem,
+        b.tier,
+        b.members,
+        b.special_points,
+        b.stop,
+        b.reason,
         E_PD,
         float((pT[-2] / pE[-2]) / parent),
         float(parent),
         E_unst,
         which,
         {"E_fit": pE, "trace_fit": pT, "E_at_birth": pE[-1], "trace_at_birth": pT[-1]},
-        b,
     )
 
 
-def daughter_by_er_minimisation(delta, q1_guess, width=0.05) -> PeriodicOrbit:
+def daughter_by_er_minimisation(
+    delta: float, q1_guess: float, width: float = 0.05
+) -> PeriodicOrbit:
     """The paper's search: fix ``b2(0) = delta``, minimise ``Er(pi1(0))`` over two breather
     periods (Brent from the bracket ``q1_guess -+ width``; ``pi1(0)`` to ~1e-8). The orbit
     returned has the energy of ``(0, delta, pi1(0), 0)``, the period ``t*`` (time to
@@ -455,7 +445,7 @@ def daughter_by_er_minimisation(delta, q1_guess, width=0.05) -> PeriodicOrbit:
     )
 
 
-def er_function(q1_0, delta):
+def er_function(q1_0: float, delta: float) -> float:
     """The paper's ``Er(pi_1(0))``: integrate ``(0, delta, q1_0, 0)`` until ``b1 = 8 pi``."""
     x0 = list(beta_to_alpha(np.array([0.0, delta, q1_0, 0.0])))
     _, x = to_section(x0, Section((1, 1, 0, 0), 8.0, 1), t_max=100.0)
@@ -468,7 +458,7 @@ def _branch_table():
     return daughter_family()
 
 
-def breather_daughter(E, digits=None) -> PeriodicOrbit:
+def breather_daughter(E: Any, digits: int | None = None) -> PeriodicOrbit:
     """The orbit of the daughter family ``PD^b`` at energy ``E`` (the ``orbit PD^b`` command).
 
     ``delta`` is bracketed by the members of :func:`daughter_family` and solved at ``E`` by
@@ -503,10 +493,10 @@ def breather_daughter(E, digits=None) -> PeriodicOrbit:
             d = solve(
                 DAUGHTER, t.num(d), t.num(d) * (1 + t.num("1e-12")), E=str(E), t=t
             ).x
-    return daughter_orbit(str(E) if t.extended else Ef, d, t, digits=digits)
+    return daughter_orbit(str(E) if t.extended else Ef, d, t, shown=digits)
 
 
-def daughter_trajectory(orbit: PeriodicOrbit, n=801) -> np.ndarray:
+def daughter_trajectory(orbit: PeriodicOrbit, n: int = 801) -> np.ndarray:
     """States ``[b1, b2, q1, q2]`` at ``n`` equally spaced times over one period of a daughter."""
     return _beta_traj(orbit.state0, orbit.period, int(n))
 

@@ -21,6 +21,8 @@ used: for ``m >= 1 - 1e-10`` it switches to an approximation valid only for
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 from scipy import special
 
@@ -61,7 +63,7 @@ def dK_dm(m: float, m1: float) -> float:
     return (E - m1 * K) / (2.0 * m * m1)
 
 
-def mp_ellipk_m1(m1):
+def mp_ellipk_m1(m1: Any) -> Any:
     """K(m) in mpmath from the complementary parameter: ``pi / (2 agm(1, sqrt(m1)))``.
 
     Correct to the working precision for any ``m1 > 0`` (``m < 1``, negative
@@ -74,7 +76,7 @@ def mp_ellipk_m1(m1):
     return mp.pi / (2 * mp.agm(1, mp.sqrt(m1)))
 
 
-def mp_dK_dm(m, m1):
+def mp_dK_dm(m: Any, m1: Any) -> Any:
     """dK/dm in mpmath, correct to the working precision for any ``m < 1``.
 
     ``(E(m) - m1 K(m)) / (2 m m1)`` for ``|m| >= 1/2`` (near the separatrix, any
@@ -211,7 +213,9 @@ def _sncndn_nonneg(u, m, m1):
     return sgn * sn, cn, dn
 
 
-def jacobi_sncndn(u, m: float, m1: float | None = None):
+def jacobi_sncndn(
+    u: Any, m: float, m1: float | None = None
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Jacobi elliptic functions sn, cn, dn of argument ``u`` and parameter ``m``.
 
     Parameters
@@ -248,7 +252,7 @@ def jacobi_sncndn(u, m: float, m1: float | None = None):
     return _sncndn_nonneg(u, m, m1)
 
 
-def jacobi_am(u, m: float, m1: float | None = None):
+def jacobi_am(u: Any, m: float, m1: float | None = None) -> np.ndarray:
     """Jacobi amplitude am(u | m), continuous in ``u`` (0 <= m < 1)."""
     if m1 is None:
         m1 = 1.0 - m

@@ -35,6 +35,7 @@ import numbers
 import sys
 from dataclasses import dataclass
 from decimal import Context, Decimal, InvalidOperation
+from typing import Any
 
 from .system import BREATHER_SEPARATRIX_ENERGY, SEPARATRIX_ENERGY
 
@@ -56,7 +57,7 @@ FLOAT64_MIN_EPS = 8.0 * sys.float_info.min
 _MAX_DIGITS = 100_000
 
 
-def as_float(value, name: str) -> float:
+def as_float(value: Any, name: str) -> float:
     """Convert ``value`` to a finite float or raise a ValueError naming ``name``."""
     if isinstance(value, bool):
         raise ValueError(f"{name} must be a number, got {value!r}")
@@ -186,7 +187,7 @@ class _SeparatrixDistance:
                 "use the extended precision tiers (digits > 15)"
             )
 
-    def mp_E_eps(self, dps: int):
+    def mp_E_eps(self, dps: int) -> tuple[Any, Any]:
         """``(E, eps)`` as mpmath numbers rounded to ``dps`` digits, from the decimal input.
 
         Precision: for ``E`` input both are the exact decimals rounded once (so
@@ -289,7 +290,9 @@ class PendulumEnergy(_SeparatrixDistance):
             return dict(E=+E, eps=+eps, m=+m, m1=+m1)
 
 
-def pendulum_energy(E=None, log_abs_dE=None, phase=None) -> PendulumEnergy:
+def pendulum_energy(
+    E: Any = None, log_abs_dE: Any = None, phase: str | None = None
+) -> PendulumEnergy:
     """Build a :class:`PendulumEnergy` from ``E`` or from ``log|E - 4|`` and a phase.
 
     Parameters
@@ -330,7 +333,7 @@ def pendulum_energy(E=None, log_abs_dE=None, phase=None) -> PendulumEnergy:
         if phase is not None and phase != ph:
             raise ValueError(f"E = {d.given[1]} is in the {ph} phase, not {phase!r}")
     else:
-        ph = phase
+        ph = str(phase)
         if ph == "lib" and d.log_abs_dE > math.log(SEPARATRIX_ENERGY):
             raise ValueError(
                 f"libration has E = 4 - exp(log|E-4|) >= 0, so log|E-4| <= log 4 = "
@@ -378,7 +381,9 @@ class BreatherEnergy(_SeparatrixDistance):
         return dict(E=E, eps=eps)
 
 
-def breather_energy(E=None, family=None, log_abs_dE=None) -> BreatherEnergy:
+def breather_energy(
+    E: Any = None, family: str | None = None, log_abs_dE: Any = None
+) -> BreatherEnergy:
     """Build a :class:`BreatherEnergy`.
 
     Parameters
@@ -426,7 +431,7 @@ def breather_energy(E=None, family=None, log_abs_dE=None) -> BreatherEnergy:
                 f"the breather LD (libration about D) exists only for 4 <= E < 4.5; got E = {text}"
             )
     else:
-        fam = family
+        fam = str(family)
         x = d.log_abs_dE
         if fam == "LG" and x > math.log(BREATHER_SEPARATRIX_ENERGY):
             raise ValueError(

@@ -45,8 +45,13 @@ import contextlib
 import math
 import threading
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
+
+if TYPE_CHECKING:
+    from .orbits import BreatherOrbit, PendulumOrbit
+    from .precision import Tier
 
 __all__ = [
     "HillProblem",
@@ -73,40 +78,28 @@ def heyoka_available() -> bool:
     return True
 
 
-def precision_tier(digits=None, backend=None) -> tuple:
-    """Resolve ``(digits, backend)`` to the tier that will be used.
+def precision_tier(digits: int | Tier | None = None) -> tuple[str, str]:
+    """The integrator and the tier (:func:`rotorlib.precision.tier`) that
+    :func:`rotorlib.monodromy` uses for ``digits`` on this machine.
 
     Returns
     -------
     (str, str)
-        Backend (``heyoka``, ``scipy``, ``mpmath``) and precision label
-        (``float64``, ``real128``, ``mp<bits>`` or ``mpmath<dps>``).
+        Integrator (``heyoka``; without it ``scipy`` in float64 and ``mpmath`` beyond)
+        and the tier's name (``float64``, ``real128``, ``mp<bits>``: names
+        :class:`~rotorlib.precision.Tier` accepts).
+
+    Examples
+    --------
+    >>> precision_tier(None)[1], precision_tier(20)[1], precision_tier(40)[1]
+    ('float64', 'real128', 'mp160')
     """
     from .precision import tier  # (lazy: mpmath stays out of ``import rotorlib``)
 
-    t = tier(digits)  # validates digits; names the heyoka tier
-    hy = heyoka_available()
-    if backend not in (None, "heyoka", "scipy", "mpmath"):
-        raise ValueError(f"backend must be heyoka, scipy or mpmath, got {backend!r}")
-    if backend == "heyoka" and not hy:
-        raise ValueError(
-            "backend 'heyoka' requested but heyoka is not installed (Linux only)"
-        )
-    if digits is None or digits <= 15:
-        if backend == "mpmath":
-            return "mpmath", "mpmath20"
-        if backend is None:
-            backend = "heyoka" if hy else "scipy"
-        return backend, "float64"
-    if backend == "scipy":
-        raise ValueError(
-            f"scipy integrates in float64 only; digits = {digits} needs heyoka or mpmath"
-        )
-    if backend is None:
-        backend = "heyoka" if hy else "mpmath"
-    if backend == "mpmath":
-        return "mpmath", f"mpmath{digits + 5}"
-    return "heyoka", t.name
+    t = tier(digits)
+    return (
+        "heyoka" if heyoka_available() else "mpmath" if t.extended else "scipy"
+    ), t.name
 
 
 @dataclass(frozen=True)
@@ -144,19 +137,29 @@ class HillProblem:
     momentum_scale: float
 
 
-def hill_problem(orbit, dps=None) -> HillProblem:
+def hill_problem(
+    orbit: PendulumOrbit | BreatherOrbit, digits: int | None = None
+) -> HillProblem:
     """The reduced transverse problem of a pendulum or breather orbit.
 
     Parameters
     ----------
     orbit : PendulumOrbit or BreatherOrbit
-    dps : int, optional
+    digits : int, optional
         ``None``: float64 parameters (refused with ``ValueError`` when
         ``|E - sep| < 1.8e-307``, below the float64 range). Otherwise mpmath
-        parameters correct to ``dps`` digits, built from the decimal input of
+        parameters correct to ``digits + 15`` digits, built from the decimal input of
         the energy at any depth (:meth:`~rotorlib.orbits.PendulumOrbit.closed_form`);
         no float64 rounding of ``E`` enters.
+
+    Examples
+    --------
+    >>> import rotorlib
+    >>> p = hill_problem(rotorlib.pendulum(E=3.9))
+    >>> p.kind, p.repeats, round(p.m, 6)
+    ('pendulum-lib', 2, 0.975)
     """
+    dps = None if digits is None else int(digits) + 15
     cf = orbit.closed_form(dps)
     m, m1, K = cf["m"], cf["m1"], cf["K"]
     ctx = contextlib.nullcontext()
@@ -180,7 +183,8 @@ def hill_problem(orbit, dps=None) -> HillProblem:
             du_dt,
             2.0,
         )
-    fam = orbit.energy.family
+    # a breather here
+    fam = orbit.energy.family  # type: ignore[union-attr]
     with ctx:
         c3 = 3 / cf["nu"] ** 2
     return HillProblem(
@@ -341,32 +345,16 @@ _NPARS = {
 
 
 def _segment_heyoka(prob, sign, precision, tol=None):
-    from .precision import load_heyoka
+    from .precision import Tier, load_heyoka
 
     hy = load_heyoka()
     import mpmath as mp
 
     ta = _heyoka_integrator(prob.kind, precision, tol)
-    if precision == "float64":
-        conv = float
-    elif precision == "real128":
-
-        def conv(v):
-            return hy.real128(mp.nstr(mp.mpf(v), 40))
-    else:
-        bits = int(precision[2:])
-
-        def conv(v):
-            return hy.real(mp.nstr(mp.mpf(v), int(bits / 3.3) + 5), bits)
-
+    conv = Tier(precision).to_hy  # every digit of the mpmath parameters
     with mp.workdps(120):
-        pars = [
-            conv(prob.m),
-            conv(prob.m1),
-            conv(prob.c3),
-            conv(prob.shape),
-            conv(sign),
-        ][: _NPARS[prob.kind]]
+        pars = [prob.m, prob.m1, prob.c3, prob.shape, sign][: _NPARS[prob.kind]]
+        pars = [conv(v) for v in pars]
         x0 = [conv(mp.pi / 2), conv(1), conv(0), conv(0), conv(1)]
         K = conv(prob.K)
     ta.time = conv(0)
@@ -449,7 +437,7 @@ def _compose_mp(P1, P2, dps):
 
 
 def solve_hill(
-    prob: HillProblem, backend: str, precision: str, tol=None
+    prob: HillProblem, backend: str, precision: str, tol: float | None = None
 ) -> HillSolution:
     """Integrate the reduced transverse problem and return the coefficient-period map.
 

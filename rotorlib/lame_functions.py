@@ -25,6 +25,7 @@ textbook route; do not use it near the separatrix).
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from scipy.integrate import solve_ivp
@@ -45,7 +46,9 @@ __all__ = [
 N_N1 = 2.0 / 3.0
 
 
-def lame_parameters(E, phase=None):
+def lame_parameters(
+    E: Any, phase: str | None = None
+) -> tuple[float, float, float, float]:
     """``(h, k^2, 1 - k^2, w)`` of the pendulum's Lamé equation at energy ``E``; ``w`` is the period in z."""
     en = pendulum_energy(E=E, phase=phase)
     m, m1 = en.m, en.m1
@@ -95,7 +98,14 @@ def _integrate(coef, w, y0):
     return sol.y[:, -1]
 
 
-def lame_solutions(h, k2, w, m1=None, c_norm=2.0, s_norm=3.0) -> LameSolutions:
+def lame_solutions(
+    h: float,
+    k2: float,
+    w: float,
+    m1: float | None = None,
+    c_norm: float = 2.0,
+    s_norm: float = 3.0,
+) -> LameSolutions:
     """Integrate ``Lc`` (``Lc(0) = c_norm``, ``Lc'(0) = 0``) and ``Ls`` (``Ls(0) = 0``, ``Ls'(0) = s_norm``) to ``w``."""
     m1 = 1.0 - k2 if m1 is None else m1
 
@@ -107,7 +117,9 @@ def lame_solutions(h, k2, w, m1=None, c_norm=2.0, s_norm=3.0) -> LameSolutions:
     return LameSolutions(c_norm, 0.0, 0.0, s_norm, y[0], y[1], y[2], y[3], w)
 
 
-def mathieu_solutions(a, q, w, c_norm=2.0, s_norm=3.0) -> LameSolutions:
+def mathieu_solutions(
+    a: float, q: float, w: float, c_norm: float = 2.0, s_norm: float = 3.0
+) -> LameSolutions:
     """The Mathieu cosine/sine solutions of ``y'' + (a - 2 q cos 2z) y = 0`` to ``w``."""
     y = _integrate(
         lambda z: a - 2.0 * q * np.cos(2.0 * z), w, [c_norm, 0.0, 0.0, s_norm]

@@ -8,9 +8,13 @@ Two routes:
   ``[[1, -c E tau'(E)], [0, 1]]`` (``c = 3`` for pendula at G, ``4`` for
   breathers at G; ``4 (E - 4)/E`` times that for LD at D), so that
   ``tr M_parallel = 2`` exactly. Accurate at any distance to the separatrix.
-* :func:`variational_monodromy`: the textbook route for any orbit,
-  integrating the nonlinear flow and the 4x4 variational equations over one
-  period (scipy DOP853, or heyoka in float64, real128 or multiprecision). Near
+* :func:`variational_monodromy` (and :func:`textbook_monodromy`, its pendulum and
+  breather R reference): the textbook route for any orbit, integrating the
+  nonlinear flow and the 4x4 variational equations over one period (scipy DOP853
+  with the equations of :mod:`rotorlib.system`, or heyoka in the tier of ``digits``
+  through :func:`rotorlib.flow.monodromy_matrix`, the one builder of the equations).
+
+Every route returns a :class:`Monodromy`; :func:`trace_monodromy` returns its trace. Near
   E = 4 its error grows like 1/|E - 4| (the book's *Numerical notes*, ``book/numerical_notes.md``): it is the
   reference only when run at enough digits.
 
@@ -23,7 +27,7 @@ order ``[a1, a2, p1, p2]`` used everywhere else.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from decimal import Decimal
 from typing import Any
@@ -31,9 +35,14 @@ from typing import Any
 import numpy as np
 
 from .energy import BreatherEnergy, PendulumEnergy
+from .flow import monodromy_matrix
 from .hill import hill_problem, precision_tier, solve_hill
 from .orbits import BreatherOrbit, PendulumOrbit, breather, pendulum
-from .system import _A, _B, _Ainv, _Binv, jacobian_alpha, rhs_alpha
+from .precision import Tier, tier
+from .system import _A, _B, _Ainv, _Binv, energy_alpha, jacobian_alpha, rhs_alpha
+
+#: Names of the state ``[a1, a2, p1, p2]``: the basis of the variational routes.
+STATE_ORDER = ("a1", "a2", "p1", "p2")
 
 __all__ = [
     "Monodromy",
@@ -46,7 +55,7 @@ __all__ = [
 ]
 
 
-def multipliers_from_trace(t: float):
+def multipliers_from_trace(t: float) -> np.ndarray:
     """Eigenvalues ``(mu, 1/mu)`` of a 2x2 symplectic matrix with trace ``t``, stably.
 
     Complex conjugate on the unit circle for ``|t| < 2`` (stable), real for ``|t| > 2``.
@@ -62,7 +71,13 @@ def multipliers_from_trace(t: float):
 
 @dataclass(frozen=True)
 class Monodromy:
-    """Monodromy matrix of a pendulum or breather at its base point.
+    """Monodromy matrix of a periodic orbit: the one result of every monodromy route.
+
+    :func:`monodromy` (pendula and breathers, at their base point, in the paper's block
+    basis) fills every attribute; the variational routes (:func:`variational_monodromy`,
+    :func:`textbook_monodromy`: any orbit) give ``family='orbit'``, the matrix in the
+    state order, no blocks (``None``) and no ``energy``, and add ``final_state``,
+    ``closure`` (also in ``residual``) and ``steps``: the one remaining difference.
 
     Attributes
     ----------
@@ -103,17 +118,30 @@ class Monodromy:
         How the transverse block was computed.
     residual : float
         ``|psi(K)|`` of the reduced problem (0 in exact arithmetic).
-    energy : object
+    energy : PendulumEnergy, BreatherEnergy or None
         The :class:`~rotorlib.energy.PendulumEnergy` or ``BreatherEnergy``.
+    final_state : ndarray (4,) or None
+        Variational routes: the state after one period.
+    closure : float
+        Variational routes: ``max |x(T) - x(0)|`` modulo the lattice of ``(a1, a2)``.
+    steps : int
+        Variational routes: integrator steps (scipy; 0 for heyoka).
+
+    Examples
+    --------
+    >>> import rotorlib
+    >>> M = rotorlib.monodromy(E=3.9)
+    >>> M.basis, M.stability, round(M.trace, 10)
+    (('a1', 'p1', 'a2', 'p2'), 'stable', 0.0195119424)
     """
 
     family: str
     E: float
     period: float
     matrix: np.ndarray
-    basis: tuple
-    transverse: np.ndarray
-    longitudinal: np.ndarray
+    basis: tuple[str, ...]
+    transverse: np.ndarray | None
+    longitudinal: np.ndarray | None
     trace: float
     trace_transverse: float
     trace_str: str
@@ -122,13 +150,18 @@ class Monodromy:
     precision: str
     backend: str
     residual: float
-    energy: object = field(repr=False, default=None)
+    energy: PendulumEnergy | BreatherEnergy | None = field(repr=False, default=None)
     period_str: str = ""
     stability: str = ""
     stability_note: str = ""
+    final_state: np.ndarray | None = field(repr=False, default=None)
+    closure: float = float("nan")
+    steps: int = 0
 
     def in_alpha_state_order(self) -> np.ndarray:
         """M in the state order ``[a1, a2, p1, p2]`` (pendulum variables)."""
+        if self.basis == STATE_ORDER:
+            return self.matrix
         # basis (a1, p1, a2, p2) -> state order (a1, a2, p1, p2); breathers likewise
         # (b1, q1, b2, q2) -> (b1, b2, q1, q2), then to alpha
         P = np.eye(4)[[0, 2, 1, 3]]
@@ -140,7 +173,7 @@ class Monodromy:
         T[2:, 2:] = _Ainv.T @ _B.T
         return T @ Mb @ np.linalg.inv(T)
 
-    def eigen(self):
+    def eigen(self) -> tuple[np.ndarray, np.ndarray]:
         """Eigenvalues and eigenvectors of the 4x4 matrix (numpy ``eig``; defective at transitions)."""
         return np.linalg.eig(self.matrix)
 
@@ -170,15 +203,14 @@ def _as_orbit(orbit=None, E=None, log_abs_dE=None, phase=None, family="pendulum"
 
 
 def monodromy(
-    orbit=None,
+    orbit: Any = None,
     *,
-    E=None,
-    log_abs_dE=None,
-    phase=None,
-    family="pendulum",
-    digits=None,
-    backend=None,
-    tol=None,
+    E: Any = None,
+    log_abs_dE: Any = None,
+    phase: str | None = None,
+    family: str = "pendulum",
+    digits: int | Tier | None = None,
+    tol: float | None = None,
 ) -> Monodromy:
     """Monodromy matrix of a pendulum or breather.
 
@@ -188,11 +220,10 @@ def monodromy(
         The orbit, or its energy (e.g. ``transition(label).energy``, or the
         transition itself); or give ``E`` / ``log_abs_dE`` (+ ``phase``) and ``family``
         (``pendulum``, ``breather`` or a breather family ``LG``, ``LD``, ``R``).
-    digits : int, optional
+    digits : int or Tier, optional
         Requested significant digits. ``None`` or <= 15: float64; up to 31:
-        heyoka real128; more: heyoka multiprecision (or mpmath without heyoka).
-    backend : {'heyoka', 'scipy', 'mpmath'}, optional
-        Force an integrator (default: heyoka when installed, else scipy/mpmath).
+        heyoka real128; more: heyoka multiprecision. Without heyoka: scipy in
+        float64, mpmath's Taylor integrator beyond (``digits + 5`` working digits).
     tol : float, optional
         Integrator tolerance passed to :func:`rotorlib.hill.solve_hill` (scipy
         ``rtol``, heyoka ``tol``); the default is the verified tier. Only for
@@ -215,11 +246,45 @@ def monodromy(
         Bad precision request, or a float64 request beyond the float64 range.
     TypeError
         ``orbit`` is none of the above (the message names what to pass).
+
+    Examples
+    --------
+    >>> import rotorlib
+    >>> M = rotorlib.monodromy(rotorlib.pendulum(E=3.9))
+    >>> M.stability, round(M.trace, 10), M.multipliers.shape
+    ('stable', 0.0195119424, (2,))
+    >>> rotorlib.monodromy(E=3.9, digits=30).trace_str
+    '0.0195119424111676105307516364433'
     """
     orbit = _as_orbit(orbit, E, log_abs_dE, phase, family)
-    be, prec = precision_tier(digits, backend)
+    t = tier(digits)
+    d = None if not t.extended else (digits if isinstance(digits, int) else t.dps - 9)
+    return _monodromy(orbit, d, precision_tier(digits)[0], tol)
+
+
+def _monodromy(
+    orbit: PendulumOrbit | BreatherOrbit,
+    digits: int | None,
+    backend: str,
+    tol: float | None = None,
+) -> Monodromy:
+    """:func:`monodromy` of ``orbit`` with the integrator ``backend`` (``heyoka``,
+    ``scipy`` or ``mpmath``), whatever is installed: ``digits`` None is float64 (the
+    mpmath Taylor integrator at 20 digits), more is heyoka's tier of ``digits`` or
+    mpmath at ``digits + 5`` working digits."""
+    if backend not in ("heyoka", "scipy", "mpmath"):
+        raise ValueError(f"backend must be heyoka, scipy or mpmath, got {backend!r}")
+    if backend == "scipy" and digits:
+        raise ValueError(
+            f"scipy integrates in float64 only; digits = {digits} needs heyoka or mpmath"
+        )
+    if backend == "mpmath":
+        prec = f"mpmath{digits + 5 if digits else 20}"
+    else:
+        prec = tier(digits).name
+    be = backend
     dps = None if prec == "float64" else (digits or 20) + 15
-    prob = hill_problem(orbit, dps=dps)
+    prob = hill_problem(orbit, digits=None if dps is None else dps - 15)
     sol = solve_hill(prob, be, prec, tol=tol)
     C = sol.coefficient_map
     d = np.array([1.0, prob.momentum_scale * prob.du_dt])
@@ -321,7 +386,7 @@ def _stability(tr, tol: float, orbit) -> tuple:
     return "marginal", note
 
 
-def trace_monodromy(orbit=None, **kwargs) -> Any:
+def trace_monodromy(orbit: Any = None, **kwargs: Any) -> Any:
     """``tr M`` of a pendulum or breather; see :func:`monodromy` for the arguments.
 
     Returns
@@ -350,37 +415,11 @@ def trace_monodromy(orbit=None, **kwargs) -> Any:
         return +mp.mpf(M.trace_str)
 
 
-@dataclass(frozen=True)
-class VariationalResult:
-    """Result of :func:`variational_monodromy`.
-
-    Attributes
-    ----------
-    matrix : ndarray (4, 4)
-        Monodromy in state order ``[a1, a2, p1, p2]`` (float64 view).
-    trace : float
-    trace_str : str
-        Trace with every computed digit.
-    final_state : ndarray (4,)
-        State after one period.
-    closure : float
-        ``max |x(T) - x(0)|`` with 2 pi windings of a2 removed.
-    method, precision : str
-    steps : int
-        Integrator steps taken (for work-precision studies).
-    """
-
-    matrix: np.ndarray
-    trace: float
-    trace_str: str
-    final_state: np.ndarray
-    closure: float
-    method: str
-    precision: str
-    steps: int = 0
+#: The old name of the variational routes' result: it is a :class:`Monodromy`.
+VariationalResult = Monodromy
 
 
-def _unwind(dx):
+def _unwind(dx: Any) -> np.ndarray:
     """Reduce a difference of states modulo the configuration lattice of (a1, a2),
     generated by (0, 2 pi) and (pi, pi) (``book/numerical_notes.md``)."""
     dx = np.array(dx, dtype=float)
@@ -392,8 +431,13 @@ def _unwind(dx):
 
 
 def variational_monodromy(
-    state0, period, *, method="scipy", rtol=1e-12, precision="float64"
-) -> VariationalResult:
+    state0: Sequence[Any],
+    period: Any,
+    *,
+    digits: int | Tier | None = None,
+    rtol: float = 1e-12,
+    method: str | None = None,
+) -> Monodromy:
     """The textbook monodromy: nonlinear flow + 4x4 variational equations over one period.
 
     Parameters
@@ -403,127 +447,115 @@ def variational_monodromy(
         strings or mpmath numbers so no digits are lost.
     period : float, str or mpf
         Integration time.
-    method : {'scipy', 'heyoka'}
-        scipy ``solve_ivp(DOP853, rtol)`` (the paper's baseline, and that of ``book/numerical_notes.md``)
-        or heyoka's Taylor integrator.
-    precision : {'float64', 'real128', 'mp<bits>'}
-        heyoka only.
+    digits : int or Tier, optional
+        The tier (:func:`rotorlib.precision.tier`): ``None`` float64; extended tiers
+        integrate with heyoka (:func:`rotorlib.flow.monodromy_matrix`, the one builder
+        of the equations of motion) at the tier's machine epsilon.
+    rtol : float
+        Tolerance of scipy's ``solve_ivp(DOP853)`` (``atol = rtol 1e-3``).
+    method : {'scipy', 'heyoka'}, optional
+        Float64 integrator: scipy DOP853 (default; the paper's baseline and that of
+        ``book/numerical_notes.md``) or heyoka's Taylor method (the default in the
+        extended tiers, which scipy cannot do).
+
+    Returns
+    -------
+    Monodromy
+        ``family='orbit'``, ``matrix`` in the state order ``[a1, a2, p1, p2]`` (the
+        ``basis``), no ``transverse``/``longitudinal`` blocks; ``final_state`` and
+        ``closure = max |x(T) - x(0)|`` modulo the lattice of ``(a1, a2)``; ``backend``
+        names the integrator (``scipy-DOP853 rtol=...`` or ``heyoka-taylor``).
 
     Notes
     -----
-    For pendula near E = 4 the error grows like 1/|E - 4|; use
-    :func:`monodromy` there, or this with ``precision='mp<bits>'`` where the
-    bits exceed ``log2(1/|E - 4|)`` plus the digits wanted.
+    For pendula near E = 4 the error grows like 1/|E - 4|; use :func:`monodromy`
+    there, or this with ``digits`` beyond ``log10(1/|E - 4|)`` plus the digits wanted.
+
+    Examples
+    --------
+    >>> import rotorlib
+    >>> o = rotorlib.pendulum(E=3.9)
+    >>> V = variational_monodromy(o.state0, o.period)
+    >>> round(V.trace, 6), V.basis, V.closure < 1e-9
+    (0.019512, ('a1', 'a2', 'p1', 'p2'), True)
     """
-    if method == "scipy":
-        from scipy.integrate import solve_ivp
-
-        x0: Any = np.asarray(state0, dtype=float)
-
-        def rhs(t, z):
-            x = z[:4]
-            Phi = z[4:].reshape(4, 4)
-            return np.concatenate([rhs_alpha(t, x), (jacobian_alpha(x) @ Phi).ravel()])
-
-        z0 = np.concatenate([x0, np.eye(4).ravel()])
-        sol = solve_ivp(
-            rhs, (0.0, float(period)), z0, method="DOP853", rtol=rtol, atol=rtol * 1e-3
-        )
-        z = sol.y[:, -1]
-        Mv = z[4:].reshape(4, 4)
-        tr = float(np.trace(Mv))
-        return VariationalResult(
-            Mv,
-            tr,
-            repr(tr),
-            z[:4],
-            float(np.max(np.abs(_unwind(z[:4] - x0)))),
-            "scipy-DOP853",
-            f"float64 rtol={rtol:g}",
-            len(sol.t) - 1,
-        )
-    if method != "heyoka":
+    t = tier(digits)
+    method = method or ("heyoka" if t.extended else "scipy")
+    if method not in ("scipy", "heyoka"):
         raise ValueError(f"method must be 'scipy' or 'heyoka', got {method!r}")
-    from .precision import load_heyoka
+    if method == "scipy" and t.extended:
+        raise ValueError(f"scipy integrates in float64 only; {t.name} needs heyoka")
+    with t.context():
+        x0 = [t.num(v) for v in state0]
+        T = t.num(period)
+        if method == "scipy":
+            Mv, xf, tr, steps = _scipy_variational(x0, T, rtol)
+            backend, tr_str = f"scipy-DOP853 rtol={rtol:g}", repr(tr)
+        else:
+            Mv, xT, tr = monodromy_matrix(x0, T, t)
+            xf, steps, backend = np.array([float(v) for v in xT]), 0, "heyoka-taylor"
+            tr_str = t.text(tr, None if t.extended else 17)
+        from .periodic import stability_of  # the result protocol's rule
 
-    hy = load_heyoka()
-    import mpmath as mp
-
-    a1, a2, p1, p2 = hy.make_vars("a1", "a2", "p1", "p2")
-    s_m, s_p = hy.sin(a2 - a1), hy.sin(a1 + a2)
-    sys = [
-        (a1, 0.5 * p1),
-        (a2, 1.5 * p2),
-        (p1, -(2.0 * hy.sin(2.0 * a1) - s_m + s_p)),
-        (p2, -(s_m + s_p)),
-    ]
-    vsys = hy.var_ode_sys(sys, hy.var_args.vars, order=1)
-    conv: Callable[[Any], Any]
-    kw: dict[str, Any]
-    if precision == "float64":
-        kw, conv, dps = {}, float, 17
-    elif precision == "real128":
-        kw, dps = {"fp_type": hy.real128}, 34
-        conv = lambda v: hy.real128(mp.nstr(mp.mpf(v), 40))  # noqa: E731
-    else:
-        bits = int(precision[2:])
-        dps = int(bits / 3.33)
-        kw = {"fp_type": hy.real, "prec": bits}
-        conv = lambda v: hy.real(mp.nstr(mp.mpf(v), dps + 5), bits)  # noqa: E731
-    with mp.workdps(dps + 10):
-        # float(v): numpy float64 is a float whose repr is 'np.float64(...)' under numpy 2
-        x0 = [
-            conv(mp.mpf(v) if not isinstance(v, float) else mp.mpf(repr(float(v))))
-            for v in state0
-        ]
-        T = conv(
-            mp.mpf(period)
-            if not isinstance(period, float)
-            else mp.mpf(repr(float(period)))
-        )
-    dtype = (
-        object
-        if precision.startswith("mp")
-        else (hy.real128 if precision == "real128" else float)
-    )
-    ta = hy.taylor_adaptive(
-        vsys, np.array(x0, dtype=dtype), compact_mode=precision != "float64", **kw
-    )
-    res = ta.propagate_until(T)
-    st = ta.state
-    Mv_exact = [[st[4 + 4 * i + j] for j in range(4)] for i in range(4)]
-    with mp.workdps(dps + 5):
-        tr_exact = sum(mp.mpf(str(Mv_exact[i][i])) for i in range(4))
-        tr_str = mp.nstr(tr_exact, dps - 3)
-    Mv = np.array([[float(Mv_exact[i][j]) for j in range(4)] for i in range(4)])
-    xf = np.array([float(v) for v in st[:4]])
-    return VariationalResult(
-        Mv,
-        float(tr_exact),
-        tr_str,
-        xf,
-        float(np.max(np.abs(_unwind(xf - np.array([float(v) for v in x0]))))),
-        "heyoka-taylor",
-        precision,
-        int(res[3]),
-    )
+        x0f = np.array([float(v) for v in x0])
+        closure = float(np.max(np.abs(_unwind(xf - x0f))))
+        trf = float(tr)
+        stability = stability_of(trf, t.dps - 9 if t.extended else 15)
+        return Monodromy(
+            "orbit", float(energy_alpha(x0f)), float(T), Mv, STATE_ORDER, None, None,
+            trf, trf - 2.0, tr_str, multipliers_from_trace(trf - 2.0), 0 < trf < 4,
+            t.name, backend, closure, None, t.text(T), stability, "",
+            final_state=xf, closure=closure, steps=steps,
+        )  # fmt: skip
 
 
-def textbook_monodromy(orbit, bits: int = 256) -> VariationalResult:
-    """The textbook monodromy of a pendulum or breather R at ``bits`` of precision (heyoka).
+def _scipy_variational(
+    x0: list[float], T: float, rtol: float
+) -> tuple[np.ndarray, np.ndarray, float, int]:
+    from scipy.integrate import solve_ivp
+
+    def rhs(t: float, z: np.ndarray) -> np.ndarray:
+        x = z[:4]
+        Phi = z[4:].reshape(4, 4)
+        return np.concatenate([rhs_alpha(t, x), (jacobian_alpha(x) @ Phi).ravel()])
+
+    z0 = np.concatenate([np.asarray(x0, float), np.eye(4).ravel()])
+    sol = solve_ivp(rhs, (0.0, T), z0, method="DOP853", rtol=rtol, atol=rtol * 1e-3)
+    z = sol.y[:, -1]
+    Mv = z[4:].reshape(4, 4)
+    return Mv, z[:4], float(np.trace(Mv)), len(sol.t) - 1
+
+
+#: The default tier of :func:`textbook_monodromy`: 256-bit multiprecision.
+MP256 = Tier("mp256")
+
+
+def textbook_monodromy(
+    orbit: PendulumOrbit | BreatherOrbit, digits: int | Tier = MP256
+) -> Monodromy:
+    """The textbook monodromy of a pendulum or breather R in the tier of ``digits``
+    (default 256-bit multiprecision; heyoka).
 
     The initial state at the base point G and the period are computed with
     mpmath from the energy's decimal input (``energy.mp_values``; pendulum: ``p2 = sqrt(4E/3)``,
     period ``4K(E/4)/sqrt3`` or ``2 kappa K(kappa^2)/sqrt3``; breather R:
     ``p1 = p2 = sqrt(E)``, period ``4K(m)/sqrt(Q)``), then the nonlinear flow and
-    the 4x4 variational equations are integrated over one period. It shares no
-    code with the Hill reduction, so it is an independent reference. Near
-    E = 4 it loses about ``2 log10(1/|E-4|)`` digits: choose
-    ``bits >= 3.33 (2 log10(1/|E-4|) + digits wanted)``.
+    the 4x4 variational equations are integrated over one period
+    (:func:`variational_monodromy`). It shares no code with the Hill reduction, so it
+    is an independent reference. Near E = 4 it loses about ``2 log10(1/|E-4|)``
+    digits: choose ``digits >= 2 log10(1/|E-4|)`` plus the digits wanted.
+
+    Examples
+    --------
+    >>> import rotorlib
+    >>> V = textbook_monodromy(rotorlib.pendulum(E=3.9))
+    >>> V.precision, V.trace_str[:22]
+    ('mp256', '0.01951194241116761053')
     """
     import mpmath as mp
 
-    dps = int(bits / 3.33) + 10
+    t = tier(digits)
+    dps = int(t.bits / 3.33) + 10
     with mp.workdps(dps):
         if isinstance(orbit, PendulumOrbit):
             v = orbit.energy.mp_values(dps)
@@ -543,6 +575,4 @@ def textbook_monodromy(orbit, bits: int = 256) -> VariationalResult:
             raise ValueError(
                 "textbook_monodromy supports pendula and the rotational breather R"
             )
-        return variational_monodromy(
-            state0, period, method="heyoka", precision=f"mp{bits}"
-        )
+        return variational_monodromy(state0, period, digits=t)

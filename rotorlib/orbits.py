@@ -37,6 +37,7 @@ from __future__ import annotations
 import contextlib
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -115,7 +116,7 @@ class PendulumOrbit(_ClosedForm):
     def E(self) -> float:
         return self.energy.E
 
-    def closed_form(self, dps=None, derivative=False) -> dict:
+    def closed_form(self, dps: int | None = None, derivative: bool = False) -> dict:
         """E, eps, m, m1, K, period (and with ``derivative`` d(period)/dE) of the closed form.
 
         Parameters
@@ -167,7 +168,7 @@ class PendulumOrbit(_ClosedForm):
         """Initial state at G, ``[a1, a2, p1, p2] = [0, 0, 0, sqrt(4E/3)]``."""
         return np.array([0.0, 0.0, 0.0, math.sqrt(4.0 * self.E / 3.0)])
 
-    def state(self, t) -> np.ndarray:
+    def state(self, t: Any) -> np.ndarray:
         """State ``[a1, a2, p1, p2]`` at times ``t`` (shape ``t.shape + (4,)``); float64 range only.
 
         In rotation ``a2`` is continuous (it grows by 2 pi per period).
@@ -192,7 +193,7 @@ class PendulumOrbit(_ClosedForm):
         return np.stack([z, a2, z, p2], axis=-1)
 
 
-def separatrix_pendulum_state(t) -> np.ndarray:
+def separatrix_pendulum_state(t: Any) -> np.ndarray:
     """The homoclinic pendulum at E = 4: sin(a2/2) = tanh(sqrt(3) t)."""
     t = np.asarray(t, dtype=float)
     a2 = 2.0 * np.arcsin(np.tanh(SQRT3 * t))
@@ -201,8 +202,23 @@ def separatrix_pendulum_state(t) -> np.ndarray:
     return np.stack([z, a2, z, p2], axis=-1)
 
 
-def pendulum(E=None, log_abs_dE=None, phase=None) -> PendulumOrbit:
-    """The pendulum orbit at ``E`` or at ``log|E-4|`` in a phase (see :func:`rotorlib.energy.pendulum_energy`)."""
+def pendulum(
+    E: Any = None, log_abs_dE: Any = None, phase: str | None = None
+) -> PendulumOrbit:
+    """The pendulum orbit at ``E`` or at ``log|E-4|`` in a phase (see
+    :func:`rotorlib.energy.pendulum_energy`): the closed form, float64 to ~1e-16
+    relative at any ``|E - 4| >= 1.8e-307``, mpmath at any depth
+    (:meth:`PendulumOrbit.closed_form`).
+
+    Examples
+    --------
+    >>> from rotorlib import pendulum
+    >>> o = pendulum(E=3.9)
+    >>> o.energy.phase, round(o.period, 9), [round(float(v), 9) for v in o.state0]
+    ('lib', 7.493684782, [0.0, 0.0, 0.0, 2.28035085])
+    >>> pendulum(log_abs_dE=-30, phase="rot").energy.decimal_E(5)
+    '4.000000000000093576'
+    """
     if isinstance(E, PendulumEnergy):
         return PendulumOrbit(E)
     return PendulumOrbit(pendulum_energy(E=E, log_abs_dE=log_abs_dE, phase=phase))
@@ -262,7 +278,7 @@ class BreatherOrbit(_ClosedForm):
         en.require_float64()
         return _breather_params(en.family, en.E, en.eps, math.sqrt)
 
-    def closed_form(self, dps=None, derivative=False) -> dict:
+    def closed_form(self, dps: int | None = None, derivative: bool = False) -> dict:
         """:attr:`params` plus E, eps, K, period (and with ``derivative`` d(period)/dE), float64 or mpmath.
 
         Parameters
@@ -311,7 +327,7 @@ class BreatherOrbit(_ClosedForm):
             p["dperiod_dE"] = 4 * (dkdm(m, p["m1"]) * dm * nu - K * dnu) / (nu * nu)
             return p
 
-    def phi(self, t):
+    def phi(self, t: Any) -> tuple[np.ndarray, np.ndarray]:
         """phi(t) and phi'(t) of the breather."""
         t = np.asarray(t, dtype=float)
         p = self.params
@@ -348,20 +364,33 @@ class BreatherOrbit(_ClosedForm):
         """Initial state ``[a1, a2, p1, p2]`` at the base point (G, or D for LD)."""
         return self.state(0.0)
 
-    def state(self, t) -> np.ndarray:
+    def state(self, t: Any) -> np.ndarray:
         """State ``[a1, a2, p1, p2] = [phi/2, 3 phi/2, phi', phi']``."""
         f, df = self.phi(t)
         return np.stack([0.5 * f, 1.5 * f, df, df], axis=-1)
 
-    def state_beta(self, t) -> np.ndarray:
+    def state_beta(self, t: Any) -> np.ndarray:
         """State ``[b1, b2, q1, q2] = [2 phi, 0, phi', 0]`` (paper §8)."""
         f, df = self.phi(t)
         z = np.zeros_like(f)
         return np.stack([2.0 * f, z, df, z], axis=-1)
 
 
-def breather(E=None, family=None, log_abs_dE=None) -> BreatherOrbit:
-    """The isosceles breather of ``family`` (LG, LD, R) at energy ``E``."""
+def breather(
+    E: Any = None, family: str | None = None, log_abs_dE: Any = None
+) -> BreatherOrbit:
+    """The isosceles breather of ``family`` (LG, LD, R) at energy ``E`` (or at
+    ``log|E - 4.5|``; see :func:`rotorlib.energy.breather_energy`): the closed form.
+
+    Examples
+    --------
+    >>> from rotorlib import breather
+    >>> b = breather(E=9.0)
+    >>> b.family, round(b.period, 9), [float(v) for v in b.state0]
+    ('breather-R', 2.62597978, [0.0, 0.0, 3.0, 3.0])
+    >>> breather(E=2.0).family
+    'breather-LG'
+    """
     if isinstance(E, BreatherEnergy):
         return BreatherOrbit(E)
     return BreatherOrbit(breather_energy(E=E, family=family, log_abs_dE=log_abs_dE))

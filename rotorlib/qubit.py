@@ -22,6 +22,8 @@ formulas. Everything is exact arithmetic up to rounding (~1e-15 relative).
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 
 from .system import phi_to_theta
@@ -35,7 +37,14 @@ __all__ = [
 ]
 
 
-def josephson_energy(phi1, phi2, Ej=1.0, alpha=1.0, f=0.0, mooij_sign=False):
+def josephson_energy(
+    phi1: Any,
+    phi2: Any,
+    Ej: float = 1.0,
+    alpha: float = 1.0,
+    f: float = 0.0,
+    mooij_sign: bool = False,
+) -> Any:
     """Josephson energy of the three-junction loop.
 
     ``mooij_sign=True`` uses Mooij's ``phi2`` (``cos(2 pi f + phi1 - phi2)``); the default
@@ -52,8 +61,14 @@ def josephson_energy(phi1, phi2, Ej=1.0, alpha=1.0, f=0.0, mooij_sign=False):
 
 
 def charging_energy(
-    dphi1, dphi2, C=1.0, alpha=1.0, gamma=0.0, hbar_over_2e=1.0, mooij_sign=False
-):
+    dphi1: Any,
+    dphi2: Any,
+    C: float = 1.0,
+    alpha: float = 1.0,
+    gamma: float = 0.0,
+    hbar_over_2e: float = 1.0,
+    mooij_sign: bool = False,
+) -> Any:
     """Charging energy ``(C/2)(hbar/2e)^2 phidot^T Cmat phidot`` (up to the additive constant)."""
     off = -alpha if mooij_sign else alpha
     d = 1.0 + alpha + gamma
@@ -65,7 +80,9 @@ def charging_energy(
     )
 
 
-def rotor_energies(theta, theta_dot, m=1.0, r=1.0, g=1.0):
+def rotor_energies(
+    theta: Any, theta_dot: Any, m: float = 1.0, r: float = 1.0, g: float = 1.0
+) -> Any:
     """Relative kinetic and potential energies of three rotors from their angles.
 
     Returns ``(T_rel, V)`` with ``T_rel = sum(m r^2 theta_i'^2)/2 - (3 m r^2/2) phi0'^2`` and
@@ -83,8 +100,16 @@ def rotor_energies(theta, theta_dot, m=1.0, r=1.0, g=1.0):
 
 
 def qubit_energies(
-    phi, phi_dot, m=1.0, r=1.0, g=1.0, alpha=1.0, f=0.0, gamma=0.0, hbar_over_2e=1.0
-):
+    phi: Any,
+    phi_dot: Any,
+    m: float = 1.0,
+    r: float = 1.0,
+    g: float = 1.0,
+    alpha: float = 1.0,
+    f: float = 0.0,
+    gamma: float = 0.0,
+    hbar_over_2e: float = 1.0,
+) -> Any:
     """``(T, U)`` of the qubit at relative angles ``phi = (phi1, phi2)`` and their rates,
     with ``Ej = g`` and ``C = m r^2 / (3 (hbar/2e)^2)`` (the paper's identification)."""
     C = m * r * r / (3.0 * hbar_over_2e**2)
@@ -102,7 +127,7 @@ def qubit_energies(
     return T, U
 
 
-def theta_from_phi(phi0, phi, phi0_dot, phi_dot):
+def theta_from_phi(phi0: Any, phi: Any, phi0_dot: Any, phi_dot: Any) -> Any:
     """Rotor angles and rates from the centre of mass and relative angles (via :mod:`rotorlib.system`)."""
     phi = np.asarray(phi, float)
     phi_dot = np.asarray(phi_dot, float)

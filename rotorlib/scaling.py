@@ -15,12 +15,14 @@ Numerics only (no matplotlib). Works with floats or mpmath numbers.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import mpmath as mp
 import numpy as np
 
-from .bifurcations import CLASSES, parse_label, transition
+from .bifurcations import CLASSES, Transition, parse_label, transition
 from .monodromy import monodromy, multipliers_from_trace
 from .newborn import newborn_family
 from .orbits import pendulum
@@ -43,7 +45,7 @@ __all__ = [
 ]
 
 
-def class_sequences(trs) -> dict:
+def class_sequences(trs: Sequence[Transition]) -> dict[str, list[Transition]]:
     """``{class name: [transitions ordered by n]}`` for the seven classes of §5 (empty classes dropped)."""
     out = {}
     for name, (kind, phase, parity) in CLASSES.items():
@@ -62,12 +64,12 @@ def class_sequences(trs) -> dict:
     return out
 
 
-def log_delta_sequence(xs):
+def log_delta_sequence(xs: Sequence[Any]) -> list[Any]:
     """``log delta_n = x_n - x_{n+1}`` for a class's ``x_n = log|E_n - 4|`` (floats or mpf)."""
     return [a - b for a, b in zip(xs, xs[1:])]
 
 
-def asymptotic_distance(tau, phase):
+def asymptotic_distance(tau: Any, phase: str) -> Any:
     """``|E - 4|`` predicted from the period: ``64 e^{-sqrt3 tau/2}`` (lib), ``64 e^{-sqrt3 tau}`` (rot).
 
     These follow from ``K(m) ~ log(4/sqrt(m1))`` (paper eqs. for tau_l and tau_r); relative error
@@ -81,7 +83,7 @@ def asymptotic_distance(tau, phase):
     return 64.0 * math.exp(-c * float(tau))
 
 
-def fit_convergence(xs, errs):
+def fit_convergence(xs: Any, errs: Any) -> Any:
     """Least-squares fit of ``log|err_n| - log|x_n| = a + b x_n``.
 
     ``b = 1`` means ``err_n ~ C |E_n - 4| log|E_n - 4|``: the error shrinks by the
@@ -123,7 +125,7 @@ class TransverseEigen:
     residual: float
 
 
-def transverse_eigenstructure(t, rel_tol=1e-8) -> TransverseEigen:
+def transverse_eigenstructure(t: Transition, rel_tol: float = 1e-8) -> TransverseEigen:
     """Eigen-structure of M at the transition ``t`` (a :class:`~rotorlib.bifurcations.Transition`).
 
     At a transition the 2x2 block ``M_perp - mu I`` is nilpotent (rank 1, one
@@ -134,7 +136,8 @@ def transverse_eigenstructure(t, rel_tol=1e-8) -> TransverseEigen:
     """
     M = monodromy(pendulum(t.energy))
     mu = 1.0 if t.kind == "IS" else -1.0
-    P = M.transverse
+    P, Mpar = M.transverse, M.longitudinal
+    assert P is not None and Mpar is not None  # the block route
     N = P - mu * np.eye(2)
     U, s, Vt = np.linalg.svd(N)
     scale = max(1.0, float(np.max(np.abs(P))))
@@ -147,7 +150,7 @@ def transverse_eigenstructure(t, rel_tol=1e-8) -> TransverseEigen:
             vecs.append(np.array([v[0], v[1], 0.0, 0.0]))
     if len(vecs) == 2:  # the whole plane: use the coordinate basis
         vecs = [np.array([1.0, 0, 0, 0]), np.array([0, 1.0, 0, 0])]
-    L = M.longitudinal - np.eye(2)
+    L = Mpar - np.eye(2)
     lon = np.array([0.0, 0.0, 1.0, 0.0])
     assert np.max(np.abs(L @ np.array([1.0, 0.0]))) == 0.0
     res = max(
@@ -194,7 +197,9 @@ class HarmonicFit:
     n: int
 
 
-def fit_harmonic(tau, y, tau_min=-np.inf, tau_max=np.inf) -> HarmonicFit:
+def fit_harmonic(
+    tau: Any, y: Any, tau_min: float = -np.inf, tau_max: float = np.inf
+) -> HarmonicFit:
     """Fit ``y(tau) ~ c0 + c1 cos tau + s1 sin tau`` (angular frequency 1) on ``tau_min <= tau <= tau_max``.
 
     Precision: a float64 linear least-squares fit (``numpy.linalg.lstsq``); with
@@ -239,7 +244,7 @@ def fit_harmonic(tau, y, tau_min=-np.inf, tau_max=np.inf) -> HarmonicFit:
     )
 
 
-def separatrix_transmission(digits=None):
+def separatrix_transmission(digits: int | None = None) -> Any:
     """``|t|^2``: transmission probability of one passage near the separatrix (Pöschl-Teller well).
 
     On the separatrix (``k -> 1``) the transverse Lamé equation (paper eqs. for libration and
@@ -293,7 +298,7 @@ class TraceAsymptotics:
     window_width: float
 
 
-def trace_asymptotics(phase) -> TraceAsymptotics:
+def trace_asymptotics(phase: str) -> TraceAsymptotics:
     """Asymptotic form of ``tr M_perp(tau)`` near the separatrix (float64, ~1e-16 relative).
 
     Between passages ``delta alpha_1`` oscillates with ``omega_perp = 1`` (paper §5.2, eq. for
@@ -354,7 +359,9 @@ class FamilyCurve:
     max_residual: float
 
 
-def family_curve(label, E_end, n=12, digits=None) -> FamilyCurve:
+def family_curve(
+    label: str, E_end: float, n: int = 12, digits: int | None = None
+) -> FamilyCurve:
     """``tr M(E)`` of the family born at ``label``, from birth to ``E_end`` (``n`` members).
 
     Precision: ``digits=None`` picks float64 when ``|E_n - 4| > FAMILY_FLOAT64_DEPTH``
@@ -370,7 +377,7 @@ def family_curve(label, E_end, n=12, digits=None) -> FamilyCurve:
     """
     kind, phase, _ = parse_label(label)
     tr = transition(label)
-    d_birth = tr.energy.eps
+    d_birth = math.exp(tr.log_abs_dE)  # energy.eps
     fam = newborn_family(label, E_end=E_end, n=n, digits=digits)
     prec = fam[0].precision
     side = -1.0 if phase == "lib" else 1.0  # the side of E = 4 the family is born on

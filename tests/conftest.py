@@ -16,6 +16,7 @@ import mpmath as mp
 import pytest
 
 import rotorlib
+from rotorlib.precision import Tier
 
 requires_heyoka = pytest.mark.skipif(
     not rotorlib.heyoka_available(), reason="heyoka not installed"
@@ -34,6 +35,6 @@ def textbook_reference(kind: str, value: float, phase_or_family: str, bits: int 
         orbit = rotorlib.pendulum(log_abs_dE=value, phase=phase_or_family)
     else:
         orbit = rotorlib.breather(value, phase_or_family)
-    res = rotorlib.textbook_monodromy(orbit, bits)
+    res = rotorlib.textbook_monodromy(orbit, Tier(f"mp{bits}"))
     with mp.workdps(int(bits / 3.33)):
         return mp.mpf(res.trace_str), res.closure

@@ -18,13 +18,14 @@ import functools
 import mpmath as mp
 
 import rotorlib
+from rotorlib.precision import Tier
 
 
 def _run(state, period, bits, dps):
     with mp.workdps(dps):
         st = [mp.nstr(v, dps - 5) for v in state]
         T = mp.nstr(period, dps - 5)
-    res = rotorlib.variational_monodromy(st, T, method="heyoka", precision=f"mp{bits}")
+    res = rotorlib.variational_monodromy(st, T, digits=Tier(f"mp{bits}"))
     with mp.workdps(dps):
         return mp.mpf(res.trace_str), mp.mpf(T), res.closure
 

@@ -25,6 +25,7 @@ from conftest import requires_heyoka
 
 import rotorlib
 from rotorlib import bifurcations as bf
+from rotorlib.precision import Tier
 
 pytestmark = requires_heyoka
 
@@ -238,7 +239,7 @@ def test_textbook_variational_at_located_roots(label):
         E = 4 - mp.exp(x) if t.phase == "lib" else 4 + mp.exp(x)
         state0 = ["0", "0", "0", mp.nstr(mp.sqrt(4 * E / 3), 45)]
         v = rotorlib.variational_monodromy(
-            state0, mp.nstr(per, 45), method="heyoka", precision="mp256"
+            state0, mp.nstr(per, 45), digits=Tier("mp256")
         )
         tr = mp.mpf(v.trace_str)
     assert v.closure < 1e-25
@@ -477,3 +478,76 @@ def test_family_curve_float64_and_default_precision():
     for args in (("XY^l_1", 4.0), ("IS^l_1", 6.0), ("IS^l_1", 3.0), ("IS^r_1", 3.9)):
         with pytest.raises(ValueError):
             sc.family_curve(*args, n=3)
+
+
+# ----------------------------------------------------------------------------- one Transition
+
+
+def test_one_transition_class_for_pendulum_and_breather():
+    """Pendulum and breather transitions are one class that follows the result protocol,
+    and transition() is the one front door for both (ASCII and paper labels)."""
+    from rotorlib.breathers import pd_transition
+
+    b = bf.transition("PD^b")
+    assert type(b) is bf.Transition
+    assert b.to_dict() == bf.transition("PDb").to_dict() == pd_transition().to_dict()
+    p = bf.transition("ISl2")
+    for t, fam, level in ((p, "pendulum", 4.0), (b, "R", 0.0)):
+        assert t.family == fam and t.trace == level and t.stability == "marginal"
+        assert not t.stable and t.digits == 15 and t.precision == "float64"
+        assert abs(t.multipliers[2] - (1 if level else -1)) < 1e-12
+        rec = t.to_dict()
+        assert rec["E"] == t.E and rec["trace"] == level and rec["family"] == fam
+        assert rec["stability"] == "marginal" and rec["slope"] == t.slope
+        # state0 at G from the closed form: H(state0) = E
+        a1, a2, p1, p2 = t.state0
+        assert abs(p1**2 / 4 + 3 * p2**2 / 4 - t.E) < 1e-13 * t.E
+    assert p.slope == p.dtrace_dE and b.cls == "PD^b" and p.cls == "IS^l_even"
+    # monodromy(transition) evaluates M at the transition's energy, breathers too
+    assert abs(rotorlib.monodromy(b).trace) < 1e-9
+    assert abs(rotorlib.monodromy(p).trace - 4) < 1e-10
+
+
+def test_breather_transition_extended_and_bad_labels():
+    b30 = bf.transition("PD^b", digits=30)
+    assert b30.digits == 25 and b30.precision == "real128"
+    assert len(b30.E_str.replace(".", "")) == 25
+    with mp.workdps(40):  # tr M at E_str, evaluated independently of the locator
+        M = rotorlib.monodromy(rotorlib.breather(b30.E_str, "R"), digits=30)
+        assert abs(mp.mpf(M.trace_str)) < mp.mpf("1e-22")
+        assert mp.mpf(b30.state0_str[3]) ** 2 - mp.mpf(b30.E_str) < mp.mpf("1e-23")
+    for bad in ("PD^c", "IS^b_1", "XYl1", 3):
+        with pytest.raises(ValueError, match="PD\\^b"):
+            bf.transition(bad)
+
+
+def test_locators_agree_with_brent():
+    """The one locator (the engine's Illinois method) against scipy's brentq."""
+    from scipy.optimize import brentq
+
+    t = by_label()["PD^l_2"]
+    a, b = t.log_abs_dE - 0.01, t.log_abs_dE + 0.01
+    x = brentq(lambda x: bf.delta(x, "lib"), a, b, xtol=1e-14)
+    assert abs(x - t.log_abs_dE) < 1e-13
+    with mp.workdps(30):
+        r = bf.refine_root(lambda v: v**3 - 2, 1.25992105, 20)
+        assert abs(r - mp.cbrt(2)) < mp.mpf("1e-20")
+    with pytest.raises(RuntimeError):
+        bf.refine_root(lambda v: v * v + 1, 0.0, 20)
+
+
+def test_cli_json_is_to_dict_for_both_families(capsys):
+    """``bifurcations --json`` prints Transition.to_dict(), breathers included, and
+    --digits applies to the breather too."""
+    from rotorlib.cli import main
+
+    assert (
+        main(["bifurcations", "--family", "breather", "--digits", "30", "--json"]) == 0
+    )
+    (rec,) = json.loads(capsys.readouterr().out)
+    assert rec == json.loads(json.dumps(bf.transition("PD^b", digits=30).to_dict()))
+    assert rec["precision"] == "real128" and len(rec["E_str"]) > 20
+    assert main(["bifurcations", "--n-max", "1", "--kind", "PD", "--json"]) == 0
+    recs = json.loads(capsys.readouterr().out)
+    assert [r["label"] for r in recs] == ["PD^l_1", "PD^r_1"]
+    assert recs[1] == json.loads(json.dumps(by_label()["PD^r_1"].to_dict()))

@@ -38,9 +38,7 @@ def test_pd_energy_and_period_independent(pd30):
         )
         assert abs(T - mp.mpf(pd30.period_str)) < mp.mpf("1e-20")
         s = mp.nstr(mp.sqrt(E), 40)
-        v = rotorlib.variational_monodromy(
-            ["0", "0", s, s], mp.nstr(T, 40), method="heyoka", precision="real128"
-        )
+        v = rotorlib.variational_monodromy(["0", "0", s, s], mp.nstr(T, 40), digits=30)
         # tr M = 0 at E_PD; |d tr M / dE| ~ 1.6, so |tr M| < 1e-20 pins E to ~1e-20
         assert abs(mp.mpf(v.trace_str)) < mp.mpf("1e-20")
     # float64 transition agrees to 12+ digits

@@ -36,7 +36,7 @@ def test_tiers_match_the_hill_tiers():
     from rotorlib.hill import precision_tier
 
     for d in (None, 5, 15, 16, 31, 32, 60, 200):
-        assert tier(d).name == precision_tier(d, "heyoka")[1]
+        assert tier(d).name == precision_tier(d)[1]
     assert tier(20, extra=12).name.startswith("mp")  # 20 digits after losing 12
     for bad in (0, 1001, 2.5, True, "10"):
         with pytest.raises(ValueError):

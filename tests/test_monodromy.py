@@ -15,6 +15,7 @@ import pytest
 from conftest import requires_heyoka, textbook_reference
 
 import rotorlib
+from rotorlib.monodromy import _monodromy
 
 CASES = (
     [("pendulum-E", E, "") for E in (1.0, 3.9, 5.0, 100.0)]
@@ -125,7 +126,7 @@ def test_multipliers():
 def test_mpmath_backend_independent_integrator():
     """mpmath's Taylor integrator (no heyoka) reproduces the real128 value at E = 5."""
     o = rotorlib.pendulum(5.0)
-    a = rotorlib.monodromy(o, digits=20, backend="mpmath")
+    a = _monodromy(o, 20, "mpmath")
     b = rotorlib.monodromy(o)
     assert abs(float(a.trace_str) - b.trace) < 1e-12
     assert a.backend == "mpmath"
@@ -136,6 +137,41 @@ def test_bad_precision_requests():
     with pytest.raises(ValueError):
         rotorlib.monodromy(o, digits=0)
     with pytest.raises(ValueError):
-        rotorlib.monodromy(o, digits=30, backend="scipy")
+        _monodromy(o, 30, "scipy")
     with pytest.raises(ValueError):
-        rotorlib.monodromy(o, backend="fortran")
+        _monodromy(o, None, "fortran")
+    with pytest.raises(TypeError):  # one precision argument: digits
+        rotorlib.monodromy(o, backend="scipy")
+
+
+def test_every_route_returns_one_monodromy_with_digits():
+    """The block route, the variational route (float64 scipy, heyoka tiers) and the
+    textbook reference return one type; ``digits`` is their one precision argument."""
+    import mpmath as mp
+
+    from rotorlib.monodromy import Monodromy
+
+    o = rotorlib.pendulum(E=3.9)
+    block = rotorlib.monodromy(o, digits=30)
+    var64 = rotorlib.variational_monodromy(o.state0, o.period)
+    with mp.workdps(40):
+        s0 = ["0", "0", "0", mp.nstr(mp.sqrt(mp.mpf("15.6") / 3), 40)]
+        per = mp.nstr(o.closed_form(40)["period"], 40)
+    var30 = rotorlib.variational_monodromy(s0, per, digits=30)
+    tb = rotorlib.textbook_monodromy(o, digits=40)
+    for M in (block, var64, var30, tb):
+        assert type(M) is Monodromy and M.stability == "stable"
+    assert (var30.precision, tb.precision) == ("real128", "mp160")
+    assert var64.basis == ("a1", "a2", "p1", "p2") and var64.transverse is None
+    assert np.allclose(
+        var64.in_alpha_state_order(), block.in_alpha_state_order(), atol=1e-9
+    )
+    with mp.workdps(40):
+        ref = mp.mpf(block.trace_str)
+        assert abs(mp.mpf(var30.trace_str) - ref) < mp.mpf("1e-28")
+        assert abs(mp.mpf(tb.trace_str) - ref) < mp.mpf("1e-28")
+    assert var30.closure < 1e-25 and var64.closure < 1e-9 and var64.steps > 0
+    with pytest.raises(ValueError, match="float64 only"):
+        rotorlib.variational_monodromy(o.state0, o.period, digits=30, method="scipy")
+    with pytest.raises(TypeError):
+        rotorlib.textbook_monodromy(o, bits=256)

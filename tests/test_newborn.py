@@ -87,7 +87,7 @@ def test_closure_energy_trace(records, label, E):
     # energy shell (1e-9)
     assert abs(float(energy_alpha(x0)) - E) < 1e-9
     # closure under heyoka mp160 from the exported float64 state (1e-7)
-    v = rotorlib.variational_monodromy(x0, T, method="heyoka", precision="mp160")
+    v = rotorlib.variational_monodromy(x0, T, digits=40)
     assert v.closure < 1e-7, v.closure
     if label not in SCIPY_TOO_COARSE:
         sol = solve_ivp(
@@ -97,7 +97,7 @@ def test_closure_energy_trace(records, label, E):
     # the trace: textbook variational monodromy at 160 bits from the full-digit state (1e-5 relative)
     s0 = rec.get("state0_str", x0)
     Tm = rec.get("period_str", T)
-    ref = rotorlib.variational_monodromy(s0, Tm, method="heyoka", precision="mp160")
+    ref = rotorlib.variational_monodromy(s0, Tm, digits=40)
     assert abs(ref.trace - rec["trace"]) < 1e-5 * abs(ref.trace)
     assert ref.closure < 1e-12
 
@@ -211,14 +211,12 @@ def test_deep_families_real128(capsys, label, E):
     x0 = np.array(rec["state0"])
     assert abs(float(energy_alpha(x0)) - float(E)) < 1e-9
     ref = rotorlib.variational_monodromy(
-        rec["state0_str"], rec["period_str"], method="heyoka", precision="mp160"
+        rec["state0_str"], rec["period_str"], digits=40
     )
     assert ref.closure < 1e-20
     assert abs(ref.trace - rec["trace"]) < 1e-5 * abs(ref.trace)
     # the float64 rounding of the state closes only to ~|E - 4|^-1 eps (measured 2e-6 for IS^l_7 at E = 4)
-    v = rotorlib.variational_monodromy(
-        x0, rec["period"], method="heyoka", precision="mp160"
-    )
+    v = rotorlib.variational_monodromy(x0, rec["period"], digits=40)
     assert v.closure < 1e-4
 
 

@@ -14,6 +14,8 @@ import pytest
 
 import rotorlib as rl
 from rotorlib.hill import hill_problem, precision_tier, solve_hill
+from rotorlib.monodromy import _monodromy
+from rotorlib.precision import Tier, tier
 
 HEYOKA = rl.heyoka_available()
 needs_heyoka = pytest.mark.skipif(not HEYOKA, reason="heyoka not installed")
@@ -26,7 +28,9 @@ def textbook_reference(x, phase, bits=512):
     E = 4 -+ exp(x), p2 = sqrt(4E/3) at G and the period (4K(E/4)/sqrt3 or
     2 kappa K(kappa^2)/sqrt3, kappa^2 = 4/E) are computed in mpmath.
     """
-    return rl.textbook_monodromy(rl.pendulum(log_abs_dE=float(x), phase=phase), bits)
+    return rl.textbook_monodromy(
+        rl.pendulum(log_abs_dE=float(x), phase=phase), Tier(f"mp{bits}")
+    )
 
 
 def agreeing_digits(a, b):
@@ -52,39 +56,34 @@ def agreeing_digits(a, b):
 )
 def test_precision_tier_map(digits, expected):
     be, prec = precision_tier(digits)
+    assert (
+        prec.startswith(expected) and prec == tier(digits).name
+    )  # a name Tier accepts
     if HEYOKA:
         assert be == "heyoka"
-        assert prec.startswith(expected)
     else:
-        assert prec == "float64" if expected == "float64" else prec.startswith("mpmath")
+        assert be == ("scipy" if expected == "float64" else "mpmath")
 
 
 def test_precision_tier_bits_cover_digits():
     for d in (32, 40, 60, 100):
-        _, prec = precision_tier(d, "heyoka" if HEYOKA else None)
+        _, prec = precision_tier(d)
         if prec.startswith("mp") and not prec.startswith("mpmath"):
             assert int(prec[2:]) * math.log10(2) >= d + 5
 
 
-@pytest.mark.parametrize(
-    "digits,backend",
-    [
-        (0, None),
-        (1001, None),
-        (2.5, None),
-        ("30", None),
-        (20, "scipy"),
-        (None, "fortran"),
-    ],
-)
-def test_precision_tier_refuses(digits, backend):
+@pytest.mark.parametrize("digits", [0, 1001, 2.5, "30"])
+def test_precision_tier_refuses(digits):
     with pytest.raises(ValueError):
-        precision_tier(digits, backend)
+        precision_tier(digits)
 
 
-def test_mpmath_tier_label():
-    assert precision_tier(None, "mpmath") == ("mpmath", "mpmath20")
-    assert precision_tier(40, "mpmath") == ("mpmath", "mpmath45")
+def test_integrator_choice_is_private_and_labelled():
+    """Forcing an integrator is a private test hook; mpmath labels its working digits."""
+    o = rl.pendulum(E=1.0)
+    assert _monodromy(o, None, "mpmath").precision == "mpmath20"
+    with pytest.raises(ValueError, match="scipy integrates in float64 only"):
+        _monodromy(o, 20, "scipy")
 
 
 # --------------------------------------------------------------------------- results say which precision
@@ -104,18 +103,15 @@ def test_monodromy_reports_precision(digits, label):
 
 
 def test_scipy_backend_reports_float64():
-    M = rl.monodromy(rl.pendulum(E=3.9), backend="scipy")
+    M = _monodromy(rl.pendulum(E=3.9), None, "scipy")
     assert (M.backend, M.precision) == ("scipy", "float64")
 
 
 def test_variational_reports_precision():
     o = rl.pendulum(E=1.0)
     V = rl.variational_monodromy(o.state0, o.period, rtol=1e-10)
-    assert (
-        V.precision == "float64 rtol=1e-10"
-        and V.method == "scipy-DOP853"
-        and V.steps > 0
-    )
+    assert V.precision == "float64" and V.backend == "scipy-DOP853 rtol=1e-10"
+    assert V.steps > 0 and type(V) is type(rl.monodromy(o))
 
 
 def test_hill_solution_reports_precision():
@@ -132,16 +128,17 @@ def _cli(*args):
 
 
 def test_cli_reports_precision_in_table_and_json():
-    r = _cli("pendulum", "--E", "3.9", "--backend", "scipy")
+    r = _cli("pendulum", "--E", "3.9")
     assert r.returncode == 0 and "precision" in r.stdout and "float64" in r.stdout
-    r = _cli("pendulum", "--E", "3.9", "5", "--json", "--backend", "scipy")
+    r = _cli("pendulum", "--E", "3.9", "5", "--json")
     recs = json.loads(r.stdout)
-    assert [(x["precision"], x["backend"]) for x in recs] == [("float64", "scipy")] * 2
+    be = "heyoka" if HEYOKA else "scipy"
+    assert [(x["precision"], x["backend"]) for x in recs] == [("float64", be)] * 2
 
 
-def test_cli_refuses_scipy_with_digits():
-    r = _cli("pendulum", "--E", "3.9", "--backend", "scipy", "--digits", "30")
-    assert r.returncode == 2 and "scipy" in r.stderr
+def test_cli_has_one_precision_option():
+    r = _cli("pendulum", "--E", "3.9", "--backend", "scipy")
+    assert r.returncode == 2 and "--backend" in r.stderr
 
 
 # --------------------------------------------------------------------------- accuracy of the tiers
@@ -173,7 +170,7 @@ def test_real128_and_mp_tiers_agree_deep_lib():
 def test_mpmath_tier_agrees_with_heyoka_mp():
     """mpmath's Taylor integrator (independent of heyoka) against heyoka multiprecision."""
     o = rl.pendulum(log_abs_dE=-10.0, phase="rot")
-    a = rl.monodromy(o, digits=16, backend="mpmath")
+    a = _monodromy(o, 16, "mpmath")
     assert a.precision == "mpmath21" and a.backend == "mpmath"
     b = rl.monodromy(o, digits=40)
     assert agreeing_digits(a.trace_str, b.trace_str) >= 15
@@ -192,7 +189,7 @@ def test_float64_within_1e11_deep_in_cascade(x, phase):
     )
     for backend in ("heyoka", "scipy") if HEYOKA else ("scipy",):
         with mp.workdps(40):
-            assert abs(rl.monodromy(o, backend=backend).trace - mp.mpf(ref)) < 1e-11
+            assert abs(_monodromy(o, None, backend).trace - mp.mpf(ref)) < 1e-11
 
 
 def test_textbook_float64_is_wrong_deep_in_cascade():
@@ -208,10 +205,7 @@ def test_textbook_float64_is_wrong_deep_in_cascade():
 def test_default_tol_is_unchanged():
     o = rl.pendulum(log_abs_dE=-21.5, phase="rot")
     for be in ("heyoka", "scipy") if HEYOKA else ("scipy",):
-        assert (
-            rl.monodromy(o, backend=be).trace
-            == rl.monodromy(o, backend=be, tol=None).trace
-        )
+        assert _monodromy(o, None, be).trace == _monodromy(o, None, be, tol=None).trace
 
 
 @pytest.mark.parametrize(

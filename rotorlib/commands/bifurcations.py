@@ -9,6 +9,9 @@ Examples
 
 from __future__ import annotations
 
+import argparse
+from typing import Any
+
 from ..cli import emit
 from ..precision import check_digits
 
@@ -16,7 +19,7 @@ from ..precision import check_digits
 N_MAX_LIMIT = 200
 
 
-def register(sub):
+def register(sub: Any) -> None:
     p = sub.add_parser(
         "bifurcations",
         help="stability transitions (IS/PD bifurcations) of pendula or breathers",
@@ -45,12 +48,12 @@ def register(sub):
     p.set_defaults(func=run)
 
 
-def run(args):
+def run(args: argparse.Namespace) -> int:
     check_digits(args.digits, "--digits")
     if args.family == "breather":
         from ..breathers import breather_transitions
 
-        records = [t.to_dict() for t in breather_transitions()]
+        records = [t.to_dict() for t in breather_transitions(digits=args.digits)]
         emit(records, args.json, ["kind", "E", "period", "transition"], one=False)
         return 0
     from ..bifurcations import transition, transitions
@@ -61,11 +64,8 @@ def run(args):
         raise ValueError(
             f"--n-max must be between 1 and {N_MAX_LIMIT}, got {args.n_max}"
         )
-    if args.kind is None:
-        kinds = ("IS", "PD")
-    elif args.kind.upper() in ("IS", "PD"):
-        kinds = (args.kind.upper(),)
-    else:
+    kinds = ("IS", "PD") if args.kind is None else (args.kind.upper(),)
+    if not set(kinds) <= {"IS", "PD"}:
         raise ValueError(f"--kind must be IS or PD, got {args.kind!r}")
     trs = transitions(phase=args.phase, n_max=args.n_max, kinds=kinds)
     if args.digits is not None and args.digits > 15:

@@ -13,10 +13,11 @@ Examples
 from __future__ import annotations
 
 import argparse
+from typing import Any
 
 from ..cli import emit
 from ..monodromy import monodromy
-from ..orbits import breather, pendulum
+from ..orbits import BreatherOrbit, PendulumOrbit, breather, pendulum
 from ..precision import check_digits, json_number
 
 _DESCRIPTION = """\
@@ -38,7 +39,7 @@ tr M = 4: marginal (neutrally stable), with a note. For small E > 0 the pendulum
 E = 1e-300): marginal, and the note gives the series value."""
 
 
-def register(sub):
+def register(sub: Any) -> None:
     p = sub.add_parser(
         "trace",
         help="trace of the monodromy matrix of pendula or breathers",
@@ -73,7 +74,6 @@ def register(sub):
         default=None,
         help="significant digits (default float64; > 15 uses heyoka real128/multiprecision)",
     )
-    p.add_argument("--backend", choices=["heyoka", "scipy", "mpmath"], default=None)
     p.add_argument(
         "--json",
         action="store_true",
@@ -88,13 +88,12 @@ def _record(M, digits) -> dict:
     ext = M.precision != "float64"
     en = M.energy
     given_log = en.given[1] if en.given[0] == "log_abs_dE" else None
-    log_key = "log_abs_dE" if M.family == "pendulum" else "log_abs_dE_4.5"
     rec: dict = {"family": "pendulum" if M.family == "pendulum" else "breather"}
     if M.family != "pendulum":
         rec["breather_family"] = en.family
     rec["phase"] = en.phase
     rec |= json_number("E", en.E, en.E_text(max(17, digits or 0)))
-    rec |= json_number(log_key, en.log_abs_dE, given_log)
+    rec |= json_number("log_abs_dE", en.log_abs_dE, given_log)  # to E = 4 or 4.5
     overflow = not ext and M.trace_str != repr(M.trace)
     rec |= json_number("trace", M.trace, M.trace_str if ext or overflow else None)
     rec |= json_number(
@@ -117,7 +116,7 @@ def _record(M, digits) -> dict:
     return rec
 
 
-def run(args):
+def run(args: argparse.Namespace) -> int:
     values = args.E if args.E is not None else args.log_dE
     by_log = args.E is None
     if args.family == "pendulum" and args.breather_family:
@@ -126,6 +125,7 @@ def run(args):
         raise ValueError("--log-dE needs --phase lib or rot")
     check_digits(args.digits, "--digits")
     records = []
+    orb: PendulumOrbit | BreatherOrbit
     for text in values:
         if args.family == "pendulum":
             orb = (
@@ -144,11 +144,7 @@ def run(args):
                 orb = breather(log_abs_dE=text, family=fam)
             else:
                 orb = breather(E=text, family=fam)
-        records.append(
-            _record(
-                monodromy(orb, digits=args.digits, backend=args.backend), args.digits
-            )
-        )
+        records.append(_record(monodromy(orb, digits=args.digits), args.digits))
     emit(
         records,
         args.json,
