@@ -45,7 +45,6 @@ from .energy import BreatherEnergy, PendulumEnergy, breather_energy, pendulum_en
 from .hill import heyoka_available, precision_tier
 from .monodromy import (
     Monodromy,
-    VariationalResult,
     monodromy,
     multipliers_from_trace,
     textbook_monodromy,
@@ -87,7 +86,6 @@ __all__ = [
     "heyoka_available",
     "precision_tier",
     "Monodromy",
-    "VariationalResult",
     "monodromy",
     "multipliers_from_trace",
     "trace_monodromy",

@@ -225,14 +225,9 @@ def transition(label: str, *, digits: int | Tier | None = None) -> Any:
     >>> tr.kind, tr.label
     ('IS', 'IS^l_2')
     """
-    from . import bifurcations
+    from .bifurcations import transition as _transition
 
-    d = _digits(digits)
-    if _BREATHER_DAUGHTER.match(str(label).strip()):
-        from .breathers import pd_transition
-
-        return pd_transition(digits=d)
-    return bifurcations.transition(label, digits=d)
+    return _transition(label, digits=digits)
 
 
 def census(

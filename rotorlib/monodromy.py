@@ -49,7 +49,6 @@ __all__ = [
     "monodromy",
     "trace_monodromy",
     "variational_monodromy",
-    "VariationalResult",
     "textbook_monodromy",
     "multipliers_from_trace",
 ]
@@ -413,10 +412,6 @@ def trace_monodromy(orbit: Any = None, **kwargs: Any) -> Any:
 
     with mp.workdps(len(M.trace_str) + 5):
         return +mp.mpf(M.trace_str)
-
-
-#: The old name of the variational routes' result: it is a :class:`Monodromy`.
-VariationalResult = Monodromy
 
 
 def _unwind(dx: Any) -> np.ndarray:
