@@ -19,6 +19,7 @@ import math
 from dataclasses import dataclass, replace
 from typing import Any
 
+from .branch import Branch, Member, SpecialPoint
 from .flow import SectionNotReached, monodromy_matrix
 from .precision import FLOAT64, Tier
 from .shooting import NoConvergence, ShootingProblem, residual, solve
@@ -33,7 +34,7 @@ NAN = float("nan")
 class FamilyEnd(ValueError):
     """Natural continuation stopped: ``label, members, E_reached, E_asked`` (nan: u)."""
 
-    def __init__(self, label, members, E_asked, par):
+    def __init__(self, label: str, members: Any, E_asked: float, par: str):
         self.label, self.members, self.E_asked = label, members, E_asked
         self.E_reached = E = float(members[-1].E)
         ask = f"; asked for E = {E_asked!r}" if E_asked == E_asked else ""
@@ -41,117 +42,6 @@ class FamilyEnd(ValueError):
             f"{label}: the family was not found beyond E = {E!r} (a fold "
             f"in {par}, or the orbit stops reaching its section){ask}"
         )
-
-
-@dataclass(frozen=True)
-class Member:
-    """One periodic orbit of a family: unknowns, energy, symmetric time, residual, trace.
-
-    ``u``, ``w``, ``E``, ``t1`` are tier numbers (float or mpf); ``x1`` the state at the
-    symmetric point ``t1``; ``trace`` is ``tr M`` over the full period (a tier number,
-    ``nan`` unless computed).
-    """
-
-    u: Any
-    w: Any
-    E: Any
-    t1: Any
-    r: Any
-    trace: Any = NAN
-    x1: tuple = ()
-
-
-@dataclass(frozen=True)
-class SpecialPoint:
-    """An event along a branch: ``kind`` (``fold``, ``E``, ``IS``, ``PD``), the located
-    ``member`` and the index of the member after which it lies. ``located`` is False when
-    the location failed (the orbit stops reaching its section there): ``member`` is then
-    the nearest member of the branch."""
-
-    kind: str
-    member: Member
-    index: int
-    located: bool = True
-
-
-@dataclass(frozen=True)
-class Branch:
-    """A family followed by :func:`continuation`.
-
-    Attributes
-    ----------
-    problem : ShootingProblem
-    tier : Tier
-    members : tuple of Member
-    special_points : tuple of SpecialPoint
-    stop : str
-        Why the continuation ended, as a code (see the module docstring).
-    reason : str
-        The same as one sentence, with the numbers that triggered it.
-    """
-
-    problem: ShootingProblem
-    tier: Tier
-    members: tuple
-    special_points: tuple = ()
-    stop: str = ""
-    reason: str = ""
-
-    def _col(self, name):
-        import numpy as np
-
-        return np.array([float(getattr(m, name)) for m in self.members])
-
-    @property
-    def label(self) -> str:
-        return self.problem.label
-
-    @property
-    def u(self):
-        return self._col("u")
-
-    @property
-    def dE(self):
-        """``E - 4`` of the members, formed in the tier (no cancellation)."""
-        import numpy as np
-
-        with self.tier.context():
-            return np.array([float(m.E - 4) for m in self.members])
-
-    @property
-    def E(self):
-        return self._col("E")
-
-    @property
-    def t1(self):
-        return self._col("t1")
-
-    @property
-    def period(self):
-        return self.problem.factor * self._col("t1")
-
-    @property
-    def trace(self):
-        return self._col("trace")
-
-    def points(self, kind) -> list:
-        """The special points of one kind (``fold``, ``E``, ``IS``, ``PD``)."""
-        return [p for p in self.special_points if p.kind == kind]
-
-    @property
-    def fold(self):
-        """The first located fold (a :class:`Member`), or ``None``."""
-        pts = [p for p in self.points("fold") if p.located]
-        return pts[0].member if pts else None
-
-    @property
-    def E_max(self) -> float:
-        """The largest energy on the branch (a located fold where there is one)."""
-        return max([float(p.member.E) for p in self.points("fold")] + list(self.E))
-
-    def state(self, m: Member):
-        """The initial state of a member (tier numbers)."""
-        return self.problem.state(m.u, m.w, self.tier)
 
 
 @dataclass(frozen=True)
@@ -226,6 +116,10 @@ class ContinuationOptions:
     stop_on : tuple
         Stop (``event``) once ``tr M`` crosses the level of one of these kinds (``IS``: 4,
         ``PD``: 0; needs ``traces``).
+    enter : bool
+        Members before the first one inside ``E_range`` approach it and do not stop the
+        branch, unless one lands beyond the range's far end (:func:`rotorlib.newborn.family`
+        from a seed below the range).
     """
 
     max_steps: int = 400
@@ -237,6 +131,7 @@ class ContinuationOptions:
     folds: bool = True
     r_max: float | None = None
     stop_on: tuple = ()
+    enter: bool = False
 
 
 def member(
@@ -248,8 +143,21 @@ def member(
         tr = NAN
         if traces:
             tr = monodromy_matrix(s.x0, problem.factor * s.t1, t)[2]
+        r = abs(float(s.r))
+        d = min(t.dps - 8, int(-math.log10(r))) if r > 0 else t.dps - 8
         return Member(
-            t.num(u), t.num(w), problem.energy(u, w, t), s.t1, s.r, tr, tuple(s.x1)
+            t.num(u),
+            t.num(w),
+            problem.energy(u, w, t),
+            s.t1,
+            s.r,
+            tr,
+            tuple(s.x1),
+            problem.label,
+            problem.factor,
+            tuple(s.x0),
+            max(1, d) if t.extended else 15,
+            t.name,
         )
 
 
@@ -662,9 +570,14 @@ def continuation(
         for m in start
     ]
 
+    lo, hi = opts.E_range
+    entered = [not opts.enter or lo <= start[-1].E <= hi]
+
     def on_member(members):
         m = members[-1]
-        if not (opts.E_range[0] <= m.E <= opts.E_range[1]):
+        if lo <= m.E <= hi:
+            entered[0] = True
+        elif entered[0] or (m.E < lo if members[0].E > hi else m.E > hi):
             return "E range"
         if m.t1 > opts.t1_max:
             return "period"
@@ -678,7 +591,13 @@ def continuation(
         raise ValueError(f"algorithm must be Natural or PALC, got {algorithm!r}")
     special = _events(problem, t, members, opts, algorithm)
     return Branch(
-        problem, t, tuple(members), tuple(special), stop, _reason(stop, members, opts)
+        problem,
+        t,
+        tuple(members),
+        tuple(special),
+        stop,
+        _reason(stop, members, opts),
+        tuple(opts.E_range),
     )
 
 

@@ -42,11 +42,11 @@ default for members near E = 4.
 
 from __future__ import annotations
 
-import dataclasses
 import functools
 import math
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
+from typing import Any
 
 import mpmath as mp
 import numpy as np
@@ -54,17 +54,20 @@ import numpy as np
 from .bifurcations import parse_label, transition
 from .continuation import (
     PALC,
+    Branch,
     ContinuationOptions,
     FamilyEnd,
+    Member,
     Natural,
+    SpecialPoint,
     continuation,
     member,
     switch,
 )
-from .flow import Section
+from .flow import Section, SectionNotReached
 from .periodic import PeriodicOrbit, periodic_orbit
 from .precision import FLOAT64, REAL128, Tier, tier
-from .shooting import ShootingProblem, StartSet, solve
+from .shooting import NoConvergence, ShootingProblem, StartSet, solve
 
 __all__ = [
     "FAMILIES",
@@ -79,6 +82,7 @@ __all__ = [
     "newborn_orbit",
     "newborn_family",
     "follow",
+    "family",
     "linear_orbit",
     "a1_structure",
     "trace_slope_at_birth",
@@ -255,13 +259,16 @@ class FamilyRangeError(ValueError):
         The family exists for ``E_min < E <= E_max``.
     how : str
         Why the range ends at ``E_max`` (a key of :data:`FAMILY_REACH`).
-    E : float
-        The energy asked for.
+    E : float or (float, float)
+        The energy (or the range) asked for.
     """
 
-    def __init__(self, spec: FamilySpec, E):
+    def __init__(self, spec: FamilySpec, E: Any):
         lo, hi = family_range(spec)
-        self.label, self.E_min, self.E_max, self.E = spec.label, lo, hi, float(E)
+        self.label, self.E_min, self.E_max = spec.label, lo, hi
+        rng = isinstance(E, tuple)
+        self.E = tuple(float(v) for v in E) if rng else float(E)
+        got = f"E_range = {self.E!r}" if rng else f"E = {self.E!r}"
         self.how = FAMILY_REACH[spec.label][1]
         why = {
             "fold": f"at E = {hi!r} the family folds back to lower energies (no member "
@@ -273,7 +280,7 @@ class FamilyRangeError(ValueError):
         }[self.how]
         super().__init__(
             f"{spec.label} exists for {lo!r} < E <= {hi!r} (born at E_n = {lo!r}; "
-            f"{why}); got E = {float(E)!r}"
+            f"{why}); got {got}"
         )
 
 
@@ -305,14 +312,28 @@ def _birth(spec: FamilySpec, name: str):
         return 4 - eps if spec.phase == "lib" else 4 + eps
 
 
-def birth_member(spec: FamilySpec, u, t: Tier = FLOAT64, tol=None):
+def birth_member(
+    spec: FamilySpec,
+    u: Any,
+    digits: int | Tier | None = None,
+    tol: Any = None,
+) -> tuple[Any, int]:
     """Paper §6 step 3 in one unknown: fix the amplitude ``u``, adjust the energy.
 
     A secant on the symmetric residual in ``E`` from ``E_n`` and ``E_n + 1e-3 |E_n - 4|``
-    to a relative step ``tol`` (default 1e-15 float64, 1e-32 real128); a simple root: ``E``
-    to ~eps / |E - 4|. Returns ``(E, iterations)``; the residual is evaluated
+    to a relative step ``tol`` (default 1e-15 float64, 1e-32 real128), in the tier of
+    ``digits`` (:func:`~rotorlib.precision.tier`); a simple root: ``E`` to
+    ~eps / |E - 4|. Returns ``(E, iterations)``; the residual is evaluated
     ``iterations + 2`` times.
+
+    Examples
+    --------
+    >>> from rotorlib.newborn import birth_member, family_spec
+    >>> E, it = birth_member(family_spec("IS^l_2"), 1e-3)
+    >>> round(E, 9)
+    3.996917247
     """
+    t = tier(digits)
     with t.context():
         E0 = _birth(spec, t.name)
         dE = (
@@ -330,12 +351,24 @@ def _u_scale(spec):
     return 1.0 if spec.start == "a1" else 2.0
 
 
-@functools.lru_cache(maxsize=64)
-def seed(label, name="float64"):
+def seed(label: str, digits: int | Tier | None = None) -> tuple[Member, Any]:
     """``(member, c)``: the first member, at ``u = 0.01 sqrt|E_n - 4|`` (twice that for a
-    ``p1`` start), and the fork coefficient ``c`` in ``E - E_n = c u^2``."""
-    spec = family_spec(label)
-    t = Tier(name)
+    ``p1`` start), and the fork coefficient ``c`` in ``E - E_n = c u^2``, in the tier of
+    ``digits`` (:func:`~rotorlib.precision.tier`).
+
+    Examples
+    --------
+    >>> from rotorlib.newborn import seed
+    >>> m, c = seed("IS^l_2")
+    >>> m.label, m.stability, round(c, 4)
+    ('IS^l_2', 'unknown', 0.1361)
+    """
+    return _seed(family_spec(label).label, tier(digits))
+
+
+@functools.lru_cache(maxsize=64)
+def _seed(label: str, t: Tier) -> tuple[Member, Any]:
+    spec, name = family_spec(label), t.name
     with t.context():
         u_s = t.num(1e-2 * _u_scale(spec) * math.sqrt(spec.depth))
         E_s, _ = birth_member(spec, u_s, t)
@@ -346,7 +379,7 @@ def seed(label, name="float64"):
 def _path(spec: FamilySpec, E_target, t: Tier, steps=None):
     """Members from the seed to ``E_target``, continued in ``E`` (Natural, values spaced in
     ``sqrt|E - E_n|``); raises :class:`~rotorlib.continuation.FamilyEnd` where it stops."""
-    m0, c = seed(spec.label, t.name)
+    m0, c = seed(spec.label, t)
     with t.context():
         E_target = t.num(E_target)
         if (c > 0) != (E_target > spec.E_birth):
@@ -385,7 +418,8 @@ def _tiers(spec: FamilySpec, digits):
 
 
 def newborn_orbit(label, E, digits=None, steps=None) -> PeriodicOrbit:
-    """The member of the family born at ``label`` with energy ``E``.
+    """The member of the family born at ``label`` with energy ``E`` (:func:`family` gives
+    its members over a range).
 
     Parameters
     ----------
@@ -502,83 +536,30 @@ def newborn_family(label, E_end=None, n=12, digits=None) -> list:
     return [periodic_orbit(spec.problem, m.u, m.w, t) for m in path]
 
 
-def follow(
-    label,
+def _branch(
+    spec: FamilySpec,
+    E_range: tuple[Any, Any],
+    t: Tier,
     *,
-    E_max=None,
-    E_min=None,
-    t1_max=None,
-    digits=None,
-    traces=False,
-    energies=(),
-    chart="E",
-    jump=None,
-    ds=0.3,
-    ds_max=1.0,
-    max_steps=2000,
-    clip=True,
-):
-    """The family born at ``label`` followed in pseudo-arclength from its seed: passes folds.
-
-    Parameters
-    ----------
-    E_max, E_min : float, optional
-        Stop outside ``[E_min, E_max]`` (default ``[E_n - 2|E_n - 4|, 4.2]`` for libration,
-        ``[E_n - 2|E_n - 4|, E_n + 6]`` for rotation). The family is followed from its
-        seed near the birth energy ``E_n``; the first member outside the range stops it
-        and is dropped (with ``clip``), so that every member after the seed, and every
-        special point, lies inside the range. A range that does not contain ``E_n``
-        stops at once (only the seed is left). ``Branch.reason`` says which rule stopped
-        it.
-    t1_max : float, optional
-        Stop once ``t1`` exceeds it (default: the period 12 times its value at birth): the
-        family runs into an orbit of infinite period (through the maxima of V, E -> 4.5).
-    digits : int, optional
-        Tier of the continuation (default float64 while ``|E_n - 4| > 3e-8``, else real128).
-    traces : bool
-        ``tr M`` of every member and the ``IS``/``PD`` points where it crosses 4 or 0.
-    energies : tuple
-        Energies at which members are located exactly (``E`` points).
-    chart : {'E', 'K'}
-        Second unknown: ``E``, or (rotational families) the energy ``q = K - 4`` of the
-        ``a2`` motion above the barrier at the base point: ``E - 4 = q + T(u)`` without
-        cancellation.
-    jump : float, optional
-        Refuse steps that change ``t1`` by more than this fraction.
-    clip : bool
-        Drop the member that left ``[E_min, E_max]`` (default). ``False`` keeps it, to
-        show where the family went one step beyond the range.
-
-    Returns
-    -------
-    rotorlib.continuation.Branch
-        Members ``u, E, t1, period, trace``; special points ``fold``, ``E``, ``IS``, ``PD``;
-        ``stop`` and ``reason``: why it ended.
-
-    Examples
-    --------
-    >>> from rotorlib.newborn import follow
-    >>> b = follow("IS^r_1", E_min=5.8, E_max=6.0)
-    >>> b.stop, len(b.members)
-    ('E range', 1)
-    >>> "outside E_range = (5.8, 6)" in b.reason and "first member" in b.reason
-    True
-    """
-    spec = family_spec(label)
-    t = _tiers(spec, None)[0] if digits is None else tier(int(digits))
+    t1_max: float,
+    traces: bool,
+    energies: tuple[Any, ...],
+    chart: str,
+    jump: float | None,
+    ds: float,
+    ds_max: float,
+    max_steps: int,
+    enter: bool,
+    start: list[Member] | None = None,
+) -> Branch:
+    """The family of ``spec`` in pseudo-arclength from its seed (or from ``start``)."""
     d = spec.depth
-    E_max = (
-        E_max
-        if E_max is not None
-        else (4.2 if spec.phase == "lib" else spec.E_birth + 6)
-    )
-    E_min = E_min if E_min is not None else spec.E_birth - 2 * d
-    T_birth = spec.period_birth * (2 if spec.kind == "PD" else 1)
-    t1_max = t1_max if t1_max is not None else 12 * T_birth / spec.factor
-    m0, _ = seed(spec.label, t.name)
     prob = spec.problem if chart == "E" else spec.problem.chart(4.0)
-    if chart == "K":
-        m0 = member(prob, m0.u, prob.w_at(m0.u, m0.E, t), t)
+    if start is None:
+        m0 = seed(spec.label, t)[0]
+        if chart == "K":
+            m0 = member(prob, m0.u, prob.w_at(m0.u, m0.E, t), t)
+        start = [m0]
     alg = PALC(
         ds=ds,
         ds_max=ds_max,
@@ -586,23 +567,239 @@ def follow(
         u_floor=1e-3 * math.sqrt(d),
         w_floor=1e-3 * d,
     )
-    # accepted residual: the shooting amplifies round-off like 1/|E_n - 4| (the K chart's
-    # members sit in a channel where a2 barely passes the barrier: 1e-6 in float64, as measured)
-    r_max = (
-        (1e-6 if chart == "K" else 1e-8)
-        if not t.extended
-        else max(t.eps ** (2 / 3), 1e4 * t.eps / d)
-    )
     opts = ContinuationOptions(
         max_steps=max_steps,
-        E_range=(E_min, E_max),
+        E_range=E_range,
         t1_max=t1_max,
         jump=jump,
         traces=traces,
         energies=tuple(energies),
-        r_max=r_max,
+        r_max=_r_max(spec, t, chart),
+        enter=enter,
     )
-    b = continuation(prob, alg, opts, [m0], t)
+    return continuation(prob, alg, opts, start, t)
+
+
+def _r_max(spec: FamilySpec, t: Tier, chart: str) -> float:
+    """The accepted residual: the shooting amplifies round-off like 1/|E_n - 4| (the K
+    chart's members sit in a channel where a2 barely passes the barrier: 1e-6 in float64,
+    as measured)."""
+    if t.extended:
+        return max(t.eps ** (2 / 3), 1e4 * t.eps / spec.depth)
+    return 1e-6 if chart == "K" else 1e-8
+
+
+def _t1_max(spec: FamilySpec, t_max: float | None) -> float:
+    """The symmetric time of the full period ``t_max`` (default: 12 times the period at
+    birth, beyond which the family runs into an orbit of infinite period)."""
+    T_birth = spec.period_birth * (2 if spec.kind == "PD" else 1)
+    return (12 * T_birth if t_max is None else t_max) / spec.factor
+
+
+def family(
+    label: str,
+    E_range: tuple[float | str, float | str],
+    *,
+    digits: int | Tier | None = None,
+    t_max: float | None = None,
+    traces: bool = True,
+    energies: tuple[float | str, ...] = (),
+    chart: str = "E",
+    jump: float | None = None,
+    ds: float = 0.3,
+    ds_max: float | None = None,
+    max_steps: int = 2000,
+) -> Branch:
+    """The family born at ``label``, followed over ``E_range = (lo, hi)``.
+
+    The family is followed in pseudo-arclength (it passes folds) from its seed near the
+    birth energy ``E_n`` (:func:`seed`), through energies below ``lo`` if need be, and
+    stops at the first member that leaves the range after entering it (or lands beyond
+    it). The members returned all lie inside ``[lo, hi]``: the first and last are
+    located exactly at ``lo`` and ``hi`` where the branch crosses them.
+
+    Parameters
+    ----------
+    label : str
+        ``IS^l_n``, ``PD^l_n``, ``IS^r_n``, ``PD^r_n`` (also ``ISl2``, ``PDr3``).
+    E_range : (float or str, float or str)
+        ``(lo, hi)`` with ``lo < hi``; it must reach above the birth energy ``E_n``.
+    digits : int or Tier, optional
+        Tier of the continuation (default float64 while ``|E_n - 4| > 3e-8``, else
+        real128).
+    t_max : float, optional
+        Stop once the period exceeds it (default: 12 times the period at birth): the
+        family runs into an orbit of infinite period (through the maxima of V, E -> 4.5).
+    traces : bool
+        ``tr M`` of every member and the ``IS``/``PD`` points where it crosses 4 or 0
+        (default; the stable windows are where ``0 < tr M < 4``).
+    energies : tuple
+        Energies at which members are located exactly (``E`` points).
+    chart : {'E', 'K'}
+        Second unknown: ``E``, or (rotational families) the energy ``q = K - 4`` of the
+        ``a2`` motion above the barrier at the base point: ``E - 4 = q + T(u)`` without
+        cancellation.
+    jump : float, optional
+        Refuse steps that change the period by more than this fraction.
+    ds, ds_max, max_steps
+        First and largest pseudo-arclength step (:class:`~rotorlib.continuation.PALC`;
+        default ``ds_max``: 1 up to ``lo``, then the step that spaces about 24 members
+        geometrically in ``E - E_n`` across the range), and the most members followed.
+
+    Returns
+    -------
+    Branch
+        Members inside ``E_range``; special points (``fold``, ``IS``: ``tr M = 4``,
+        ``PD``: ``tr M = 0``, ``E``) located by the engine; ``stop`` and ``reason``: why
+        it ended.
+
+    Raises
+    ------
+    FamilyRangeError
+        ``E_range`` lies below the birth, or above a fold where the family ends.
+
+    Examples
+    --------
+    >>> from rotorlib.newborn import family
+    >>> b = family("IS^l_1", (3.991, 4.0))
+    >>> float(b.E[0]), float(b.E[-1]), len(b.members), b.stop
+    (3.991, 4.0, 14, 'E range')
+    >>> b.special_points, [m.stability for m in b.members][-1]
+    ((), 'stable')
+    >>> family("IS^l_1", (3.9, 3.99))
+    Traceback (most recent call last):
+    ...
+    rotorlib.newborn.FamilyRangeError: IS^l_1 exists for 3.9905882294182 < E <= 4.4999101 (born at E_n = 3.9905882294182; it was followed from birth to E = 4.4999101; continued further in amplitude it runs towards E = 4.5 (the maxima of V) with a growing period); got E_range = (3.9, 3.99)
+    """
+    spec = family_spec(label)
+    t = _tiers(spec, None)[0] if digits is None else tier(digits)
+    with t.context():
+        lo, hi = (t.num(str(v) if t.extended else v) for v in E_range)
+    if not lo < hi:
+        raise ValueError(f"E_range must be (lo, hi) with lo < hi, got {E_range!r}")
+    top = family_range(spec)[1]
+    if hi <= spec.E_birth or (FAMILY_REACH[spec.label][1] == "fold" and lo > top):
+        raise FamilyRangeError(spec, E_range)
+    r_max = _r_max(spec, t, chart)
+    kw: dict[str, Any] = dict(
+        t1_max=_t1_max(spec, t_max), chart=chart, jump=jump, max_steps=max_steps
+    )
+    start, E0 = None, seed(spec.label, t)[0].E
+    if E0 < lo:  # the approach, in long steps, to the member at lo
+        a = _branch(spec, (-math.inf, lo), t, traces=False, energies=(lo,), ds=ds,
+                    ds_max=ds_max or 1.0, enter=False, **kw)  # fmt: skip
+        pts = [p for p in a.points("E") if p.located][-1:]
+        at_lo = [m for p in pts for m in _at(a, p.member, lo, r_max)]
+        if a.stop != "E range" or not at_lo:
+            return _inside(a, lo, hi, r_max)
+        start = [a.members[-2], at_lo[0]]
+    # the steps across the range: about 24 members spaced geometrically in E - E_n
+    with t.context():
+        ratio = float((hi - spec.E_birth) / (max(lo, E0) - spec.E_birth))
+    fine = ds_max or min(1.0, max(0.002, ratio ** (1 / 24) - 1))
+    b = _branch(spec, (lo, hi), t, traces=traces, energies=(lo, hi) + tuple(energies),
+                ds=min(ds, fine), ds_max=fine, enter=True, start=start, **kw)  # fmt: skip
+    return _inside(b, lo, hi, r_max)
+
+
+def _at(b: Branch, m: Member, E: Any, r_max: float) -> list[Member]:
+    """The member of ``b``'s family at exactly ``E``, corrected from ``m`` (none if the
+    corrector fails and ``m`` lies outside)."""
+    p, t, traces = b.problem, b.tier, m.trace == m.trace
+    try:
+        with t.context():
+            u = solve(p, m.u, E=E, t=t, r_max=r_max).x
+            return [member(p, u, p.w_at(u, E, t), t, traces)]
+    except (NoConvergence, SectionNotReached, ValueError):
+        return [m] if m.E == E else []
+
+
+def _inside(b: Branch, lo: Any, hi: Any, r_max: float) -> Branch:
+    """The members of ``b`` inside ``[lo, hi]``, with the members at ``lo`` and ``hi``
+    where the branch crosses them, and the special points among them."""
+    ms = b.members
+    keep = [k for k, m in enumerate(ms) if lo <= m.E <= hi]
+    first, last = (keep[0], keep[-1]) if keep else (len(ms), len(ms) - 1)
+
+    def end(p: SpecialPoint, k: int) -> Any:  # the range end crossed after member k
+        if p.kind != "E" or not p.located or p.index != k or not 0 <= k < len(ms) - 1:
+            return None
+        a, c = ms[k].E, ms[k + 1].E
+        return next((v for v in (lo, hi) if (a - v) * (c - v) <= 0), None)
+
+    ends = [p for p in b.special_points if end(p, first - 1) is not None]
+    head = [m for p in ends[:1] for m in _at(b, p.member, end(p, first - 1), r_max)]
+    tails = [p for p in b.special_points if end(p, last) is not None][-1:]
+    tail = [m for p in tails for m in _at(b, p.member, end(p, last), r_max)]
+    ends += tails
+    members = head + list(ms[first : last + 1]) + tail
+    pts = [
+        replace(p, index=max(0, min(len(members) - 1, p.index - first + len(head))))
+        for p in b.special_points
+        if first - 1 <= p.index <= last and lo <= p.member.E <= hi and p not in ends
+    ]
+    n, (flo, fhi) = len(members), (float(lo), float(hi))
+    why = (
+        f"; {n} members lie inside E_range = ({flo:g}, {fhi:g})"
+        if n
+        else f"; no member lies inside E_range = ({flo:g}, {fhi:g})"
+    )
+    if not n and b.stop == "E range":
+        why += " (the branch passed over it between two members)"
+    return replace(
+        b, members=tuple(members), special_points=tuple(pts), reason=b.reason + why
+    )
+
+
+def follow(
+    label: str,
+    *,
+    E_max: float | None = None,
+    E_min: float | None = None,
+    t1_max: float | None = None,
+    digits: int | Tier | None = None,
+    traces: bool = False,
+    energies: tuple[float | str, ...] = (),
+    chart: str = "E",
+    jump: float | None = None,
+    ds: float = 0.3,
+    ds_max: float = 1.0,
+    max_steps: int = 2000,
+    clip: bool = True,
+) -> Branch:
+    """The engine's view of :func:`family` (the chapters' and the census's): the branch
+    from the seed, stopped by the first member outside ``[E_min, E_max]`` (default
+    ``[E_n - 2|E_n - 4|, 4.2]`` for libration, ``[E_n - 2|E_n - 4|, E_n + 6]`` for
+    rotation), which is dropped with ``clip``; the seed is kept even when it lies
+    outside. ``t1_max`` bounds the symmetric time (default: :func:`family`'s ``t_max``
+    over ``factor``). Prefer :func:`family`, whose members all lie inside its range.
+
+    Examples
+    --------
+    >>> from rotorlib.newborn import follow
+    >>> b = follow("IS^r_1", E_min=5.8, E_max=6.0)
+    >>> b.stop, len(b.members)
+    ('E range', 1)
+    """
+    spec = family_spec(label)
+    t = _tiers(spec, None)[0] if digits is None else tier(digits)
+    top = 4.2 if spec.phase == "lib" else spec.E_birth + 6
+    E_max = E_max if E_max is not None else top
+    E_min = E_min if E_min is not None else spec.E_birth - 2 * spec.depth
+    b = _branch(
+        spec,
+        (E_min, E_max),
+        t,
+        t1_max=t1_max if t1_max is not None else _t1_max(spec, None),
+        traces=traces,
+        energies=tuple(energies),
+        chart=chart,
+        jump=jump,
+        ds=ds,
+        ds_max=ds_max,
+        max_steps=max_steps,
+        enter=False,
+    )
     if not clip or b.stop != "E range" or len(b.members) < 2:
         return b
     keep = b.members[:-1]
@@ -612,7 +809,7 @@ def follow(
         if p.index < len(keep) and E_min <= p.member.E <= E_max
     ]
     why = b.reason + " (dropped: the branch ends with its last member inside)"
-    return dataclasses.replace(b, members=keep, special_points=tuple(pts), reason=why)
+    return replace(b, members=keep, special_points=tuple(pts), reason=why)
 
 
 # --------------------------------------------------------------------------- shapes (Fig. 5, Tables III-IV)
