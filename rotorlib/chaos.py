@@ -42,6 +42,7 @@ from .continuation import ContinuationOptions, FamilyEnd, Natural, continuation,
 from .energy import as_float
 from .newborn import family_spec, follow, newborn_orbit
 from .parallel import pmap
+from .precision import Tier
 from .reversors import images
 from .system import alpha_to_phi, energy_phi, potential_alpha, potential_phi
 
@@ -452,7 +453,7 @@ def _band_one(args):
     label, dE_stop, digits, t1_grow, energies = args
     spec = family_spec(label)
     t1_max = None if t1_grow is None else spec.period_birth / 2 + t1_grow
-    deep = spec.depth < 3e-8
+    deep = spec.depth < Tier.separatrix_depth
     b = follow(
         label,
         chart="K",

@@ -61,7 +61,7 @@ from .continuation import member
 from .newborn import family_spec, follow, linear_orbit, newborn_orbit
 from .parallel import pmap
 from .periodic import orbit_from_state
-from .precision import REAL128
+from .precision import REAL128, Tier
 from .shooting import solve
 
 __all__ = ["SQRT3_PI", "DELTA_L", "SQRT_DELTA_L", "SlopeLaw", "fork_fit"]
@@ -515,7 +515,7 @@ def rotational_member(label, dE, digits=None) -> RotationalMember:
     target = float(dE)
     if not target > 0:
         raise ValueError(f"dE must be > 0, got {dE!r}")
-    deep = spec.depth < 3e-8
+    deep = spec.depth < Tier.separatrix_depth
     b = follow(
         label,
         chart="K",

@@ -96,8 +96,6 @@ FAMILIES = tuple(
     + [f"PD^r_{n}" for n in range(1, 7)]
 )
 
-#: float64 shooting is used while |E_n - 4| exceeds this (book/numerical_notes.md: fine to ~1e-8).
-FLOAT64_LIMIT = 3e-8
 #: Families are followed member by member (with tr M over a whole period) in float64 only while
 #: ``|E_n - 4|`` exceeds this (measured: float64 tr M of IS^l_3,4 and PD^l_2 at E = 4 within 6e-5
 #: of real128; of PD^l_3 (born at 1.5e-6) 0.04 off, of IS^l_5,6 (1.7e-7, 5.8e-8) wrong by O(1)
@@ -155,6 +153,11 @@ class FamilySpec:
         if self.phase == "lib":
             return (self.n + 1) // 2 + 1 if self.kind == "IS" else self.n + 0.5
         return (self.n + 1) // 2 if self.kind == "PD" else (self.n + 1) // 2 + 1
+
+    @property
+    def u_scale(self) -> float:
+        """Rough amplitude scale: transverse energy ~ a1^2 (a1 start) or p1^2/4 (p1)."""
+        return 1.0 if self.start == "a1" else 2.0
 
     @property
     def depth(self) -> float:
@@ -346,11 +349,6 @@ def birth_member(
         return m.E, it
 
 
-def _u_scale(spec):
-    # rough amplitude scale: transverse energy ~ a1^2 (a1 start) or p1^2/4 (p1 start)
-    return 1.0 if spec.start == "a1" else 2.0
-
-
 def seed(label: str, digits: int | Tier | None = None) -> tuple[Member, Any]:
     """``(member, c)``: the first member, at ``u = 0.01 sqrt|E_n - 4|`` (twice that for a
     ``p1`` start), and the fork coefficient ``c`` in ``E - E_n = c u^2``, in the tier of
@@ -370,7 +368,7 @@ def seed(label: str, digits: int | Tier | None = None) -> tuple[Member, Any]:
 def _seed(label: str, t: Tier) -> tuple[Member, Any]:
     spec, name = family_spec(label), t.name
     with t.context():
-        u_s = t.num(1e-2 * _u_scale(spec) * math.sqrt(spec.depth))
+        u_s = t.num(1e-2 * spec.u_scale * math.sqrt(spec.depth))
         E_s, _ = birth_member(spec, u_s, t)
         m = member(spec.problem, u_s, E_s, t)
         return m, (E_s - _birth(spec, name)) / (u_s * u_s)
@@ -407,7 +405,7 @@ def _tiers(spec: FamilySpec, digits):
     """(continuation tier, result tier) for ``digits`` (see the module docstring)."""
     cont = (
         FLOAT64
-        if spec.depth > FLOAT64_LIMIT or (digits is not None and digits <= 15)
+        if spec.depth > Tier.separatrix_depth or (digits is not None and digits <= 15)
         else REAL128
     )
     if digits is None:
@@ -585,8 +583,8 @@ def _r_max(spec: FamilySpec, t: Tier, chart: str) -> float:
     chart's members sit in a channel where a2 barely passes the barrier: 1e-6 in float64,
     as measured)."""
     if t.extended:
-        return max(t.eps ** (2 / 3), 1e4 * t.eps / spec.depth)
-    return 1e-6 if chart == "K" else 1e-8
+        return max(t.r_max, 1e4 * t.eps / spec.depth)
+    return 1e-6 if chart == "K" else t.r_max
 
 
 def _t1_max(spec: FamilySpec, t_max: float | None) -> float:

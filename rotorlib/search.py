@@ -19,9 +19,9 @@ import mpmath as mp
 import numpy as np
 
 from . import flow
-from .flow import Section, SectionNotReached
-from .newborn import FLOAT64_LIMIT, _u_scale, birth_member, family_spec, seed
-from .precision import FLOAT64, REAL128, Tier
+from .flow import Section, SectionNotReached, StateLike
+from .newborn import birth_member, family_spec, seed
+from .precision import REAL128, Tier, tier
 from .shooting import residual
 from .system import energy_alpha, potential_alpha
 
@@ -47,15 +47,18 @@ def _with_p2(spec, u, p2):
     return [u, 0.0, 0.0, p2] if spec.start == "a1" else [0.0, 0.0, u, p2]
 
 
-def periodicity_defect(label, x0, t: Tier = FLOAT64):
+def periodicity_defect(
+    label: str, x0: StateLike, digits: int | Tier | None = None
+) -> tuple[float, float]:
     """The paper's departure from periodicity of the orbit from ``x0`` (``a2(0) = 0``), §6 step 3.
 
     Integrates until ``a2`` completes one (IS) or two (PD) cycles (libration: back through
     ``a2 = 0`` going up after each turning point; rotation: to ``a2 = 2 pi`` or ``4 pi``) and
     returns ``(d, t*)``, ``d = [(a1(t*) - a1(0))^2 + (p1(t*) - p1(0))^2 + (p2(t*) - p2(0))^2]^(1/2)``.
-    Precision: the tier's; the flow amplifies round-off like ``1/|E - 4|`` over the full period.
+    Precision: the tier of ``digits`` (:func:`~rotorlib.precision.tier`); the flow
+    amplifies round-off like ``1/|E - 4|`` over the full period.
     """
-    spec = family_spec(label)
+    spec, t = family_spec(label), tier(digits)
     cycles = 1 if spec.kind == "IS" else 2
     with t.context():
         x0 = [t.num(v) for v in x0]
@@ -170,13 +173,13 @@ def default_amplitude(label, rel=0.1):
     spec = family_spec(label)
     if not rel > 0:
         raise ValueError(f"rel must be > 0, got {rel!r}")
-    return rel * _u_scale(spec) * math.sqrt(spec.depth)
+    return rel * spec.u_scale * math.sqrt(spec.depth)
 
 
 def _float64_only(spec, what):
-    if spec.depth < FLOAT64_LIMIT:
+    if spec.depth < Tier.separatrix_depth:
         raise ValueError(
-            f"{spec.label}: {what} is float64 only (|E_n - 4| > {FLOAT64_LIMIT})"
+            f"{spec.label}: {what} is float64 only (|E_n - 4| > {Tier.separatrix_depth})"
         )
 
 

@@ -408,22 +408,18 @@ def solve(
     energy ``E`` (solving for ``u``).
 
     A :func:`secant` from ``x0`` and ``x1`` to a step of ``tol * max(|x|, floor)`` (default
-    tol 4e-15 float64, ``8 eps`` extended). ``x1`` defaults to ``x0 (1 + 1e-4)`` in float64,
+    tol :attr:`Tier.step_tol <rotorlib.precision.Tier.step_tol>`: 4e-15 float64, ``8 eps``
+    extended). ``x1`` defaults to ``x0 (1 + 1e-4)`` in float64,
     ``x0 (1 + 1e-9)`` extended. Raises :class:`NoConvergence` unless
-    ``|r| < r_max`` at the end (default 1e-8 float64, ``eps^(2/3)`` extended; ``math.inf``
+    ``|r| < r_max`` at the end (default :attr:`Tier.r_max
+    <rotorlib.precision.Tier.r_max>`: 1e-8 float64, ``eps^(2/3)`` extended; ``math.inf``
     accepts any end).
     """
     if sum(v is not None for v in (u, w, E)) != 1:
         raise ValueError("give exactly one of u, w and E")
     with t.context():
-        tol = (
-            tol if tol is not None else (4e-15 if not t.extended else t.num(t.eps) * 8)
-        )
-        r_max = (
-            r_max
-            if r_max is not None
-            else (1e-8 if not t.extended else t.eps ** (2 / 3))
-        )
+        tol = tol if tol is not None else t.step_tol
+        r_max = r_max if r_max is not None else t.r_max
         x0 = t.num(x0)
         if u is not None:
             u = t.num(u)

@@ -183,9 +183,7 @@ def test_same_member_in_every_tier():
         and abs(float(o128.trace_str) - o40.trace) < 1e-15
     )
     with mp.workdps(60):
-        assert abs(
-            mp.mpf(o128.period_str) - mp.mpf(o40.period_str)
-        ) < mp.mpf("1e-24")
+        assert abs(mp.mpf(o128.period_str) - mp.mpf(o40.period_str)) < mp.mpf("1e-24")
 
 
 def _record(*argv):
