@@ -40,6 +40,7 @@ import numpy as np
 
 from .continuation import ContinuationOptions, FamilyEnd, Natural, continuation, member
 from .energy import as_float
+from .flow import equations_of_motion
 from .newborn import family_spec, follow, newborn_orbit
 from .parallel import pmap
 from .precision import Tier
@@ -260,15 +261,10 @@ def _tangent_integrator():
         "a1", "a2", "p1", "p2", "d1", "d2", "e1", "e2"
     )
     cm, cp = hy.cos(a2 - a1), hy.cos(a1 + a2)
-    sm, sp = hy.sin(a2 - a1), hy.sin(a1 + a2)
     v11 = 4.0 * hy.cos(2.0 * a1) + cm + cp
     v12 = cp - cm
     v22 = cm + cp
-    sys = [
-        (a1, 0.5 * p1),
-        (a2, 1.5 * p2),
-        (p1, -(2.0 * hy.sin(2.0 * a1) - sm + sp)),
-        (p2, -(sm + sp)),
+    sys = equations_of_motion(hy) + [
         (d1, 0.5 * e1),
         (d2, 1.5 * e2),
         (e1, -(v11 * d1 + v12 * d2)),
@@ -452,7 +448,7 @@ class FamilyInBand:
 def _band_one(args):
     label, dE_stop, digits, t1_grow, energies = args
     spec = family_spec(label)
-    t1_max = None if t1_grow is None else spec.period_birth / 2 + t1_grow
+    t_max = None if t1_grow is None else spec.factor * (spec.period_birth / 2 + t1_grow)
     deep = spec.depth < Tier.separatrix_depth
     b = follow(
         label,
@@ -461,7 +457,7 @@ def _band_one(args):
         digits=digits,
         traces=True,
         jump=0.05 if deep else None,
-        t1_max=t1_max,
+        t_max=t_max,
         energies=energies,
         clip=False,  # the first member beyond E_max is reported (chapter 08)
     )

@@ -21,7 +21,7 @@ from typing import Any
 
 from .branch import Branch, Member, SpecialPoint
 from .flow import SectionNotReached, monodromy_matrix
-from .precision import FLOAT64, Tier
+from .precision import Tier, tier
 from .shooting import NoConvergence, ShootingProblem, residual, solve
 
 __all__ = ["Member", "SpecialPoint", "Branch", "Natural", "PALC", "ContinuationOptions"]
@@ -135,9 +135,15 @@ class ContinuationOptions:
 
 
 def member(
-    problem: ShootingProblem, u, w, t: Tier = FLOAT64, traces=False, shot=None
+    problem: ShootingProblem,
+    u,
+    w,
+    digits: int | Tier | None = None,
+    traces=False,
+    shot=None,
 ) -> Member:
     """The :class:`Member` at ``(u, w)`` (``tr M`` over the full period with ``traces``)."""
+    t = tier(digits)
     with t.context():
         s = shot or residual(problem, u, w, t)
         tr = NAN
@@ -162,12 +168,19 @@ def member(
 
 
 def switch(
-    problem: ShootingProblem, u, E_birth, dE, t: Tier = FLOAT64, tol=None, r_max=None
+    problem: ShootingProblem,
+    u,
+    E_birth,
+    dE,
+    digits: int | Tier | None = None,
+    tol=None,
+    r_max=None,
 ):
     """The member of ``problem`` (a daughter family whose parent is its ``trivial`` root,
     divided out of the residual) with amplitude ``u``, by a secant in ``w`` from the
     bifurcation energy ``E_birth`` and ``E_birth + dE`` (the paper's "adjust one quantity").
     Returns ``(member, secant iterations)``."""
+    t = tier(digits)
     with t.context():
         E0 = t.num(E_birth)
         w0, w1 = problem.w_at(u, E0, t), problem.w_at(u, E0 + t.num(dE), t)
@@ -542,7 +555,7 @@ def continuation(
     algorithm,
     options: ContinuationOptions | None = None,
     start=(),
-    t: Tier = FLOAT64,
+    digits: int | Tier | None = None,
 ) -> Branch:
     """Follow the family of ``problem`` from the members ``start`` (see the module docstring).
 
@@ -553,13 +566,24 @@ def continuation(
     options : ContinuationOptions, optional
     start : sequence of Member
         Known members, in order along the branch (at least one).
-    t : Tier
-        Working precision of every shot.
+    digits : int or Tier, optional
+        Working precision of every shot (:func:`~rotorlib.precision.tier`; float64).
 
     Returns
     -------
     Branch
+
+    Examples
+    --------
+    >>> from rotorlib.continuation import Natural, continuation
+    >>> from rotorlib.newborn import family_spec, seed
+    >>> spec, (m0, _) = family_spec("IS^l_2"), seed("IS^l_2")
+    >>> alg = Natural("E", (3.998, 3.999, 4.0), origin=spec.E_birth, origin_other=0.0)
+    >>> b = continuation(spec.problem, alg, start=[m0])
+    >>> b.stop, [round(float(E), 4) for E in b.E], round(float(b.u[2]), 6)
+    ('values', [3.9969, 3.998, 3.999, 4.0], 0.12372)
     """
+    t = tier(digits)
     opts = options or ContinuationOptions()
     if not start:
         raise ValueError("continuation needs at least one starting member")

@@ -35,6 +35,7 @@ StateLike = Sequence[Any] | np.ndarray
 __all__ = [
     "Section",
     "SectionNotReached",
+    "equations_of_motion",
     "to_section",
     "crossings",
     "flow",
@@ -71,7 +72,12 @@ class Section:
         return sum(ci * xi for ci, xi in zip(self.c, x) if ci)
 
 
-def _system(hy):
+def equations_of_motion(hy: Any = None) -> list[tuple[Any, Any]]:
+    """Hamilton's equations in pendulum variables as heyoka ``(variable, expression)``
+    pairs (:func:`rotorlib.system.rhs_alpha` in numpy): the one builder every heyoka
+    integrator of the nonlinear flow uses (``hy``: the heyoka module, default
+    :func:`~rotorlib.precision.load_heyoka`)."""
+    hy = hy or load_heyoka()
     a1, a2, p1, p2 = hy.make_vars("a1", "a2", "p1", "p2")
     s_m, s_p = hy.sin(a2 - a1), hy.sin(a1 + a2)
     two, half, three_halves = (hy.expression(v) for v in (2.0, 0.5, 1.5))
@@ -130,7 +136,7 @@ def _build(t: Tier, sections, variational, terminal):
 
     hy = load_heyoka()
 
-    sys = _system(hy)
+    sys = equations_of_motion(hy)
     if variational:
         sys = hy.var_ode_sys(sys, hy.var_args.vars, order=1)
     kw = dict(t.hy_kwargs)

@@ -398,7 +398,7 @@ def _path(spec: FamilySpec, E_target, t: Tier, steps=None):
         alg = Natural(
             "E", tuple(vals) + (E_target,), order=1, origin=En, origin_other=0.0
         )
-        return continuation(spec.problem, alg, start=[m0], t=t).members
+        return continuation(spec.problem, alg, start=[m0], digits=t).members
 
 
 def _tiers(spec: FamilySpec, digits):
@@ -754,7 +754,7 @@ def follow(
     *,
     E_max: float | None = None,
     E_min: float | None = None,
-    t1_max: float | None = None,
+    t_max: float | None = None,
     digits: int | Tier | None = None,
     traces: bool = False,
     energies: tuple[float | str, ...] = (),
@@ -769,8 +769,7 @@ def follow(
     from the seed, stopped by the first member outside ``[E_min, E_max]`` (default
     ``[E_n - 2|E_n - 4|, 4.2]`` for libration, ``[E_n - 2|E_n - 4|, E_n + 6]`` for
     rotation), which is dropped with ``clip``; the seed is kept even when it lies
-    outside. ``t1_max`` bounds the symmetric time (default: :func:`family`'s ``t_max``
-    over ``factor``). Prefer :func:`family`, whose members all lie inside its range.
+    outside. ``t_max`` bounds the period as in :func:`family`. Prefer :func:`family`, whose members all lie inside its range.
 
     Examples
     --------
@@ -788,7 +787,7 @@ def follow(
         spec,
         (E_min, E_max),
         t,
-        t1_max=t1_max if t1_max is not None else _t1_max(spec, None),
+        t1_max=_t1_max(spec, t_max),
         traces=traces,
         energies=tuple(energies),
         chart=chart,

@@ -32,7 +32,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .flow import Section
-from .precision import FLOAT64, Tier
+from .precision import Tier, tier
 from .shooting import StartSet
 
 __all__ = [
@@ -220,13 +220,15 @@ class CircleSet:
     name: str
     q0: tuple
 
-    def bound(self, u, t: Tier = FLOAT64):
+    def bound(self, u, digits: int | Tier | None = None):
+        t = tier(digits)
         with t.context():
             m = t.m
             q = [self.q0[0] * t.pi, self.q0[1] * t.pi]
             return 3 - m.cos(2 * q[0]) - m.cos(q[1] - q[0]) - m.cos(q[0] + q[1])
 
-    def at(self, u, E, t: Tier = FLOAT64):
+    def at(self, u, E, digits: int | Tier | None = None):
+        t = tier(digits)
         with t.context():
             u, K = t.num(u), t.num(E) - self.bound(u, t)
             if K < 0:
@@ -281,7 +283,8 @@ class BrakeSet:
                 r = r - (V - E) / dV
             return r
 
-    def at(self, u, E, t: Tier = FLOAT64):
+    def at(self, u, E, digits: int | Tier | None = None):
+        t = tier(digits)
         with t.context():
             r = self._radius(u, E, t)
             f1 = self.centre[0] * t.pi + r * t.m.cos(t.num(u))
@@ -340,7 +343,8 @@ class MirrorSet:
     name: str
     line: StartSet
 
-    def at(self, u, E, t: Tier = FLOAT64):
+    def at(self, u, E, digits: int | Tier | None = None):
+        t = tier(digits)
         arcs = _arcs(self.line, float(E))
         if arcs is None:
             return self.line.at(u, E, t)

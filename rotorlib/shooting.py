@@ -27,7 +27,7 @@ from dataclasses import dataclass, replace
 from typing import Any
 
 from .flow import Section, SectionNotReached, to_section
-from .precision import FLOAT64, Tier
+from .precision import FLOAT64, Tier, tier
 
 __all__ = [
     "StartSet",
@@ -92,19 +92,22 @@ class StartSet:
 
         return float(potential_alpha(q[0], q[1]))
 
-    def bound(self, u, t: Tier = FLOAT64):
+    def bound(self, u, digits: int | Tier | None = None):
         """``V(q(u)) + u^2 K(c)``: the energy at ``u`` with ``K = 0``."""
+        t = tier(digits)
         with t.context():
             return self._v(self._q(u, t), t) + u * u * _kin(self.c)
 
-    def at(self, u, E, t: Tier = FLOAT64):
+    def at(self, u, E, digits: int | Tier | None = None):
         """The state at ``u`` on the energy shell ``E`` (the protocol every start set keeps)."""
+        t = tier(digits)
         with t.context():
             u = t.num(u)
             return self.state(u, t.num(E) - self.bound(u, t), t)
 
-    def state(self, u, K, t: Tier = FLOAT64):
+    def state(self, u, K, digits: int | Tier | None = None):
         """``[a1, a2, p1, p2]`` at ``(u, K)`` (tier numbers). ``K < 0`` raises ValueError."""
+        t = tier(digits)
         with t.context():
             u, K = t.num(u), t.num(K)
             if K < 0:
@@ -165,22 +168,25 @@ class ShootingProblem:
         """The same problem with the second unknown ``E`` (``K_ref=None``) or ``K - K_ref``."""
         return replace(self, K_ref=K_ref)
 
-    def energy(self, u, w, t: Tier = FLOAT64):
+    def energy(self, u, w, digits: int | Tier | None = None):
         """``E`` at ``(u, w)``."""
+        t = tier(digits)
         if self.K_ref is None:
             return t.num(w)
         with t.context():
             return t.num(self.K_ref) + t.num(w) + self.start.bound(t.num(u), t)
 
-    def w_at(self, u, E, t: Tier = FLOAT64):
+    def w_at(self, u, E, digits: int | Tier | None = None):
         """The second unknown at amplitude ``u`` and energy ``E``."""
+        t = tier(digits)
         if self.K_ref is None:
             return t.num(E)
         with t.context():
             return t.num(E) - t.num(self.K_ref) - self.start.bound(t.num(u), t)
 
-    def state(self, u, w, t: Tier = FLOAT64):
+    def state(self, u, w, digits: int | Tier | None = None):
         """Initial state ``[a1, a2, p1, p2]`` at ``(u, w)``."""
+        t = tier(digits)
         if self.K_ref is None:
             return self.start.at(u, w, t)
         with t.context():
@@ -224,14 +230,16 @@ def _cond(section: Section, x, t: Tier):
 
 
 def residual(
-    problem: ShootingProblem, u, w, t: Tier = FLOAT64, derivative=False
+    problem: ShootingProblem, u, w, digits: int | Tier | None = None, derivative=False
 ) -> Shot:
-    """The residual at ``(u, w)`` in tier ``t``; raises SectionNotReached or ValueError.
+    """The residual at ``(u, w)`` in the tier of ``digits``; raises SectionNotReached
+    or ValueError.
 
     With ``derivative``, the variational equations give ``dx1/dx0 = (I - f s^T/(s.f)) Phi``
     (``Phi`` at fixed time, ``s`` the section's normal, ``f`` the vector field at the
     event), hence ``dr/du``, ``dr/dw`` and ``dt1/du``, ``dt1/dw``.
     """
+    t = tier(digits)
     with t.context():
         u, w = t.num(u), t.num(w)
         x0 = problem.state(u, w, t)
@@ -414,6 +422,15 @@ def solve(
     ``|r| < r_max`` at the end (default :attr:`Tier.r_max
     <rotorlib.precision.Tier.r_max>`: 1e-8 float64, ``eps^(2/3)`` extended; ``math.inf``
     accepts any end).
+
+    Examples
+    --------
+    >>> from rotorlib.newborn import family_spec
+    >>> from rotorlib.shooting import residual, solve
+    >>> p = family_spec("IS^l_2").problem
+    >>> root = solve(p, 0.1, E=3.999)  # the amplitude u of the member at E = 3.999
+    >>> round(root.x, 8), bool(abs(residual(p, root.x, 3.999).r) < 1e-12)
+    (0.12372003, True)
     """
     if sum(v is not None for v in (u, w, E)) != 1:
         raise ValueError("give exactly one of u, w and E")
