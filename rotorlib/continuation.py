@@ -16,13 +16,14 @@ located between members by :func:`illinois`. ``Branch.stop`` says why it ended (
 from __future__ import annotations
 
 import math
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 from typing import Any
 
 from .branch import Branch, Member, SpecialPoint
 from .flow import SectionNotReached, monodromy_matrix
 from .precision import Tier, tier
-from .shooting import NoConvergence, ShootingProblem, residual, solve
+from .shooting import NoConvergence, ShootingProblem, Shot, residual, solve
 
 __all__ = ["Member", "SpecialPoint", "Branch", "Natural", "PALC", "ContinuationOptions"]
 __all__ += ["continuation", "member", "switch", "switch_branch", "FamilyEnd"]
@@ -57,7 +58,7 @@ class Natural:
     """
 
     parameter: str
-    values: tuple
+    values: tuple[Any, ...]
     order: int = 1
     origin: Any = None
     origin_other: Any = None
@@ -86,7 +87,7 @@ class PALC:
     w_floor: float = 1e-12
     direction: int = 1
     order: int = 2
-    scales: tuple | None = None
+    scales: tuple[float, float] | None = None
 
 
 @dataclass(frozen=True)
@@ -123,24 +124,24 @@ class ContinuationOptions:
     """
 
     max_steps: int = 400
-    E_range: tuple = (-math.inf, math.inf)
+    E_range: tuple[Any, Any] = (-math.inf, math.inf)
     t1_max: float = math.inf
     jump: float | None = None
     traces: bool = False
-    energies: tuple = ()
+    energies: tuple[Any, ...] = ()
     folds: bool = True
     r_max: float | None = None
-    stop_on: tuple = ()
+    stop_on: tuple[str, ...] = ()
     enter: bool = False
 
 
 def member(
     problem: ShootingProblem,
-    u,
-    w,
+    u: Any,
+    w: Any,
     digits: int | Tier | None = None,
-    traces=False,
-    shot=None,
+    traces: bool = False,
+    shot: Shot | None = None,
 ) -> Member:
     """The :class:`Member` at ``(u, w)`` (``tr M`` over the full period with ``traces``)."""
     t = tier(digits)
@@ -169,13 +170,13 @@ def member(
 
 def switch(
     problem: ShootingProblem,
-    u,
-    E_birth,
-    dE,
+    u: Any,
+    E_birth: Any,
+    dE: Any,
     digits: int | Tier | None = None,
-    tol=None,
-    r_max=None,
-):
+    tol: Any = None,
+    r_max: float | None = None,
+) -> tuple[Member, int]:
     """The member of ``problem`` (a daughter family whose parent is its ``trivial`` root,
     divided out of the residual) with amplitude ``u``, by a secant in ``w`` from the
     bifurcation energy ``E_birth`` and ``E_birth + dE`` (the paper's "adjust one quantity").
@@ -192,9 +193,9 @@ def switch_branch(
     branch: Branch,
     point: SpecialPoint,
     daughter: ShootingProblem,
-    amplitude,
-    algorithm=None,
-    options=None,
+    amplitude: Any,
+    algorithm: Natural | PALC | None = None,
+    options: ContinuationOptions | None = None,
 ) -> Branch:
     """Branch switching at a bifurcation ``point`` (``IS`` or ``PD``) of ``branch`` onto the
     family of ``daughter``: the parent (``u = u*`` there) is divided out of the daughter's
@@ -475,7 +476,15 @@ def _between(problem, t, alg, members, i, j, opts):
     return at, Xb[k]
 
 
-def illinois(g, at, vb, ga, gb, tol, maxiter=100):
+def illinois(
+    g: Callable[[Any], Any],
+    at: Callable[[Any], Any],
+    vb: Any,
+    ga: Any,
+    gb: Any,
+    tol: Any,
+    maxiter: int = 100,
+) -> Any:
     """The member ``at(v)`` where ``g`` vanishes for ``v`` in ``(0, vb)`` (``g`` of opposite
     signs ``ga``, ``gb`` at the ends): the Illinois variant of regula falsi, a bracketing
     superlinear method that works on floats and mpf alike."""
@@ -552,9 +561,9 @@ def _events(problem, t, branch_members, opts, alg):
 
 def continuation(
     problem: ShootingProblem,
-    algorithm,
+    algorithm: Natural | PALC,
     options: ContinuationOptions | None = None,
-    start=(),
+    start: Sequence[Member] = (),
     digits: int | Tier | None = None,
 ) -> Branch:
     """Follow the family of ``problem`` from the members ``start`` (see the module docstring).

@@ -184,7 +184,7 @@ class FamilySpec:
         )
 
 
-def family_spec(label) -> FamilySpec:
+def family_spec(label: str) -> FamilySpec:
     """The family born at ``label`` (``IS^l_2``, ``ISl2``, ``PD^r_3`` ...)."""
     return _family_spec(*parse_label(label))
 
@@ -226,7 +226,7 @@ def _family_spec(kind, phase, n) -> FamilySpec:
 #: to ``E_upper`` and the branch, followed further, runs towards E = 4.5 (the maxima of V) with a
 #: growing period; ``'followed'``: checked up to there. Extended-precision families: the energies
 #: at which they were checked (E = 4 for libration, ``E_n + 1000 |E_n - 4|`` for rotation).
-FAMILY_REACH = {
+FAMILY_REACH: dict[str, tuple[float | str, str]] = {
     "IS^l_1": (4.4999101, "E = 4.5"),
     "IS^l_2": (4.48, "E = 4.5"),
     "IS^l_3": (5.4889383, "fold"),
@@ -287,7 +287,7 @@ class FamilyRangeError(ValueError):
         )
 
 
-def family_range(spec: FamilySpec) -> tuple:
+def family_range(spec: FamilySpec) -> tuple[float, float]:
     """``(E_n, E_max)``: every family is born at ``E_n`` and exists just above it (forward
     fork); ``E_max`` from :data:`FAMILY_REACH`."""
     if spec.label not in FAMILY_REACH:
@@ -297,8 +297,8 @@ def family_range(spec: FamilySpec) -> tuple:
         )
     top = FAMILY_REACH[spec.label][0]
     if isinstance(top, str):
-        top = spec.E_birth + float(top) * spec.depth
-    return spec.E_birth, top
+        return spec.E_birth, spec.E_birth + float(top) * spec.depth
+    return spec.E_birth, float(top)
 
 
 # --------------------------------------------------------------------------- birth and seed
@@ -415,7 +415,12 @@ def _tiers(spec: FamilySpec, digits):
     return cont, tier(int(digits), math.log10(1 / spec.depth) + 2)
 
 
-def newborn_orbit(label, E, digits=None, steps=None) -> PeriodicOrbit:
+def newborn_orbit(
+    label: str,
+    E: float | str,
+    digits: int | None = None,
+    steps: int | None = None,
+) -> PeriodicOrbit:
     """The member of the family born at ``label`` with energy ``E`` (:func:`family` gives
     its members over a range).
 
@@ -486,7 +491,12 @@ def newborn_orbit(label, E, digits=None, steps=None) -> PeriodicOrbit:
     )
 
 
-def newborn_family(label, E_end=None, n=12, digits=None) -> list:
+def newborn_family(
+    label: str,
+    E_end: float | str | None = None,
+    n: int = 12,
+    digits: int | None = None,
+) -> list[PeriodicOrbit]:
     """Members of a newborn family from its seed near birth to ``E_end``.
 
     Parameters
@@ -812,7 +822,9 @@ def follow(
 # --------------------------------------------------------------------------- shapes (Fig. 5, Tables III-IV)
 
 
-def linear_orbit(label, x0, period, n=801):
+def linear_orbit(
+    label: str, x0: Any, period: float, n: int = 801
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The linearised orbit of Fig. 5: ``a2`` the pendulum at the bifurcation, ``a1`` from the
     transverse Lamé equation ``a1'' = -(2 + cos a2) a1`` with the same initial ``(a1, p1)``.
 
@@ -841,7 +853,9 @@ def linear_orbit(label, x0, period, n=801):
     return t, sol.y[0], np.array([pend.state(tt)[1] for tt in t])
 
 
-def a1_structure(orbit: PeriodicOrbit, spec: FamilySpec | None = None, n=4000) -> dict:
+def a1_structure(
+    orbit: PeriodicOrbit, spec: FamilySpec | None = None, n: int = 4000
+) -> dict[str, Any]:
     """Period of ``a1`` in units of the pendulum period at birth, and its nodes per orbit period.
 
     ``a1`` is sampled at ``n`` mid-points of one period (float64 heyoka); its period is the
@@ -877,7 +891,9 @@ def a1_structure(orbit: PeriodicOrbit, spec: FamilySpec | None = None, n=4000) -
     }
 
 
-def trace_slope_at_birth(label, rel=(1e-3, 2e-3), digits=None):
+def trace_slope_at_birth(
+    label: str, rel: tuple[float, float] = (1e-3, 2e-3), digits: int | None = None
+) -> tuple[float, float]:
     """``(d tr M / dE, tr M at E_n)`` of the new family at birth, from two members at
     ``E_n + r |E_n - 4|`` (linear extrapolation)."""
     spec = family_spec(label)

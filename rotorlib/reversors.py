@@ -409,10 +409,11 @@ def _start_sets(regime) -> tuple:
             b = np.linalg.inv(A).T @ b_phi  # p_alpha = A^-T P_phi
             b = b / np.min(np.abs(b[np.abs(b) > 1e-9]))  # integers: exact in every tier
             assert np.allclose(b, np.round(b)), b
+            ae = A @ e.astype(float)
             line = StartSet(
                 f"Fix T{r.name}",
-                a=tuple(A @ e.astype(float)),
-                b=tuple(float(round(v)) for v in b),
+                a=(float(ae[0]), float(ae[1])),
+                b=(float(round(b[0])), float(round(b[1]))),
             )
             out.append(MirrorSet(f"Fix T{r.name}", line))
     return tuple(out)
