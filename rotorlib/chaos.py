@@ -35,6 +35,7 @@ from __future__ import annotations
 import functools
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -105,7 +106,9 @@ def _section_integrator():
     return ta, hits
 
 
-def section_initial_conditions(E, n_phi=6, n_p=4, seed=None):
+def section_initial_conditions(
+    E: Any, n_phi: Any = 6, n_p: Any = 4, seed: Any = None
+) -> Any:
     """Initial conditions ``[phi1, phi2, P1, P2]`` on the section ``phi1 = 0`` at energy ``E``.
 
     A grid of ``n_phi`` values of ``phi2`` in ``(0, 2 pi)`` and ``n_p`` values of ``P2``
@@ -149,7 +152,7 @@ def _section_one(args):
     return h
 
 
-def section_points(state, t_max, n_hits=100_000):
+def section_points(state: Any, t_max: Any, n_hits: Any = 100_000) -> Any:
     """The crossings of the section ``phi1 = 0 (mod 2 pi)``, ``phi1' > 0`` by the trajectory
     from ``state`` (``[phi1, phi2, P1, P2]``, relative variables) up to time ``t_max`` (rounded
     up to a multiple of 50): ``(phi2 mod 2 pi, P2)`` arrays. Float64 Taylor integration,
@@ -186,8 +189,15 @@ class PoincareSection:
 
 
 def poincare_section(
-    E, n_phi=6, n_p=4, n_hits=300, t_max=5e3, seed=None, executor=None, progress=False
-):
+    E: Any,
+    n_phi: Any = 6,
+    n_p: Any = 4,
+    n_hits: Any = 300,
+    t_max: Any = 5e3,
+    seed: Any = None,
+    executor: Any = None,
+    progress: Any = False,
+) -> Any:
     """The section at energy ``E`` from a grid of initial conditions on it (see module docstring).
 
     Parameters
@@ -222,7 +232,7 @@ def poincare_section(
 # ----------------------------------------------------------------------------------------------
 
 
-def sample_energy_shell(E, n, seed=0):
+def sample_energy_shell(E: Any, n: Any, seed: Any = 0) -> Any:
     """``n`` states ``[a1, a2, p1, p2]`` distributed microcanonically on ``H = E``.
 
     Configuration uniform on ``{V < E}`` in the fundamental domain ``[0, pi) x [0, 2 pi)``
@@ -295,7 +305,15 @@ def _ftle_chunk(args):
     return out
 
 
-def ftle(states, T=200.0, renorm=5.0, executor=None, progress=False, chunk=50, seed=0):
+def ftle(
+    states: Any,
+    T: Any = 200.0,
+    renorm: Any = 5.0,
+    executor: Any = None,
+    progress: Any = False,
+    chunk: Any = 50,
+    seed: Any = 0,
+) -> Any:
     """Finite-time Lyapunov exponents of states ``[a1, a2, p1, p2]`` over time ``T``.
 
     One random unit tangent vector per state (Euclidean norm in ``[a1, a2, p1, p2]``),
@@ -340,16 +358,16 @@ class ChaoticFraction:
 
 
 def chaotic_fraction(
-    energies,
-    N=200,
-    T=200.0,
-    threshold=0.05,
-    renorm=5.0,
-    seed=0,
-    executor=None,
-    progress=False,
-    chunk=50,
-):
+    energies: Any,
+    N: Any = 200,
+    T: Any = 200.0,
+    threshold: Any = 0.05,
+    renorm: Any = 5.0,
+    seed: Any = 0,
+    executor: Any = None,
+    progress: Any = False,
+    chunk: Any = 50,
+) -> Any:
     """``f(E)``: fraction of ``N`` microcanonical points per energy with FTLE ``> threshold``."""
     energies = [_check_E(E) for E in np.atleast_1d(energies)]
     if not 0 < threshold:
@@ -394,7 +412,9 @@ BAND = (5.33, 5.6)
 NOISY_BIRTH = 1e-6
 
 
-def amplitude_branch(label, E_start, du_rel=0.03, n_max=30):
+def amplitude_branch(
+    label: Any, E_start: Any, du_rel: Any = 0.03, n_max: Any = 30
+) -> Any:
     """A newborn family stepped in its amplitude from the member at ``E_start``:
     ``u_k = u_0 (1 + du_rel k)`` (natural continuation, the energy solved at each ``u``, so
     folds in ``E`` are passed), with ``tr M`` of every member, until ``tr M`` leaves
@@ -491,13 +511,13 @@ def _band_one(args):
 
 
 def band_families(
-    labels,
-    dE_stop=1.7,
-    digits=None,
-    t1_grow=None,
-    energies=(),
-    executor=None,
-    progress=False,
+    labels: Any,
+    dE_stop: Any = 1.7,
+    digits: Any = None,
+    t1_grow: Any = None,
+    energies: Any = (),
+    executor: Any = None,
+    progress: Any = False,
 ) -> list:
     """Follow newborn families (``IS^r_n``, ``PD^r_n``) with the engine from birth until
     ``E - 4 >= dE_stop`` or the family ends, with ``tr M`` of every member and the first exit
@@ -550,7 +570,9 @@ class Island:
     spread: float
 
 
-def island(orbit, delta=0.01, t_max=2000.0, n_hits=400) -> Island:
+def island(
+    orbit: Any, delta: Any = 0.01, t_max: Any = 2000.0, n_hits: Any = 400
+) -> Island:
     """The orbit seen in the Poincaré section of :func:`rotorlib.chaos.poincare_section`
     (``phi1 = 0``, ``phi1' > 0``): of its 24 images, the crossing with the largest
     ``phi1'`` (the most transversal) is moved by ``delta`` in ``phi2`` (``P2`` kept, ``P1``

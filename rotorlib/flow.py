@@ -67,7 +67,7 @@ class Section:
     direction: int = 0
     period: float | None = None
 
-    def value(self, x):
+    def value(self, x: Any) -> Any:
         """``c . x`` (exact for the zero coefficients)."""
         return sum(ci * xi for ci, xi in zip(self.c, x) if ci)
 
@@ -212,7 +212,7 @@ class SectionNotReached(RuntimeError):
         Crossings found before ``t_max``.
     """
 
-    def __init__(self, t_max, crossings):
+    def __init__(self, t_max: Any, crossings: Any) -> None:
         super().__init__(
             f"section not reached before t = {float(t_max):g} ({crossings} crossings)"
         )

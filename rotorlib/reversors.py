@@ -28,6 +28,7 @@ import functools
 import itertools
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -220,14 +221,14 @@ class CircleSet:
     name: str
     q0: tuple
 
-    def bound(self, u, digits: int | Tier | None = None):
+    def bound(self, u: Any, digits: int | Tier | None = None) -> Any:
         t = tier(digits)
         with t.context():
             m = t.m
             q = [self.q0[0] * t.pi, self.q0[1] * t.pi]
             return 3 - m.cos(2 * q[0]) - m.cos(q[1] - q[0]) - m.cos(q[0] + q[1])
 
-    def at(self, u, E, digits: int | Tier | None = None):
+    def at(self, u: Any, E: Any, digits: int | Tier | None = None) -> Any:
         t = tier(digits)
         with t.context():
             u, K = t.num(u), t.num(E) - self.bound(u, t)
@@ -241,7 +242,7 @@ class CircleSet:
                 2 * s * t.m.cos(u) / t.m.sqrt(3),
             ]
 
-    def span(self, E):
+    def span(self, E: Any) -> Any:
         return (-math.pi / 2, math.pi / 2)
 
 
@@ -283,7 +284,7 @@ class BrakeSet:
                 r = r - (V - E) / dV
             return r
 
-    def at(self, u, E, digits: int | Tier | None = None):
+    def at(self, u: Any, E: Any, digits: int | Tier | None = None) -> Any:
         t = tier(digits)
         with t.context():
             r = self._radius(u, E, t)
@@ -291,7 +292,7 @@ class BrakeSet:
             f2 = self.centre[1] * t.pi + r * t.m.sin(t.num(u))
             return [f1 / 2, f1 / 2 + f2, t.num(0), t.num(0)]
 
-    def span(self, E):
+    def span(self, E: Any) -> Any:
         return (0.0, 2 * math.pi)
 
 
@@ -343,7 +344,7 @@ class MirrorSet:
     name: str
     line: StartSet
 
-    def at(self, u, E, digits: int | Tier | None = None):
+    def at(self, u: Any, E: Any, digits: int | Tier | None = None) -> Any:
         t = tier(digits)
         arcs = _arcs(self.line, float(E))
         if arcs is None:
@@ -378,11 +379,11 @@ class MirrorSet:
         )
         return sum(2 * m.sin(c + s * k / 2) * m.sin(s * k / 2) for c, k in terms if k)
 
-    def span(self, E):
+    def span(self, E: Any) -> Any:
         return (0.0, 2 * math.pi)
 
 
-def start_sets(E) -> tuple:
+def start_sets(E: Any) -> tuple:
     """One start set per class of fixed sets under the group (every symmetric orbit meets one
     of them, up to a symmetry): brake points (``E < 4.5``), the circle at G, the circle at D1
     (``E > 4``), the mirror of (12) (the breathers' line ``phi1 = phi2``) and of -(12)."""
@@ -432,7 +433,7 @@ def _group_images():
     return np.array(out)
 
 
-def images(state) -> np.ndarray:
+def images(state: Any) -> np.ndarray:
     """The 24 images of a state ``[a1, a2, p1, p2]`` under the symmetry group and time
     reversal (the same orbit seen by relabelled rotors, or run backwards): shape ``(24, 4)``,
     the identity first."""

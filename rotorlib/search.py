@@ -14,6 +14,7 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import dataclass
+from typing import Any
 
 import mpmath as mp
 import numpy as np
@@ -92,7 +93,12 @@ class PaperSearchResult:
 
 
 def paper_search(
-    label, u, E_guess, width=None, xatol=1e-16, maxiter=500
+    label: Any,
+    u: Any,
+    E_guess: Any,
+    width: Any = None,
+    xatol: Any = 1e-16,
+    maxiter: Any = 500,
 ) -> PaperSearchResult:
     """Paper §6 as written: minimise ``d(p2(0))`` (:func:`periodicity_defect`) at fixed ``u``
     with Brent's bounded minimiser (:func:`scipy.optimize.minimize_scalar`), over the ``p2``
@@ -168,7 +174,7 @@ class SearchComparison:
     shooting_seconds: float
 
 
-def default_amplitude(label, rel=0.1):
+def default_amplitude(label: Any, rel: Any = 0.1) -> Any:
     """A small amplitude near birth: ``rel sqrt|E_n - 4|`` (``a1`` start) or twice that (``p1``)."""
     spec = family_spec(label)
     if not rel > 0:
@@ -188,7 +194,9 @@ def _guess_E(spec, u):
     return spec.E_birth + float(seed(spec.label)[1]) * u * u
 
 
-def compare_searches(label, u=None, xatol=1e-16, tol=None) -> SearchComparison:
+def compare_searches(
+    label: Any, u: Any = None, xatol: Any = 1e-16, tol: Any = None
+) -> SearchComparison:
     """:func:`paper_search` (bracket centred on the fork law, half-width ``c u^2 / 2``) and
     :func:`~rotorlib.newborn.birth_member` (secant from ``E_n``) at the same ``u``, scored
     against real128. Float64 families only (``|E_n - 4| > 3e-8``)."""
@@ -244,7 +252,12 @@ class WorkPrecision:
     error_shooting: np.ndarray
 
 
-def work_precision(label, u=None, tolerances_paper=None, tolerances_shooting=None):
+def work_precision(
+    label: Any,
+    u: Any = None,
+    tolerances_paper: Any = None,
+    tolerances_shooting: Any = None,
+) -> Any:
     """Both searches at a sequence of tolerances (default ``xatol = 1e-2 ... 1e-16``,
     ``tol = 1e-2 ... 1e-15``), scored against real128 (:class:`WorkPrecision`)."""
     spec = family_spec(label)
@@ -263,7 +276,7 @@ def work_precision(label, u=None, tolerances_paper=None, tolerances_shooting=Non
         raise ValueError("tolerances must be > 0")
     E_ref = birth_member(spec, u, REAL128)[0]
     Eg, tau = _guess_E(spec, u), spec.period_birth
-    rows = {"ep": [], "ip": [], "rp": [], "es": [], "is": [], "rs": []}
+    rows: dict[str, list[Any]] = {k: [] for k in ("ep", "ip", "rp", "es", "is", "rs")}
     with mp.workdps(40):
         for xa in tp:
             ps = paper_search(
@@ -297,7 +310,7 @@ class DefectLandscape:
     residual: np.ndarray
 
 
-def defect_landscape(label, u=None, delta=None) -> DefectLandscape:
+def defect_landscape(label: Any, u: Any = None, delta: Any = None) -> DefectLandscape:
     """:class:`DefectLandscape` for offsets ``delta`` (default ``10^-17 ... 10^-3``): both are
     linear in ``delta`` (``d`` a norm of three components vanishing together, ``r`` a simple
     root) down to their round-off floors."""
@@ -314,7 +327,7 @@ def defect_landscape(label, u=None, delta=None) -> DefectLandscape:
     return DefectLandscape(spec.label, u, p2s, delta, np.array(dd), np.array(rr))
 
 
-def residual_scan(label, E, n=2001):
+def residual_scan(label: Any, E: Any, n: Any = 2001) -> Any:
     """``(u, r)``: the symmetric residual at energy ``E`` across the whole energy shell
     (float64; ``n`` points of ``(0, u_max)``, ``r = nan`` where the section is not reached).
     Every member at ``E`` keeps the family's symmetry, so a scan without a sign change shows

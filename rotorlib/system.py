@@ -63,12 +63,12 @@ _B = np.array([[1.0, 1.0], [1.0, -1.0]])
 _Binv = 0.5 * _B
 
 
-def potential_phi(phi1, phi2):
+def potential_phi(phi1: Any, phi2: Any) -> Any:
     """V(phi1, phi2) = 3 - cos phi1 - cos phi2 - cos(phi1 + phi2)."""
     return 3.0 - np.cos(phi1) - np.cos(phi2) - np.cos(phi1 + phi2)
 
 
-def potential_theta(theta1, theta2, theta3):
+def potential_theta(theta1: Any, theta2: Any, theta3: Any) -> Any:
     """V in rotor angles: 3 - cos(t1 - t2) - cos(t2 - t3) - cos(t3 - t1)."""
     return (
         3.0
@@ -78,23 +78,23 @@ def potential_theta(theta1, theta2, theta3):
     )
 
 
-def potential_alpha(a1, a2):
+def potential_alpha(a1: Any, a2: Any) -> Any:
     """V(a1, a2) = 3 - cos 2a1 - cos(a2 - a1) - cos(a1 + a2)."""
     return 3.0 - np.cos(2.0 * a1) - np.cos(a2 - a1) - np.cos(a1 + a2)
 
 
-def potential_beta(b1, b2):
+def potential_beta(b1: Any, b2: Any) -> Any:
     """V(b1, b2) = 3 - cos((b1 + b2)/2) - cos((b1 - b2)/2) - cos b1."""
     return 3.0 - np.cos(0.5 * (b1 + b2)) - np.cos(0.5 * (b1 - b2)) - np.cos(b1)
 
 
-def energy_alpha(state):
+def energy_alpha(state: Any) -> Any:
     """Relative energy of a state ``[a1, a2, p1, p2]`` (last axis)."""
     a1, a2, p1, p2 = np.moveaxis(np.asarray(state, dtype=float), -1, 0)
     return 0.25 * p1**2 + 0.75 * p2**2 + potential_alpha(a1, a2)
 
 
-def energy_phi(state):
+def energy_phi(state: Any) -> Any:
     """Relative energy of ``[phi1, phi2, P1, P2]``.
 
     The kinetic energy (phi1'^2 + phi2'^2 + phi1' phi2')/3 in momenta is P1^2 - P1 P2 + P2^2.
@@ -103,13 +103,13 @@ def energy_phi(state):
     return P1**2 - P1 * P2 + P2**2 + potential_phi(f1, f2)
 
 
-def energy_beta(state):
+def energy_beta(state: Any) -> Any:
     """Relative energy of a state ``[b1, b2, q1, q2]``."""
     b1, b2, q1, q2 = np.moveaxis(np.asarray(state, dtype=float), -1, 0)
     return q1**2 + 3.0 * q2**2 + potential_beta(b1, b2)
 
 
-def rhs_alpha(t, state):
+def rhs_alpha(t: Any, state: Any) -> Any:
     """Hamilton's equations in pendulum variables, ``d/dt [a1, a2, p1, p2]``."""
     a1, a2, p1, p2 = state
     s_m = np.sin(a2 - a1)
@@ -124,7 +124,7 @@ def rhs_alpha(t, state):
     )
 
 
-def jacobian_alpha(state):
+def jacobian_alpha(state: Any) -> Any:
     """Jacobian of :func:`rhs_alpha` (the variational matrix), shape (4, 4)."""
     a1, a2 = state[0], state[1]
     c_m = np.cos(a2 - a1)
@@ -142,7 +142,7 @@ def jacobian_alpha(state):
     )
 
 
-def rhs_beta(t, state):
+def rhs_beta(t: Any, state: Any) -> Any:
     """Hamilton's equations in breather variables (paper §8)."""
     b1, b2, q1, q2 = state
     sp = np.sin(0.5 * (b1 + b2))
@@ -152,7 +152,7 @@ def rhs_beta(t, state):
     )
 
 
-def rhs_phi(t, state):
+def rhs_phi(t: Any, state: Any) -> Any:
     """Hamilton's equations in relative variables ``[phi1, phi2, P1, P2]``."""
     f1, f2, P1, P2 = state
     s12 = np.sin(f1 + f2)
@@ -209,37 +209,37 @@ def _lin(state, Q, Pm):
     return np.concatenate([q, p], axis=-1)
 
 
-def phi_to_alpha(state):
+def phi_to_alpha(state: Any) -> Any:
     """``[phi1, phi2, P1, P2] -> [a1, a2, p1, p2]``."""
     return _lin(state, _A, _Ainv.T)
 
 
-def alpha_to_phi(state):
+def alpha_to_phi(state: Any) -> Any:
     """``[a1, a2, p1, p2] -> [phi1, phi2, P1, P2]``."""
     return _lin(state, _Ainv, _A.T)
 
 
-def phi_to_beta(state):
+def phi_to_beta(state: Any) -> Any:
     """``[phi1, phi2, P1, P2] -> [b1, b2, q1, q2]``."""
     return _lin(state, _B, _Binv.T)
 
 
-def beta_to_phi(state):
+def beta_to_phi(state: Any) -> Any:
     """``[b1, b2, q1, q2] -> [phi1, phi2, P1, P2]``."""
     return _lin(state, _Binv, _B.T)
 
 
-def alpha_to_beta(state):
+def alpha_to_beta(state: Any) -> Any:
     """``[a1, a2, p1, p2] -> [b1, b2, q1, q2]``."""
     return phi_to_beta(alpha_to_phi(state))
 
 
-def beta_to_alpha(state):
+def beta_to_alpha(state: Any) -> Any:
     """``[b1, b2, q1, q2] -> [a1, a2, p1, p2]``."""
     return phi_to_alpha(beta_to_phi(state))
 
 
-def theta_to_phi(theta, theta_dot):
+def theta_to_phi(theta: Any, theta_dot: Any) -> Any:
     """Rotor angles and velocities -> (``phi0``, ``phi0'``, ``[phi1, phi2, P1, P2]``)."""
     t1, t2, t3 = np.moveaxis(np.asarray(theta, dtype=float), -1, 0)
     w1, w2, w3 = np.moveaxis(np.asarray(theta_dot, dtype=float), -1, 0)
@@ -254,7 +254,7 @@ def theta_to_phi(theta, theta_dot):
     )
 
 
-def phi_to_theta(phi0, phi0_dot, state):
+def phi_to_theta(phi0: Any, phi0_dot: Any, state: Any) -> Any:
     """Inverse of :func:`theta_to_phi`: returns ``(theta, theta_dot)``."""
     f1, f2, P1, P2 = np.moveaxis(np.asarray(state, dtype=float), -1, 0)
     d1, d2 = 2.0 * P1 - P2, 2.0 * P2 - P1
@@ -314,7 +314,7 @@ def _hess_phi(x):
     return np.array([[np.cos(f1) + c, c], [c, np.cos(f2) + c]])
 
 
-def critical_points(grid: int = 16):
+def critical_points(grid: int = 16) -> Any:
     """Locate and classify every critical point of V on the torus.
 
     Newton's method from a ``grid x grid`` set of starting points; duplicates
