@@ -34,6 +34,8 @@ from __future__ import annotations
 
 import functools
 import math
+from collections.abc import Sequence
+from concurrent.futures import Executor
 from dataclasses import dataclass
 from typing import Any
 
@@ -466,9 +468,10 @@ class FamilyInBand:
 
 
 def _band_one(args):
-    label, dE_stop, digits, t1_grow, energies = args
+    label, dE_stop, digits, t_grow, energies = args
     spec = family_spec(label)
-    t_max = None if t1_grow is None else spec.factor * (spec.period_birth / 2 + t1_grow)
+    T_birth = spec.factor * spec.period_birth / 2  # the orbit's period at birth
+    t_max = None if t_grow is None else T_birth + t_grow
     deep = spec.depth < Tier.separatrix_depth
     b = follow(
         label,
@@ -511,14 +514,14 @@ def _band_one(args):
 
 
 def band_families(
-    labels: Any,
-    dE_stop: Any = 1.7,
-    digits: Any = None,
-    t1_grow: Any = None,
-    energies: Any = (),
-    executor: Any = None,
-    progress: Any = False,
-) -> list:
+    labels: Sequence[str],
+    dE_stop: float = 1.7,
+    digits: int | Tier | None = None,
+    t_grow: float | None = None,
+    energies: Sequence[float | str] = (),
+    executor: Executor | None = None,
+    progress: bool = False,
+) -> list[FamilyInBand]:
     """Follow newborn families (``IS^r_n``, ``PD^r_n``) with the engine from birth until
     ``E - 4 >= dE_stop`` or the family ends, with ``tr M`` of every member and the first exit
     from the stable window. One task per family through :func:`rotorlib.parallel.pmap`.
@@ -526,8 +529,8 @@ def band_families(
     ``digits``: the continuation's tier (default float64 while ``|E_n - 4| > 3e-8``, real128
     beyond: at PD^r_5,6 float64 ``tr M`` has the wrong size or sign at every member measured).
     ``energies``: members located at these energies (special points of kind ``E``).
-    ``t1_grow``: also stop once ``t1`` exceeds its birth value by this much (the families
-    end on orbits asymptotic to ``V = 4.5``, where ``t1`` diverges).
+    ``t_grow``: also stop once the period exceeds its value at birth by this much (the
+    families end on orbits asymptotic to ``V = 4.5``, where the period diverges).
 
     Precision: float64 members to ``|r| < 1e-6`` (typically 1e-9), ``tr M`` meaningful in
     size and sign up to ``|tr M| ~ 1e12``; real128 members to ``max(eps^(2/3), 1e4 eps / d)``
@@ -539,7 +542,7 @@ def band_families(
             raise ValueError(
                 f"{lab}: band_families follows rotational families (IS^r_n, PD^r_n)"
             )
-    tasks = [(lab, float(dE_stop), digits, t1_grow, tuple(energies)) for lab in labels]
+    tasks = [(lab, float(dE_stop), digits, t_grow, tuple(energies)) for lab in labels]
     return pmap(_band_one, tasks, executor=executor, progress=progress, desc="families")
 
 
