@@ -28,6 +28,7 @@ from .continuation import (
 )
 from .flow import SectionNotReached
 from .newborn import (
+    FAMILY_FLOAT64_DEPTH,
     FAMILY_REACH,
     FamilyRangeError,
     FamilySpec,
@@ -41,9 +42,12 @@ from .shooting import NoConvergence, solve
 __all__ = ["family", "follow"]
 
 
-def _default_tier(spec: FamilySpec) -> Tier:
-    """float64 while ``|E_n - 4|`` exceeds the separatrix depth, else real128."""
-    return FLOAT64 if spec.depth > Tier.separatrix_depth else REAL128
+def _default_tier(spec: FamilySpec, traces: bool) -> Tier:
+    """float64 while ``|E_n - 4|`` exceeds the separatrix depth (with ``traces``:
+    :data:`~rotorlib.newborn.FAMILY_FLOAT64_DEPTH`, where float64 ``tr M`` is still
+    right), else real128."""
+    depth = FAMILY_FLOAT64_DEPTH if traces else Tier.separatrix_depth
+    return FLOAT64 if spec.depth > depth else REAL128
 
 
 def _branch(
@@ -135,8 +139,8 @@ def family(
     E_range : (float or str, float or str)
         ``(lo, hi)`` with ``lo < hi``; it must reach above the birth energy ``E_n``.
     digits : int or Tier, optional
-        Tier of the continuation (default float64 while ``|E_n - 4| > 3e-8``, else
-        real128).
+        Tier of the continuation (default float64 while ``|E_n - 4| > 1e-5``, where
+        float64 ``tr M`` is still right, else real128; without ``traces``: 3e-8).
     t_max : float, optional
         Stop once the period exceeds it (default: 12 times the period at birth): the
         family runs into an orbit of infinite period (through the maxima of V, E -> 4.5).
@@ -182,7 +186,7 @@ def family(
     rotorlib.newborn.FamilyRangeError: IS^l_1 exists for 3.9905882294182 < E <= 4.4999101 (born at E_n = 3.9905882294182; it was followed from birth to E = 4.4999101; continued further in amplitude it runs towards E = 4.5 (the maxima of V) with a growing period); got E_range = (3.9, 3.99)
     """
     spec = family_spec(label)
-    t = _default_tier(spec) if digits is None else tier(digits)
+    t = _default_tier(spec, traces) if digits is None else tier(digits)
     with t.context():
         lo, hi = (t.num(str(v) if t.extended else v) for v in E_range)
     if not lo < hi:
@@ -250,9 +254,9 @@ def _inside(b: Branch, lo: Any, hi: Any, r_max: float) -> Branch:
     ]
     n, (flo, fhi) = len(members), (float(lo), float(hi))
     why = (
-        f"; {n} members lie inside E_range = ({flo:g}, {fhi:g})"
+        f"; {n} members lie inside E_range = ({flo:.12g}, {fhi:.12g})"
         if n
-        else f"; no member lies inside E_range = ({flo:g}, {fhi:g})"
+        else f"; no member lies inside E_range = ({flo:.12g}, {fhi:.12g})"
     )
     if not n and b.stop == "E range":
         why += " (the branch passed over it between two members)"
@@ -291,7 +295,7 @@ def follow(
     ('E range', 1)
     """
     spec = family_spec(label)
-    t = _default_tier(spec) if digits is None else tier(digits)
+    t = _default_tier(spec, False) if digits is None else tier(digits)
     top = 4.2 if spec.phase == "lib" else spec.E_birth + 6
     E_max = E_max if E_max is not None else top
     E_min = E_min if E_min is not None else spec.E_birth - 2 * spec.depth
