@@ -285,7 +285,8 @@ def follow(
     from the seed, stopped by the first member outside ``[E_min, E_max]`` (default
     ``[E_n - 2|E_n - 4|, 4.2]`` for libration, ``[E_n - 2|E_n - 4|, E_n + 6]`` for
     rotation), which is dropped with ``clip``; the seed is kept even when it lies
-    outside. ``t_max`` bounds the period as in :func:`family`. Prefer :func:`family`, whose members all lie inside its range.
+    outside. ``t_max`` bounds the period as in :func:`family`. Prefer :func:`family`,
+    whose members all lie inside its range.
 
     Examples
     --------
