@@ -34,14 +34,19 @@ from __future__ import annotations
 
 import functools
 import math
+from collections.abc import Sequence
+from concurrent.futures import Executor
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
 from .continuation import ContinuationOptions, FamilyEnd, Natural, continuation, member
 from .energy import as_float
+from .flow import equations_of_motion
 from .newborn import family_spec, follow, newborn_orbit
 from .parallel import pmap
+from .precision import Tier
 from .reversors import images
 from .system import alpha_to_phi, energy_phi, potential_alpha, potential_phi
 
@@ -103,7 +108,9 @@ def _section_integrator():
     return ta, hits
 
 
-def section_initial_conditions(E, n_phi=6, n_p=4, seed=None):
+def section_initial_conditions(
+    E: Any, n_phi: Any = 6, n_p: Any = 4, seed: Any = None
+) -> Any:
     """Initial conditions ``[phi1, phi2, P1, P2]`` on the section ``phi1 = 0`` at energy ``E``.
 
     A grid of ``n_phi`` values of ``phi2`` in ``(0, 2 pi)`` and ``n_p`` values of ``P2``
@@ -147,7 +154,7 @@ def _section_one(args):
     return h
 
 
-def section_points(state, t_max, n_hits=100_000):
+def section_points(state: Any, t_max: Any, n_hits: Any = 100_000) -> Any:
     """The crossings of the section ``phi1 = 0 (mod 2 pi)``, ``phi1' > 0`` by the trajectory
     from ``state`` (``[phi1, phi2, P1, P2]``, relative variables) up to time ``t_max`` (rounded
     up to a multiple of 50): ``(phi2 mod 2 pi, P2)`` arrays. Float64 Taylor integration,
@@ -184,8 +191,15 @@ class PoincareSection:
 
 
 def poincare_section(
-    E, n_phi=6, n_p=4, n_hits=300, t_max=5e3, seed=None, executor=None, progress=False
-):
+    E: Any,
+    n_phi: Any = 6,
+    n_p: Any = 4,
+    n_hits: Any = 300,
+    t_max: Any = 5e3,
+    seed: Any = None,
+    executor: Any = None,
+    progress: Any = False,
+) -> Any:
     """The section at energy ``E`` from a grid of initial conditions on it (see module docstring).
 
     Parameters
@@ -220,7 +234,7 @@ def poincare_section(
 # ----------------------------------------------------------------------------------------------
 
 
-def sample_energy_shell(E, n, seed=0):
+def sample_energy_shell(E: Any, n: Any, seed: Any = 0) -> Any:
     """``n`` states ``[a1, a2, p1, p2]`` distributed microcanonically on ``H = E``.
 
     Configuration uniform on ``{V < E}`` in the fundamental domain ``[0, pi) x [0, 2 pi)``
@@ -259,15 +273,10 @@ def _tangent_integrator():
         "a1", "a2", "p1", "p2", "d1", "d2", "e1", "e2"
     )
     cm, cp = hy.cos(a2 - a1), hy.cos(a1 + a2)
-    sm, sp = hy.sin(a2 - a1), hy.sin(a1 + a2)
     v11 = 4.0 * hy.cos(2.0 * a1) + cm + cp
     v12 = cp - cm
     v22 = cm + cp
-    sys = [
-        (a1, 0.5 * p1),
-        (a2, 1.5 * p2),
-        (p1, -(2.0 * hy.sin(2.0 * a1) - sm + sp)),
-        (p2, -(sm + sp)),
+    sys = equations_of_motion(hy) + [
         (d1, 0.5 * e1),
         (d2, 1.5 * e2),
         (e1, -(v11 * d1 + v12 * d2)),
@@ -298,7 +307,15 @@ def _ftle_chunk(args):
     return out
 
 
-def ftle(states, T=200.0, renorm=5.0, executor=None, progress=False, chunk=50, seed=0):
+def ftle(
+    states: Any,
+    T: Any = 200.0,
+    renorm: Any = 5.0,
+    executor: Any = None,
+    progress: Any = False,
+    chunk: Any = 50,
+    seed: Any = 0,
+) -> Any:
     """Finite-time Lyapunov exponents of states ``[a1, a2, p1, p2]`` over time ``T``.
 
     One random unit tangent vector per state (Euclidean norm in ``[a1, a2, p1, p2]``),
@@ -343,16 +360,16 @@ class ChaoticFraction:
 
 
 def chaotic_fraction(
-    energies,
-    N=200,
-    T=200.0,
-    threshold=0.05,
-    renorm=5.0,
-    seed=0,
-    executor=None,
-    progress=False,
-    chunk=50,
-):
+    energies: Any,
+    N: Any = 200,
+    T: Any = 200.0,
+    threshold: Any = 0.05,
+    renorm: Any = 5.0,
+    seed: Any = 0,
+    executor: Any = None,
+    progress: Any = False,
+    chunk: Any = 50,
+) -> Any:
     """``f(E)``: fraction of ``N`` microcanonical points per energy with FTLE ``> threshold``."""
     energies = [_check_E(E) for E in np.atleast_1d(energies)]
     if not 0 < threshold:
@@ -397,7 +414,9 @@ BAND = (5.33, 5.6)
 NOISY_BIRTH = 1e-6
 
 
-def amplitude_branch(label, E_start, du_rel=0.03, n_max=30):
+def amplitude_branch(
+    label: Any, E_start: Any, du_rel: Any = 0.03, n_max: Any = 30
+) -> Any:
     """A newborn family stepped in its amplitude from the member at ``E_start``:
     ``u_k = u_0 (1 + du_rel k)`` (natural continuation, the energy solved at each ``u``, so
     folds in ``E`` are passed), with ``tr M`` of every member, until ``tr M`` leaves
@@ -449,10 +468,11 @@ class FamilyInBand:
 
 
 def _band_one(args):
-    label, dE_stop, digits, t1_grow, energies = args
+    label, dE_stop, digits, t_grow, energies = args
     spec = family_spec(label)
-    t1_max = None if t1_grow is None else spec.period_birth / 2 + t1_grow
-    deep = spec.depth < 3e-8
+    T_birth = spec.factor * spec.period_birth / 2  # the orbit's period at birth
+    t_max = None if t_grow is None else T_birth + t_grow
+    deep = spec.depth < Tier.separatrix_depth
     b = follow(
         label,
         chart="K",
@@ -460,7 +480,7 @@ def _band_one(args):
         digits=digits,
         traces=True,
         jump=0.05 if deep else None,
-        t1_max=t1_max,
+        t_max=t_max,
         energies=energies,
         clip=False,  # the first member beyond E_max is reported (chapter 08)
     )
@@ -494,14 +514,14 @@ def _band_one(args):
 
 
 def band_families(
-    labels,
-    dE_stop=1.7,
-    digits=None,
-    t1_grow=None,
-    energies=(),
-    executor=None,
-    progress=False,
-) -> list:
+    labels: Sequence[str],
+    dE_stop: float = 1.7,
+    digits: int | Tier | None = None,
+    t_grow: float | None = None,
+    energies: Sequence[float | str] = (),
+    executor: Executor | None = None,
+    progress: bool = False,
+) -> list[FamilyInBand]:
     """Follow newborn families (``IS^r_n``, ``PD^r_n``) with the engine from birth until
     ``E - 4 >= dE_stop`` or the family ends, with ``tr M`` of every member and the first exit
     from the stable window. One task per family through :func:`rotorlib.parallel.pmap`.
@@ -509,8 +529,8 @@ def band_families(
     ``digits``: the continuation's tier (default float64 while ``|E_n - 4| > 3e-8``, real128
     beyond: at PD^r_5,6 float64 ``tr M`` has the wrong size or sign at every member measured).
     ``energies``: members located at these energies (special points of kind ``E``).
-    ``t1_grow``: also stop once ``t1`` exceeds its birth value by this much (the families
-    end on orbits asymptotic to ``V = 4.5``, where ``t1`` diverges).
+    ``t_grow``: also stop once the period exceeds its value at birth by this much (the
+    families end on orbits asymptotic to ``V = 4.5``, where the period diverges).
 
     Precision: float64 members to ``|r| < 1e-6`` (typically 1e-9), ``tr M`` meaningful in
     size and sign up to ``|tr M| ~ 1e12``; real128 members to ``max(eps^(2/3), 1e4 eps / d)``
@@ -522,7 +542,7 @@ def band_families(
             raise ValueError(
                 f"{lab}: band_families follows rotational families (IS^r_n, PD^r_n)"
             )
-    tasks = [(lab, float(dE_stop), digits, t1_grow, tuple(energies)) for lab in labels]
+    tasks = [(lab, float(dE_stop), digits, t_grow, tuple(energies)) for lab in labels]
     return pmap(_band_one, tasks, executor=executor, progress=progress, desc="families")
 
 
@@ -553,7 +573,9 @@ class Island:
     spread: float
 
 
-def island(orbit, delta=0.01, t_max=2000.0, n_hits=400) -> Island:
+def island(
+    orbit: Any, delta: Any = 0.01, t_max: Any = 2000.0, n_hits: Any = 400
+) -> Island:
     """The orbit seen in the Poincaré section of :func:`rotorlib.chaos.poincare_section`
     (``phi1 = 0``, ``phi1' > 0``): of its 24 images, the crossing with the largest
     ``phi1'`` (the most transversal) is moved by ``delta`` in ``phi2`` (``P2`` kept, ``P1``

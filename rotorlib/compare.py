@@ -38,6 +38,7 @@ import math
 import re
 from dataclasses import asdict, dataclass
 from decimal import ROUND_DOWN, ROUND_HALF_EVEN, Decimal
+from typing import Any
 
 from .rounding import bound, glue, rounded, sig
 
@@ -242,20 +243,20 @@ def _rounded(paper: str, ours):
 
 
 def claim(
-    quantity,
+    quantity: Any,
     paper: str,
-    ours,
+    ours: Any,
     *,
-    section="",
-    rel=None,
-    tol=None,
-    note="",
-    shown=None,
-    category=None,
-    cause=None,
-    inherits="",
-    inequality=None,
-    anchor="",
+    section: Any = "",
+    rel: Any = None,
+    tol: Any = None,
+    note: Any = "",
+    shown: Any = None,
+    category: Any = None,
+    cause: Any = None,
+    inherits: Any = "",
+    inequality: Any = None,
+    anchor: Any = "",
 ) -> Claim:
     """Check one printed value ``paper`` (a string, as printed) against ``ours``.
 
@@ -430,7 +431,9 @@ def _shown_difference(diff: float, tol: float) -> str:
     return f"{diff:+.0e}"
 
 
-def markdown(rows, columns=None, *, typeset=False, compact=False) -> str:
+def markdown(
+    rows: Any, columns: Any = None, *, typeset: Any = False, compact: Any = False
+) -> str:
     r"""A Markdown (GFM) table of claims, or of any rows given with ``columns``.
 
     Parameters
@@ -489,7 +492,7 @@ def markdown(rows, columns=None, *, typeset=False, compact=False) -> str:
     return "\n".join(out)
 
 
-def records(claims, chapter: str) -> str:
+def records(claims: Any, chapter: str) -> str:
     """The claims as one JSON string (a chapter glues it under ``claims``; the ledger page is
     generated from these records).
 

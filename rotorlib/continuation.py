@@ -16,12 +16,14 @@ located between members by :func:`illinois`. ``Branch.stop`` says why it ended (
 from __future__ import annotations
 
 import math
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 from typing import Any
 
+from .branch import Branch, Member, SpecialPoint
 from .flow import SectionNotReached, monodromy_matrix
-from .precision import FLOAT64, Tier
-from .shooting import NoConvergence, ShootingProblem, residual, solve
+from .precision import Tier, tier
+from .shooting import NoConvergence, ShootingProblem, Shot, residual, solve
 
 __all__ = ["Member", "SpecialPoint", "Branch", "Natural", "PALC", "ContinuationOptions"]
 __all__ += ["continuation", "member", "switch", "switch_branch", "FamilyEnd"]
@@ -33,7 +35,7 @@ NAN = float("nan")
 class FamilyEnd(ValueError):
     """Natural continuation stopped: ``label, members, E_reached, E_asked`` (nan: u)."""
 
-    def __init__(self, label, members, E_asked, par):
+    def __init__(self, label: str, members: Any, E_asked: float, par: str):
         self.label, self.members, self.E_asked = label, members, E_asked
         self.E_reached = E = float(members[-1].E)
         ask = f"; asked for E = {E_asked!r}" if E_asked == E_asked else ""
@@ -41,117 +43,6 @@ class FamilyEnd(ValueError):
             f"{label}: the family was not found beyond E = {E!r} (a fold "
             f"in {par}, or the orbit stops reaching its section){ask}"
         )
-
-
-@dataclass(frozen=True)
-class Member:
-    """One periodic orbit of a family: unknowns, energy, symmetric time, residual, trace.
-
-    ``u``, ``w``, ``E``, ``t1`` are tier numbers (float or mpf); ``x1`` the state at the
-    symmetric point ``t1``; ``trace`` is ``tr M`` over the full period (a tier number,
-    ``nan`` unless computed).
-    """
-
-    u: Any
-    w: Any
-    E: Any
-    t1: Any
-    r: Any
-    trace: Any = NAN
-    x1: tuple = ()
-
-
-@dataclass(frozen=True)
-class SpecialPoint:
-    """An event along a branch: ``kind`` (``fold``, ``E``, ``IS``, ``PD``), the located
-    ``member`` and the index of the member after which it lies. ``located`` is False when
-    the location failed (the orbit stops reaching its section there): ``member`` is then
-    the nearest member of the branch."""
-
-    kind: str
-    member: Member
-    index: int
-    located: bool = True
-
-
-@dataclass(frozen=True)
-class Branch:
-    """A family followed by :func:`continuation`.
-
-    Attributes
-    ----------
-    problem : ShootingProblem
-    tier : Tier
-    members : tuple of Member
-    special_points : tuple of SpecialPoint
-    stop : str
-        Why the continuation ended, as a code (see the module docstring).
-    reason : str
-        The same as one sentence, with the numbers that triggered it.
-    """
-
-    problem: ShootingProblem
-    tier: Tier
-    members: tuple
-    special_points: tuple = ()
-    stop: str = ""
-    reason: str = ""
-
-    def _col(self, name):
-        import numpy as np
-
-        return np.array([float(getattr(m, name)) for m in self.members])
-
-    @property
-    def label(self) -> str:
-        return self.problem.label
-
-    @property
-    def u(self):
-        return self._col("u")
-
-    @property
-    def dE(self):
-        """``E - 4`` of the members, formed in the tier (no cancellation)."""
-        import numpy as np
-
-        with self.tier.context():
-            return np.array([float(m.E - 4) for m in self.members])
-
-    @property
-    def E(self):
-        return self._col("E")
-
-    @property
-    def t1(self):
-        return self._col("t1")
-
-    @property
-    def period(self):
-        return self.problem.factor * self._col("t1")
-
-    @property
-    def trace(self):
-        return self._col("trace")
-
-    def points(self, kind) -> list:
-        """The special points of one kind (``fold``, ``E``, ``IS``, ``PD``)."""
-        return [p for p in self.special_points if p.kind == kind]
-
-    @property
-    def fold(self):
-        """The first located fold (a :class:`Member`), or ``None``."""
-        pts = [p for p in self.points("fold") if p.located]
-        return pts[0].member if pts else None
-
-    @property
-    def E_max(self) -> float:
-        """The largest energy on the branch (a located fold where there is one)."""
-        return max([float(p.member.E) for p in self.points("fold")] + list(self.E))
-
-    def state(self, m: Member):
-        """The initial state of a member (tier numbers)."""
-        return self.problem.state(m.u, m.w, self.tier)
 
 
 @dataclass(frozen=True)
@@ -167,7 +58,7 @@ class Natural:
     """
 
     parameter: str
-    values: tuple
+    values: tuple[Any, ...]
     order: int = 1
     origin: Any = None
     origin_other: Any = None
@@ -196,7 +87,7 @@ class PALC:
     w_floor: float = 1e-12
     direction: int = 1
     order: int = 2
-    scales: tuple | None = None
+    scales: tuple[float, float] | None = None
 
 
 @dataclass(frozen=True)
@@ -226,40 +117,71 @@ class ContinuationOptions:
     stop_on : tuple
         Stop (``event``) once ``tr M`` crosses the level of one of these kinds (``IS``: 4,
         ``PD``: 0; needs ``traces``).
+    enter : bool
+        Members before the first one inside ``E_range`` approach it and do not stop the
+        branch, unless one lands beyond the range's far end (:func:`rotorlib.newborn.family`
+        from a seed below the range).
     """
 
     max_steps: int = 400
-    E_range: tuple = (-math.inf, math.inf)
+    E_range: tuple[Any, Any] = (-math.inf, math.inf)
     t1_max: float = math.inf
     jump: float | None = None
     traces: bool = False
-    energies: tuple = ()
+    energies: tuple[Any, ...] = ()
     folds: bool = True
     r_max: float | None = None
-    stop_on: tuple = ()
+    stop_on: tuple[str, ...] = ()
+    enter: bool = False
 
 
 def member(
-    problem: ShootingProblem, u, w, t: Tier = FLOAT64, traces=False, shot=None
+    problem: ShootingProblem,
+    u: Any,
+    w: Any,
+    digits: int | Tier | None = None,
+    traces: bool = False,
+    shot: Shot | None = None,
 ) -> Member:
     """The :class:`Member` at ``(u, w)`` (``tr M`` over the full period with ``traces``)."""
+    t = tier(digits)
     with t.context():
         s = shot or residual(problem, u, w, t)
         tr = NAN
         if traces:
             tr = monodromy_matrix(s.x0, problem.factor * s.t1, t)[2]
+        r = abs(float(s.r))
+        d = min(t.dps - 8, int(-math.log10(r))) if r > 0 else t.dps - 8
         return Member(
-            t.num(u), t.num(w), problem.energy(u, w, t), s.t1, s.r, tr, tuple(s.x1)
+            t.num(u),
+            t.num(w),
+            problem.energy(u, w, t),
+            s.t1,
+            s.r,
+            tr,
+            tuple(s.x1),
+            problem.label,
+            problem.factor,
+            tuple(s.x0),
+            max(1, d) if t.extended else 15,
+            t.name,
         )
 
 
 def switch(
-    problem: ShootingProblem, u, E_birth, dE, t: Tier = FLOAT64, tol=None, r_max=None
-):
+    problem: ShootingProblem,
+    u: Any,
+    E_birth: Any,
+    dE: Any,
+    digits: int | Tier | None = None,
+    tol: Any = None,
+    r_max: float | None = None,
+) -> tuple[Member, int]:
     """The member of ``problem`` (a daughter family whose parent is its ``trivial`` root,
     divided out of the residual) with amplitude ``u``, by a secant in ``w`` from the
     bifurcation energy ``E_birth`` and ``E_birth + dE`` (the paper's "adjust one quantity").
     Returns ``(member, secant iterations)``."""
+    t = tier(digits)
     with t.context():
         E0 = t.num(E_birth)
         w0, w1 = problem.w_at(u, E0, t), problem.w_at(u, E0 + t.num(dE), t)
@@ -271,9 +193,9 @@ def switch_branch(
     branch: Branch,
     point: SpecialPoint,
     daughter: ShootingProblem,
-    amplitude,
-    algorithm=None,
-    options=None,
+    amplitude: Any,
+    algorithm: Natural | PALC | None = None,
+    options: ContinuationOptions | None = None,
 ) -> Branch:
     """Branch switching at a bifurcation ``point`` (``IS`` or ``PD``) of ``branch`` onto the
     family of ``daughter``: the parent (``u = u*`` there) is divided out of the daughter's
@@ -554,7 +476,15 @@ def _between(problem, t, alg, members, i, j, opts):
     return at, Xb[k]
 
 
-def illinois(g, at, vb, ga, gb, tol, maxiter=100):
+def illinois(
+    g: Callable[[Any], Any],
+    at: Callable[[Any], Any],
+    vb: Any,
+    ga: Any,
+    gb: Any,
+    tol: Any,
+    maxiter: int = 100,
+) -> Any:
     """The member ``at(v)`` where ``g`` vanishes for ``v`` in ``(0, vb)`` (``g`` of opposite
     signs ``ga``, ``gb`` at the ends): the Illinois variant of regula falsi, a bracketing
     superlinear method that works on floats and mpf alike."""
@@ -631,10 +561,10 @@ def _events(problem, t, branch_members, opts, alg):
 
 def continuation(
     problem: ShootingProblem,
-    algorithm,
+    algorithm: Natural | PALC,
     options: ContinuationOptions | None = None,
-    start=(),
-    t: Tier = FLOAT64,
+    start: Sequence[Member] = (),
+    digits: int | Tier | None = None,
 ) -> Branch:
     """Follow the family of ``problem`` from the members ``start`` (see the module docstring).
 
@@ -645,13 +575,24 @@ def continuation(
     options : ContinuationOptions, optional
     start : sequence of Member
         Known members, in order along the branch (at least one).
-    t : Tier
-        Working precision of every shot.
+    digits : int or Tier, optional
+        Working precision of every shot (:func:`~rotorlib.precision.tier`; float64).
 
     Returns
     -------
     Branch
+
+    Examples
+    --------
+    >>> from rotorlib.continuation import Natural, continuation
+    >>> from rotorlib.newborn import family_spec, seed
+    >>> spec, (m0, _) = family_spec("IS^l_2"), seed("IS^l_2")
+    >>> alg = Natural("E", (3.998, 3.999, 4.0), origin=spec.E_birth, origin_other=0.0)
+    >>> b = continuation(spec.problem, alg, start=[m0])
+    >>> b.stop, [round(float(E), 4) for E in b.E], round(float(b.u[2]), 6)
+    ('values', [3.9969, 3.998, 3.999, 4.0], 0.12372)
     """
+    t = tier(digits)
     opts = options or ContinuationOptions()
     if not start:
         raise ValueError("continuation needs at least one starting member")
@@ -662,9 +603,14 @@ def continuation(
         for m in start
     ]
 
+    lo, hi = opts.E_range
+    entered = [not opts.enter or lo <= start[-1].E <= hi]
+
     def on_member(members):
         m = members[-1]
-        if not (opts.E_range[0] <= m.E <= opts.E_range[1]):
+        if lo <= m.E <= hi:
+            entered[0] = True
+        elif entered[0] or (m.E < lo if members[0].E > hi else m.E > hi):
             return "E range"
         if m.t1 > opts.t1_max:
             return "period"
@@ -678,7 +624,13 @@ def continuation(
         raise ValueError(f"algorithm must be Natural or PALC, got {algorithm!r}")
     special = _events(problem, t, members, opts, algorithm)
     return Branch(
-        problem, t, tuple(members), tuple(special), stop, _reason(stop, members, opts)
+        problem,
+        t,
+        tuple(members),
+        tuple(special),
+        stop,
+        _reason(stop, members, opts),
+        tuple(opts.E_range),
     )
 
 

@@ -21,15 +21,21 @@ precision is needed"): a tier keeps about ``digits + log10|E - 4|`` digits.
 from __future__ import annotations
 
 import threading
+from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
-from .precision import FLOAT64, Tier
+from .precision import Tier, load_heyoka, tier
+
+#: A state ``[a1, a2, p1, p2]``: floats, tier numbers or decimal strings, or an array.
+StateLike = Sequence[Any] | np.ndarray
 
 __all__ = [
     "Section",
     "SectionNotReached",
+    "equations_of_motion",
     "to_section",
     "crossings",
     "flow",
@@ -61,12 +67,17 @@ class Section:
     direction: int = 0
     period: float | None = None
 
-    def value(self, x):
+    def value(self, x: Any) -> Any:
         """``c . x`` (exact for the zero coefficients)."""
         return sum(ci * xi for ci, xi in zip(self.c, x) if ci)
 
 
-def _system(hy):
+def equations_of_motion(hy: Any = None) -> list[tuple[Any, Any]]:
+    """Hamilton's equations in pendulum variables as heyoka ``(variable, expression)``
+    pairs (:func:`rotorlib.system.rhs_alpha` in numpy): the one builder every heyoka
+    integrator of the nonlinear flow uses (``hy``: the heyoka module, default
+    :func:`~rotorlib.precision.load_heyoka`)."""
+    hy = hy or load_heyoka()
     a1, a2, p1, p2 = hy.make_vars("a1", "a2", "p1", "p2")
     s_m, s_p = hy.sin(a2 - a1), hy.sin(a1 + a2)
     two, half, three_halves = (hy.expression(v) for v in (2.0, 0.5, 1.5))
@@ -125,7 +136,7 @@ def _build(t: Tier, sections, variational, terminal):
 
     hy = load_heyoka()
 
-    sys = _system(hy)
+    sys = equations_of_motion(hy)
     if variational:
         sys = hy.var_ode_sys(sys, hy.var_args.vars, order=1)
     kw = dict(t.hy_kwargs)
@@ -201,7 +212,7 @@ class SectionNotReached(RuntimeError):
         Crossings found before ``t_max``.
     """
 
-    def __init__(self, t_max, crossings):
+    def __init__(self, t_max: Any, crossings: Any) -> None:
         super().__init__(
             f"section not reached before t = {float(t_max):g} ({crossings} crossings)"
         )
@@ -209,24 +220,23 @@ class SectionNotReached(RuntimeError):
 
 
 def to_section(
-    x0,
+    x0: StateLike,
     section: Section,
-    t: Tier = FLOAT64,
-    crossing=1,
-    t_max=1e4,
-    variational=False,
+    digits: int | Tier | None = None,
+    crossing: int = 1,
+    t_max: float = 1e4,
+    variational: bool = False,
     abort: Section | None = None,
-):
+) -> tuple[Any, ...]:
     """Integrate from ``x0`` at ``t = 0`` to the ``crossing``-th crossing of ``section``.
 
     Returns ``(t1, x1)`` or, with ``variational``, ``(t1, x1, Phi)`` where ``Phi`` is the
     4x4 fundamental matrix ``dx(t1)/dx0`` at fixed time (rows of tier numbers). Raises
     :class:`SectionNotReached` at ``t_max``, or as soon as ``abort`` is crossed first (e.g.
-    ``a2`` turning back before it reaches the section of a rotation).
+    ``a2`` turning back before it reaches the section of a rotation). The tier is
+    :func:`~rotorlib.precision.tier` of ``digits``.
     """
-    from .precision import load_heyoka
-
-    hy = load_heyoka()
+    hy, t = load_heyoka(), tier(digits)
 
     secs = (section,) if abort is None else (section, abort)
     ta, _ = _integrator(t, secs, variational)
@@ -260,13 +270,18 @@ def _right_way(section, x, t):
         return (section.value(_rhs(x)) > 0) == (section.direction > 0)
 
 
-def crossings(x0, sections, t_max, t: Tier = FLOAT64):
+def crossings(
+    x0: StateLike,
+    sections: Sequence[Section],
+    t_max: float,
+    digits: int | Tier | None = None,
+) -> list[tuple[int, Any, list[Any]]]:
     """Every crossing of each of ``sections`` on ``0 < t < t_max`` from ``x0``.
 
     Returns a list of ``(index of the section, time, state)`` in time order (state as
     tier numbers), each located by heyoka's event root finder (non-terminal events).
     """
-    sections = tuple(sections)
+    t, sections = tier(digits), tuple(sections)
     ta, found = _integrator(t, sections, False, terminal=False)
     _start(ta, t, x0, False)
     _set_levels(ta, t, sections)
@@ -285,26 +300,54 @@ def _pack(out, variational):
     return out if variational else (out,)
 
 
-def flow(x0, time, t: Tier = FLOAT64, variational=False):
-    """The state after ``time`` (and ``Phi`` with ``variational``), as tier numbers."""
+def flow(
+    x0: StateLike,
+    time: Any,
+    digits: int | Tier | None = None,
+    variational: bool = False,
+) -> Any:
+    """The state after ``time`` (and ``Phi`` with ``variational``), as tier numbers.
+
+    Examples
+    --------
+    >>> from rotorlib.flow import flow
+    >>> from rotorlib.system import energy_alpha
+    >>> x0 = [0.0, 0.0, 0.0, 1.0]  # the pendulum: a1 = p1 = 0 is invariant
+    >>> x = flow(x0, 5.0)
+    >>> x[0], x[2], bool(abs(energy_alpha(x) - energy_alpha(x0)) < 1e-13)
+    (0.0, 0.0, True)
+    >>> x40 = flow(x0, 5.0, digits=40)  # mp tier: mpf numbers
+    >>> bool(abs(x40[1] - x[1]) < 1e-13), type(x40[1]).__name__
+    (True, 'mpf')
+    """
+    t = tier(digits)
     ta, _ = _integrator(t, None, variational)
     _start(ta, t, x0, variational)
     ta.propagate_until(t.to_hy(time))
     return _out(ta, t, variational)
 
 
-def monodromy_matrix(x0, period, t: Tier = FLOAT64):
+def monodromy_matrix(
+    x0: StateLike, period: Any, digits: int | Tier | None = None
+) -> tuple[np.ndarray, list[Any], Any]:
     """``(M, x(T), tr M)``: the monodromy in state order as a float64 array, the end
     state (tier numbers) and the trace (a tier number, summed in the tier)."""
+    t = tier(digits)
     x, Phi = flow(x0, period, t, variational=True)
     with t.context():
         tr = sum(Phi[i][i] for i in range(4))
     return np.array([[float(v) for v in row] for row in Phi]), x, tr
 
 
-def sample(x0, period, n=801, t: Tier = FLOAT64):
+def sample(
+    x0: StateLike,
+    period: Any,
+    n: int = 801,
+    digits: int | Tier | None = None,
+) -> tuple[np.ndarray, np.ndarray]:
     """States at ``n`` equally spaced times over ``[0, period]``: ``(states (n, 4), times)``,
     float64."""
+    t = tier(digits)
     ta, _ = _integrator(t, None, False)
     _start(ta, t, x0, False)
     grid = np.linspace(0.0, float(period), n)
@@ -312,7 +355,9 @@ def sample(x0, period, n=801, t: Tier = FLOAT64):
     return np.array(out[-1], dtype=float).reshape(n, 4), grid
 
 
-def extrema(x0, period, t: Tier = FLOAT64):
+def extrema(
+    x0: StateLike, period: Any, digits: int | Tier | None = None
+) -> tuple[float, float]:
     """``(max |a1|, largest excursion of a2)`` over ``[0, period]``, each located at its
     turning point (``p1 = 0`` or ``p2 = 0``) to the working precision.
 
@@ -321,7 +366,7 @@ def extrema(x0, period, t: Tier = FLOAT64):
     """
     import math
 
-    hits = crossings(x0, (Section((0, 0, 1, 0)), Section((0, 0, 0, 1))), period, t)
+    hits = crossings(x0, (Section((0, 0, 1, 0)), Section((0, 0, 0, 1))), period, digits)
     a1m = max([abs(float(x0[0]))] + [abs(float(x[0])) for k, _, x in hits if k == 0])
     a2s = [abs(float(x[1])) for k, _, x in hits if k == 1]
     if a2s:

@@ -51,6 +51,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import Any
 
 import mpmath as mp
 import numpy as np
@@ -61,7 +62,7 @@ from .continuation import member
 from .newborn import family_spec, follow, linear_orbit, newborn_orbit
 from .parallel import pmap
 from .periodic import orbit_from_state
-from .precision import REAL128
+from .precision import REAL128, Tier
 from .shooting import solve
 
 __all__ = ["SQRT3_PI", "DELTA_L", "SQRT_DELTA_L", "SlopeLaw", "fork_fit"]
@@ -127,7 +128,9 @@ class SlopeLaw:
         return abs(self.ratio / self.expected - 1.0)
 
 
-def fork_fit(E, trace, u, E_birth, trace_birth=4.0, degree=2):
+def fork_fit(
+    E: Any, trace: Any, u: Any, E_birth: Any, trace_birth: Any = 4.0, degree: Any = 2
+) -> Any:
     """Fit ``E - E_n = c1 s + c2 s^2`` and ``tr M - 4 = d1 s + d2 s^2`` with ``s = u^2``.
 
     Returns ``(slope = d1/c1, c1, d1, residual)``; ``residual`` is the largest
@@ -156,7 +159,7 @@ def fork_fit(E, trace, u, E_birth, trace_birth=4.0, degree=2):
     return float(cT[0] / cE[0]), float(cE[0]), float(cT[0]), float(res)
 
 
-def expected_ratio(label) -> float:
+def expected_ratio(label: Any) -> float:
     """The slope theorem's ``tr M_new' / tr M_pend'``: -2 (IS^l, IS^r), 8 (PD^r)."""
     kind, phase, _ = parse_label(label)
     if kind == "PD" and phase == "lib":
@@ -166,7 +169,7 @@ def expected_ratio(label) -> float:
     return -2.0 if kind == "IS" else 8.0
 
 
-def pendulum_dtrace_dx(label, h=1e-5) -> float:
+def pendulum_dtrace_dx(label: Any, h: Any = 1e-5) -> float:
     """``d tr M / dx`` of the pendulum at the transition, ``x = log|E - 4|``: central difference of
     ``tr M(Delta(x))`` (``Delta`` float64-accurate to ~1e-13; ``h = 1e-5``: ~1e-8 relative + ``O(h^2)``)."""
     t = transition(label)
@@ -176,7 +179,7 @@ def pendulum_dtrace_dx(label, h=1e-5) -> float:
     return float((tp - tm) / (2 * h))
 
 
-def pendulum_slope(label, h=1e-5) -> float:
+def pendulum_slope(label: Any, h: Any = 1e-5) -> float:
     """``d tr M / dE`` of the pendulum at the transition: ``(dtrM/dx) / (E - 4)`` with
     :func:`pendulum_dtrace_dx` and ``E - 4 = -+e^x`` (libration / rotation)."""
     t = transition(label)
@@ -184,7 +187,7 @@ def pendulum_slope(label, h=1e-5) -> float:
     return pendulum_dtrace_dx(label, h) / (sign * math.exp(t.log_abs_dE))
 
 
-def slope_law(label, E, trace, u) -> SlopeLaw:
+def slope_law(label: Any, E: Any, trace: Any, u: Any) -> SlopeLaw:
     """:class:`SlopeLaw` from given members ``(E, trace, u)`` of the family born at ``label``."""
     return _law(label, transition(label).E, E, trace, u, E)
 
@@ -212,7 +215,9 @@ def _law(label, x0, x, trace, u, E) -> SlopeLaw:
     )
 
 
-def newborn_slope(label, rel=(2e-4, 5e-4, 1e-3, 2e-3, 4e-3), digits=None) -> SlopeLaw:
+def newborn_slope(
+    label: Any, rel: Any = (2e-4, 5e-4, 1e-3, 2e-3, 4e-3), digits: Any = None
+) -> SlopeLaw:
     """Members at ``E_n + r |E_n - 4|`` (``rotorlib.newborn.newborn_orbit``) and their fork fit.
 
     The energies are formed in mpmath from the transition's ``log|E_n - 4|`` and passed as decimal
@@ -238,7 +243,7 @@ def newborn_slope(label, rel=(2e-4, 5e-4, 1e-3, 2e-3, 4e-3), digits=None) -> Slo
 # --------------------------------------------------------------------------- fans (§7.4)
 
 
-def fan_prediction(label) -> float:
+def fan_prediction(label: Any) -> float:
     """Backward linear extrapolation of a rotational family to E = 4 using the slope theorem.
 
     ``tr M(4) ~ 4 + r s_pend (4 - E_n) = 4 - r dtrM_pend/dx`` with ``r`` from :func:`expected_ratio`
@@ -247,7 +252,7 @@ def fan_prediction(label) -> float:
     return float(4.0 - expected_ratio(label) * pendulum_dtrace_dx(label))
 
 
-def fan_traces(labels, E=4.0) -> dict:
+def fan_traces(labels: Any, E: Any = 4.0) -> dict:
     """``{label: PeriodicOrbit}`` at energy ``E`` (``newborn_orbit`` default precision: real128 near E = 4)."""
     return {lab: newborn_orbit(lab, E) for lab in labels}
 
@@ -255,7 +260,7 @@ def fan_traces(labels, E=4.0) -> dict:
 # --------------------------------------------------------------------------- scaling of shapes (§7.5)
 
 
-def amplitudes(orbit) -> tuple:
+def amplitudes(orbit: Any) -> tuple:
     """``(a1max, pi - a2max)`` of a librational newborn orbit, its turning points located in
     real128 from its 32-digit state (``pi - a2max`` formed in mpmath: no cancellation).
     Falls back to the orbit's float64 extrema for a float64 orbit."""
@@ -273,13 +278,13 @@ def amplitudes(orbit) -> tuple:
         return float(a1), float(REAL128.pi - a2)
 
 
-def ratios(values, k) -> list:
+def ratios(values: Any, k: Any) -> list:
     """``values[i] / values[i + k]`` (the alpha(n), beta(n) sequences of paper eqs. al-seq, beta-al-2)."""
     v = list(values)
     return [v[i] / v[i + k] for i in range(len(v) - k)]
 
 
-def asymptotic_a1(label, E=4.0) -> float:
+def asymptotic_a1(label: Any, E: Any = 4.0) -> float:
     """Paper eq. (al1-asymptotic): ``a1max(n; E) ~ sqrt(E - E_n)``."""
     t = transition(label)
     if t.phase == "lib":
@@ -288,7 +293,7 @@ def asymptotic_a1(label, E=4.0) -> float:
     return math.sqrt(float(E) - t.E)
 
 
-def asymptotic_a2_deficit(label) -> float:
+def asymptotic_a2_deficit(label: Any) -> float:
     """Paper eq. (al-2-max): ``pi - a2max(n; 4) ~ sqrt(4 - E_n)`` (librational)."""
     t = transition(label)
     return math.exp(0.5 * t.log_abs_dE)
@@ -324,7 +329,7 @@ def dual_label(n_lib: int) -> str:
     return f"PD^r_{2 * j + r + 1}"
 
 
-def duality_pairs(n_max=20, digits=None) -> list:
+def duality_pairs(n_max: Any = 20, digits: Any = None) -> list:
     """:class:`DualPair` for ``IS^l_1 .. IS^l_{n_max}``.
 
     ``digits=None``: float64 transitions (``x`` to ~2e-13 absolute, so ``diff`` is resolved only while it
@@ -360,7 +365,7 @@ def duality_pairs(n_max=20, digits=None) -> list:
     return out
 
 
-def fit_rate(ns, values) -> tuple:
+def fit_rate(ns: Any, values: Any) -> tuple:
     """Least-squares ``log|v_n| = a - b n``; returns ``(b, a)`` (``|v_n| ~ e^{a - b n}``)."""
     ns = np.asarray(ns, float)
     y = np.log(np.abs(np.asarray(values, float)))
@@ -368,7 +373,9 @@ def fit_rate(ns, values) -> tuple:
     return float(-b), float(a)
 
 
-def dual_lame(lib_label="IS^l_1", rot_label="IS^r_1", n=2001):
+def dual_lame(
+    lib_label: Any = "IS^l_1", rot_label: Any = "IS^r_1", n: Any = 2001
+) -> Any:
     """Periodic transverse solutions ``a1'' = -(2 + cos a2) a1``, ``a1(0) = 1``, ``a1'(0) = 0`` at two dual
     transitions, on the paper's rescaled times ``z = sqrt3 t`` (lib) and ``z = sqrt3 k_r t`` (rot).
 
@@ -461,7 +468,7 @@ class NotReached(ValueError):
         Why the continuation ended.
     """
 
-    def __init__(self, label, dE, dE_max, stop):
+    def __init__(self, label: Any, dE: Any, dE_max: Any, stop: Any) -> None:
         self.label, self.stop = label, stop
         self.dE, self.dE_max = float(dE), float(dE_max)
         super().__init__(
@@ -496,7 +503,7 @@ def _member_props(prob, m, t, tp=None):
         )
 
 
-def rotational_member(label, dE, digits=None) -> RotationalMember:
+def rotational_member(label: Any, dE: Any, digits: Any = None) -> RotationalMember:
     """The member of a rotational newborn family with ``E - 4 = dE`` (a decimal string keeps
     its digits in real128), reached by :func:`rotorlib.newborn.follow` in the ``K`` chart and
     located on the branch by a secant on its pseudo-arclength.
@@ -515,7 +522,7 @@ def rotational_member(label, dE, digits=None) -> RotationalMember:
     target = float(dE)
     if not target > 0:
         raise ValueError(f"dE must be > 0, got {dE!r}")
-    deep = spec.depth < 3e-8
+    deep = spec.depth < Tier.separatrix_depth
     b = follow(
         label,
         chart="K",
@@ -557,7 +564,7 @@ def _four_plus(dE, deep):
         return 4 + REAL128.num(dE)
 
 
-def dE_str(label) -> str:
+def dE_str(label: Any) -> str:
     """``E_n - 4`` of a rotational transition as a 35-digit decimal string."""
     t = transition(label)
     if t.phase != "rot":
@@ -604,7 +611,7 @@ def _check_specs(specs) -> list:
     return specs
 
 
-def rotational_members(specs, executor=None, progress=False) -> dict:
+def rotational_members(specs: Any, executor: Any = None, progress: Any = False) -> dict:
     """The members that :func:`rotational_ratios` needs for ``specs``, each once:
     ``{(label, dE): RotationalMember}``, ``dE`` the decimal string of ``E - 4``
     (:func:`dE_str`), or the :class:`NotReached` message (a string) for a family that
@@ -629,7 +636,9 @@ def rotational_members(specs, executor=None, progress=False) -> dict:
     return dict(zip(tasks, found))
 
 
-def rotational_ratios(specs, executor=None, progress=False, members=None) -> list:
+def rotational_ratios(
+    specs: Any, executor: Any = None, progress: Any = False, members: Any = None
+) -> list:
     """:class:`RotationalRatio` for each ``(kind, n)`` of ``specs`` (``n >= 3``); the members
     (each once) from :func:`rotational_members` (``executor``: any
     :class:`concurrent.futures.Executor`), or from ``members``, a dict of the same form

@@ -42,20 +42,19 @@ default for members near E = 4.
 
 from __future__ import annotations
 
-import dataclasses
 import functools
 import math
 import time
 from dataclasses import dataclass
+from typing import Any
 
 import mpmath as mp
 import numpy as np
 
 from .bifurcations import parse_label, transition
 from .continuation import (
-    PALC,
-    ContinuationOptions,
     FamilyEnd,
+    Member,
     Natural,
     continuation,
     member,
@@ -79,6 +78,7 @@ __all__ = [
     "newborn_orbit",
     "newborn_family",
     "follow",
+    "family",
     "linear_orbit",
     "a1_structure",
     "trace_slope_at_birth",
@@ -92,8 +92,6 @@ FAMILIES = tuple(
     + [f"PD^r_{n}" for n in range(1, 7)]
 )
 
-#: float64 shooting is used while |E_n - 4| exceeds this (book/numerical_notes.md: fine to ~1e-8).
-FLOAT64_LIMIT = 3e-8
 #: Families are followed member by member (with tr M over a whole period) in float64 only while
 #: ``|E_n - 4|`` exceeds this (measured: float64 tr M of IS^l_3,4 and PD^l_2 at E = 4 within 6e-5
 #: of real128; of PD^l_3 (born at 1.5e-6) 0.04 off, of IS^l_5,6 (1.7e-7, 5.8e-8) wrong by O(1)
@@ -153,6 +151,11 @@ class FamilySpec:
         return (self.n + 1) // 2 if self.kind == "PD" else (self.n + 1) // 2 + 1
 
     @property
+    def u_scale(self) -> float:
+        """Rough amplitude scale: transverse energy ~ a1^2 (a1 start) or p1^2/4 (p1)."""
+        return 1.0 if self.start == "a1" else 2.0
+
+    @property
     def depth(self) -> float:
         """``|E_n - 4|`` (from ``log|E_n - 4|``: exact where ``E_n`` rounds to 4 in float64)."""
         return math.exp(self.log_abs_dE_birth)
@@ -177,7 +180,7 @@ class FamilySpec:
         )
 
 
-def family_spec(label) -> FamilySpec:
+def family_spec(label: str) -> FamilySpec:
     """The family born at ``label`` (``IS^l_2``, ``ISl2``, ``PD^r_3`` ...)."""
     return _family_spec(*parse_label(label))
 
@@ -219,7 +222,7 @@ def _family_spec(kind, phase, n) -> FamilySpec:
 #: to ``E_upper`` and the branch, followed further, runs towards E = 4.5 (the maxima of V) with a
 #: growing period; ``'followed'``: checked up to there. Extended-precision families: the energies
 #: at which they were checked (E = 4 for libration, ``E_n + 1000 |E_n - 4|`` for rotation).
-FAMILY_REACH = {
+FAMILY_REACH: dict[str, tuple[float | str, str]] = {
     "IS^l_1": (4.4999101, "E = 4.5"),
     "IS^l_2": (4.48, "E = 4.5"),
     "IS^l_3": (5.4889383, "fold"),
@@ -255,13 +258,16 @@ class FamilyRangeError(ValueError):
         The family exists for ``E_min < E <= E_max``.
     how : str
         Why the range ends at ``E_max`` (a key of :data:`FAMILY_REACH`).
-    E : float
-        The energy asked for.
+    E : float or (float, float)
+        The energy (or the range) asked for.
     """
 
-    def __init__(self, spec: FamilySpec, E):
+    def __init__(self, spec: FamilySpec, E: Any):
         lo, hi = family_range(spec)
-        self.label, self.E_min, self.E_max, self.E = spec.label, lo, hi, float(E)
+        self.label, self.E_min, self.E_max = spec.label, lo, hi
+        rng = isinstance(E, tuple)
+        self.E = tuple(float(v) for v in E) if rng else float(E)
+        got = f"E_range = {self.E!r}" if rng else f"E = {self.E!r}"
         self.how = FAMILY_REACH[spec.label][1]
         why = {
             "fold": f"at E = {hi!r} the family folds back to lower energies (no member "
@@ -273,11 +279,11 @@ class FamilyRangeError(ValueError):
         }[self.how]
         super().__init__(
             f"{spec.label} exists for {lo!r} < E <= {hi!r} (born at E_n = {lo!r}; "
-            f"{why}); got E = {float(E)!r}"
+            f"{why}); got {got}"
         )
 
 
-def family_range(spec: FamilySpec) -> tuple:
+def family_range(spec: FamilySpec) -> tuple[float, float]:
     """``(E_n, E_max)``: every family is born at ``E_n`` and exists just above it (forward
     fork); ``E_max`` from :data:`FAMILY_REACH`."""
     if spec.label not in FAMILY_REACH:
@@ -287,8 +293,8 @@ def family_range(spec: FamilySpec) -> tuple:
         )
     top = FAMILY_REACH[spec.label][0]
     if isinstance(top, str):
-        top = spec.E_birth + float(top) * spec.depth
-    return spec.E_birth, top
+        return spec.E_birth, spec.E_birth + float(top) * spec.depth
+    return spec.E_birth, float(top)
 
 
 # --------------------------------------------------------------------------- birth and seed
@@ -305,14 +311,28 @@ def _birth(spec: FamilySpec, name: str):
         return 4 - eps if spec.phase == "lib" else 4 + eps
 
 
-def birth_member(spec: FamilySpec, u, t: Tier = FLOAT64, tol=None):
+def birth_member(
+    spec: FamilySpec,
+    u: Any,
+    digits: int | Tier | None = None,
+    tol: Any = None,
+) -> tuple[Any, int]:
     """Paper §6 step 3 in one unknown: fix the amplitude ``u``, adjust the energy.
 
     A secant on the symmetric residual in ``E`` from ``E_n`` and ``E_n + 1e-3 |E_n - 4|``
-    to a relative step ``tol`` (default 1e-15 float64, 1e-32 real128); a simple root: ``E``
-    to ~eps / |E - 4|. Returns ``(E, iterations)``; the residual is evaluated
+    to a relative step ``tol`` (default 1e-15 float64, 1e-32 real128), in the tier of
+    ``digits`` (:func:`~rotorlib.precision.tier`); a simple root: ``E`` to
+    ~eps / |E - 4|. Returns ``(E, iterations)``; the residual is evaluated
     ``iterations + 2`` times.
+
+    Examples
+    --------
+    >>> from rotorlib.newborn import birth_member, family_spec
+    >>> E, it = birth_member(family_spec("IS^l_2"), 1e-3)
+    >>> round(E, 9)
+    3.996917247
     """
+    t = tier(digits)
     with t.context():
         E0 = _birth(spec, t.name)
         dE = (
@@ -325,19 +345,26 @@ def birth_member(spec: FamilySpec, u, t: Tier = FLOAT64, tol=None):
         return m.E, it
 
 
-def _u_scale(spec):
-    # rough amplitude scale: transverse energy ~ a1^2 (a1 start) or p1^2/4 (p1 start)
-    return 1.0 if spec.start == "a1" else 2.0
+def seed(label: str, digits: int | Tier | None = None) -> tuple[Member, Any]:
+    """``(member, c)``: the first member, at ``u = 0.01 sqrt|E_n - 4|`` (twice that for a
+    ``p1`` start), and the fork coefficient ``c`` in ``E - E_n = c u^2``, in the tier of
+    ``digits`` (:func:`~rotorlib.precision.tier`).
+
+    Examples
+    --------
+    >>> from rotorlib.newborn import seed
+    >>> m, c = seed("IS^l_2")
+    >>> m.label, m.stability, round(c, 4)
+    ('IS^l_2', 'unknown', 0.1361)
+    """
+    return _seed(family_spec(label).label, tier(digits))
 
 
 @functools.lru_cache(maxsize=64)
-def seed(label, name="float64"):
-    """``(member, c)``: the first member, at ``u = 0.01 sqrt|E_n - 4|`` (twice that for a
-    ``p1`` start), and the fork coefficient ``c`` in ``E - E_n = c u^2``."""
-    spec = family_spec(label)
-    t = Tier(name)
+def _seed(label: str, t: Tier) -> tuple[Member, Any]:
+    spec, name = family_spec(label), t.name
     with t.context():
-        u_s = t.num(1e-2 * _u_scale(spec) * math.sqrt(spec.depth))
+        u_s = t.num(1e-2 * spec.u_scale * math.sqrt(spec.depth))
         E_s, _ = birth_member(spec, u_s, t)
         m = member(spec.problem, u_s, E_s, t)
         return m, (E_s - _birth(spec, name)) / (u_s * u_s)
@@ -346,7 +373,7 @@ def seed(label, name="float64"):
 def _path(spec: FamilySpec, E_target, t: Tier, steps=None):
     """Members from the seed to ``E_target``, continued in ``E`` (Natural, values spaced in
     ``sqrt|E - E_n|``); raises :class:`~rotorlib.continuation.FamilyEnd` where it stops."""
-    m0, c = seed(spec.label, t.name)
+    m0, c = seed(spec.label, t)
     with t.context():
         E_target = t.num(E_target)
         if (c > 0) != (E_target > spec.E_birth):
@@ -367,14 +394,14 @@ def _path(spec: FamilySpec, E_target, t: Tier, steps=None):
         alg = Natural(
             "E", tuple(vals) + (E_target,), order=1, origin=En, origin_other=0.0
         )
-        return continuation(spec.problem, alg, start=[m0], t=t).members
+        return continuation(spec.problem, alg, start=[m0], digits=t).members
 
 
 def _tiers(spec: FamilySpec, digits):
     """(continuation tier, result tier) for ``digits`` (see the module docstring)."""
     cont = (
         FLOAT64
-        if spec.depth > FLOAT64_LIMIT or (digits is not None and digits <= 15)
+        if spec.depth > Tier.separatrix_depth or (digits is not None and digits <= 15)
         else REAL128
     )
     if digits is None:
@@ -384,8 +411,14 @@ def _tiers(spec: FamilySpec, digits):
     return cont, tier(int(digits), math.log10(1 / spec.depth) + 2)
 
 
-def newborn_orbit(label, E, digits=None, steps=None) -> PeriodicOrbit:
-    """The member of the family born at ``label`` with energy ``E``.
+def newborn_orbit(
+    label: str,
+    E: float | str,
+    digits: int | None = None,
+    steps: int | None = None,
+) -> PeriodicOrbit:
+    """The member of the family born at ``label`` with energy ``E`` (:func:`family` gives
+    its members over a range).
 
     Parameters
     ----------
@@ -454,7 +487,12 @@ def newborn_orbit(label, E, digits=None, steps=None) -> PeriodicOrbit:
     )
 
 
-def newborn_family(label, E_end=None, n=12, digits=None) -> list:
+def newborn_family(
+    label: str,
+    E_end: float | str | None = None,
+    n: int = 12,
+    digits: int | None = None,
+) -> list[PeriodicOrbit]:
     """Members of a newborn family from its seed near birth to ``E_end``.
 
     Parameters
@@ -502,123 +540,12 @@ def newborn_family(label, E_end=None, n=12, digits=None) -> list:
     return [periodic_orbit(spec.problem, m.u, m.w, t) for m in path]
 
 
-def follow(
-    label,
-    *,
-    E_max=None,
-    E_min=None,
-    t1_max=None,
-    digits=None,
-    traces=False,
-    energies=(),
-    chart="E",
-    jump=None,
-    ds=0.3,
-    ds_max=1.0,
-    max_steps=2000,
-    clip=True,
-):
-    """The family born at ``label`` followed in pseudo-arclength from its seed: passes folds.
-
-    Parameters
-    ----------
-    E_max, E_min : float, optional
-        Stop outside ``[E_min, E_max]`` (default ``[E_n - 2|E_n - 4|, 4.2]`` for libration,
-        ``[E_n - 2|E_n - 4|, E_n + 6]`` for rotation). The family is followed from its
-        seed near the birth energy ``E_n``; the first member outside the range stops it
-        and is dropped (with ``clip``), so that every member after the seed, and every
-        special point, lies inside the range. A range that does not contain ``E_n``
-        stops at once (only the seed is left). ``Branch.reason`` says which rule stopped
-        it.
-    t1_max : float, optional
-        Stop once ``t1`` exceeds it (default: the period 12 times its value at birth): the
-        family runs into an orbit of infinite period (through the maxima of V, E -> 4.5).
-    digits : int, optional
-        Tier of the continuation (default float64 while ``|E_n - 4| > 3e-8``, else real128).
-    traces : bool
-        ``tr M`` of every member and the ``IS``/``PD`` points where it crosses 4 or 0.
-    energies : tuple
-        Energies at which members are located exactly (``E`` points).
-    chart : {'E', 'K'}
-        Second unknown: ``E``, or (rotational families) the energy ``q = K - 4`` of the
-        ``a2`` motion above the barrier at the base point: ``E - 4 = q + T(u)`` without
-        cancellation.
-    jump : float, optional
-        Refuse steps that change ``t1`` by more than this fraction.
-    clip : bool
-        Drop the member that left ``[E_min, E_max]`` (default). ``False`` keeps it, to
-        show where the family went one step beyond the range.
-
-    Returns
-    -------
-    rotorlib.continuation.Branch
-        Members ``u, E, t1, period, trace``; special points ``fold``, ``E``, ``IS``, ``PD``;
-        ``stop`` and ``reason``: why it ended.
-
-    Examples
-    --------
-    >>> from rotorlib.newborn import follow
-    >>> b = follow("IS^r_1", E_min=5.8, E_max=6.0)
-    >>> b.stop, len(b.members)
-    ('E range', 1)
-    >>> "outside E_range = (5.8, 6)" in b.reason and "first member" in b.reason
-    True
-    """
-    spec = family_spec(label)
-    t = _tiers(spec, None)[0] if digits is None else tier(int(digits))
-    d = spec.depth
-    E_max = (
-        E_max
-        if E_max is not None
-        else (4.2 if spec.phase == "lib" else spec.E_birth + 6)
-    )
-    E_min = E_min if E_min is not None else spec.E_birth - 2 * d
-    T_birth = spec.period_birth * (2 if spec.kind == "PD" else 1)
-    t1_max = t1_max if t1_max is not None else 12 * T_birth / spec.factor
-    m0, _ = seed(spec.label, t.name)
-    prob = spec.problem if chart == "E" else spec.problem.chart(4.0)
-    if chart == "K":
-        m0 = member(prob, m0.u, prob.w_at(m0.u, m0.E, t), t)
-    alg = PALC(
-        ds=ds,
-        ds_max=ds_max,
-        E_ref=spec.E_birth if chart == "E" else 4.0,
-        u_floor=1e-3 * math.sqrt(d),
-        w_floor=1e-3 * d,
-    )
-    # accepted residual: the shooting amplifies round-off like 1/|E_n - 4| (the K chart's
-    # members sit in a channel where a2 barely passes the barrier: 1e-6 in float64, as measured)
-    r_max = (
-        (1e-6 if chart == "K" else 1e-8)
-        if not t.extended
-        else max(t.eps ** (2 / 3), 1e4 * t.eps / d)
-    )
-    opts = ContinuationOptions(
-        max_steps=max_steps,
-        E_range=(E_min, E_max),
-        t1_max=t1_max,
-        jump=jump,
-        traces=traces,
-        energies=tuple(energies),
-        r_max=r_max,
-    )
-    b = continuation(prob, alg, opts, [m0], t)
-    if not clip or b.stop != "E range" or len(b.members) < 2:
-        return b
-    keep = b.members[:-1]
-    pts = [
-        p
-        for p in b.special_points
-        if p.index < len(keep) and E_min <= p.member.E <= E_max
-    ]
-    why = b.reason + " (dropped: the branch ends with its last member inside)"
-    return dataclasses.replace(b, members=keep, special_points=tuple(pts), reason=why)
-
-
 # --------------------------------------------------------------------------- shapes (Fig. 5, Tables III-IV)
 
 
-def linear_orbit(label, x0, period, n=801):
+def linear_orbit(
+    label: str, x0: Any, period: float, n: int = 801
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The linearised orbit of Fig. 5: ``a2`` the pendulum at the bifurcation, ``a1`` from the
     transverse Lamé equation ``a1'' = -(2 + cos a2) a1`` with the same initial ``(a1, p1)``.
 
@@ -647,7 +574,9 @@ def linear_orbit(label, x0, period, n=801):
     return t, sol.y[0], np.array([pend.state(tt)[1] for tt in t])
 
 
-def a1_structure(orbit: PeriodicOrbit, spec: FamilySpec | None = None, n=4000) -> dict:
+def a1_structure(
+    orbit: PeriodicOrbit, spec: FamilySpec | None = None, n: int = 4000
+) -> dict[str, Any]:
     """Period of ``a1`` in units of the pendulum period at birth, and its nodes per orbit period.
 
     ``a1`` is sampled at ``n`` mid-points of one period (float64 heyoka); its period is the
@@ -683,7 +612,9 @@ def a1_structure(orbit: PeriodicOrbit, spec: FamilySpec | None = None, n=4000) -
     }
 
 
-def trace_slope_at_birth(label, rel=(1e-3, 2e-3), digits=None):
+def trace_slope_at_birth(
+    label: str, rel: tuple[float, float] = (1e-3, 2e-3), digits: int | None = None
+) -> tuple[float, float]:
     """``(d tr M / dE, tr M at E_n)`` of the new family at birth, from two members at
     ``E_n + r |E_n - 4|`` (linear extrapolation)."""
     spec = family_spec(label)
@@ -691,3 +622,7 @@ def trace_slope_at_birth(label, rel=(1e-3, 2e-3), digits=None):
     trs = [newborn_orbit(label, E, digits=digits).trace for E in Es]
     slope = (trs[1] - trs[0]) / (Es[1] - Es[0])
     return slope, trs[0] - slope * (Es[0] - spec.E_birth)
+
+
+# the families over an energy range (rotorlib.newborn_families), re-exported here
+from .newborn_families import family, follow  # noqa: E402

@@ -149,6 +149,21 @@ class Tier:
 
     name: str
 
+    #: float64 shooting is trusted while the distance ``|E - E_sep|`` to the separatrix
+    #: exceeds this (book/numerical_notes.md: fine to ~1e-8); closer, real128.
+    separatrix_depth = 3e-8
+
+    @property
+    def r_max(self) -> float:
+        """The accepted shooting residual: 1e-8 in float64, ``eps^(2/3)`` extended."""
+        return 1e-8 if not self.extended else self.eps ** (2 / 3)
+
+    @property
+    def step_tol(self):
+        """The relative step at which a secant stops: 4e-15 in float64, ``8 eps``
+        extended (a number of the tier)."""
+        return 4e-15 if not self.extended else self.num(self.eps) * 8
+
     def __post_init__(self):
         ok = self.name in ("float64", "real128") or (
             self.name.startswith("mp") and self.name[2:].isdigit()

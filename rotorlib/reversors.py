@@ -28,11 +28,12 @@ import functools
 import itertools
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
 from .flow import Section
-from .precision import FLOAT64, Tier
+from .precision import Tier, tier
 from .shooting import StartSet
 
 __all__ = [
@@ -220,13 +221,15 @@ class CircleSet:
     name: str
     q0: tuple
 
-    def bound(self, u, t: Tier = FLOAT64):
+    def bound(self, u: Any, digits: int | Tier | None = None) -> Any:
+        t = tier(digits)
         with t.context():
             m = t.m
             q = [self.q0[0] * t.pi, self.q0[1] * t.pi]
             return 3 - m.cos(2 * q[0]) - m.cos(q[1] - q[0]) - m.cos(q[0] + q[1])
 
-    def at(self, u, E, t: Tier = FLOAT64):
+    def at(self, u: Any, E: Any, digits: int | Tier | None = None) -> Any:
+        t = tier(digits)
         with t.context():
             u, K = t.num(u), t.num(E) - self.bound(u, t)
             if K < 0:
@@ -239,7 +242,7 @@ class CircleSet:
                 2 * s * t.m.cos(u) / t.m.sqrt(3),
             ]
 
-    def span(self, E):
+    def span(self, E: Any) -> Any:
         return (-math.pi / 2, math.pi / 2)
 
 
@@ -281,14 +284,15 @@ class BrakeSet:
                 r = r - (V - E) / dV
             return r
 
-    def at(self, u, E, t: Tier = FLOAT64):
+    def at(self, u: Any, E: Any, digits: int | Tier | None = None) -> Any:
+        t = tier(digits)
         with t.context():
             r = self._radius(u, E, t)
             f1 = self.centre[0] * t.pi + r * t.m.cos(t.num(u))
             f2 = self.centre[1] * t.pi + r * t.m.sin(t.num(u))
             return [f1 / 2, f1 / 2 + f2, t.num(0), t.num(0)]
 
-    def span(self, E):
+    def span(self, E: Any) -> Any:
         return (0.0, 2 * math.pi)
 
 
@@ -340,7 +344,8 @@ class MirrorSet:
     name: str
     line: StartSet
 
-    def at(self, u, E, t: Tier = FLOAT64):
+    def at(self, u: Any, E: Any, digits: int | Tier | None = None) -> Any:
+        t = tier(digits)
         arcs = _arcs(self.line, float(E))
         if arcs is None:
             return self.line.at(u, E, t)
@@ -374,11 +379,11 @@ class MirrorSet:
         )
         return sum(2 * m.sin(c + s * k / 2) * m.sin(s * k / 2) for c, k in terms if k)
 
-    def span(self, E):
+    def span(self, E: Any) -> Any:
         return (0.0, 2 * math.pi)
 
 
-def start_sets(E) -> tuple:
+def start_sets(E: Any) -> tuple:
     """One start set per class of fixed sets under the group (every symmetric orbit meets one
     of them, up to a symmetry): brake points (``E < 4.5``), the circle at G, the circle at D1
     (``E > 4``), the mirror of (12) (the breathers' line ``phi1 = phi2``) and of -(12)."""
@@ -405,10 +410,11 @@ def _start_sets(regime) -> tuple:
             b = np.linalg.inv(A).T @ b_phi  # p_alpha = A^-T P_phi
             b = b / np.min(np.abs(b[np.abs(b) > 1e-9]))  # integers: exact in every tier
             assert np.allclose(b, np.round(b)), b
+            ae = A @ e.astype(float)
             line = StartSet(
                 f"Fix T{r.name}",
-                a=tuple(A @ e.astype(float)),
-                b=tuple(float(round(v)) for v in b),
+                a=(float(ae[0]), float(ae[1])),
+                b=(float(round(b[0])), float(round(b[1]))),
             )
             out.append(MirrorSet(f"Fix T{r.name}", line))
     return tuple(out)
@@ -427,7 +433,7 @@ def _group_images():
     return np.array(out)
 
 
-def images(state) -> np.ndarray:
+def images(state: Any) -> np.ndarray:
     """The 24 images of a state ``[a1, a2, p1, p2]`` under the symmetry group and time
     reversal (the same orbit seen by relabelled rotors, or run backwards): shape ``(24, 4)``,
     the identity first."""

@@ -10,11 +10,12 @@ floating-point environment. :mod:`rotorlib.compare` re-exports these functions.
 from __future__ import annotations
 
 import math
+from typing import Any
 
 __all__ = ["rounded", "sig", "bound", "glue"]
 
 
-def rounded(x, digits: int, *, atol: float = 0.0):
+def rounded(x: Any, digits: int, *, atol: float = 0.0) -> Any:
     """``x`` rounded to ``digits`` significant digits; ``|x| < atol`` gives ``0.0``.
 
     Works on Python and numpy floats, mpmath numbers (converted to float), and on
@@ -49,7 +50,7 @@ def rounded(x, digits: int, *, atol: float = 0.0):
     return float(f"{v:.{digits - 1}e}")
 
 
-def sig(x, digits: int) -> str:
+def sig(x: Any, digits: int) -> str:
     """``x`` as a string with ``digits`` significant digits (``g`` style, no exponent
     between 1e-4 and 1e16).
 
@@ -71,7 +72,7 @@ def sig(x, digits: int) -> str:
     return f"{v:.{digits - 1}e}"
 
 
-def bound(x, tol: float) -> str:
+def bound(x: Any, tol: float) -> str:
     """The bound ``'< tol'`` for a quantity that is zero up to round-off (a closure error,
     an energy drift, the difference of two routes), after checking ``|x| < tol``.
 
@@ -94,7 +95,7 @@ def bound(x, tol: float) -> str:
     return f"< {tol:.0e}"
 
 
-def glue(key: str, value, digits: int | None = None, *, atol: float = 0.0) -> None:
+def glue(key: str, value: Any, digits: int | None = None, *, atol: float = 0.0) -> None:
     """Glue ``value`` under ``key`` for the book's text (myst-nb), rounded first.
 
     ``digits`` is the number of significant digits the computation verified; floats

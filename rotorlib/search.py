@@ -14,14 +14,15 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import dataclass
+from typing import Any
 
 import mpmath as mp
 import numpy as np
 
 from . import flow
-from .flow import Section, SectionNotReached
-from .newborn import FLOAT64_LIMIT, _u_scale, birth_member, family_spec, seed
-from .precision import FLOAT64, REAL128, Tier
+from .flow import Section, SectionNotReached, StateLike
+from .newborn import birth_member, family_spec, seed
+from .precision import REAL128, Tier, tier
 from .shooting import residual
 from .system import energy_alpha, potential_alpha
 
@@ -47,15 +48,18 @@ def _with_p2(spec, u, p2):
     return [u, 0.0, 0.0, p2] if spec.start == "a1" else [0.0, 0.0, u, p2]
 
 
-def periodicity_defect(label, x0, t: Tier = FLOAT64):
+def periodicity_defect(
+    label: str, x0: StateLike, digits: int | Tier | None = None
+) -> tuple[float, float]:
     """The paper's departure from periodicity of the orbit from ``x0`` (``a2(0) = 0``), §6 step 3.
 
     Integrates until ``a2`` completes one (IS) or two (PD) cycles (libration: back through
     ``a2 = 0`` going up after each turning point; rotation: to ``a2 = 2 pi`` or ``4 pi``) and
     returns ``(d, t*)``, ``d = [(a1(t*) - a1(0))^2 + (p1(t*) - p1(0))^2 + (p2(t*) - p2(0))^2]^(1/2)``.
-    Precision: the tier's; the flow amplifies round-off like ``1/|E - 4|`` over the full period.
+    Precision: the tier of ``digits`` (:func:`~rotorlib.precision.tier`); the flow
+    amplifies round-off like ``1/|E - 4|`` over the full period.
     """
-    spec = family_spec(label)
+    spec, t = family_spec(label), tier(digits)
     cycles = 1 if spec.kind == "IS" else 2
     with t.context():
         x0 = [t.num(v) for v in x0]
@@ -89,7 +93,12 @@ class PaperSearchResult:
 
 
 def paper_search(
-    label, u, E_guess, width=None, xatol=1e-16, maxiter=500
+    label: Any,
+    u: Any,
+    E_guess: Any,
+    width: Any = None,
+    xatol: Any = 1e-16,
+    maxiter: Any = 500,
 ) -> PaperSearchResult:
     """Paper §6 as written: minimise ``d(p2(0))`` (:func:`periodicity_defect`) at fixed ``u``
     with Brent's bounded minimiser (:func:`scipy.optimize.minimize_scalar`), over the ``p2``
@@ -165,18 +174,18 @@ class SearchComparison:
     shooting_seconds: float
 
 
-def default_amplitude(label, rel=0.1):
+def default_amplitude(label: Any, rel: Any = 0.1) -> Any:
     """A small amplitude near birth: ``rel sqrt|E_n - 4|`` (``a1`` start) or twice that (``p1``)."""
     spec = family_spec(label)
     if not rel > 0:
         raise ValueError(f"rel must be > 0, got {rel!r}")
-    return rel * _u_scale(spec) * math.sqrt(spec.depth)
+    return rel * spec.u_scale * math.sqrt(spec.depth)
 
 
 def _float64_only(spec, what):
-    if spec.depth < FLOAT64_LIMIT:
+    if spec.depth < Tier.separatrix_depth:
         raise ValueError(
-            f"{spec.label}: {what} is float64 only (|E_n - 4| > {FLOAT64_LIMIT})"
+            f"{spec.label}: {what} is float64 only (|E_n - 4| > {Tier.separatrix_depth})"
         )
 
 
@@ -185,7 +194,9 @@ def _guess_E(spec, u):
     return spec.E_birth + float(seed(spec.label)[1]) * u * u
 
 
-def compare_searches(label, u=None, xatol=1e-16, tol=None) -> SearchComparison:
+def compare_searches(
+    label: Any, u: Any = None, xatol: Any = 1e-16, tol: Any = None
+) -> SearchComparison:
     """:func:`paper_search` (bracket centred on the fork law, half-width ``c u^2 / 2``) and
     :func:`~rotorlib.newborn.birth_member` (secant from ``E_n``) at the same ``u``, scored
     against real128. Float64 families only (``|E_n - 4| > 3e-8``)."""
@@ -241,7 +252,12 @@ class WorkPrecision:
     error_shooting: np.ndarray
 
 
-def work_precision(label, u=None, tolerances_paper=None, tolerances_shooting=None):
+def work_precision(
+    label: Any,
+    u: Any = None,
+    tolerances_paper: Any = None,
+    tolerances_shooting: Any = None,
+) -> Any:
     """Both searches at a sequence of tolerances (default ``xatol = 1e-2 ... 1e-16``,
     ``tol = 1e-2 ... 1e-15``), scored against real128 (:class:`WorkPrecision`)."""
     spec = family_spec(label)
@@ -260,7 +276,7 @@ def work_precision(label, u=None, tolerances_paper=None, tolerances_shooting=Non
         raise ValueError("tolerances must be > 0")
     E_ref = birth_member(spec, u, REAL128)[0]
     Eg, tau = _guess_E(spec, u), spec.period_birth
-    rows = {"ep": [], "ip": [], "rp": [], "es": [], "is": [], "rs": []}
+    rows: dict[str, list[Any]] = {k: [] for k in ("ep", "ip", "rp", "es", "is", "rs")}
     with mp.workdps(40):
         for xa in tp:
             ps = paper_search(
@@ -294,7 +310,7 @@ class DefectLandscape:
     residual: np.ndarray
 
 
-def defect_landscape(label, u=None, delta=None) -> DefectLandscape:
+def defect_landscape(label: Any, u: Any = None, delta: Any = None) -> DefectLandscape:
     """:class:`DefectLandscape` for offsets ``delta`` (default ``10^-17 ... 10^-3``): both are
     linear in ``delta`` (``d`` a norm of three components vanishing together, ``r`` a simple
     root) down to their round-off floors."""
@@ -311,7 +327,7 @@ def defect_landscape(label, u=None, delta=None) -> DefectLandscape:
     return DefectLandscape(spec.label, u, p2s, delta, np.array(dd), np.array(rr))
 
 
-def residual_scan(label, E, n=2001):
+def residual_scan(label: Any, E: Any, n: Any = 2001) -> Any:
     """``(u, r)``: the symmetric residual at energy ``E`` across the whole energy shell
     (float64; ``n`` points of ``(0, u_max)``, ``r = nan`` where the section is not reached).
     Every member at ``E`` keeps the family's symmetry, so a scan without a sign change shows

@@ -23,11 +23,12 @@ asked for; the residual carries ``~eps / |E - 4|`` round-off near the separatrix
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, replace
 from typing import Any
 
 from .flow import Section, SectionNotReached, to_section
-from .precision import FLOAT64, Tier
+from .precision import FLOAT64, Tier, tier
 
 __all__ = [
     "StartSet",
@@ -62,10 +63,10 @@ class StartSet:
     """
 
     name: str
-    q0: tuple = (0.0, 0.0)
-    a: tuple = (0.0, 0.0)
-    c: tuple = (0.0, 0.0)
-    b: tuple = (0.0, 1.0)
+    q0: tuple[float, float] = (0.0, 0.0)
+    a: tuple[float, float] = (0.0, 0.0)
+    c: tuple[float, float] = (0.0, 0.0)
+    b: tuple[float, float] = (0.0, 1.0)
 
     def __post_init__(self):
         if self.c[0] * self.b[0] / 4 + 3 * self.c[1] * self.b[1] / 4:
@@ -92,19 +93,22 @@ class StartSet:
 
         return float(potential_alpha(q[0], q[1]))
 
-    def bound(self, u, t: Tier = FLOAT64):
+    def bound(self, u: Any, digits: int | Tier | None = None) -> Any:
         """``V(q(u)) + u^2 K(c)``: the energy at ``u`` with ``K = 0``."""
+        t = tier(digits)
         with t.context():
             return self._v(self._q(u, t), t) + u * u * _kin(self.c)
 
-    def at(self, u, E, t: Tier = FLOAT64):
+    def at(self, u: Any, E: Any, digits: int | Tier | None = None) -> list[Any]:
         """The state at ``u`` on the energy shell ``E`` (the protocol every start set keeps)."""
+        t = tier(digits)
         with t.context():
             u = t.num(u)
             return self.state(u, t.num(E) - self.bound(u, t), t)
 
-    def state(self, u, K, t: Tier = FLOAT64):
+    def state(self, u: Any, K: Any, digits: int | Tier | None = None) -> list[Any]:
         """``[a1, a2, p1, p2]`` at ``(u, K)`` (tier numbers). ``K < 0`` raises ValueError."""
+        t = tier(digits)
         with t.context():
             u, K = t.num(u), t.num(K)
             if K < 0:
@@ -155,32 +159,35 @@ class ShootingProblem:
     condition: Section
     crossing: int = 1
     factor: int = 2
-    lattice: tuple = (0.0, 0.0)
+    lattice: tuple[float, float] = (0.0, 0.0)
     trivial: float | None = None
     K_ref: float | None = None
     t_max: float = 1e3
     abort: Section | None = None
 
-    def chart(self, K_ref=None) -> ShootingProblem:
+    def chart(self, K_ref: float | None = None) -> ShootingProblem:
         """The same problem with the second unknown ``E`` (``K_ref=None``) or ``K - K_ref``."""
         return replace(self, K_ref=K_ref)
 
-    def energy(self, u, w, t: Tier = FLOAT64):
+    def energy(self, u: Any, w: Any, digits: int | Tier | None = None) -> Any:
         """``E`` at ``(u, w)``."""
+        t = tier(digits)
         if self.K_ref is None:
             return t.num(w)
         with t.context():
             return t.num(self.K_ref) + t.num(w) + self.start.bound(t.num(u), t)
 
-    def w_at(self, u, E, t: Tier = FLOAT64):
+    def w_at(self, u: Any, E: Any, digits: int | Tier | None = None) -> Any:
         """The second unknown at amplitude ``u`` and energy ``E``."""
+        t = tier(digits)
         if self.K_ref is None:
             return t.num(E)
         with t.context():
             return t.num(E) - t.num(self.K_ref) - self.start.bound(t.num(u), t)
 
-    def state(self, u, w, t: Tier = FLOAT64):
+    def state(self, u: Any, w: Any, digits: int | Tier | None = None) -> list[Any]:
         """Initial state ``[a1, a2, p1, p2]`` at ``(u, w)``."""
+        t = tier(digits)
         if self.K_ref is None:
             return self.start.at(u, w, t)
         with t.context():
@@ -224,14 +231,20 @@ def _cond(section: Section, x, t: Tier):
 
 
 def residual(
-    problem: ShootingProblem, u, w, t: Tier = FLOAT64, derivative=False
+    problem: ShootingProblem,
+    u: Any,
+    w: Any,
+    digits: int | Tier | None = None,
+    derivative: bool = False,
 ) -> Shot:
-    """The residual at ``(u, w)`` in tier ``t``; raises SectionNotReached or ValueError.
+    """The residual at ``(u, w)`` in the tier of ``digits``; raises SectionNotReached
+    or ValueError.
 
     With ``derivative``, the variational equations give ``dx1/dx0 = (I - f s^T/(s.f)) Phi``
     (``Phi`` at fixed time, ``s`` the section's normal, ``f`` the vector field at the
     event), hence ``dr/du``, ``dr/dw`` and ``dt1/du``, ``dt1/dw``.
     """
+    t = tier(digits)
     with t.context():
         u, w = t.num(u), t.num(w)
         x0 = problem.state(u, w, t)
@@ -331,7 +344,7 @@ class NoConvergence(ValueError):
     best : Root or None
     """
 
-    def __init__(self, label, fixed, best=None, why=""):
+    def __init__(self, label: str, fixed: Any, best: Any = None, why: str = ""):
         where = ", ".join(f"{k} = {float(v)!r}" for k, v in fixed.items())
         super().__init__(
             f"{label}: the shooting did not converge at {where}"
@@ -347,7 +360,14 @@ class NoConvergence(ValueError):
 # --------------------------------------------------------------------------- PALC
 
 
-def secant(f, x0, x1, tol, floor=0.0, maxiter=40) -> Root:
+def secant(
+    f: Callable[[Any], Any],
+    x0: Any,
+    x1: Any,
+    tol: Any,
+    floor: Any = 0.0,
+    maxiter: int = 40,
+) -> Root:
     """Secant iteration on a scalar ``f``.
 
     A point beyond the section's reach (``f`` raises SectionNotReached or ValueError)
@@ -393,37 +413,42 @@ def secant(f, x0, x1, tol, floor=0.0, maxiter=40) -> Root:
 
 def solve(
     problem: ShootingProblem,
-    x0,
-    x1=None,
+    x0: Any,
+    x1: Any = None,
     *,
-    u=None,
-    w=None,
-    E=None,
+    u: Any = None,
+    w: Any = None,
+    E: Any = None,
     t: Tier = FLOAT64,
-    tol=None,
-    floor=0.0,
-    r_max=None,
+    tol: Any = None,
+    floor: Any = 0.0,
+    r_max: float | None = None,
 ) -> Root:
     """The member with amplitude ``u`` (solving for ``w``), or with second unknown ``w`` or
     energy ``E`` (solving for ``u``).
 
     A :func:`secant` from ``x0`` and ``x1`` to a step of ``tol * max(|x|, floor)`` (default
-    tol 4e-15 float64, ``8 eps`` extended). ``x1`` defaults to ``x0 (1 + 1e-4)`` in float64,
+    tol :attr:`Tier.step_tol <rotorlib.precision.Tier.step_tol>`: 4e-15 float64, ``8 eps``
+    extended). ``x1`` defaults to ``x0 (1 + 1e-4)`` in float64,
     ``x0 (1 + 1e-9)`` extended. Raises :class:`NoConvergence` unless
-    ``|r| < r_max`` at the end (default 1e-8 float64, ``eps^(2/3)`` extended; ``math.inf``
+    ``|r| < r_max`` at the end (default :attr:`Tier.r_max
+    <rotorlib.precision.Tier.r_max>`: 1e-8 float64, ``eps^(2/3)`` extended; ``math.inf``
     accepts any end).
+
+    Examples
+    --------
+    >>> from rotorlib.newborn import family_spec
+    >>> from rotorlib.shooting import residual, solve
+    >>> p = family_spec("IS^l_2").problem
+    >>> root = solve(p, 0.1, E=3.999)  # the amplitude u of the member at E = 3.999
+    >>> round(root.x, 8), bool(abs(residual(p, root.x, 3.999).r) < 1e-12)
+    (0.12372003, True)
     """
     if sum(v is not None for v in (u, w, E)) != 1:
         raise ValueError("give exactly one of u, w and E")
     with t.context():
-        tol = (
-            tol if tol is not None else (4e-15 if not t.extended else t.num(t.eps) * 8)
-        )
-        r_max = (
-            r_max
-            if r_max is not None
-            else (1e-8 if not t.extended else t.eps ** (2 / 3))
-        )
+        tol = tol if tol is not None else t.step_tol
+        r_max = r_max if r_max is not None else t.r_max
         x0 = t.num(x0)
         if u is not None:
             u = t.num(u)

@@ -75,3 +75,46 @@ def test_jacobian_matches_finite_differences():
 @pytest.mark.parametrize("bad", [float("nan")])
 def test_potential_propagates_nan(bad):
     assert np.isnan(S.potential_alpha(bad, 0.0))
+
+
+def test_lattice_reduce_arrays_and_tiers_agree():
+    import mpmath as mp
+
+    from rotorlib.precision import tier
+
+    rng = np.random.default_rng(1)
+    d = rng.uniform(-20, 20, size=(200, 4))
+    r = S.lattice_reduce(d)
+    assert np.all(np.abs(r[:, 0]) <= np.pi / 2 + 1e-12)
+    assert np.all(np.abs(r[:, 1]) <= np.pi + 1e-12)
+    assert np.array_equal(r[:, 2:], d[:, 2:])  # momenta untouched
+    # the shift is a lattice vector: k1 (pi, pi) + k2 (0, 2 pi)
+    k1 = (d[:, 0] - r[:, 0]) / np.pi
+    k2 = (d[:, 1] - r[:, 1] - k1 * np.pi) / (2 * np.pi)
+    assert np.allclose(k1, np.round(k1), atol=1e-9)
+    assert np.allclose(k2, np.round(k2), atol=1e-9)
+    t = tier(40)
+    with t.context():
+        x = [mp.mpf(3) * mp.pi + mp.mpf("1e-30"), mp.mpf(-7) * mp.pi, 0, 0]
+        y = S.lattice_reduce(x, 40)
+        assert abs(y[0] - mp.mpf("1e-30")) < mp.mpf(10) ** -45
+        assert abs(y[1]) < mp.mpf(10) ** -45  # -7 pi - 3 pi = -10 pi
+    row = S.lattice_reduce(d[0])  # one difference
+    assert np.allclose(row, r[0])
+
+
+def test_heyoka_equations_of_motion_are_rhs_alpha():
+    from rotorlib.flow import flow
+
+    x0 = np.array([0.3, -0.8, 0.5, 0.9])
+    sol = solve_ivp(S.rhs_alpha, (0, 3.0), x0, method="DOP853", rtol=1e-13, atol=1e-13)
+    assert np.max(np.abs(np.array(flow(x0, 3.0)) - sol.y[:, -1])) < 1e-10
+
+
+def test_tier_owns_thresholds_and_tolerances():
+    from rotorlib.precision import FLOAT64, REAL128, Tier, tier
+
+    assert Tier.separatrix_depth == FLOAT64.separatrix_depth == 3e-8
+    assert FLOAT64.r_max == 1e-8 and FLOAT64.step_tol == 4e-15
+    assert REAL128.r_max == REAL128.eps ** (2 / 3)
+    assert float(tier(40).step_tol) == 8 * tier(40).eps

@@ -1,0 +1,87 @@
+"""newborn.family: one Branch per IS/PD family over an energy range, members inside it."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from rotorlib.newborn import FamilyRangeError, family, family_spec, newborn_orbit
+
+
+def test_members_stay_inside_the_range_and_reach_its_ends():
+    b = family("IS^l_1", (3.991, 4.0))
+    assert all(3.991 <= E <= 4.0 for E in b.E)
+    assert (b.E[0], b.E[-1]) == (3.991, 4.0)  # located at the ends it crosses
+    assert b.stop == "E range" and "14 members lie inside E_range" in b.reason
+    assert len(b.members) >= 10
+    E = list(b.E)
+    assert E == sorted(E)
+
+
+def test_range_containing_the_birth_starts_at_the_seed():
+    spec = family_spec("IS^r_1")
+    b = family("IS^r_1", (4.0, 4.3))
+    assert b.E[0] > spec.E_birth and b.E[-1] == 4.3 and b.E.max() <= 4.3
+
+
+def test_special_points_and_the_stable_window():
+    """tr M = 4 located by the engine; an orbit found independently (continuation in E
+    from the seed) at that energy has tr M = 4; the members below it are stable."""
+    b = family("IS^l_1", (3.9, 4.1))
+    (p,) = b.special_points
+    assert p.kind == "IS" and p.located and 3.9 <= p.member.E <= 4.1
+    assert abs(float(p.member.trace) - 4) < 1e-6
+    o = newborn_orbit("IS^l_1", float(p.member.E))
+    assert abs(o.trace - 4) < 1e-5
+    k = p.index
+    assert all(m.stable for m in b.members[1 : k + 1])
+    assert all(not m.stable for m in b.members[k + 1 :])
+
+
+def test_a_fold_inside_the_range_is_passed_and_located():
+    b = family("PD^r_2", (4.52, 4.6))
+    f = b.fold
+    assert f is not None and abs(float(f.E) - 4.5516743) < 2e-7
+    assert b.E.min() >= 4.52 and b.E.max() <= 4.6
+    kinds = [p.kind for p in b.special_points]
+    assert "fold" in kinds and "IS" in kinds  # tr M = 4 at a fold of E
+
+
+def test_bad_ranges_are_refused():
+    with pytest.raises(FamilyRangeError, match="got E_range = \\(3.9, 3.99\\)"):
+        family("IS^l_1", (3.9, 3.99))  # below its birth at 3.9906
+    with pytest.raises(FamilyRangeError):
+        family("PD^r_1", (6.0, 6.5))  # above its fold at 5.9831
+    with pytest.raises(ValueError, match="lo < hi"):
+        family("IS^l_1", (4.0, 3.995))
+    with pytest.raises(ValueError):
+        family("XY^l_1", (3.9, 4.0))
+
+
+def test_a_range_the_family_does_not_reach_says_so():
+    b = family("IS^r_1", (5.8, 6.0))
+    assert b.members == () and "no member lies inside E_range = (5.8, 6)" in b.reason
+
+
+def test_members_and_branch_follow_the_result_protocol():
+    b = family("IS^l_1", (3.991, 3.995))
+    m = b.members[0]
+    assert (m.label, m.E, m.digits, m.precision) == ("IS^l_1", 3.991, 15, "float64")
+    assert m.period == 4 * m.t1 and m.state0.shape == (4,)
+    assert m.E_str == "3.991" and m.stability == "stable"
+    assert abs(m.multipliers[2] * m.multipliers[3] - 1) < 1e-12
+    d = json.loads(json.dumps(b.to_dict(), allow_nan=False))
+    assert d["label"] == "IS^l_1" and d["E_range"] == [3.991, 3.995]
+    assert d["members"][0]["E"] == 3.991 and d["members"][0]["stability"] == "stable"
+    assert d["stop"] == b.stop and d["reason"] == b.reason
+
+
+def test_extended_members_carry_their_digits():
+    b = family("IS^l_1", ("3.991", "3.9911"), digits=20)
+    m = b.members[0]
+    assert m.precision == "real128" and m.digits > 15
+    assert m.E_str.startswith("3.99100000000000000")
+    d = m.to_dict()
+    assert d["E"] == 3.991 and d.get("E_str", "3.991").startswith("3.991")
+    assert len(d["state0_str"]) == 4
