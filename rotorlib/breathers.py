@@ -405,6 +405,7 @@ def daughter_family(
         b.special_points,
         b.stop,
         b.reason,
+        b.E_range,
         E_PD,
         float((pT[-2] / pE[-2]) / parent),
         float(parent),

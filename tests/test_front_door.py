@@ -77,11 +77,11 @@ def test_orbit_digits_are_one_knob():
             lambda: rotorlib.orbit("pendulum", 3.0, digits=0),
             "digits must be an integer",
         ),
-        (lambda: rotorlib.orbit("pendulum", -1.0), ""),
+        (lambda: rotorlib.orbit("pendulum", -1.0), "E"),
         (lambda: rotorlib.orbit("CG", 6.0), "fold"),
         (lambda: rotorlib.family("IS^l_1", (3.99, 3.9)), "lo < hi"),
         (lambda: rotorlib.family("pendulumX", (3.9, 3.99)), "unknown family label"),
-        (lambda: rotorlib.transition("XYl1"), ""),
+        (lambda: rotorlib.transition("XYl1"), "label"),
     ],
 )
 def test_bad_input_is_a_value_error(call, match):
