@@ -7,6 +7,8 @@ Examples
 ``python -m rotorlib orbit PD^b --E 8.9 --json`` (the breather's period-doubled daughter)
 ``python -m rotorlib orbit CG --E 3 --digits 30`` (the choreography born at G; ``CT`` its
 unstable partner beyond the fold, :mod:`rotorlib.choreo_family`)
+``python -m rotorlib orbit CR1 --E 5.6 --branch 1`` (a Z3 choreography, the second of its
+members at that energy by period; ``CZ1``, ``CZ2`` likewise, :mod:`rotorlib.choreo_z3`)
 """
 
 from __future__ import annotations
@@ -18,18 +20,19 @@ from ..energy import as_float
 from ..precision import check_digits
 
 _BREATHER = re.compile(r"^PD\^?b$", re.IGNORECASE)
-_CHOREO = re.compile(r"^C[GT]$", re.IGNORECASE)
+_CHOREO = re.compile(r"^(C[GT]|CZ[12]|CR1)$", re.IGNORECASE)
 
 
 def register(sub):
     p = sub.add_parser(
         "orbit",
         help="a newborn periodic orbit (families IS^l_n, PD^l_n, IS^r_n, PD^r_n, PD^b), "
-        "or a choreography (CG, CT)",
+        "or a choreography (CG, CT, CZ1, CZ2, CR1)",
         description="Find the member with energy E of the family of periodic orbits born at a "
         "pendulum bifurcation (symmetry-reduced shooting + continuation in energy; "
         "paper §6-7), of the breather's period-doubled daughter (PD^b), or of the "
-        "choreographies born at G (CG, and CT beyond its fold).",
+        "choreographies born at G (CG, and CT beyond its fold) or of the Z3 "
+        "choreographies CZ1, CZ2, CR1.",
     )
     p.add_argument("label", help="family label: IS^l_2, ISl2, PD^r_3, PDr3, PD^b ...")
     p.add_argument("--E", required=True, metavar="V", help="energy (m = g = r = 1)")
@@ -42,24 +45,31 @@ def register(sub):
         "state0_str, period_str, trace_str; up to 1000; <= 15: plain float64, "
         "which loses log10(1/|E_n - 4|) digits near E = 4)",
     )
+    p.add_argument(
+        "--branch",
+        type=int,
+        default=0,
+        help="choreographies CZ1, CZ2, CR1: which member at E, numbered by period from 0 "
+        "(a family that folds has several)",
+    )
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.set_defaults(func=run)
 
 
-def record(label, E, digits=None) -> dict:
+def record(label: str, E, digits: int | None = None, branch: int = 0) -> dict:
     """The record the command prints for ``label`` at energy ``E`` (a decimal string keeps
     its digits): the orbit's :meth:`~rotorlib.periodic.PeriodicOrbit.to_record`."""
     as_float(E, "E")
     check_digits(digits, "--digits")
     if _CHOREO.match(str(label).strip()):
-        from ..choreo import choreography_of
-        from ..choreo_family import cg_orbit
+        from ..choreo_family import choreography_orbit
 
-        o = cg_orbit(E, digits=digits, label=str(label).strip())
+        o = choreography_orbit(str(label).strip(), E, digits=digits, branch=branch)
         rec = o.to_record()
-        c = choreography_of(o.state0, o.period)
-        rec["choreography"] = c.to_record() if c else None
+        rec["choreography"] = o.extra["choreography"]
         return rec
+    if branch:
+        raise ValueError("--branch is for the choreographies CZ1, CZ2, CR1 only")
     if _BREATHER.match(str(label).strip()):
         from ..breathers import breather_daughter
 
@@ -70,7 +80,7 @@ def record(label, E, digits=None) -> dict:
 
 
 def run(args):
-    rec = record(args.label, args.E, args.digits)
+    rec = record(args.label, args.E, args.digits, args.branch)
     cols = ["label", "E", "period", "trace", "alpha1_max", "alpha2_max", "precision"]
     if "trace_reduced" in rec:  # a choreography: its reduced map decides the stability
         cols[4:6] = ["trace_reduced", "stable"]
