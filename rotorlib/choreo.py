@@ -122,7 +122,16 @@ class Choreography:
     (another translate of the start state): ``n1 - n2 != 0 mod 3``. Then each rotor takes
     the place of its neighbour displaced by ``2 pi/3`` about the centre of mass: the
     rotors go round the circle (about the maximum T1 of ``V``, a rigid rotation of three
-    rotors ``2 pi/3`` apart)."""
+    rotors ``2 pi/3`` apart).
+
+    Examples
+    --------
+    >>> from rotorlib.choreo import choreography_of
+    >>> from rotorlib.choreo_family import cg_orbit
+    >>> o = cg_orbit(3)
+    >>> choreography_of(o.state0, o.period).to_dict()["rotating"]
+    False
+    """
 
     power: int
     lattice: tuple

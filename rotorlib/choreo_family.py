@@ -23,6 +23,7 @@ re-solved in the tier.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass, replace
 from functools import cache
 
@@ -31,6 +32,7 @@ import numpy as np
 from .choreo import T0, _reduced_trace, cg_problem, choreography_of
 from .continuation import (
     PALC,
+    Branch,
     ContinuationOptions,
     FamilyEnd,
     Natural,
@@ -86,7 +88,7 @@ def _label(label: str) -> str:
 
 
 @cache
-def follow():
+def follow() -> Branch:
     """The branch ``CG`` + ``CT`` (a :class:`~rotorlib.continuation.Branch`, float64, with
     its fold located), from ``E = 0.02`` to ``T = 400``.
 
@@ -287,7 +289,9 @@ def _natural_last(p, alg, m0):
     return b.members[-1].u
 
 
-def cg_orbit(E, digits: int | None = None, label: str = "CG") -> PeriodicOrbit:
+def cg_orbit(
+    E: float | str, digits: int | None = None, label: str = "CG"
+) -> PeriodicOrbit:
     """The member of ``CG`` (or ``CT``) with energy ``E`` (a decimal string keeps its
     digits), as a :class:`~rotorlib.periodic.PeriodicOrbit` whose ``extra`` holds the
     reduced trace ``trace_reduced`` (``tr DP``), ``stable`` and the choreography's
@@ -538,7 +542,14 @@ def _refine(p: ChoreoPoint, digits: int) -> ChoreoPoint:
 @dataclass(frozen=True)
 class FamilyReport:
     """``family LABEL --E-range A B``: the branch's members in the range (``E``, period,
-    ``tr DP``, ``tr M``, stable) and its special points."""
+    ``tr DP``, ``tr M``, stable) and its special points.
+
+    Examples
+    --------
+    >>> from rotorlib.choreo_family import family
+    >>> sorted(family("CT", (5.0, 5.3)).to_dict())[:3]
+    ['E_max', 'E_min', 'E_range']
+    """
 
     label: str
     E_range: tuple
@@ -561,7 +572,9 @@ class FamilyReport:
         }
 
 
-def family(label: str, E_range, digits: int | None = None) -> FamilyReport:
+def family(
+    label: str, E_range: Sequence[float], digits: int | None = None
+) -> FamilyReport:
     """The members of the branch ``label`` with ``E`` in ``E_range`` and its special points
     there (:func:`special_points`). A range entirely outside the branch raises ValueError.
 
@@ -605,7 +618,7 @@ def family(label: str, E_range, digits: int | None = None) -> FamilyReport:
 
 
 def choreography_orbit(
-    label: str, E: float, *, digits: int | None = None, branch: int = 0
+    label: str, E: float | str, *, digits: int | None = None, branch: int = 0
 ) -> PeriodicOrbit:
     """The member with energy ``E`` of any choreography family: ``CG``, ``CT``
     (:func:`cg_orbit`), ``CZ1``, ``CZ2``, ``CR1`` (:func:`rotorlib.choreo_z3.z3_orbit`).
@@ -645,6 +658,13 @@ def choreography_orbit(
     return z3_orbit(lab, E, digits=digits, branch=branch)
 
 
-def period_ratio(E) -> float:
-    """``T(E) / T0`` of ``CG`` (``T0 = 2 pi / sqrt 3``)."""
+def period_ratio(E: float) -> float:
+    """``T(E) / T0`` of ``CG`` (``T0 = 2 pi / sqrt 3``).
+
+    Examples
+    --------
+    >>> from rotorlib.choreo_family import period_ratio
+    >>> round(period_ratio(1e-3), 5)
+    1.00004
+    """
     return cg_orbit(E).period / T0
