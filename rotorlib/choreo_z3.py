@@ -271,13 +271,17 @@ def z3_points(label: str, digits: int | None = None) -> tuple:
         if kind == "born at CG":
             q = _cg_birth(digits)
             Ez = _extremum(lab, i)
+            th = math.acos(q.trace_reduced / 2 - 1)  # CG's reduced angle, pi/2
             out.append(
                 replace(
                     q,
-                    kind=kind + " (tr M = 0, theta = pi/2)",
+                    kind=kind + " (CG's tr M = 0, theta = pi/2)",
                     branch=lab,
-                    period=2 * q.period,
-                    check=f"the family's own extremum of E differs by {_gap(abs(Ez - q.E))}",
+                    period=2 * q.period,  # CG twice: P over T/3 is CG's P^4
+                    trace_reduced=2 + 2 * math.cos(4 * th),
+                    trace=2 + 2 * math.cos(12 * th),
+                    check="period, tr DP, tr M: CG's orbit run twice; the family's own "
+                    f"extremum of E differs by {_gap(abs(Ez - q.E))}",
                 )
             )
             continue
