@@ -41,7 +41,7 @@ from .continuation import (
     member,
 )
 from .periodic import PeriodicOrbit, periodic_orbit
-from .precision import FLOAT64, Tier, tier
+from .precision import FLOAT64, Tier, json_number, tier
 from .shooting import residual, solve
 
 __all__ = [
@@ -368,7 +368,11 @@ class ChoreoPoint:
             "period": self.period,
             "trace_reduced": self.trace_reduced,
             "trace": self.trace,
-            "agreement": None if math.isnan(self.agreement) else self.agreement,
+            **json_number(
+                "agreement",
+                self.agreement,
+                note="located once, in float64 (--digits > 15 locates it again)",
+            ),
             "check": self.check,
         }
 
