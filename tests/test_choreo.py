@@ -350,6 +350,13 @@ def test_z3_family_cr1_against_the_census():
     assert abs(got["PD"].trace_reduced) < 1e-12
     assert abs(got["fold"].trace_reduced - 4) < 1e-12
     assert "extremum of E(u)" in got["fold"].check
+    # the 20 digits printed at digits=30 (real128) are those of the 40-digit tier (mp)
+    from rotorlib.choreo_z3 import z3_points
+
+    with mp.workdps(40):
+        for p40 in z3_points("CR1", 40):
+            d = mp.mpf(p40.E_str) - mp.mpf(got[p40.kind].E_str)
+            assert 0 < abs(d) < mp.mpf("1e-19")
     assert any(m[4] for m in r.members) or got["fold"].E - got["PD"].E < 1e-3
     assert cli.main(["family", "CZ9", "--E-range", "4", "5"]) == 2
 
