@@ -105,7 +105,7 @@ def _closed_form(label: str, E: Any, digits: int | None) -> PeriodicOrbit:
 
 
 def orbit(
-    label: str, E: float | str, *, digits: int | Tier | None = None
+    label: str, E: float | str, *, digits: int | Tier | None = None, branch: int = 0
 ) -> PeriodicOrbit:
     """The periodic orbit ``label`` at energy ``E``.
 
@@ -122,6 +122,8 @@ def orbit(
     digits : int or Tier, optional
         Significant digits of the state, period and trace. ``None``: float64 (the tier that
         keeps 15 digits near E = 4); 16-31: real128; more: multiprecision.
+    branch : int
+        Which member, where a family has several at ``E`` (see Notes).
 
     Returns
     -------
@@ -132,6 +134,12 @@ def orbit(
     ValueError
         An unknown label, an energy outside the family's range (with the range and why),
         or ``digits`` outside 1-1000.
+
+    Notes
+    -----
+    A family that folds has more than one member at some energies (``CR1`` has two at
+    ``E = 5.6``): ``branch`` numbers them by period (0 the shortest); every other family
+    has one member, ``branch=0``.
 
     Examples
     --------
@@ -156,12 +164,14 @@ def orbit(
 
         return breather_daughter(E, digits=d)
     if _CHOREO.match(lab):
-        from . import choreo_family
+        from .choreo_family import choreography_orbit
 
-        get = getattr(choreo_family, "choreography_orbit", None)
-        if get is not None:
-            return get(lab.upper(), E, digits=d)
-        return choreo_family.cg_orbit(E, digits=d, label=lab.upper())
+        return choreography_orbit(lab.upper(), E, digits=d, branch=branch)
+    if branch:
+        raise ValueError(
+            f"branch={branch!r}: only the choreographies CZ1, CZ2, CR1 have more than "
+            "one member at an energy"
+        )
     if _NEWBORN.match(lab):
         from .newborn import newborn_orbit
 

@@ -41,14 +41,15 @@ Precision: float64 shooting to ``|r| < 1e-13`` (period to ~1e-14 relative, ``tr 
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 from functools import cache
 
 import numpy as np
 
 from .flow import Section, flow
-from .precision import FLOAT64, Tier, tier
-from .shooting import ShootingProblem, StartSet, solve
+from .precision import Tier, tier
+from .shooting import Root, ShootingProblem, StartSet, solve
 
 __all__ = [
     "C_PHI",
@@ -121,7 +122,16 @@ class Choreography:
     (another translate of the start state): ``n1 - n2 != 0 mod 3``. Then each rotor takes
     the place of its neighbour displaced by ``2 pi/3`` about the centre of mass: the
     rotors go round the circle (about the maximum T1 of ``V``, a rigid rotation of three
-    rotors ``2 pi/3`` apart)."""
+    rotors ``2 pi/3`` apart).
+
+    Examples
+    --------
+    >>> from rotorlib.choreo import choreography_of
+    >>> from rotorlib.choreo_family import cg_orbit
+    >>> o = cg_orbit(3)
+    >>> choreography_of(o.state0, o.period).to_dict()["rotating"]
+    False
+    """
 
     power: int
     lattice: tuple
@@ -129,7 +139,8 @@ class Choreography:
     rotating: bool
     closure: float
 
-    def to_record(self) -> dict:
+    def to_dict(self) -> dict:
+        """The record of the atlas's ``choreography`` field (JSON-serialisable)."""
         return {
             "power": self.power,
             "lattice": list(self.lattice),
@@ -148,14 +159,17 @@ def _shift_error(x0, xs, g):
 
 
 def choreography_of(
-    state0, period, tol: float = 1e-7, t: Tier = FLOAT64
+    state0: Sequence[float] | np.ndarray,
+    period: float,
+    tol: float = 1e-7,
+    digits: int | None = None,
 ) -> Choreography | None:
     """Whether the periodic orbit through ``state0`` with period ``period`` is a
     choreography (:class:`Choreography`), else ``None``.
 
     The state after ``T/3`` (and ``T/6``) is compared with ``C^{+-1} x0`` (and
     ``-C^{-+1} x0``) modulo the lattice; it is one when the difference is below ``tol``
-    (the orbit's own closure is ~1e-12 in float64).
+    (the orbit's own closure is ~1e-12 in float64). ``digits`` integrates in that tier.
 
     Examples
     --------
@@ -166,6 +180,7 @@ def choreography_of(
     >>> c.sixth, c.rotating
     (True, False)
     """
+    t = tier(digits)
     x0 = [float(v) for v in state0]
     x3 = [float(v) for v in flow(x0, float(period) / 3, t)]
     x6 = [float(v) for v in flow(x0, float(period) / 6, t)]
@@ -181,7 +196,7 @@ def choreography_of(
     return None
 
 
-def lindstedt_period(E, family: str = "CG"):
+def lindstedt_period(E: float, family: str = "CG") -> float:
     """The period to first order in ``E`` at G: ``T0 (1 + E/24)`` for the choreography
     ``CG`` (circular motion in the plane of the normal modes), ``T0 (1 + E/16)`` for the
     standing waves (``pendulum``, ``breather LG``).
@@ -227,9 +242,16 @@ def cg_problem() -> ShootingProblem:
     )
 
 
-def reduced_trace(state0, period, t: Tier = FLOAT64, order: int = 6, power: int = 1):
+def reduced_trace(
+    state0: Sequence[float] | np.ndarray,
+    period: float,
+    digits: int | None = None,
+    order: int = 6,
+    power: int = 1,
+) -> tuple:
     """``tr DP`` of the reduced map ``P = g^-1 phi_{T/order}`` and ``tr M`` (``M =
-    DP^order``), as ``(tr DP, tr M)`` (tier numbers).
+    DP^order``), as ``(tr DP, tr M)`` (tier numbers; ``digits``: the tier of
+    :func:`rotorlib.precision.tier`).
 
     ``order=6``: ``g = -C^{2 power}`` (:func:`sixth_map`; the ``D6`` rotating waves such as
     ``CG``); ``order=3``: ``g = C^power`` (any choreography). ``DP`` has the multipliers
@@ -245,6 +267,10 @@ def reduced_trace(state0, period, t: Tier = FLOAT64, order: int = 6, power: int 
     >>> 0 < trp < 4, abs(trm - o.trace) < 1e-9
     (True, True)
     """
+    return _reduced_trace(state0, period, tier(digits), order, power)
+
+
+def _reduced_trace(state0, period, t: Tier, order: int = 6, power: int = 1) -> tuple:
     if order not in (3, 6):
         raise ValueError(f"order must be 3 or 6, got {order!r}")
     g = -relabelling(2 * power) if order == 6 else relabelling(power)
@@ -265,7 +291,9 @@ def reduced_trace(state0, period, t: Tier = FLOAT64, order: int = 6, power: int 
         return trp, sum(m[i][i] for i in range(4))
 
 
-def rotor_angles(state0, period, n: int = 601) -> np.ndarray:
+def rotor_angles(
+    state0: Sequence[float] | np.ndarray, period: float, n: int = 601
+) -> np.ndarray:
     """The rotor angles ``theta (n, 3)`` over one period (centre of mass at rest at 0),
     from the orbit in pendulum variables (float64).
 
@@ -293,22 +321,39 @@ def _guess_u(E):
     return -math.sqrt(float(E) / 6)
 
 
-def solve_cg(E, u_guess=None, t: Tier = FLOAT64):
+def solve_cg(E: float, u_guess: float | None = None, digits: int | None = None) -> Root:
     """The root ``u`` of ``CG`` at energy ``E`` (a :class:`~rotorlib.shooting.Root`) by the
-    engine's secant from ``u_guess`` (default the first-order amplitude)."""
+    engine's secant from ``u_guess`` (default the first-order amplitude), in the tier of
+    ``digits``.
+
+    Examples
+    --------
+    >>> from rotorlib.choreo import solve_cg
+    >>> round(float(solve_cg(1.0).x), 6) < 0
+    True
+    """
     u0 = _guess_u(E) if u_guess is None else u_guess
-    return solve(cg_problem(), u0, E=E, t=t)
+    return solve(cg_problem(), u0, E=E, t=tier(digits))
 
 
 __all__ += ["solve_cg", "tier"]
 
 
-def atlas_name(label: str, E, state0, period, name: bool = True) -> tuple:
+def atlas_name(
+    label: str,
+    E: float,
+    state0: Sequence[float] | np.ndarray,
+    period: float,
+    name: bool = True,
+) -> tuple:
     """The atlas's name for an orbit it found: ``(label, choreography record or None)``.
 
-    A choreography (:func:`choreography_of`) not already named is ``CG`` or ``CT`` when
-    its period is that of the family at ``E`` (to 1e-7), else ``choreography``; its record
-    (``Choreography.to_record()``) is the atlas's ``choreography`` field. With
+    A choreography (:func:`choreography_of`) not already named gets the label of the
+    family it lies on at ``E`` (its period that of a member to 1e-7): ``CG`` or ``CT``
+    (:mod:`rotorlib.choreo_family`), ``CZ1``, ``CZ2`` or ``CR1``
+    (:mod:`rotorlib.choreo_z3`; only the families with the orbit's rotation are tried,
+    each followed once per process, ~20 s), else ``choreography``. Its record
+    (:meth:`Choreography.to_dict`) is the atlas's ``choreography`` field. With
     ``name=False`` (an unnamed census) nothing is tested: ``(label, None)``.
 
     Examples
@@ -323,16 +368,22 @@ def atlas_name(label: str, E, state0, period, name: bool = True) -> tuple:
     if c is None:
         return label, None
     if label != "new":
-        return label, c.to_record()
+        return label, c.to_dict()
     from .choreo_family import branch_range, cg_orbit
+    from .choreo_z3 import Z3_FAMILIES, seed_choreography, z3_orbits
 
-    for lab in ("CG", "CT"):
+    T = float(period)
+    for lab in ("CG", "CT") if not c.rotating else ():
         lo, hi = branch_range(lab)
         if lo < float(E) <= hi:
             try:
-                T = cg_orbit(E, label=lab).period
+                if abs(cg_orbit(E, label=lab).period - T) < 1e-7 * T:
+                    return lab, c.to_dict()
             except ValueError:
                 continue
-            if abs(T - float(period)) < 1e-7 * T:
-                return lab, c.to_record()
-    return "choreography", c.to_record()
+    for lab in Z3_FAMILIES:
+        if seed_choreography(lab).rotating != c.rotating:
+            continue
+        if any(abs(o.period - T) < 1e-7 * T for o in z3_orbits(lab, E)):
+            return lab, c.to_dict()
+    return "choreography", c.to_dict()

@@ -23,14 +23,16 @@ re-solved in the tier.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from collections.abc import Sequence
+from dataclasses import dataclass, replace
 from functools import cache
 
 import numpy as np
 
-from .choreo import T0, cg_problem, choreography_of, reduced_trace
+from .choreo import T0, _reduced_trace, cg_problem, choreography_of
 from .continuation import (
     PALC,
+    Branch,
     ContinuationOptions,
     FamilyEnd,
     Natural,
@@ -38,8 +40,8 @@ from .continuation import (
     illinois,
     member,
 )
-from .periodic import PeriodicOrbit, periodic_orbit
-from .precision import FLOAT64, Tier, tier
+from .periodic import PeriodicOrbit, periodic_orbit, stability_of
+from .precision import FLOAT64, Tier, json_number, tier
 from .shooting import residual, solve
 
 __all__ = [
@@ -49,6 +51,7 @@ __all__ = [
     "fold_energy",
     "branch_range",
     "cg_orbit",
+    "choreography_orbit",
     "ChoreoPoint",
     "special_points",
     "FamilyReport",
@@ -69,6 +72,11 @@ _U_FOLD = (
 _T1_MAX = 90.0 / 12  # the continuation stops at T = 90 (E - 4.5 ~ 1e-7)
 
 
+def _gap(x: float) -> str:
+    """A difference of two locations in words: one digit, or a bound below 1e-15."""
+    return f"{x:.0e}" if x >= 1e-15 else "< 1e-15"
+
+
 def _label(label: str) -> str:
     lab = str(label).strip()
     up = {k.upper(): k for k in LABELS}
@@ -80,7 +88,7 @@ def _label(label: str) -> str:
 
 
 @cache
-def follow():
+def follow() -> Branch:
     """The branch ``CG`` + ``CT`` (a :class:`~rotorlib.continuation.Branch`, float64, with
     its fold located), from ``E = 0.02`` to ``T = 400``.
 
@@ -281,7 +289,9 @@ def _natural_last(p, alg, m0):
     return b.members[-1].u
 
 
-def cg_orbit(E, digits: int | None = None, label: str = "CG") -> PeriodicOrbit:
+def cg_orbit(
+    E: float | str, digits: int | None = None, label: str = "CG"
+) -> PeriodicOrbit:
     """The member of ``CG`` (or ``CT``) with energy ``E`` (a decimal string keeps its
     digits), as a :class:`~rotorlib.periodic.PeriodicOrbit` whose ``extra`` holds the
     reduced trace ``trace_reduced`` (``tr DP``), ``stable`` and the choreography's
@@ -308,26 +318,35 @@ def cg_orbit(E, digits: int | None = None, label: str = "CG") -> PeriodicOrbit:
             cg_problem(), u, w, t, label=lab, shown=digits if t.extended else None
         )
         s = residual(cg_problem(), u, w, t)
-        trp, _ = reduced_trace(s.x0, 12 * s.t1, t)
+        trp, _ = _reduced_trace(s.x0, 12 * s.t1, t)
     c = choreography_of(o.state0, o.period)
     extra = dict(o.extra)
     extra.update(
         trace_reduced=float(trp),
         stable=bool(0 < float(trp) < 4),
-        choreography=c.to_record() if c else None,
+        stability=stability_of(float(trp), o.digits),
+        choreography=c.to_dict() if c else None,
     )
     if t.extended and digits is not None:
         extra["trace_reduced_str"] = t.text(trp, int(digits) - 8)
-    from dataclasses import replace
-
     return replace(o, extra=extra)
 
 
 @dataclass(frozen=True)
 class ChoreoPoint:
-    """A special point of the family: ``kind`` (``fold``, ``stable -> unstable`` ...,
-    ``tr M = 4 (no change)``, ``tr M = 0 (no change)``), the branch it lies on, its
-    energy, period, ``tr DP`` and ``tr M`` (floats; ``E_str`` with every digit)."""
+    """A special point of a family: ``kind`` (``fold``, ``stable -> unstable`` ...,
+    ``tr M = 4 (no change)``, ``tr M = 0 (no change)``, ``IS``, ``PD``), the branch it
+    lies on, its energy, period, ``tr DP`` and ``tr M`` (floats), ``E_str`` (the energy
+    with the digits of its tier), ``agreement`` (the difference of two independent
+    locations of ``E``, nan if located once), ``check`` (which, in words) and the
+    amplitude ``u`` where it was located.
+
+    Examples
+    --------
+    >>> from rotorlib.choreo_family import special_points
+    >>> special_points("CT")[0].to_dict()["kind"]
+    'fold (saddle-node)'
+    """
 
     kind: str
     branch: str
@@ -336,8 +355,12 @@ class ChoreoPoint:
     trace_reduced: float
     trace: float
     E_str: str = ""
+    agreement: float = math.nan
+    check: str = ""
+    u: float = math.nan
 
-    def to_record(self) -> dict:
+    def to_dict(self) -> dict:
+        """A JSON-serialisable dict (the ``family`` command's ``--json`` output)."""
         return {
             "kind": self.kind,
             "branch": self.branch,
@@ -346,28 +369,35 @@ class ChoreoPoint:
             "period": self.period,
             "trace_reduced": self.trace_reduced,
             "trace": self.trace,
+            **json_number(
+                "agreement",
+                self.agreement,
+                note="located once, in float64 (--digits > 15 locates it again)",
+            ),
+            "check": self.check,
         }
 
 
-def _at_u(u, E_guess, t: Tier = FLOAT64):
-    """``(E, T, tr DP, tr M)`` of the member with amplitude ``u``."""
-    p = cg_problem()
+def _at_u(u, E_guess, t: Tier = FLOAT64, p=None, order=6, power=1):
+    """``(E, T, tr DP, tr M)`` of the member with amplitude ``u`` (of ``CG``, or of the
+    problem ``p`` with its reduced map of ``order``, ``power``)."""
+    p = p or cg_problem()
     with t.context():
         w = solve(p, t.num(E_guess), u=t.num(u), t=t).x
         s = residual(p, u, w, t)
-        T = 12 * s.t1
-        trp, trm = reduced_trace(s.x0, T, t)
+        T = p.factor * s.t1
+        trp, trm = _reduced_trace(s.x0, T, t, order, power)
         return w, T, trp, trm
 
 
-def _locate(g, ua, ub, Ea, t: Tier, tol=1e-13):
+def _locate(g, ua, ub, Ea, t: Tier, tol=1e-13, p=None, order=6, power=1):
     """The ``u`` in ``(ua, ub)`` where ``g(at(u)) = 0``, by the engine's Illinois method
     (:func:`rotorlib.continuation.illinois`); returns ``(u, at(u))``."""
     E_last = [Ea]
 
     def at(v):
         u = ua + v
-        r = _at_u(u, E_last[0], t)
+        r = _at_u(u, E_last[0], t, p, order, power)
         E_last[0] = r[0]
         return u, r
 
@@ -387,7 +417,7 @@ def _column(name):
 def _traces():
     """``(tr DP, tr M)`` of every member of :func:`follow`."""
     b = follow()
-    out = [reduced_trace(b.state(m), 12 * m.t1) for m in b.members]
+    out = [_reduced_trace(b.state(m), 12 * m.t1, FLOAT64) for m in b.members]
     return np.array([o[0] for o in out]), np.array([o[1] for o in out])
 
 
@@ -421,6 +451,7 @@ def _special_float() -> tuple:
             float(T_f),
             float(trp_f),
             float(trm_f),
+            u=float(fold()[0]),
         )
     )
     for i in range(len(us) - 1):
@@ -442,18 +473,19 @@ def _special_float() -> tuple:
                 up = (trp[i + 1] > trp[i]) == (Es[i + 1] > Es[i])  # tr DP up with E
                 into = (lev == 4.0) == up  # leaves [0, 4] as E grows
                 kind = ("stable -> unstable" if into else "unstable -> stable") + kind
-            out.append(ChoreoPoint(kind, branch, E, T, tp, tm))
+            out.append(ChoreoPoint(kind, branch, E, T, tp, tm, u=float(u)))
     return tuple(out)
 
 
-def special_points(label: str = "CG", E_range=None, digits=None) -> tuple:
+def special_points(label: str = "CG", E_range=None, digits: int | None = None) -> tuple:
     """The special points of a branch (``CG`` or ``CT``) within ``E_range``, ordered by
     energy: the fold, the stability changes (``tr DP`` through 4 or 0, ``DP`` the reduced
     map of :func:`rotorlib.choreo.reduced_trace`) and the energies where ``tr M`` touches
     4 or 0 without one (``6 theta = 0 mod pi`` for the reduced multipliers
-    ``e^{+-i theta}``). With ``digits`` (> 15) the fold is re-solved in that tier as the
-    root of ``tr DP = 4`` (an independent location: the engine finds the fold as the
-    extremum of ``E``).
+    ``e^{+-i theta}``). With ``digits`` (> 15) each is located again in that tier as the
+    root of ``tr DP`` = its level (``E_str``; ``agreement``: the difference from the
+    float64 location; the fold's ``check`` adds the engine's own location as the maximum
+    of ``E`` along :func:`follow`).
 
     Examples
     --------
@@ -467,30 +499,70 @@ def special_points(label: str = "CG", E_range=None, digits=None) -> tuple:
         lo, hi = (float(v) for v in E_range)
         pts = [p for p in pts if lo <= p.E <= hi]
     if digits is not None and digits > 15:
-        pts = [_refine(p, int(digits)) if p.kind.startswith("fold") else p for p in pts]
+        pts = [_refine(p, int(digits)) for p in pts]
     return tuple(sorted(pts, key=lambda p: p.E))
 
 
+@cache
 def _refine(p: ChoreoPoint, digits: int) -> ChoreoPoint:
+    """``p`` located again in the tier of ``digits``: ``E`` to ``D - 10`` digits."""
     t = tier(digits)
-    u, E, T, tp, tm = fold(digits)
-    d = max(10, digits - 10)  # E at the fold: u to eps^(3/4), E (an extremum) to ~eps
-    return ChoreoPoint(
-        p.kind, p.branch, float(E), float(T), float(tp), float(tm), t.text(E, d)
+    d = max(10, digits - 10)  # u to eps^(3/4); E to the same or, at the fold, ~eps
+    if p.kind.startswith("fold"):
+        u, E, T, tp, tm = fold(digits)
+        agree = abs(float(E) - p.E)
+        check = (
+            f"root of tr DP = 4 in float64 and {t.name} agree to {_gap(agree)}; the "
+            f"engine's maximum of E along the branch is {_gap(abs(follow().fold.E - p.E))}"
+            " away"
+        )
+    else:
+        lev = next(v for v, _ in _LEVELS if abs(p.trace_reduced - v) < 1e-6)
+        with t.context():
+            r3 = t.m.sqrt(3)
+            levt = {2 + math.sqrt(3): 2 + r3, 2 - math.sqrt(3): 2 - r3}.get(
+                lev, t.num(lev)
+            )
+            h = t.num(1e-7 * max(1.0, abs(p.u)))
+            tol = t.num(t.eps) ** t.num(0.75)
+            u, (E, T, tp, tm) = _locate(
+                lambda r: r[2] - levt, t.num(p.u) - h, t.num(p.u) + h, p.E, t, tol
+            )
+        agree = abs(float(E) - p.E)
+        check = (
+            f"root of tr DP = {lev:.6g} in float64 and {t.name} agree to {_gap(agree)}"
+        )
+    return replace(
+        p,
+        E=float(E),
+        period=float(T),
+        trace_reduced=float(tp),
+        trace=float(tm),
+        E_str=t.text(E, d),
+        agreement=agree,
+        check=check,
     )
 
 
 @dataclass(frozen=True)
 class FamilyReport:
     """``family LABEL --E-range A B``: the branch's members in the range (``E``, period,
-    ``tr DP``, ``tr M``, stable) and its special points."""
+    ``tr DP``, ``tr M``, stable) and its special points.
+
+    Examples
+    --------
+    >>> from rotorlib.choreo_family import family
+    >>> sorted(family("CT", (5.0, 5.3)).to_dict())[:3]
+    ['E_max', 'E_min', 'E_range']
+    """
 
     label: str
     E_range: tuple
     members: tuple
     points: tuple
 
-    def to_record(self) -> dict:
+    def to_dict(self) -> dict:
+        """A JSON-serialisable dict (the ``family`` command's ``--json`` output)."""
         return {
             "label": self.label,
             "description": LABELS[self.label],
@@ -501,11 +573,13 @@ class FamilyReport:
                 dict(zip(("E", "period", "trace_reduced", "trace", "stable"), m))
                 for m in self.members
             ],
-            "special_points": [p.to_record() for p in self.points],
+            "special_points": [p.to_dict() for p in self.points],
         }
 
 
-def family(label: str, E_range, digits: int | None = None) -> FamilyReport:
+def family(
+    label: str, E_range: Sequence[float], digits: int | None = None
+) -> FamilyReport:
     """The members of the branch ``label`` with ``E`` in ``E_range`` and its special points
     there (:func:`special_points`). A range entirely outside the branch raises ValueError.
 
@@ -548,6 +622,54 @@ def family(label: str, E_range, digits: int | None = None) -> FamilyReport:
     )
 
 
-def period_ratio(E) -> float:
-    """``T(E) / T0`` of ``CG`` (``T0 = 2 pi / sqrt 3``)."""
+def choreography_orbit(
+    label: str, E: float | str, *, digits: int | None = None, branch: int = 0
+) -> PeriodicOrbit:
+    """The member with energy ``E`` of any choreography family: ``CG``, ``CT``
+    (:func:`cg_orbit`), ``CZ1``, ``CZ2``, ``CR1`` (:func:`rotorlib.choreo_z3.z3_orbit`).
+
+    ``branch`` numbers the members of a Z3 family at ``E`` by period (a family that
+    folds has two or more there; ``CG`` and ``CT`` are the two branches of the family
+    born at G and take ``branch=0`` only). ``extra`` holds ``trace_reduced`` (``tr DP``
+    of the reduced map: over ``T/6`` for CG and CT, ``T/3`` for the others), ``stable``
+    and ``choreography`` (:meth:`rotorlib.choreo.Choreography.to_dict`).
+
+    Raises ValueError for an unknown label, or an energy outside the family's range
+    (the message gives the range and why the family ends there).
+
+    Precision: float64, period to ~1e-14 relative (the Z3 families, more unstable, to
+    ~1e-12); ``digits=D`` re-solves the orbit in the tier of ``D`` digits.
+
+    Examples
+    --------
+    >>> from rotorlib.choreo_family import choreography_orbit
+    >>> round(choreography_orbit("CG", 3).period, 9)
+    4.29745632
+    >>> choreography_orbit("CT", 5.4)
+    Traceback (most recent call last):
+    ...
+    ValueError: CT does not exist at E = 5.4: the family ends at the fold E = 5.3153239128 (a saddle-node where CG and CT meet; beyond it neither exists)
+    """
+    lab = str(label).strip().upper()
+    if lab in LABELS:
+        if int(branch) != 0:
+            raise ValueError(f"{lab} has one member at each energy: branch must be 0")
+        return cg_orbit(E, digits=digits, label=lab)
+    from .choreo_z3 import Z3_FAMILIES, z3_orbit
+
+    if lab not in Z3_FAMILIES:
+        known = ", ".join([*LABELS, *Z3_FAMILIES])
+        raise ValueError(f"unknown choreography family {label!r} (known: {known})")
+    return z3_orbit(lab, E, digits=digits, branch=branch)
+
+
+def period_ratio(E: float) -> float:
+    """``T(E) / T0`` of ``CG`` (``T0 = 2 pi / sqrt 3``).
+
+    Examples
+    --------
+    >>> from rotorlib.choreo_family import period_ratio
+    >>> round(period_ratio(1e-3), 5)
+    1.00004
+    """
     return cg_orbit(E).period / T0

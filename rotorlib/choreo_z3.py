@@ -6,32 +6,60 @@ momentum normal to it and meets the mirror of the same class ``60`` degrees away
 composition of the two reversing symmetries is ``C``, of order 3) at ``t1``, its
 ``crossing``-th crossing: ``T = 6 t1``. Each is given by that shooting problem (the
 atlas's start sets and fixed sets, :mod:`rotorlib.reversors`) and one member found by the
-census (a seed); :func:`z3_family` follows it with the engine (pseudo-arclength,
-:func:`rotorlib.continuation.continuation`) through the energies asked for and reports the
-members (``tr DP`` of the map over ``T/3``, :func:`rotorlib.choreo.reduced_trace` with
-``order=3``) and the located folds, IS and PD points. For these families ``tr M = 2 +
-lambda^3 + lambda^-3``: a crossing of 4 (IS) or 0 (PD) is a change of stability, and the
-tangencies at ``tr DP = 1, 3`` are not. An IS and a PD located at one energy are a jump of
-the computed ``tr M`` between two members (``|tr M|`` beyond ~1e10, where float64 loses
-the monodromy), not a bifurcation: they are dropped.
+census (a seed). The engine (pseudo-arclength, :func:`rotorlib.continuation.continuation`)
+follows the whole family from the seed both ways until its period exceeds 40 (once per
+process, 15-25 s a family): :func:`z3_range`, :func:`z3_orbits` and :func:`z3_orbit`
+(the members at one energy), :func:`z3_points` and :func:`z3_family` (the report of
+``family CZ1 --E-range A B``). Their examples are not run as doctests (each first
+follows a family, ~20 s); ``tests/test_choreo.py`` checks the same values.
 
-Precision: members ``|r| < 1e-8``; folds to ~1e-15 in ``E`` along the branch, IS and PD
-to ~1e-14 in the local parameter (chapter 10 checks the two ends of CZ1 and CZ2 at CG's
-point ``tr M = 0`` to 1e-9).
+Stability is that of the map over a third of the period, ``P = C^-k phi_{T/3}``
+(:func:`rotorlib.choreo.reduced_trace` with ``order=3``): ``tr M = 2 + lambda^3 +
+lambda^-3``, so ``tr DP`` leaving ``[0, 4]`` changes the stability (through 0: ``PD``;
+through 4: a fold, or ``IS`` where ``E`` has no extremum) and the tangencies of ``tr M``
+at ``tr DP = 1, 3`` do not. The special points are the roots of ``tr DP - 4`` and ``tr
+DP`` along the family, located by the engine's Illinois method in the amplitude ``u``
+(each ``u`` solved for ``E``). Their check: each is located twice, in float64 and in
+the tier of ``digits`` (real128 for ``digits=30``), and a fold also as the extremum of
+``E(u)`` (bounded Brent, float64). CZ1 and CZ2 are born at CG's point ``tr M = 0``
+(``theta = pi/2``, where the map over CG's ``T/3`` has multipliers ``-1``): that end is
+given by CG's problem (:func:`rotorlib.choreo_family.special_points`) and checked against
+the Z3 family's own extremum of ``E`` (which the degenerate shooting there resolves only
+to ~1e-8). The two halves of CZ1 and CZ2 on either side of that point are images of each
+other under a symmetry (same ``E`` and period): each of their points is found twice.
+
+Precision: members ``|r| < 1e-8``; special points ``E`` to ~1e-13 in float64 (the
+measured agreement with the real128 location is in each point's ``agreement``), to
+``~eps^(3/4)`` in an extended tier (the fold, an extremum, to ``~eps``).
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass, replace
 from functools import cache
 
-from .choreo import choreography_of, reduced_trace
-from .continuation import PALC, ContinuationOptions, continuation, member
-from .reversors import start_sets, targets
-from .shooting import ShootingProblem
+import numpy as np
 
-__all__ = ["Z3_FAMILIES", "z3_problem", "Z3Report", "z3_family"]
+from .choreo import Choreography, choreography_of, reduced_trace
+from .continuation import PALC, ContinuationOptions, continuation, member
+from .periodic import PeriodicOrbit, periodic_orbit, stability_of
+from .precision import FLOAT64, tier
+from .reversors import start_sets, targets
+from .shooting import ShootingProblem, residual, solve
+
+__all__ = [
+    "Z3_FAMILIES",
+    "z3_problem",
+    "seed_choreography",
+    "z3_range",
+    "z3_orbits",
+    "z3_orbit",
+    "z3_points",
+    "Z3Report",
+    "z3_family",
+]
 
 #: label: (start set, target fixed set, crossing, seed u, seed E, description).
 Z3_FAMILIES = {
@@ -62,6 +90,9 @@ Z3_FAMILIES = {
 }
 
 _T_CAP = 40.0  # the continuation stops where the period exceeds this
+_DS = (
+    0.0125  # pseudo-arclength step (twice that of the census, scripts/choreo_census.py)
+)
 
 
 def _label(label):
@@ -93,11 +124,332 @@ def z3_problem(label: str) -> ShootingProblem:
     )
 
 
+@cache
+def seed_choreography(label: str) -> Choreography:
+    """How the family's seed is a choreography (power, lattice, rotating), one shot.
+
+    Examples
+    --------
+    >>> from rotorlib.choreo_z3 import seed_choreography
+    >>> seed_choreography("CR1").rotating, seed_choreography("CZ1").rotating
+    (True, False)
+    """
+    lab = _label(label)
+    p, (_, _, _, u0, E0, _) = z3_problem(lab), Z3_FAMILIES[lab]
+    s = residual(p, u0, E0)
+    c = choreography_of(s.x0, 6 * float(s.t1))
+    if c is None:
+        raise RuntimeError(
+            f"{lab}: the seed is no choreography (shooting problem changed?)"
+        )
+    return c
+
+
+@cache
+def _branch(lab):
+    """``(problem, members, tr DP, tr M, stops)``: the whole family, float64."""
+    p = z3_problem(lab)
+    _, _, _, u0, E0, _ = Z3_FAMILIES[lab]
+    opts = ContinuationOptions(
+        max_steps=300, E_range=(4.0, 6.0), t1_max=_T_CAP / 6, jump=0.05, folds=False
+    )
+    alg = PALC(ds=_DS, ds_max=_DS, ds_min=1e-10, u_floor=1.0)
+    m0 = member(p, u0, E0)
+    back = continuation(p, replace(alg, direction=-1), opts, [m0])
+    fwd = continuation(p, alg, opts, [m0])
+    ms = tuple(back.members[::-1]) + tuple(fwd.members[1:])
+    k = seed_choreography(lab).power
+    tr = [reduced_trace(p.state(m.u, m.w), 6 * m.t1, order=3, power=k) for m in ms]
+    trp = np.array([float(v[0]) for v in tr])
+    trm = np.array([float(v[1]) for v in tr])
+    return p, ms, trp, trm, (back.stop, fwd.stop)
+
+
+def _gap(x):
+    from .choreo_family import _gap as gap
+
+    return gap(x)
+
+
+def _at_u(lab, u, E_guess, t=FLOAT64):
+    from .choreo_family import _at_u as at
+
+    k = seed_choreography(lab).power
+    return at(u, E_guess, t, z3_problem(lab), 3, k)
+
+
+def _root(lab, lev, ua, ub, Ea, t):
+    from .choreo_family import _locate
+
+    k = seed_choreography(lab).power
+    tol = 1e-13 if not t.extended else t.num(t.eps) ** t.num(0.75)
+    with t.context():
+        return _locate(
+            lambda r: r[2] - lev,
+            t.num(ua),
+            t.num(ub),
+            Ea,
+            t,
+            tol,
+            z3_problem(lab),
+            3,
+            k,
+        )
+
+
+def _extremum(lab, j):
+    """``E`` at the extremum of ``E(u)`` next to the member ``j`` of the branch (bounded
+    Brent on ``(u_{j-1}, u_{j+1})``, each ``u`` solved for ``E``; float64)."""
+    from scipy.optimize import minimize_scalar
+
+    p, ms = z3_problem(lab), _branch(lab)[1]
+    a, m, b = ms[j - 1], ms[j], ms[j + 1]
+    sign = 1 if float(m.E) > float(a.E) else -1  # a maximum: minimise -E
+    guess = [float(m.E)]
+
+    def f(u):
+        guess[0] = float(solve(p, guess[0], u=u).x)
+        return -sign * guess[0]
+
+    lo, hi = sorted((float(a.u), float(b.u)))
+    res = minimize_scalar(f, method="bounded", bounds=(lo, hi), options={"xatol": 1e-9})
+    return -sign * float(f(res.x))
+
+
+@cache
+def _raw_points(lab):
+    """``(kind, level, index)`` of every crossing of ``tr DP`` through 4 or 0 between the
+    members ``index`` and ``index + 1``, and the extrema of ``E`` without one."""
+    _, ms, trp, _, _ = _branch(lab)
+    E = [float(m.E) for m in ms]
+    ext = [j for j in range(1, len(E) - 1) if (E[j] - E[j - 1]) * (E[j + 1] - E[j]) < 0]
+    out = []
+    for i in range(len(ms) - 1):
+        for lev in (4.0, 0.0):
+            if (trp[i] - lev) * (trp[i + 1] - lev) < 0:
+                fold = lev == 4.0 and any(j in (i, i + 1) for j in ext)
+                out.append(("fold" if fold else "IS" if lev == 4.0 else "PD", lev, i))
+    used = {i + d for k, _, i in out if k == "fold" for d in (0, 1)}
+    out += [("born at CG", None, j) for j in ext if j not in used]
+    return out
+
+
+def _cg_birth(digits):
+    from .choreo_family import special_points
+
+    (q,) = [p for p in special_points("CG", digits=digits) if "pi/2" in p.kind]
+    return q
+
+
+@cache
+def z3_points(label: str, digits: int | None = None) -> tuple:
+    """The special points of a Z3 family, ordered by energy
+    (:class:`rotorlib.choreo_family.ChoreoPoint`, ``branch`` the label): folds, ``IS`` and
+    ``PD`` (the stability changes: ``tr DP`` through 4 or 0) and the end where the family
+    is born at CG (``born at CG``). Each is located in float64 and, with ``digits`` > 15,
+    again in that tier (``E_str``; ``agreement`` = the difference of the two); a fold's
+    ``check`` also gives its distance to the extremum of ``E(u)``. Points found on both
+    symmetric halves of a family are listed once (``check`` says so).
+
+    Precision: float64 ``E`` to ~1e-13 (the agreement measures it), a tier's to
+    ``~eps^(3/4)``; ``born at CG`` as CG's point (:func:`rotorlib.choreo_family.
+    special_points`).
+
+    Examples
+    --------
+    >>> from rotorlib.choreo_z3 import z3_points
+    >>> [(p.kind, round(p.E, 8)) for p in z3_points("CR1")]  # doctest: +SKIP
+    [('PD', 5.70695054), ('fold', 5.70770316)]
+    """
+    from .choreo_family import ChoreoPoint
+
+    lab = _label(label)
+    t = tier(digits) if digits is not None and digits > 15 else FLOAT64
+    _, ms, _, _, _ = _branch(lab)
+    out = []
+    for kind, lev, i in _raw_points(lab):
+        if kind == "born at CG":
+            q = _cg_birth(digits)
+            Ez = _extremum(lab, i)
+            th = math.acos(q.trace_reduced / 2 - 1)  # CG's reduced angle, pi/2
+            out.append(
+                replace(
+                    q,
+                    kind=kind + " (CG's tr M = 0, theta = pi/2)",
+                    branch=lab,
+                    period=2 * q.period,  # CG twice: P over T/3 is CG's P^4
+                    trace_reduced=2 + 2 * math.cos(4 * th),
+                    trace=2 + 2 * math.cos(12 * th),
+                    check="period, tr DP, tr M: CG's orbit run twice; the family's own "
+                    f"extremum of E differs by {_gap(abs(Ez - q.E))}",
+                )
+            )
+            continue
+        ua, ub, Ea = float(ms[i].u), float(ms[i + 1].u), float(ms[i].E)
+        u, r = _root(lab, lev, ua, ub, Ea, FLOAT64)
+        E, T, trp, trm = (float(v) for v in r)
+        E_str, agree, check = f"{E:.13f}", math.nan, ""
+        if t.extended:
+            h = 1e-7 * max(1.0, abs(u))
+            ut, rt = _root(lab, lev, u - h, u + h, E, t)
+            d = max(10, int(digits or 0) - 10)
+            E_str, agree = t.text(rt[0], d), abs(float(rt[0]) - E)
+            check = f"float64 and {t.name} agree to {_gap(agree)}"
+        if kind == "fold":
+            j = i if abs(float(ms[i].u) - u) < abs(float(ms[i + 1].u) - u) else i + 1
+            Eb = _extremum(lab, j)
+            check += (
+                "; " if check else ""
+            ) + f"extremum of E(u) {_gap(abs(Eb - E))} away"
+        out.append(ChoreoPoint(kind, lab, E, T, trp, trm, E_str, agree, check, u))
+    uniq: list = []
+    for q in sorted(out, key=lambda q: q.E):
+        if uniq and uniq[-1].kind == q.kind and abs(uniq[-1].E - q.E) < 1e-9:
+            note = "found on both symmetric halves"
+            uniq[-1] = replace(uniq[-1], check=f"{uniq[-1].check}; {note}".lstrip("; "))
+            continue
+        uniq.append(q)
+    return tuple(uniq)
+
+
+@cache
+def z3_range(label: str) -> tuple:
+    """``(E_min, E_max, why_min, why_max)``: the energies the family spans (its folds and
+    its birth at CG from :func:`z3_points` in float64; an end where the period exceeds
+    40 at the last member followed) and why it ends there.
+
+    Examples
+    --------
+    >>> from rotorlib.choreo_z3 import z3_range
+    >>> lo, hi, why_lo, why_hi = z3_range("CR1")  # doctest: +SKIP
+    >>> round(hi, 8), why_hi  # doctest: +SKIP
+    (5.70770316, 'a fold (saddle-node)')
+    """
+    lab = _label(label)
+    _, ms, _, _, _ = _branch(lab)
+    E = [float(m.E) for m in ms]
+    ends = [(E[0], "the period exceeds 40 (E -> 4.5: the maxima T1, T2)")]
+    ends.append((E[-1], ends[0][1]))
+    for q in z3_points(lab):
+        if q.kind == "fold":
+            ends.append((q.E, "a fold (saddle-node)"))
+        elif q.kind.startswith("born"):
+            ends.append((q.E, "CG's point tr M = 0, where the family is born"))
+    lo, hi = min(ends), max(ends)
+    return lo[0], hi[0], lo[1], hi[1]
+
+
+@cache
+def _orbits(lab, E, digits):
+    p, ms, _, _, _ = _branch(lab)
+    from .choreo_family import _u_at_E
+
+    t = tier(digits) if digits is not None and digits > 15 else FLOAT64
+    Ef, k = float(E), seed_choreography(lab).power
+    found = []
+    for a, b in zip(ms, ms[1:]):
+        if not (float(a.E) - Ef) * (float(b.E) - Ef) <= 0 or a.E == b.E:
+            continue
+        u = _u_at_E(p, float(a.u), float(b.u), float(a.E), float(b.E), Ef)
+        with t.context():
+            w = t.num(str(E)) if t.extended else Ef
+            if t.extended:
+                ut = t.num(u)
+                u = solve(p, ut, ut * (1 + t.num("1e-12")), E=w, t=t).x
+            T = float(6 * residual(p, u, w, t).t1)
+        if any(abs(T - T2) < 1e-8 * T for T2, _ in found):
+            continue  # the same orbit on the other symmetric half
+        found.append((T, u))
+    out = []
+    for T, u in sorted(found, key=lambda v: v[0]):
+        with t.context():
+            w = t.num(str(E)) if t.extended else Ef
+            o = periodic_orbit(p, u, w, t, lab, shown=digits if t.extended else None)
+            s = residual(p, u, w, t)
+            trp = reduced_trace(s.x0, 6 * s.t1, digits, order=3, power=k)[0]
+        extra = dict(o.extra)
+        c = choreography_of(o.state0, o.period)
+        extra.update(
+            trace_reduced=float(trp),
+            stable=bool(0 < float(trp) < 4),
+            stability=stability_of(float(trp), o.digits),
+            choreography=c.to_dict() if c else None,
+        )
+        if t.extended:
+            extra["trace_reduced_str"] = t.text(trp, int(digits) - 8)
+        out.append(replace(o, extra=extra))
+    return tuple(out)
+
+
+def z3_orbits(label: str, E: float | str, digits: int | None = None) -> tuple:
+    """Every member of the family at energy ``E``, distinct up to symmetry, ordered by
+    period (:class:`~rotorlib.periodic.PeriodicOrbit`; ``extra`` holds ``trace_reduced``,
+    ``stable``, ``choreography``); empty outside the family's range.
+
+    Each is the root of ``E(u) = E`` between two members of the followed family
+    (Illinois in ``u``, each ``u`` solved for ``E``), re-solved at fixed ``E`` in the
+    tier of ``digits``.
+
+    Examples
+    --------
+    >>> from rotorlib.choreo_z3 import z3_orbits
+    >>> [round(o.period, 6) for o in z3_orbits("CR1", 5.6)]  # doctest: +SKIP
+    [13.125659, 15.777029]
+    """
+    return _orbits(_label(label), str(E), digits)
+
+
+def z3_orbit(
+    label: str, E: float | str, digits: int | None = None, branch: int = 0
+) -> PeriodicOrbit:
+    """The member number ``branch`` (by period) of the family at energy ``E``
+    (:func:`z3_orbits`); ``extra`` adds ``branch`` and ``members_at_E``. Raises
+    ValueError outside the family's range (:func:`z3_range`) with the range and why it
+    ends there, or when there is no member number ``branch``.
+
+    Examples
+    --------
+    >>> from rotorlib.choreo_z3 import z3_orbit
+    >>> o = z3_orbit("CR1", 5.6, branch=1)  # doctest: +SKIP
+    >>> round(o.period, 6), o.extra["stable"]  # doctest: +SKIP
+    (15.777029, False)
+    """
+    lab = _label(label)
+    Ef = float(E)
+    lo, hi, why_lo, why_hi = z3_range(lab)
+    if not math.isfinite(Ef) or not lo <= Ef <= hi:
+        raise ValueError(
+            f"{lab} exists only for {lo:.10f} <= E <= {hi:.10f} (below: {why_lo}; "
+            f"above: {why_hi}), not at E = {E}"
+        )
+    os_ = z3_orbits(lab, E, digits)
+    if not os_:
+        raise ValueError(
+            f"{lab} has no member at E = {E}: its ends are followed up to T = 40"
+        )
+    if not 0 <= int(branch) < len(os_):
+        raise ValueError(
+            f"{lab} has {len(os_)} member(s) at E = {E} (branch 0 to {len(os_) - 1}, by "
+            f"period), not branch {branch}"
+        )
+    o = os_[int(branch)]
+    return replace(
+        o, extra={**o.extra, "branch": int(branch), "members_at_E": len(os_)}
+    )
+
+
 @dataclass(frozen=True)
 class Z3Report:
     """``family CZ1 --E-range A B``: members ``(E, period, tr DP, tr M, stable)`` with
-    ``E`` in the range, the located points ``(kind, E)`` there, the energies the
-    continuation spanned and why it stopped each way."""
+    ``E`` in the range, the special points there (:func:`z3_points`), the energies the
+    continuation spanned and why it stopped each way.
+
+    Examples
+    --------
+    >>> from rotorlib.choreo_z3 import z3_family
+    >>> z3_family("CR1", (5.7, 5.71)).to_dict()["label"]  # doctest: +SKIP
+    'CR1'
+    """
 
     label: str
     E_range: tuple
@@ -106,7 +458,8 @@ class Z3Report:
     span: tuple
     stops: tuple
 
-    def to_record(self) -> dict:
+    def to_dict(self) -> dict:
+        """A JSON-serialisable dict (the ``family`` command's ``--json`` output)."""
         return {
             "label": self.label,
             "description": Z3_FAMILIES[self.label][5],
@@ -117,80 +470,39 @@ class Z3Report:
                 dict(zip(("E", "period", "trace_reduced", "trace", "stable"), m))
                 for m in self.members
             ],
-            "special_points": [{"kind": k, "E": e} for k, e in self.points],
+            "special_points": [p.to_dict() for p in self.points],
         }
 
 
-def _clean(points):
-    out = []
-    for k, e in points:
-        if any(k2 == k and abs(e2 - e) < 1e-8 for k2, e2 in out):
-            continue
-        if k == "IS" and any(k2 == "fold" and abs(e2 - e) < 1e-8 for k2, e2 in points):
-            continue  # tr M = 4 at a fold: the fold itself
-        other = {"IS": "PD", "PD": "IS"}.get(k)
-        if other and any(k2 == other and abs(e2 - e) < 1e-8 for k2, e2 in points):
-            continue  # a jump of the computed tr M
-        out.append((k, e))
-    return sorted(out, key=lambda v: v[1])
-
-
-@cache
-def _follow(lab, lo, hi, step):
-    p = z3_problem(lab)
-    _, _, _, u0, E0, _ = Z3_FAMILIES[lab]
-    m0 = member(p, u0, E0, traces=True)
-    opts = ContinuationOptions(
-        max_steps=300,
-        E_range=(min(lo, E0) - step, max(hi, E0) + step),
-        t1_max=_T_CAP / 6,
-        jump=0.05,
-        traces=True,
-        folds=True,
-    )
-    ds = step / max(hi, 1.0)
-    alg = PALC(ds=ds, ds_max=ds, ds_min=1e-10, u_floor=1.0)
-    back = continuation(p, replace(alg, direction=-1), opts, [m0])
-    fwd = continuation(p, alg, opts, [m0])
-    ms = list(back.members[::-1]) + list(fwd.members[1:])
-    pts = [
-        (q.kind, float(q.member.E))
-        for q in list(back.special_points) + list(fwd.special_points)
-        if q.located and q.kind != "E"
-    ]
-    c = choreography_of(p.state(u0, E0), 6 * float(m0.t1))
-    return p, tuple(ms), _clean(pts), (back.stop, fwd.stop), c.power
-
-
-def z3_family(label: str, E_range, step: float = 0.02) -> Z3Report:
-    """Follow the Z3 family ``label`` from its seed through ``E_range`` (and the energies
-    between the seed and it) with steps of at most ``step`` in ``E``; a range the family
-    does not reach raises ValueError with the energies it spans.
+def z3_family(
+    label: str, E_range: Sequence[float], digits: int | None = None
+) -> Z3Report:
+    """The members of the Z3 family ``label`` with ``E`` in ``E_range`` and its special
+    points there (:func:`z3_points`, re-located in the tier of ``digits`` > 15); a range
+    the family does not reach raises ValueError with the energies it spans.
 
     Examples
     --------
     >>> from rotorlib.choreo_z3 import z3_family
-    >>> r = z3_family("CR1", (5.65, 5.75))  # ~20 s
-    >>> [(k, round(e, 6)) for k, e in r.points]
-    [('PD', 5.706951), ('fold', 5.707703)]
+    >>> r = z3_family("CR1", (5.65, 5.75))  # doctest: +SKIP
+    >>> [(p.kind, round(p.E, 10)) for p in r.points]  # doctest: +SKIP
+    [('PD', 5.706950538), ('fold', 5.7077031647)]
     """
     lab = _label(label)
     lo, hi = (float(v) for v in E_range)
     if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi):
         raise ValueError(f"--E-range must be two finite energies A < B, got {E_range}")
-    p, ms, pts, stops, power = _follow(lab, lo, hi, float(step))
-    Es = [float(m.E) for m in ms]
-    span = (min(Es), max(Es))
-    if hi < span[0] or lo > span[1]:
+    _, ms, trp, trm, stops = _branch(lab)
+    e0, e1, _, _ = z3_range(lab)
+    if hi < e0 or lo > e1:
         raise ValueError(
-            f"{lab} was followed over {span[0]:.6f} <= E <= {span[1]:.6f} (ends: "
+            f"{lab} was followed over {e0:.10f} <= E <= {e1:.10f} (ends: "
             f"{' / '.join(stops)}): the range {lo:g}..{hi:g} misses it"
         )
-    rows = []
-    for m in ms:
-        if lo <= float(m.E) <= hi:
-            T = float(6 * m.t1)
-            trp = float(reduced_trace(p.state(m.u, m.w), T, order=3, power=power)[0])
-            rows.append((float(m.E), T, trp, float(m.trace), bool(0 < trp < 4)))
-    inside = tuple((k, e) for k, e in pts if lo <= e <= hi)
-    return Z3Report(lab, (lo, hi), tuple(rows), inside, span, stops)
+    rows = [
+        (float(m.E), float(6 * m.t1), float(a), float(b), bool(0 < a < 4))
+        for m, a, b in zip(ms, trp, trm)
+        if lo <= float(m.E) <= hi
+    ]
+    pts = tuple(q for q in z3_points(lab, digits) if lo <= q.E <= hi)
+    return Z3Report(lab, (lo, hi), tuple(rows), pts, (e0, e1), stops)

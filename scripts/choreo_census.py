@@ -14,6 +14,14 @@ followed here: ``rotorlib.choreo_family`` follows them. Chapter 10 (choreographi
 the file and checks it: CG and CT against its own family, and the census orbit of every
 other family re-integrated (it closes and is a choreography).
 
+Each family labelled CZ1, CZ2 or CR1 also gets its special points located to 30 digits
+(``rotorlib.choreo_z3.z3_points(label, 30)``: float64 and real128, with their agreement).
+Then the touches of CG (``tr M`` = 4 at theta = pi/3, 0 at theta = pi/6, no change of
+stability): a census just below and just above each (T up to 1 or 2 periods of CG), the
+near-resonant orbits found (``|tr M - 4| < 1e-3``, period within 30 % of T or 2T)
+and each one's family followed with the engine up in energy to where it ends
+(``touches``).
+
 Scope: T <= 16 at E = 4.6 and 5.6 (chapter 9's census at 5.45 is read from its own data
 product by the chapter); at most 150 continuation steps of 0.05 each way. The censuses are
 cached in /tmp (choreo_census_<E>_<T_MAX>.pickle) so that a rerun of the families is cheap.
@@ -35,7 +43,10 @@ import numpy as np
 
 from rotorlib import atlas
 from rotorlib.choreo import atlas_name, choreography_of, reduced_trace
+from rotorlib.choreo_family import special_points
+from rotorlib.choreo_z3 import Z3_FAMILIES, z3_points
 from rotorlib.continuation import PALC, ContinuationOptions, continuation, member
+from rotorlib.flow import flow
 from rotorlib.shooting import residual
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -45,6 +56,93 @@ T_MAX = 16.0
 WINDOW = (3.0, 8.0)
 STEP = 0.05
 T_CAP = 40.0  # a family whose period grows beyond this is stopped ("period")
+TOUCHES = (("pi/3", 1, 0.005), ("pi/6", 2, 0.001))  # CG's point, periods of CG, dE
+
+
+def _census(E, t_max, pool):
+    cache = Path(f"/tmp/choreo_census_{E}_{t_max}.pickle")
+    if cache.is_file():
+        return pickle.loads(cache.read_bytes())
+    a = atlas.census(E, t_max, executor=pool, name=False)
+    cache.write_bytes(pickle.dumps(a))
+    return a
+
+
+def _half_shift(x0, T):
+    """``max |x(T/2) + x(0)|`` modulo the lattice: 0 for ``x(t + T/2) = -x(t)``."""
+    d = np.array([float(v) for v in flow(list(x0), T / 2)]) + np.array(x0)
+    n = np.array([[2.0, 0.0], [-1.0, 1.0]]) @ d[:2] / (2 * np.pi)
+    return float(
+        max(np.max(np.abs(n - np.round(n))) * 2 * np.pi, np.max(np.abs(d[2:])))
+    )
+
+
+def _touch_family(o, E_end):
+    """The family of the near-resonant orbit ``o`` followed up in energy (PALC, small
+    steps) until it turns: ``(E of its located fold, period there)`` or ``(None, None)``."""
+    sh = residual(o.problem, o.u, o.E)
+    factor = float(Fraction(o.period / float(sh.t1)).limit_denominator(48))
+    prob = replace(o.problem, factor=factor)
+    opts = ContinuationOptions(
+        max_steps=200, E_range=(o.E - 0.05, E_end), jump=0.05, folds=True
+    )
+    alg = PALC(ds=2e-4, ds_max=2e-3, ds_min=1e-12, u_floor=1.0)
+    for d in (1, -1):
+        b = continuation(
+            prob, replace(alg, direction=d), opts, [member(prob, o.u, o.E)]
+        )
+        folds = [p for p in b.special_points if p.kind == "fold" and p.located]
+        if folds and float(folds[0].member.E) > o.E:
+            m = folds[0].member
+            return float(m.E), float(factor * m.t1)
+    return None, None
+
+
+def touches(pool):
+    """Near-resonant orbits just below and above CG's touches (see the docstring)."""
+    out = []
+    cg = {p.kind: p for p in special_points("CG")}
+    for key, mult, dE in TOUCHES:
+        (q,) = [p for k, p in cg.items() if key in k]
+        for side in (-1, 1):
+            E = round(q.E + side * dE, 6)
+            T_cg = q.period  # CG's period at the touch
+            a = _census(E, round(mult * T_cg * 1.05, 2), pool)
+            found = []
+            for o in a.orbits:
+                if abs(o.period - mult * T_cg) < 0.3 * mult and abs(o.trace - 4) < 1e-3:
+                    if choreography_of(o.state0, o.period) is not None:
+                        continue  # CG itself (tr M near 4 at theta = pi/3)
+                    E_f, T_f = _touch_family(o, q.E + 0.002)
+                    found.append(
+                        {
+                            "period": o.period,
+                            "trace": o.trace,
+                            "fixed_sets": list(o.fixed_sets),
+                            "state0": list(o.state0),
+                            "half_shift": _half_shift(o.state0, o.period),
+                            "ends_at_E": E_f,
+                            "period_at_end": T_f,
+                        }
+                    )
+            out.append(
+                {
+                    "touch": key,
+                    "E_touch": q.E,
+                    "period_touch": q.period,
+                    "periods_of_CG": mult,
+                    "E": E,
+                    "t_max": round(mult * T_cg * 1.05, 2),
+                    "n_orbits": len(a.orbits),
+                    "orbits": found,
+                }
+            )
+            print(f"touch {key} at E = {E}: {len(found)} near-resonant", flush=True)
+    return out
+
+
+def _z3_points(label):
+    return [{**p.to_dict(), "u": p.u} for p in z3_points(label, 30)]
 
 
 def _on(fam, E, T, rel=2e-3):
@@ -142,7 +240,7 @@ def _family(args):
     }
 
 
-def _write(found, families, t0):
+def _write(found, families, t0, touch=()):
     data = {
         "energies": list(ENERGIES),
         "t_max": T_MAX,
@@ -150,6 +248,7 @@ def _write(found, families, t0):
         "step": STEP,
         "choreographies": found,
         "families": families,
+        "touches": list(touch),
         "seconds": round(time.perf_counter() - t0),
     }
     OUT.write_text(json.dumps(data, indent=1) + "\n")
@@ -160,12 +259,7 @@ def main():
     found, tasks = [], []
     with ProcessPoolExecutor(2) as pool:
         for E in ENERGIES:  # 1. the censuses
-            cache = Path(f"/tmp/choreo_census_{E}_{T_MAX}.pickle")
-            if cache.is_file():
-                a = pickle.loads(cache.read_bytes())
-            else:
-                a = atlas.census(E, T_MAX, executor=pool, name=False)
-                cache.write_bytes(pickle.dumps(a))
+            a = _census(E, T_MAX, pool)
             for o in a.orbits:
                 c = choreography_of(o.state0, o.period)
                 if c is None:
@@ -179,7 +273,7 @@ def main():
                         "trace": o.trace,
                         "state0": list(o.state0),
                         "fixed_sets": list(o.fixed_sets),
-                        "choreography": c.to_record(),
+                        "choreography": c.to_dict(),
                     }
                 )
                 print(f"E = {E}: {label} T = {o.period:.6f} {c}", flush=True)
@@ -201,8 +295,12 @@ def main():
                 f"points {fam['points']}, stops {fam['stops']}",
                 flush=True,
             )
-    _label(families, found)
-    _write(found, families, t0)
+        _label(families, found)
+        z3 = [f for f in families if f["label"] in Z3_FAMILIES]
+        for f, pts in zip(z3, pool.map(_z3_points, [f["label"] for f in z3])):
+            f["special_points"] = pts
+        touch = touches(pool)
+    _write(found, families, t0, touch)
     print(f"wrote {OUT} ({len(found)} choreographies, {len(families)} families)")
 
 

@@ -323,23 +323,107 @@ def test_atlas_names_choreographies():
     assert others and all(o.to_record()["choreography"] is None for o in others)
 
 
-def test_z3_family_cr1_against_the_census():
-    """The rotating Z3 choreography CR1 followed live from its seed: its PD and its fold
-    are those the census's data product located (book/data/choreographies_T16.json)."""
+def _census_data():
     import json
     from pathlib import Path
 
+    path = Path(__file__).parents[1] / "book/data/choreographies_T16.json"
+    return json.loads(path.read_text())
+
+
+def test_z3_family_cr1_against_the_census():
+    """The rotating Z3 choreography CR1 followed live from its seed: its PD and its fold
+    are those the census's engine located (book/data/choreographies_T16.json, tr M of
+    the members: an independent route, to ~1e-9), and the 30-digit locations agree with
+    the float64 ones to < 1e-12, the fold also with the extremum of E(u)."""
     from rotorlib.choreo_z3 import z3_family
 
-    data = json.loads(
-        (Path(__file__).parents[1] / "book/data/choreographies_T16.json").read_text()
-    )
-    (cr1,) = [f for f in data["families"] if f["label"] == "CR1"]
+    (cr1,) = [f for f in _census_data()["families"] if f["label"] == "CR1"]
     stored = {k: e for k, e in cr1["points"] if k in ("PD", "fold") and e > 5.7}
-    r = z3_family("CR1", (5.65, 5.75))
-    got = dict(r.points)
+    r = z3_family("CR1", (5.65, 5.75), digits=30)
+    got = {p.kind: p for p in r.points}
     assert set(got) == {"PD", "fold"}
     for k in ("PD", "fold"):
-        assert abs(got[k] - stored[k]) < 1e-7
-    assert any(m[4] for m in r.members) or got["fold"] - got["PD"] < 1e-3
+        assert abs(got[k].E - stored[k]) < 1e-8
+        assert len(got[k].E_str) >= 20 and got[k].agreement < 1e-12
+        assert abs(float(got[k].E_str) - got[k].E) < 1e-12
+    assert abs(got["PD"].trace_reduced) < 1e-12
+    assert abs(got["fold"].trace_reduced - 4) < 1e-12
+    assert "extremum of E(u)" in got["fold"].check
+    # the 20 digits printed at digits=30 (real128) are those of the 40-digit tier (mp)
+    from rotorlib.choreo_z3 import z3_points
+
+    with mp.workdps(40):
+        for p40 in z3_points("CR1", 40):
+            d = mp.mpf(p40.E_str) - mp.mpf(got[p40.kind].E_str)
+            assert 0 < abs(d) < mp.mpf("1e-19")
+    assert any(m[4] for m in r.members) or got["fold"].E - got["PD"].E < 1e-3
     assert cli.main(["family", "CZ9", "--E-range", "4", "5"]) == 2
+
+
+def test_family_cli_z3_digits(capsys):
+    """``family CR1 --digits 30`` prints the special points to 20 digits."""
+    assert (
+        cli.main(["family", "CR1", "--E-range", "5.7", "5.71", "--digits", "30"]) == 0
+    )
+    out = capsys.readouterr().out
+    lines = [ln for ln in out.splitlines() if ln.strip().startswith("E = ")]
+    assert len(lines) == 2
+    for ln in lines:
+        E = ln.split()[2]
+        assert len(E.split(".")[1]) >= 15
+    assert "PD" in out and "fold" in out and "agree to" in out
+
+
+def test_choreography_orbit_z3_against_the_census():
+    """``choreography_orbit`` for CR1 (and CG) against the census's orbits: period and
+    tr M, the choreography's symmetry, and the 30-digit member's closure under an
+    independent real128 integration of the rotor equations."""
+    from rotorlib.choreo_family import choreography_orbit
+
+    data = _census_data()
+    cr1 = sorted(
+        (c for c in data["choreographies"] if c["label"] == "CR1"),
+        key=lambda c: c["period"],
+    )
+    assert len(cr1) == 2 and cr1[1]["period"] - cr1[0]["period"] > 1
+    for k, c in enumerate(cr1):
+        o = choreography_orbit("CR1", c["E"], branch=k)
+        assert abs(o.period - c["period"]) < 1e-9 * c["period"]
+        assert abs(o.trace - c["trace"]) < 1e-6 * abs(c["trace"])
+        assert o.extra["choreography"]["rotating"] and not o.extra["stable"]
+        assert o.extra["members_at_E"] == 2
+    cg = [c for c in data["choreographies"] if c["label"] == "CG"][0]
+    assert abs(choreography_orbit("CG", cg["E"]).period - cg["period"]) < 1e-9
+    o30 = choreography_orbit("CR1", "5.6", digits=30)
+    assert abs(float(o30.extra["period_str"]) - cr1[0]["period"]) < 1e-10
+    th, w = _decimal_theta(o30.extra["state0_str"])
+    assert _real128_closure(th, w, o30.extra["period_str"]) < 1e-18
+
+
+def test_choreography_orbit_refusals(capsys):
+    """Beyond a family's range, an unknown label or a missing branch: one line, exit 2."""
+    from rotorlib.choreo_family import choreography_orbit
+    from rotorlib.choreo_z3 import z3_range
+
+    lo, hi, _, why_hi = z3_range("CR1")
+    assert abs(lo - 4.5) < 1e-4 and "fold" in why_hi
+    with pytest.raises(ValueError, match="fold"):
+        choreography_orbit("CR1", hi + 1e-6)
+    with pytest.raises(ValueError, match="branch"):
+        choreography_orbit("CR1", 5.6, branch=2)
+    with pytest.raises(ValueError, match="unknown"):
+        choreography_orbit("CZ7", 4.6)
+    assert cli.main(["orbit", "CR1", "--E", "5.8"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "CR1 exists only for" in err[0]
+    assert cli.main(["orbit", "CG", "--E", "3", "--branch", "1"]) == 2
+
+
+def test_atlas_names_z3_choreographies():
+    """The atlas's name for the census's Z3 choreographies: their families' labels."""
+    from rotorlib.choreo import atlas_name
+
+    for c in _census_data()["choreographies"]:
+        label, rec = atlas_name("new", c["E"], c["state0"], c["period"])
+        assert label == c["label"] and rec == c["choreography"]

@@ -10,20 +10,21 @@ Examples
 ``python -m rotorlib family CG --E-range 5 5.4``
 ``python -m rotorlib family CT --E-range 4.5 5.4 --json``
 ``python -m rotorlib family CG --E-range 5.3 5.4 --digits 30`` (the fold to 30 digits)
-``python -m rotorlib family CR1 --E-range 5.6 5.8`` (a rotating Z3 choreography:
-:mod:`rotorlib.choreo_z3`, followed live from its seed, ~10-60 s)
+``python -m rotorlib family CR1 --E-range 5.6 5.8 --digits 30`` (a rotating Z3
+choreography: :mod:`rotorlib.choreo_z3`, followed live from its seed, ~20 s; its PD and
+fold located again in real128)
 """
 
 from __future__ import annotations
 
 import json
-import math
 
 
 def register(sub):
     p = sub.add_parser(
         "family",
-        help="a family of choreographies (CG, CT): members, folds, stability changes",
+        help="a family of choreographies (CG, CT, CZ1, CZ2, CR1): members, folds, "
+        "stability changes",
         description="Follow the choreographies born at G (CG, and CT beyond its fold) "
         "with the continuation engine and print the members with E in the range and "
         "the special points (folds, stability changes with their kind).",
@@ -40,7 +41,8 @@ def register(sub):
         "--digits",
         type=int,
         default=None,
-        help="> 15: the fold re-solved in the tier of that many digits (E_str)",
+        help="> 15: each special point located again in the tier of that many digits "
+        "(E_str, and its agreement with the float64 location)",
     )
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.set_defaults(func=run)
@@ -55,45 +57,19 @@ def _num(v, name):
 def _run_z3(args, lo, hi):
     from ..choreo_z3 import z3_family
 
-    if args.digits is not None:
-        raise ValueError(f"{args.label}: --digits is available for CG and CT only")
-    rec = z3_family(args.label, (lo, hi)).to_record()
+    rec = z3_family(args.label, (lo, hi), digits=args.digits).to_dict()
     if args.json:
         print(json.dumps(rec, indent=2))
         return 0
     print(
-        f"{rec['label']}: {rec['description']}; followed over {rec['span'][0]:.6f} <= E "
-        f"<= {rec['span'][1]:.6f} (ends: {' / '.join(rec['stops'])})"
+        f"{rec['label']}: {rec['description']}; exists for {rec['span'][0]:.10f} <= E "
+        f"<= {rec['span'][1]:.10f} (continuation ends: {' / '.join(rec['stops'])})"
     )
-    print(f"{'E':>18}  {'period':>18}  {'tr DP':>14}  {'tr M':>14}  stable")
-    for m in rec["members"]:
-        print(
-            f"{m['E']:18.12f}  {m['period']:18.12f}  {m['trace_reduced']:14.8g}  "
-            f"{m['trace']:14.8g}  {'yes' if m['stable'] else 'no'}"
-        )
-    print("special points (IS, PD: stability changes; E to ~1e-8):")
-    for p in rec["special_points"] or [{"kind": "none in the range", "E": math.nan}]:
-        print(f"  {p['kind']}  E = {p['E']:.8f}")
+    _table(rec)
     return 0
 
 
-def run(args):
-    from ..choreo_family import family
-
-    if args.digits is not None and not 1 <= args.digits <= 60:
-        raise ValueError(f"--digits must be from 1 to 60, got {args.digits}")
-    lo, hi = (_num(v, "--E-range") for v in args.E_range)
-    if str(args.label).strip().upper() in ("CZ1", "CZ2", "CR1"):
-        return _run_z3(args, lo, hi)
-    rep = family(args.label, (lo, hi), digits=args.digits)
-    rec = rep.to_record()
-    if args.json:
-        print(json.dumps(rec, indent=2))
-        return 0
-    print(
-        f"{rec['label']}: {rec['description']}; exists for {rec['E_min']:g} < E <= "
-        f"{rec['E_max']:.12f}"
-    )
+def _table(rec):
     print(f"{'E':>18}  {'period':>18}  {'tr DP':>14}  {'tr M':>14}  stable")
     for m in rec["members"]:
         print(
@@ -105,9 +81,28 @@ def run(args):
         print("  none in the range")
     for p in rec["special_points"]:
         e = p["E_str"] if p["E_str"] != repr(p["E"]) else f"{p['E']:.13f}"
+        check = f"  ({p['check']})" if p["check"] else ""
         print(
-            f"  E = {e}  "
-            f"T = {p['period']:.10f}  tr DP = {p['trace_reduced']:.10f}  "
-            f"{p['kind']}  [{p['branch']}]"
+            f"  E = {e}  T = {p['period']:.10f}  tr DP = {p['trace_reduced']:.10f}  "
+            f"{p['kind']}  [{p['branch']}]{check}"
         )
+
+
+def run(args):
+    from ..choreo_family import family
+
+    if args.digits is not None and not 1 <= args.digits <= 60:
+        raise ValueError(f"--digits must be from 1 to 60, got {args.digits}")
+    lo, hi = (_num(v, "--E-range") for v in args.E_range)
+    if str(args.label).strip().upper() in ("CZ1", "CZ2", "CR1"):
+        return _run_z3(args, lo, hi)
+    rec = family(args.label, (lo, hi), digits=args.digits).to_dict()
+    if args.json:
+        print(json.dumps(rec, indent=2))
+        return 0
+    print(
+        f"{rec['label']}: {rec['description']}; exists for {rec['E_min']:g} < E <= "
+        f"{rec['E_max']:.12f}"
+    )
+    _table(rec)
     return 0

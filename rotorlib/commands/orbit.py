@@ -8,6 +8,8 @@ Examples
 ``python -m rotorlib orbit PD^b --E 8.9 --json`` (the breather's period-doubled daughter)
 ``python -m rotorlib orbit CG --E 3 --digits 30`` (the choreography born at G; ``CT`` its
 unstable partner beyond the fold, :mod:`rotorlib.choreo_family`)
+``python -m rotorlib orbit CR1 --E 5.6 --branch 1`` (a Z3 choreography, the second of its
+members at that energy by period; ``CZ1``, ``CZ2`` likewise, :mod:`rotorlib.choreo_z3`)
 """
 
 from __future__ import annotations
@@ -18,7 +20,7 @@ from ..cli import emit
 from ..energy import as_float
 from ..precision import check_digits
 
-_CHOREO = re.compile(r"^C(G|T|Z1|Z2|R1)$", re.IGNORECASE)
+_CHOREO = re.compile(r"^(C[GT]|CZ[12]|CR1)$", re.IGNORECASE)
 
 
 def register(sub):
@@ -30,7 +32,8 @@ def register(sub):
         "breather (closed form, monodromy from the reduced problem), the member with energy "
         "E of the family of periodic orbits born at a pendulum bifurcation (symmetry-reduced shooting + continuation in energy; "
         "paper §6-7), of the breather's period-doubled daughter (PD^b), or of the "
-        "choreographies born at G (CG, and CT beyond its fold).",
+        "choreographies born at G (CG, and CT beyond its fold) or of the Z3 "
+        "choreographies CZ1, CZ2, CR1.",
     )
     p.add_argument(
         "label", help="pendulum, R, LG, LD, IS^l_2, ISl2, PD^r_3, PDr3, PD^b, CG ..."
@@ -45,11 +48,18 @@ def register(sub):
         "state0_str, period_str, trace_str; up to 1000; <= 15: plain float64, "
         "which loses log10(1/|E_n - 4|) digits near E = 4)",
     )
+    p.add_argument(
+        "--branch",
+        type=int,
+        default=0,
+        help="choreographies CZ1, CZ2, CR1: which member at E, numbered by period from 0 "
+        "(a family that folds has several)",
+    )
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.set_defaults(func=run)
 
 
-def record(label, E, digits=None) -> dict:
+def record(label: str, E, digits: int | None = None, branch: int = 0) -> dict:
     """The record the command prints for ``label`` at energy ``E`` (a decimal string keeps
     its digits): :meth:`rotorlib.orbit(label, E, digits=digits).to_dict()
     <rotorlib.periodic.PeriodicOrbit.to_dict>`, the choreographies with their
@@ -58,18 +68,15 @@ def record(label, E, digits=None) -> dict:
 
     as_float(E, "E")
     check_digits(digits, "--digits")
-    o = orbit(label, E, digits=digits)
+    o = orbit(label, E, digits=digits, branch=branch)
     rec = o.to_dict()
-    if _CHOREO.match(str(label).strip()) and "choreography" not in rec:
-        from ..choreo import choreography_of
-
-        c = choreography_of(o.state0, o.period)
-        rec["choreography"] = c.to_dict() if c else None
+    if _CHOREO.match(str(label).strip()):
+        rec["choreography"] = o.extra.get("choreography")
     return rec
 
 
 def run(args):
-    rec = record(args.label, args.E, args.digits)
+    rec = record(args.label, args.E, args.digits, args.branch)
     cols = ["label", "E", "period", "trace", "alpha1_max", "alpha2_max", "precision"]
     if "trace_reduced" in rec:  # a choreography: its reduced map decides the stability
         cols[4:6] = ["trace_reduced", "stable"]
