@@ -511,9 +511,11 @@ def _refine(p: ChoreoPoint, digits: int) -> ChoreoPoint:
     if p.kind.startswith("fold"):
         u, E, T, tp, tm = fold(digits)
         agree = abs(float(E) - p.E)
+        engine_fold = follow().fold
+        assert engine_fold is not None  # CG's branch always passes its fold
         check = (
             f"root of tr DP = 4 in float64 and {t.name} agree to {_gap(agree)}; the "
-            f"engine's maximum of E along the branch is {_gap(abs(follow().fold.E - p.E))}"
+            f"engine's maximum of E along the branch is {_gap(abs(engine_fold.E - p.E))}"
             " away"
         )
     else:
