@@ -396,9 +396,9 @@ def test_choreography_orbit_z3_against_the_census():
     cg = [c for c in data["choreographies"] if c["label"] == "CG"][0]
     assert abs(choreography_orbit("CG", cg["E"]).period - cg["period"]) < 1e-9
     o30 = choreography_orbit("CR1", "5.6", digits=30)
-    assert abs(float(o30.extra["period_str"]) - cr1[0]["period"]) < 1e-10
-    th, w = _decimal_theta(o30.extra["state0_str"])
-    assert _real128_closure(th, w, o30.extra["period_str"]) < 1e-18
+    assert abs(float(o30.period_str) - cr1[0]["period"]) < 1e-10
+    th, w = _decimal_theta(o30.state0_str)
+    assert _real128_closure(th, w, o30.period_str) < 1e-18
 
 
 def test_choreography_orbit_refusals(capsys):
