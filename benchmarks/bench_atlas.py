@@ -1,71 +1,90 @@
-"""Seconds per energy of the atlas census (issue 12), printed, never asserted.
+"""Wall time of one atlas census: serial, on a 2-process pool and on 2 Dask workers.
 
-1. Against ``T_max`` (8, 12, 16) at E = 5.45 (the band of global chaos), grid 300, on a
-   ``ProcessPoolExecutor(2)``.
-2. Against the workers at ``T_max = 16``: serial, a 2-process pool, and a local Dask
-   cluster (``distributed.LocalCluster``, one thread per worker) with 1 and 2 workers.
+The census (``rotorlib.atlas.census``, by default at E = 5.45, T_max = 16, grid 300,
+named: about 20 s of one core) is timed ``--repeat`` times on each executor, in turn
+(serial, process pool, Dask), and every result is checked to be the serial one, orbit by
+orbit and digit by digit (``to_dict()``, start parameter, number of brackets). Each
+executor first runs a census at ``T_max = 6`` (its workers compile heyoka's integrators
+once); the Dask cluster is local (``distributed.LocalCluster``, 2 workers of one thread).
+Printed, never asserted: seconds of each run, the speed-up of the median against the
+serial median, and the load average (other work on the machine slows the parallel runs
+most)::
 
-Each census is timed once after a warm-up census at ``T_max = 6`` on the same executor
-(heyoka's JIT compilation in every worker excluded)::
-
-    .venv/bin/python benchmarks/bench_atlas.py [--E 5.45] [--t-max 16]
+    .venv/bin/python benchmarks/bench_atlas.py [--E 5.45] [--t-max 16] [--repeat 3]
 """
 
 from __future__ import annotations
 
 import argparse
+import contextlib
+import os
+import statistics
 import time
-from concurrent.futures import ProcessPoolExecutor
+from concurrent.futures import Executor, ProcessPoolExecutor
 
-from rotorlib.atlas import census
+from rotorlib.atlas import Atlas, census
 
 
-def timed(E, t_max, executor):
-    census(E, 6.0, grid=100, executor=executor, name=False)  # warm-up
+def fingerprint(a: Atlas) -> list:
+    """Everything a census reports, to compare runs exactly."""
+    return [a.candidates] + [(o.to_dict(), o.u) for o in a.orbits]
+
+
+def timed(E: float, t_max: float, executor: Executor | None) -> tuple[float, list]:
+    """Seconds of one census on ``executor`` and its fingerprint."""
     t0 = time.perf_counter()
-    a = census(E, t_max, executor=executor, name=False)
-    return time.perf_counter() - t0, len(a.orbits), len(a.stable)
+    a = census(E, t_max, executor=executor)
+    return time.perf_counter() - t0, fingerprint(a)
 
 
-def main():
+@contextlib.contextmanager
+def dask_executor():
+    """The executor of a local Dask cluster with 2 single-threaded workers."""
+    import distributed
+
+    with (
+        distributed.LocalCluster(
+            n_workers=2, threads_per_worker=1, dashboard_address=None
+        ) as cl,
+        distributed.Client(cl) as client,
+    ):
+        yield client.get_executor()
+
+
+def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--E", type=float, default=5.45)
     ap.add_argument("--t-max", type=float, default=16.0)
+    ap.add_argument("--repeat", type=int, default=3)
     args = ap.parse_args()
+    E, t_max = args.E, args.t_max
 
-    print(f"census at E = {args.E}, grid 300, 2-process pool")
-    print(f"{'T_max':>6} {'seconds':>8} {'orbits':>7} {'stable':>7}")
-    with ProcessPoolExecutor(2) as ex:
-        for t_max in (8.0, 12.0, 16.0):
-            s, n, k = timed(args.E, t_max, ex)
-            print(f"{t_max:6.0f} {s:8.1f} {n:7d} {k:7d}")
-
-    print(f"\ncensus at E = {args.E}, T_max = {args.t_max:g}: workers")
-    rows = [("serial", *timed(args.E, args.t_max, None))]
-    with ProcessPoolExecutor(2) as ex:
-        rows.append(("process pool, 2", *timed(args.E, args.t_max, ex)))
-    try:
-        import distributed
-    except ImportError:
-        distributed = None
-    if distributed is not None:
-        for n in (1, 2):
-            with (
-                distributed.LocalCluster(
-                    n_workers=n, threads_per_worker=1, dashboard_address=None
-                ) as cl,
-                distributed.Client(cl) as client,
-            ):
-                rows.append(
-                    (
-                        f"Dask, {n} worker(s)",
-                        *timed(args.E, args.t_max, client.get_executor()),
-                    )
-                )
-    base = rows[0][1]
-    print(f"{'executor':<20} {'seconds':>8} {'speed-up':>9} {'orbits':>7}")
-    for name, s, n, _ in rows:
-        print(f"{name:<20} {s:8.1f} {base / s:9.2f} {n:7d}")
+    runs: dict[str, list[float]] = {}
+    ref = None
+    with (
+        ProcessPoolExecutor(2) as pool,
+        dask_executor() as dask,
+    ):
+        executors = {"serial": None, "process pool, 2": pool, "Dask, 2 workers": dask}
+        for ex in executors.values():
+            census(E, 6.0, executor=ex)  # warm-up: heyoka's JIT in every worker
+        for _ in range(args.repeat):
+            for label, ex in executors.items():
+                s, fp = timed(E, t_max, ex)
+                ref = fp if ref is None else ref
+                assert fp == ref, f"{label}: a different census"
+                runs.setdefault(label, []).append(s)
+                print(f"  {label:<16} {s:6.1f} s  load {os.getloadavg()[0]:.2f}")
+    base = statistics.median(runs["serial"])
+    n = len(ref) - 1
+    print(
+        f"\ncensus at E = {E:g}, T_max = {t_max:g}, grid 300: {n} orbits, all runs equal"
+    )
+    print(f"{'executor':<16} {'median s':>9} {'speed-up':>9}  runs (s)")
+    for label, ss in runs.items():
+        m = statistics.median(ss)
+        each = " ".join(f"{s:.1f}" for s in ss)
+        print(f"{label:<16} {m:9.1f} {base / m:9.2f}  {each}")
 
 
 if __name__ == "__main__":
