@@ -6,9 +6,11 @@ named: about 20 s of one core) is timed ``--repeat`` times on each executor, in 
 orbit and digit by digit (``to_dict()``, start parameter, number of brackets). Each
 executor first runs a census at ``T_max = 6`` (its workers compile heyoka's integrators
 once); the Dask cluster is local (``distributed.LocalCluster``, 2 workers of one thread).
-Printed, never asserted: seconds of each run, the speed-up of the median against the
-serial median, and the load average (other work on the machine slows the parallel runs
-most)::
+Printed, never asserted: seconds of each run (and the CPU seconds of this process: for the
+serial run, below its wall time when other work shares the core), the speed-up of the
+median against the serial median, and the load average. Other work on the machine hides
+the speed-up (with the kernel's autogroup scheduling, a session's processes share one
+session's slice of the CPU): measure on an idle machine::
 
     .venv/bin/python benchmarks/bench_atlas.py [--E 5.45] [--t-max 16] [--repeat 3]
 """
@@ -30,11 +32,14 @@ def fingerprint(a: Atlas) -> list:
     return [a.candidates] + [(o.to_dict(), o.u) for o in a.orbits]
 
 
-def timed(E: float, t_max: float, executor: Executor | None) -> tuple[float, list]:
-    """Seconds of one census on ``executor`` and its fingerprint."""
-    t0 = time.perf_counter()
+def timed(
+    E: float, t_max: float, executor: Executor | None
+) -> tuple[float, float, list]:
+    """Wall and CPU seconds (of this process) of one census on ``executor``, and its
+    fingerprint."""
+    t0, c0 = time.perf_counter(), time.process_time()
     a = census(E, t_max, executor=executor)
-    return time.perf_counter() - t0, fingerprint(a)
+    return time.perf_counter() - t0, time.process_time() - c0, fingerprint(a)
 
 
 @contextlib.contextmanager
@@ -70,11 +75,14 @@ def main() -> None:
             census(E, 6.0, executor=ex)  # warm-up: heyoka's JIT in every worker
         for _ in range(args.repeat):
             for label, ex in executors.items():
-                s, fp = timed(E, t_max, ex)
+                s, cpu, fp = timed(E, t_max, ex)
                 ref = fp if ref is None else ref
                 assert fp == ref, f"{label}: a different census"
                 runs.setdefault(label, []).append(s)
-                print(f"  {label:<16} {s:6.1f} s  load {os.getloadavg()[0]:.2f}")
+                load = os.getloadavg()[0]
+                print(
+                    f"  {label:<16} {s:6.1f} s (CPU here {cpu:5.1f} s), load {load:.2f}"
+                )
     base = statistics.median(runs["serial"])
     n = len(ref) - 1
     print(
