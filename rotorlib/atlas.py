@@ -558,26 +558,23 @@ def _run(job):
 
 
 def _distinct(args) -> list:
-    """One task of :func:`census`: groups of roots (periods within 1e-7 of a neighbour's),
-    each without its repeats (the same period and action, and an image of the start state
-    within ``SAME_ORBIT`` of an earlier root's orbit), finished (:func:`finish_orbit`):
+    """A group of roots of :func:`census` (periods within 1e-7 of a neighbour's) without its
+    repeats (the same period and action, and an image of the start state within
+    ``SAME_ORBIT`` of an earlier root's orbit), finished (:func:`finish_orbit`):
     ``[(root, finish)]``."""
-    groups, E, t_half, digits = args
-    out = []
-    for group in groups:
-        unique: list = []
-        curve = functools.cache(lambda i: SampledOrbit(unique[i][4], unique[i][5]))
-        for f in group:
-            T, S = f[5], f[6]
-            if not any(
-                abs(T - g[5]) < 1e-7 * T
-                and abs(S - g[6]) < 1e-6 * S
-                and distance_to_orbit(curve(i), f[4]) < SAME_ORBIT
-                for i, g in enumerate(unique)
-            ):
-                unique.append(f)
-        out += [(f, finish_orbit((*f[:3], E, t_half, *f[3:6], digits))) for f in unique]
-    return out
+    group, E, t_half, digits = args
+    unique: list = []
+    curve = functools.cache(lambda i: SampledOrbit(unique[i][4], unique[i][5]))
+    for f in group:
+        T, S = f[5], f[6]
+        if not any(
+            abs(T - g[5]) < 1e-7 * T
+            and abs(S - g[6]) < 1e-6 * S
+            and distance_to_orbit(curve(i), f[4]) < SAME_ORBIT
+            for i, g in enumerate(unique)
+        ):
+            unique.append(f)
+    return [(f, finish_orbit((*f[:3], E, t_half, *f[3:6], digits))) for f in unique]
 
 
 # --------------------------------------------------------------------------- front end
@@ -659,12 +656,12 @@ def census(
             groups[-1].append(f)
         elif f[5] <= t_max:
             groups.append([f])
-    size, tasks = len(found) // len(jobs) + 1, [([], E, t_half, digits)]  # type: int, list
-    for g in groups:  # as many tasks as in the first round
-        if sum(map(len, tasks[-1][0])) >= size:
-            tasks.append(([], E, t_half, digits))
-        tasks[-1][0].append(g)
-    done = pmap(_distinct, tasks, executor=executor, progress=progress, desc="orbits")
+    tasks = [(g, E, t_half, digits) for g in groups]
+    chunk = len(groups) // len(jobs) + 1  # as many tasks as in the first round
+    kw: dict = dict(
+        executor=executor, progress=progress, desc="orbits", chunksize=chunk
+    )
+    done = pmap(_distinct, tasks, **kw)
     orbits = []
     D = 15 if digits is None else int(digits)
     for i, (f, fin_i) in enumerate(x for d in done for x in d):
