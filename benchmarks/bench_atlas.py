@@ -56,7 +56,8 @@ def timed(
     w0, t0, c0 = worker_cpu(), time.perf_counter(), time.process_time()
     a = census(E, t_max, executor=executor)
     wall, cpu, w1 = time.perf_counter() - t0, time.process_time() - c0, worker_cpu()
-    busiest = max((w1[p] - w0.get(p, 0.0) for p in w1), default=0.0)
+    busy = [w1[p] - w0.get(p, 0.0) for p in w1] if executor is not None else []
+    busiest = max(busy, default=0.0)  # serial: the idle workers do not count
     return wall, cpu + busiest, fingerprint(a)
 
 
