@@ -13,8 +13,8 @@ symmetry relating the two fixed sets; its primitive period is found; a root clos
 to ~1e-4 (beside a very unstable orbit) is dropped; orbits related by the symmetry group
 or time reversal are merged (same period and action ``2 (E T - int V dt)``, and an image
 of one start state on the other orbit within ``SAME_ORBIT``); it is named after its known
-family (pendulum, breathers, IS/PD daughters, PD^b, choreographies) or ``new``.
-:func:`census` runs the scan through :func:`rotorlib.parallel.pmap`.
+family (pendulum, breathers, IS/PD daughters, PD^b, choreographies) or ``new``. :func:`census`
+runs in two rounds of tasks of similar cost through :func:`rotorlib.parallel.pmap`.
 
 Precision: float64 scan and refinement (residual ~1e-13; ``tr M`` to ~1e-15 |tr M|); with
 ``digits=D`` every orbit is re-solved and given to ``D`` digits (``tr M`` to ``D - 5``).
@@ -23,17 +23,22 @@ Tested against an independent real128 integration and census (``tests/test_atlas
 
 from __future__ import annotations
 
+import contextlib
+import functools
 import math
 import time
+from collections.abc import Iterable, Sequence
+from concurrent.futures import Executor
 from dataclasses import dataclass, field, replace
 from fractions import Fraction
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .choreo import atlas_name
-from .flow import Section, SectionNotReached, crossings, monodromy_matrix, sample
+from .flow import SectionNotReached, crossings, monodromy_matrix, sample
 from .parallel import pmap
-from .precision import FLOAT64
+from .precision import FLOAT64, tier
 from .reversors import _group_images, start_sets, targets
 from .shooting import ShootingProblem, residual, solve
 
@@ -60,8 +65,7 @@ class AtlasOrbit:
     Attributes
     ----------
     label : str
-        The known family (``pendulum``, ``breather R``/``LG``/``LD``, ``IS^l_3``, ``PD^b``...)
-        or ``new``.
+        The known family (``pendulum``, ``breather LG``, ``IS^l_3``, ``PD^b``...) or ``new``.
     family : str
         Family id (orbits of one family at other energies share it; see :func:`atlas`).
     E, period, trace : float
@@ -89,55 +93,62 @@ class AtlasOrbit:
     period: float
     trace: float
     stable: bool
-    state0: tuple
-    state0_str: tuple
+    state0: tuple[float, ...]
+    state0_str: tuple[str, ...]
     period_str: str
     trace_str: str
-    fixed_sets: tuple
+    fixed_sets: tuple[str, str]
     action: float
     closure: float
     u: float
     problem: ShootingProblem | None = field(repr=False, default=None)
     choreography: dict | None = None
 
-    def to_record(self) -> dict:
+    def to_dict(self) -> dict:
         """The fields printed by ``python -m rotorlib atlas --json``."""
         keys = "label family E period trace stable state0_str period_str trace_str"
         out = {k: getattr(self, k) for k in keys.split()}
-        out["state0"] = [float(v) for v in self.state0]
-        out["state0_str"] = list(self.state0_str)
-        out.update(
-            fixed_sets=list(self.fixed_sets), action=self.action, closure=self.closure
-        )
-        out["choreography"] = self.choreography
-        return out
+        out.update(state0=[*map(float, self.state0)], state0_str=[*self.state0_str])
+        out.update(fixed_sets=[*self.fixed_sets], action=self.action)
+        return dict(out, closure=self.closure, choreography=self.choreography)
 
 
 @dataclass(frozen=True)
 class Atlas:
-    """The census at one energy: ``orbits`` sorted by period; ``grid``, the number of
-    candidate brackets refined, and the wall time."""
+    """The census at one energy (:func:`census`): its ``orbits`` sorted by period, the
+    ``grid``, the number of ``candidates`` (brackets refined) and the wall time.
+
+    Examples
+    --------
+    >>> from rotorlib.atlas import census
+    >>> a = census(4.3, 7, grid=40, name=False)
+    >>> [(round(o.period, 4), o.stable) for o in a.orbits]
+    [(3.0612, True), (4.9378, True), (5.8151, False), (6.8829, False)]
+    >>> len(a.stable), sorted(a.orbits[0].to_dict())[:4]
+    (2, ['E', 'action', 'choreography', 'closure'])
+    """
 
     E: float
     t_max: float
     grid: int
-    orbits: tuple
+    orbits: tuple[AtlasOrbit, ...]
     candidates: int
     seconds: float
 
     @property
-    def stable(self) -> tuple:
+    def stable(self) -> tuple[AtlasOrbit, ...]:
+        """The linearly stable orbits (``0 < tr M < 4``)."""
         return tuple(o for o in self.orbits if o.stable)
 
 
-def budget_seconds(E_values, t_max, grid=300) -> float:
+def budget_seconds(E_values: Iterable[float], t_max: float, grid: int = 300) -> float:
     """A census's cost in seconds of one core (CPU time): per energy ``(BASE + GROWTH
     exp(RATE (T_max - 16)) grid / 300) max(1, E / 5.45)`` (``BUDGET_MODEL``, fitted
     to the CPU time of ``atlas([5.45], T)``, 3.5, 7.7 and 25.3 s at T = 8, 12, 16, serial,
     ``nice -n 10`` on the 2-core CI machine). Measured accuracy: within 2% of that fit;
     1.2-1.25x over at ``E = 8`` (T = 8, 12); over below the band (1.2-1.7x at
     ``E = 4.3``, 3.7x at ``E = 2``, ``T = 8``); 0.7x at ``T = 4`` (a first run compiles
-    heyoka's integrators). Wall time on a loaded machine is longer (17.5 s at T = 8).
+    heyoka's integrators).
 
     >>> round(budget_seconds([5.45], 8), 1), round(budget_seconds([5.45], 16), 1)
     (3.5, 25.2)
@@ -177,127 +188,145 @@ def _check(E_values, t_max, grid):
 def _scan_one(args):
     """Crossings of every fixed set from one start point: ``[(target, k, t, residual)]``."""
     si, u, E, t_half = args
-    start = start_sets(E)[si]
     try:
-        x0 = start.at(u, E)
+        x0 = start_sets(E)[si].at(u, E)
     except ValueError:
         return None
-    tg = targets()
-    hits = crossings(x0, [f.section for f in tg], t_half)
-    count = [0] * len(tg)
-    out = []
-    for j, tt, x in hits:
-        count[j] += 1
-        r = _condition(tg[j].condition, x)
-        out.append((j, count[j], float(tt), float(r)))
+    tg, count, out = targets(), [0] * len(targets()), []
+    for j, tt, x in crossings(x0, [f.section for f in tg], t_half):
+        c, count[j] = tg[j].condition, count[j] + 1
+        y, k = c.value(x) - c.level * math.pi, c.period and 1 / c.period
+        out.append(
+            (j, count[j], float(tt), float(y if k is None else math.sin(k * y) / k))
+        )
     return out
-
-
-def _condition(c: Section, x):
-    y = c.value(x) - c.level * math.pi
-    if c.period is None:
-        return y
-    k = 1 / c.period
-    return math.sin(k * y) / k
-
-
-def _structure(row):
-    """The number of crossings of each fixed set: a change between neighbours means a
-    crossing appeared or vanished in between (where the pairing by index breaks)."""
-    counts = {}
-    for j, k, _, _ in row:
-        counts[j] = k
-    return counts
 
 
 def _needs_split(a, b, t_half):
     if a is None or b is None:
         return a is not b
-    if _structure(a) != _structure(b):
-        return True
+    if {j: k for j, k, _, _ in a} != {j: k for j, k, _, _ in b}:
+        return True  # a crossing appeared or vanished: the pairing by index breaks
     db = {(j, k): (tt, r) for j, k, tt, r in b}
     return any(
         abs(ta - db[(j, k)][0]) > 0.05 * t_half for j, k, ta, _ in a if (j, k) in db
     )
 
 
-def brackets(us, rows, t_half):
+def brackets(us: list, rows: list, t_half: float) -> list[tuple[int, int, int]]:
     """Sign changes of the residual between neighbouring start points at the same crossing of
     the same fixed set, where that fixed set's crossings correspond on both sides (same
     number, times close); other fixed sets may change their crossings in between."""
     out = []
-    for i in range(len(us) - 1):
-        a, b = rows[i], rows[i + 1]
-        if a is None or b is None:
-            continue
-        sa, sb = _structure(a), _structure(b)
-        db = {(j, k): (tt, r) for j, k, tt, r in b}
-        for j, k, ta, ra in a:
-            if sa.get(j) != sb.get(j) or (j, k) not in db:
-                continue
-            tb, rb = db[(j, k)]
-            if ra * rb < 0 and abs(ta - tb) < 0.05 * t_half:
-                out.append((i, j, k))
+    for i, (a, b) in enumerate(zip(rows, rows[1:])):
+        if a is not None and b is not None:
+            sa, sb = {j: k for j, k, _, _ in a}, {j: k for j, k, _, _ in b}
+            db = {(j, k): (tt, r) for j, k, tt, r in b}
+            out += [
+                (i, j, k)
+                for j, k, ta, ra in a
+                if sa.get(j) == sb.get(j) and (j, k) in db and ra * db[j, k][1] < 0
+                if abs(ta - db[j, k][0]) < 0.05 * t_half
+            ]
     return out
 
 
-def scan(si, E, t_half, grid, depth, executor, progress, window=None):
+def scan(
+    si: int,
+    E: float,
+    t_half: float,
+    grid: int,
+    depth: int,
+    executor: Executor | None,
+    progress: bool,
+    window: tuple[float, float] | None = None,
+) -> tuple[list, list]:
     """The start points of one class (on ``window = (lo, hi)``, default the whole span): a
     uniform grid, then every interval whose crossing structure changes bisected (up to
-    ``depth`` times): ``(us, rows)``."""
+    ``depth`` times): ``(us, rows)``, in tasks of neighbouring points (:func:`_segments`)."""
+    jobs = _scan_jobs(si, E, t_half, grid, depth, False, 8, window)
+    kw: dict = dict(executor=executor, progress=progress, desc=f"scan E={E:g}")
+    res = pmap(_segments, jobs, **kw)
+    pts = [res[0][1][0][:2], *(p for s in _gather(jobs[0], res) for p in s)]
+    return [u for u, _ in pts], [r for _, r in pts]
+
+
+def _scan_jobs(si, E, t_half, grid, depth, refine, parts, window=None) -> list:
+    """The tasks of one class's scan: its grid (cell midpoints and both ends of the span,
+    where a mirror's turning points sit) cut into ``parts`` runs of neighbours."""
     lo, hi = window or start_sets(E)[si].span(E)
-    # cell midpoints, and both ends of the span (a mirror's turning points sit at the ends)
     us = [lo, *(np.linspace(lo, hi, grid + 1)[:-1] + (hi - lo) / (2 * grid)), hi]
-    rows = pmap(
-        _scan_one,
-        [(si, u, E, t_half) for u in us],
-        executor=executor,
-        progress=progress,
-        desc=f"scan E={E:g}",
-        chunksize=max(1, grid // 8),
-    )
-    width = (hi - lo) / grid
-    for level in range(depth):
-        width /= 2
-        mids = [
-            (i, 0.5 * (us[i] + us[i + 1]))
-            for i in range(len(us) - 1)
-            if us[i + 1] - us[i] > 1.5 * width
-            and _needs_split(rows[i], rows[i + 1], t_half)
-        ]
-        if not mids:
-            break
-        new = pmap(
-            _scan_one,
-            [(si, u, E, t_half) for _, u in mids],
-            executor=executor,
-            chunksize=max(1, len(mids) // 16),
-        )
-        for (i, u), r in sorted(zip(mids, new), key=lambda v: -v[0][0]):
-            us.insert(i + 1, u)
-            rows.insert(i + 1, r)
-    return us, rows
+    n = -(-(len(us) - 1) // parts)
+    args = (E, t_half, (hi - lo) / grid, depth, refine)
+    return [(si, us[i : i + n + 1], *args) for i in range(0, len(us) - 1, n)]
+
+
+def _bisect(si, E, t_half, a, ra, b, rb, width, depth) -> list:
+    """The points in ``(a, b]`` with their rows: the interval halved while its crossing
+    structure changes, ``depth`` times at most, not when narrower than 1.5 x ``width / 2``."""
+    width /= 2
+    if depth < 1 or b - a <= 1.5 * width or not _needs_split(ra, rb, t_half):
+        return [(b, rb)]
+    m = 0.5 * (a + b)
+    rm = _scan_one((si, m, E, t_half))
+    head = _bisect(si, E, t_half, a, ra, m, rm, width, depth - 1)
+    return head + _bisect(si, E, t_half, m, rm, b, rb, width, depth - 1)
+
+
+def _segments(args) -> tuple[bool, list]:
+    """One task of a scan: neighbours ``us`` on the grid of class ``si``, each interval
+    between them bisected (:func:`_bisect`) but an end of the span (half a cell, left to
+    :func:`_gather`): ``(split, [(a, ra, b, rb, points in (a, b] with rows, or None)])``;
+    with ``refine``, ``(brackets, roots)`` (:func:`_roots`) instead, and no rows."""
+    si, us, E, t_half, width, depth, refine = args
+    rows = [_scan_one((si, u, E, t_half)) for u in us]
+    split, out = False, []
+    for a, b, ra, rb in zip(us, us[1:], rows, rows[1:]):
+        seg: tuple = (a, ra, b, rb, None)
+        if b - a > 1.5 * (width / 2):
+            split = split or _needs_split(ra, rb, t_half)
+            pts = _bisect(si, E, t_half, a, ra, b, rb, width, depth)
+            seg = (a, ra, b, rb, pts)
+            if refine:
+                seg = (a, None, b, None, _roots(si, E, t_half, [(a, ra), *pts]))
+        out.append(seg)
+    return split, out
+
+
+def _gather(job, results) -> list:
+    """The ``points`` (or ``(brackets, roots)``) of a class's tasks in order, its ends
+    bisected from the second level on if another interval was at the first."""
+    si, _, E, t_half, width, depth, refine = job
+    split = any(s for s, _ in results)
+    out = []
+    for a, ra, b, rb, pts in (seg for _, segs in results for seg in segs):
+        if pts is None:
+            pts = _bisect(si, E, t_half, a, ra, b, rb, width / 2, (depth - 1) * split)
+            pts = _roots(si, E, t_half, [(a, ra), *pts]) if refine else pts
+        out.append(pts)
+    return out
+
+
+def _roots(si, E, t_half, pts) -> tuple[int, list]:
+    """``(brackets, roots)``: the sign changes between the neighbours ``pts = [(u, row)]``
+    (:func:`brackets`), refined (:func:`refine_bracket`)."""
+    us, rows = [u for u, _ in pts], [r for _, r in pts]
+    bs = brackets(us, rows, t_half)
+    args = [(si, j, k, E, t_half, float(us[i]), float(us[i + 1])) for i, j, k in bs]
+    return len(bs), [r for r in map(refine_bracket, args) if r is not None]
 
 
 def _problem(si, j, k, E, t_half):
     start, tg = start_sets(E)[si], targets()[j]
-    return ShootingProblem(
-        f"{start.name} -> {tg.name} ({k})",
-        start,
-        tg.section,
-        tg.condition,
-        k,
-        2,
-        (0.0, 0.0),
-        None,
-        None,
-        2 * t_half + 1,
-    )
+    name, end = f"{start.name} -> {tg.name} ({k})", 2 * t_half + 1
+    args = (tg.section, tg.condition, k, 2, (0.0, 0.0), None, None, end)
+    return ShootingProblem(name, start, *args)
 
 
-def lattice_shift(d, t=FLOAT64):
+def lattice_shift(d: Sequence, digits: int | None = None) -> list:
     """``d`` reduced modulo the configuration lattice (generated by (0, 2 pi), (pi, pi)), in
-    the tier ``t``."""
+    the tier that delivers ``digits`` (:func:`rotorlib.precision.tier`)."""
+    t = tier(digits)
     with t.context():
         d, pi = list(d), t.pi
         n1 = round(float(d[0] / pi))
@@ -316,10 +345,9 @@ def _closure_at(x0, times):
     _start(ta, FLOAT64, x0, False)
     out = ta.propagate_grid(np.array([0.0] + ts))[-1]
     res = {
-        t: max(abs(v) for v in lattice_shift([a - b for a, b in zip(x, x0)]))
-        for t, x in zip(ts, out[1:])
+        t: lattice_shift([a - b for a, b in zip(x, x0)]) for t, x in zip(ts, out[1:])
     }
-    return [res[t] for t in times]
+    return [max(map(abs, res[t])) for t in times]
 
 
 def _period(x0, t1, t_max):
@@ -355,26 +383,24 @@ def _invariants(x0, T, E):
     return T, 2 * (E * T - simpson(potential_alpha(st[:, 0], st[:, 1]), x=ts))
 
 
-#: An orbit is kept when its closure after one period, in the tier of ``D`` digits, is at
-#: most ``max(1e6, 100 |tr M|) 10^-D``: genuine orbits close to ``~1e-15 |tr M|`` (float64)
-#: or ``~1e-33 |tr M|`` (real128); a root of the residual that closes only to 1e-4 (a
-#: near-periodic trajectory beside an orbit with ``|tr M| > 1e7``) is dropped.
-#: Two orbits with the same period and action are the same orbit when an image of one's start
+#: An orbit is kept if it closes after one period to ``max(1e6, 100 |tr M|) 10^-D`` (``D``
+#: digits; genuine orbits close to ``~1e-15 |tr M|`` in float64, ``~1e-33 |tr M|`` in
+#: real128; a near-periodic trajectory beside an orbit with ``|tr M| > 1e7``, 1e-4). Two
+#: orbits with the same period and action are the same orbit when an image of one's start
 #: state under the group (and time reversal) lies within this distance of the other orbit
-#: (float64 states from Brent to 1e-15; a pair born at a pitchfork closer than this in phase
-#: space, ``|tr M - 4| < ~1e-10``, would count once).
+#: (float64 states from Brent to 1e-15; a pair born at a pitchfork closer than this in
+#: phase space, ``|tr M - 4| < ~1e-10``, would count once).
 SAME_ORBIT = 1e-6
 
 
 class SampledOrbit:
-    """An orbit sampled densely, for :func:`distance_to_orbit`."""
+    """An orbit sampled densely (``states`` at times ``ts``), for :func:`distance_to_orbit`."""
 
-    def __init__(self, x0, T, n=4000):
-        self.x0 = list(x0)
+    def __init__(self, x0: ArrayLike, T: float, n: int = 4000) -> None:
         self.states, self.ts = sample(x0, T, n)
 
 
-def distance_to_orbit(c: SampledOrbit, y0) -> float:
+def distance_to_orbit(c: SampledOrbit, y0: ArrayLike) -> float:
     """The phase-space distance (configuration modulo the lattice) from the nearest image of
     ``y0`` under the group to the orbit ``c``: every local minimum of the distance to the
     samples below 0.05 refined by Newton on the time along the orbit (short integrations)."""
@@ -390,9 +416,7 @@ def distance_to_orbit(c: SampledOrbit, y0) -> float:
     best = math.inf
     for y in _group_images() @ np.asarray(y0, float):
         d = c.states - y
-        n1 = np.round(d[:, 0] / math.pi)
-        d[:, 0] -= n1 * math.pi
-        d[:, 1] -= n1 * math.pi
+        d[:, :2] -= np.round(d[:, :1] / math.pi) * math.pi
         d[:, 1] -= 2 * math.pi * np.round(d[:, 1] / (2 * math.pi))
         dist = np.max(np.abs(d), axis=1)
         best = min(best, float(dist.min()))
@@ -410,17 +434,15 @@ def distance_to_orbit(c: SampledOrbit, y0) -> float:
     return best
 
 
-def refine_bracket(args):
+def refine_bracket(args: tuple) -> tuple | None:
     """One bracket: the root in ``u`` (Brent), its verification and invariants, or ``None``."""
     from scipy.optimize import brentq
 
     si, j, k, E, t_half, ua, ub = args
     prob = _problem(si, j, k, E, t_half)
 
-    def f(u):
-        return float(residual(prob, u, E).r)
-
     try:
+        f = lambda u: float(residual(prob, u, E).r)  # noqa: E731
         u = brentq(f, ua, ub, xtol=1e-15, rtol=1e-15, maxiter=200)
         s = residual(prob, u, E)
     except (ValueError, SectionNotReached, RuntimeError):
@@ -429,66 +451,41 @@ def refine_bracket(args):
         return None
     x0 = [float(v) for v in s.x0]
     T = _period(x0, float(s.t1), 2 * t_half)
-    if T is None:
-        return None
-    return (si, j, k, u, x0, T, *_invariants(x0, T, E)[1:])
+    return None if T is None else (si, j, k, u, x0, T, *_invariants(x0, T, E)[1:])
 
 
-def finish_orbit(args):
+def finish_orbit(args: tuple) -> tuple:
     """One orbit's trace and closure, and its state/period/trace as strings: float64 from the
     scan (``digits=None``), or re-solved at ``E`` in the tier that delivers ``digits``."""
     si, j, k, E, t_half, u, x0, T, digits = args
     if digits is None:
-        M, xT, tr = monodromy_matrix(x0, T)
-        clo = _closure_at(x0, [T])[0]
-        return (
-            tuple(repr(v) for v in x0),
-            repr(T),
-            repr(float(tr)),
-            float(tr),
-            float(T),
-            clo,
-        )
-    from .precision import tier
-
+        tr, clo = float(monodromy_matrix(x0, T)[2]), _closure_at(x0, [T])[0]
+        return tuple(map(repr, x0)), repr(T), repr(tr), tr, float(T), clo
     t, prob = tier(int(digits)), _problem(si, j, k, E, t_half)
     with t.context():
-        u = solve(
-            prob,
-            t.num(u),
-            t.num(u) * (1 + t.num("1e-12")),
-            E=str(E),
-            t=t,
-            r_max=t.eps**0.6,
-        ).x
+        u0, u1 = t.num(u), t.num(u) * (1 + t.num("1e-12"))
+        u = solve(prob, u0, u1, E=str(E), t=t, r_max=t.eps**0.6).x
         sh = residual(prob, u, str(E), t)
         n = Fraction(T / (2 * float(sh.t1))).limit_denominator(24)  # T = 2 t1 n/m
         Tm = 2 * sh.t1 * n.numerator / n.denominator
         M, xT, tr = monodromy_matrix(sh.x0, Tm, t)
-        clo = max(
-            abs(float(v)) for v in lattice_shift([a - b for a, b in zip(xT, sh.x0)], t)
-        )
-        return (
-            tuple(t.text(v, digits) for v in sh.x0),
-            t.text(Tm, digits),
-            t.text(tr, digits - 5),
-            float(tr),
-            float(Tm),
-            clo,
-        )
+        d = lattice_shift([a - b for a, b in zip(xT, sh.x0)], digits)
+        xs, clo = tuple(t.text(v, digits) for v in sh.x0), max(abs(float(v)) for v in d)
+        return xs, t.text(Tm, digits), t.text(tr, digits - 5), float(tr), float(Tm), clo
 
 
-def atlas_orbit(label, family, E, t_half, root, fin) -> AtlasOrbit:
+def atlas_orbit(
+    label: str, family: str, E: float, t_half: float, root: tuple, fin: tuple
+) -> AtlasOrbit:
     """The :class:`AtlasOrbit` of a verified root ``(si, j, k, u, x0, T, S)`` of
     :func:`refine_bracket` and its :func:`finish_orbit` ``(xs, Ts, trs, tr, Tf, closure)``."""
     si, j, k, u, x0, T, S = root
     xs, Ts, trs, tr, Tf, clo = fin
     head = (label, family, E, Tf, tr, bool(0 < tr < 4), tuple(x0), xs, Ts, trs)
-    fixed, prob = (
-        (start_sets(E)[si].name, targets()[j].name),
-        _problem(si, j, k, E, t_half),
+    fixed = (start_sets(E)[si].name, targets()[j].name)
+    return AtlasOrbit(
+        *head, fixed, float(S), clo, float(u), _problem(si, j, k, E, t_half)
     )
-    return AtlasOrbit(*head, fixed, float(S), clo, float(u), prob)
 
 
 # --------------------------------------------------------------------------- known families
@@ -501,12 +498,8 @@ def _known_family(args):
     lab, energies = args
     spec = nb.family_spec(lab)
     try:
-        b = nb.follow(
-            lab,
-            E_max=max(max(energies), nb.family_range(spec)[1]) + 0.05,
-            energies=tuple(energies),
-            max_steps=600,
-        )
+        E_max = max(max(energies), nb.family_range(spec)[1]) + 0.05
+        b = nb.follow(lab, E_max=E_max, energies=tuple(energies), max_steps=600)
     except (ValueError, SectionNotReached):
         return {}
     out = {}
@@ -519,42 +512,36 @@ def _known_family(args):
     return out
 
 
-def _known(energies, t_max, executor=None):
-    """``{E: [(label, period, action)]}``: the known families at each energy with period
-    ``<= t_max`` (each daughter family followed once through all the energies)."""
+def _known_tasks(energies) -> list:
+    """The daughter families to follow (:func:`_known_family`) to ``energies``."""
     from . import newborn as nb
+
+    specs = [nb.family_spec(lab) for lab in nb.FAMILIES]
+    tasks = [(s.label, [E for E in energies if s.E_birth < E]) for s in specs]
+    return [(lab, es) for (lab, es), s in zip(tasks, specs) if s.depth >= 3e-8 and es]
+
+
+def _known(energies, t_max, followed) -> dict:
+    """``{E: [(label, period, action)]}``: the known families at each energy with period
+    ``<= t_max``, the daughters ``followed`` through all (:func:`_known_tasks`)."""
     from .breathers import DAUGHTER_E_MIN, breather_daughter
     from .orbits import breather, pendulum
 
-    out = {E: [] for E in energies}
-
-    def add(E, label, x0, T):
-        if T <= t_max * 1.001:
-            out[E].append((label, T, _invariants(list(x0), T, E)[1]))
-
+    out: dict = {E: [] for E in energies}
     for E in energies:
-        if E != 4.0:
-            p = pendulum(E)
-            add(E, "pendulum", p.state0, p.period)
+        closed: list = [("pendulum", pendulum(E))] if E != 4.0 else []
         for fam in ("LG", "LD", "R"):
-            try:
-                b = breather(E, fam)
-            except ValueError:
-                continue
-            add(E, f"breather {fam}", b.state0, b.period)
+            with contextlib.suppress(ValueError):
+                closed.append((f"breather {fam}", breather(E, fam)))
         if DAUGHTER_E_MIN <= E < 8.968:
-            o = breather_daughter(E)
-            add(E, "PD^b", o.state0, o.period)
-    tasks = []
-    for lab in nb.FAMILIES:
-        spec = nb.family_spec(lab)
-        es = [E for E in energies if spec.E_birth < E]
-        if spec.depth >= 3e-8 and es:
-            tasks.append((lab, es))
-    for found in pmap(_known_family, tasks, executor=executor, desc="known families"):
-        for E, (label, T, S) in found.items():
-            if T <= t_max * 1.001:
-                out[E].append((label, T, S))
+            closed.append(("PD^b", breather_daughter(E)))
+        for lab, o in closed:
+            if o.period <= t_max * 1.001:
+                S = _invariants(list(o.state0), o.period, E)[1]
+                out[E].append((lab, o.period, S))
+    for E, (label, T, S) in (x for found in followed for x in found.items()):
+        if T <= t_max * 1.001:
+            out[E].append((label, T, S))
     return out
 
 
@@ -565,21 +552,51 @@ def _name(T, S, known):
     return "new"
 
 
+def _run(job):
+    """``f(args)`` for ``job = (f, args)``: tasks of several kinds in one :func:`pmap`."""
+    return job[0](job[1])
+
+
+def _distinct(args) -> list:
+    """A group of roots of :func:`census` (periods within 1e-7 of a neighbour's) without its
+    repeats (the same period and action, and an image of the start state within
+    ``SAME_ORBIT`` of an earlier root's orbit), finished (:func:`finish_orbit`):
+    ``[(root, finish)]``."""
+    group, E, t_half, digits = args
+    unique: list = []
+    curve = functools.cache(lambda i: SampledOrbit(unique[i][4], unique[i][5]))
+    for f in group:
+        T, S = f[5], f[6]
+        if not any(
+            abs(T - g[5]) < 1e-7 * T
+            and abs(S - g[6]) < 1e-6 * S
+            and distance_to_orbit(curve(i), f[4]) < SAME_ORBIT
+            for i, g in enumerate(unique)
+        ):
+            unique.append(f)
+    return [(f, finish_orbit((*f[:3], E, t_half, *f[3:6], digits))) for f in unique]
+
+
 # --------------------------------------------------------------------------- front end
 
 
 def census(
-    E,
-    t_max=16.0,
-    grid=300,
-    depth=10,
-    executor=None,
-    progress=False,
-    name=True,
-    digits=None,
-    known=None,
+    E: float,
+    t_max: float = 16.0,
+    grid: int = 300,
+    depth: int = 10,
+    executor: Executor | None = None,
+    progress: bool = False,
+    name: bool = True,
+    digits: int | None = None,
+    known: list | None = None,
 ) -> Atlas:
     """Every symmetric periodic orbit with period ``<= t_max`` at energy ``E``.
+
+    Two rounds of tasks through :func:`rotorlib.parallel.pmap`, of ~0.25 s each by
+    :func:`budget_seconds`: runs of neighbouring start points, each scanned, bisected and its
+    brackets refined (and the daughter families followed, to name the orbits); then groups of
+    roots of nearly equal period, deduplicated and finished. The executor changes no digit.
 
     Parameters
     ----------
@@ -587,14 +604,13 @@ def census(
     t_max : float
         Largest period.
     grid : int
-        Start points per fixed-set class on the first pass (refine until the census no longer
-        changes).
+        Start points per fixed-set class on the first pass (raise it until nothing changes).
     depth : int
-        Intervals whose crossing structure changes are bisected up to ``depth`` times (the
-        residual of an orbit with ``|tr M| ~ 1e7`` changes sign within ``~1e-3`` of the grid
-        spacing, beside a change of structure: depth 6 misses some at ``T_max = 16``).
+        Intervals whose crossing structure changes are bisected up to ``depth`` times (an
+        orbit with ``|tr M| ~ 1e7`` hides within ``~1e-3`` of the spacing beside a change of
+        structure: depth 6 misses some at ``T_max = 16``).
     executor : concurrent.futures.Executor, optional
-        For the scan and the refinement (:func:`rotorlib.parallel.pmap`).
+        A process pool or a Dask client's executor (:func:`rotorlib.parallel.pmap`).
     progress : bool
         A progress bar on a terminal (never in notebooks).
     name : bool
@@ -609,55 +625,47 @@ def census(
     Returns
     -------
     Atlas
+
+    Examples
+    --------
+    >>> from rotorlib.atlas import census
+    >>> a = census(4.3, 7, grid=40, name=False)  # a coarse grid: the 4 orbits with T <= 7
+    >>> [(o.fixed_sets, round(o.period, 4), round(o.trace, 3)) for o in a.orbits][:1]
+    [(('Fix T(12)', 'Fix T(12)'), 3.0612, 0.358)]
     """
     E, t_max = float(E), float(t_max)
     _check([E], t_max, grid)
-    t0 = time.perf_counter()
-    t_half = t_max / 2 * 1.02
-    jobs = []
-    for si in range(len(start_sets(E))):
-        us, rows = scan(si, E, t_half, grid, depth, executor, progress)
-        jobs += [
-            (si, j, k, E, t_half, float(us[i]), float(us[i + 1]))
-            for i, j, k in brackets(us, rows, t_half)
-        ]
-    found = [
-        f
-        for f in pmap(
-            refine_bracket,
-            jobs,
-            executor=executor,
-            progress=progress,
-            desc="refine",
-            chunksize=8,
-        )
-        if f is not None
-    ]
-    unique: list = []
-    curves: list = []
-    for f in sorted(found, key=lambda f: (f[5], f[0], f[1], f[2])):
-        T, S = f[5], f[6]
-        if T > t_max or any(
-            abs(T - g[5]) < 1e-7 * T
-            and abs(S - g[6]) < 1e-6 * S
-            and distance_to_orbit(c, f[4]) < SAME_ORBIT
-            for g, c in zip(unique, curves)
-        ):
-            continue
-        unique.append(f)
-        curves.append(SampledOrbit(f[4], T))
+    t0, t_half = time.perf_counter(), t_max / 2 * 1.02
+    classes = range(len(start_sets(E)))
+    parts = max(4, round(budget_seconds([E], t_max, grid) / 0.25 / len(classes)))
+    scans = [_scan_jobs(si, E, t_half, grid, depth, True, parts) for si in classes]
+    follow = _known_tasks([E]) if known is None and name else []
+    jobs = [(_known_family, a) for a in follow]
+    jobs += [(_segments, a) for s in scans for a in s]
+    res = pmap(_run, jobs, executor=executor, progress=progress, desc=f"census E={E:g}")
     if known is None:
-        known = _known([E], t_max, executor)[E] if name else []
-    fin = pmap(
-        finish_orbit,
-        [(si, j, k, E, t_half, u, x0, T, digits) for si, j, k, u, x0, T, S in unique],
-        executor=executor,
-        progress=progress,
-        desc="orbits",
+        known = _known([E], t_max, res[: len(follow)])[E] if name else []
+    n, found, i = 0, [], len(follow)  # type: int, list, int
+    for s in scans:
+        for m, roots in _gather(s[0], res[i : i + len(s)]):
+            n, found = n + m, found + roots
+        i += len(s)
+    groups: list = []  # roots by period; a root is compared with its group only
+    for f in sorted(found, key=lambda f: (f[5], f[0], f[1], f[2])):
+        if groups and f[5] - groups[-1][-1][5] < 1e-7 * f[5] and f[5] <= t_max:
+            groups[-1].append(f)
+        elif f[5] <= t_max:
+            groups.append([f])
+    tasks = [(g, E, t_half, digits) for g in groups]
+    chunk = len(groups) // len(jobs) + 1  # as many tasks as in the first round
+    kw: dict = dict(
+        executor=executor, progress=progress, desc="orbits", chunksize=chunk
     )
+    done = pmap(_distinct, tasks, **kw)
     orbits = []
     D = 15 if digits is None else int(digits)
-    for i, ((si, j, k, u, x0, T, S), fin_i) in enumerate(zip(unique, fin)):
+    for i, (f, fin_i) in enumerate(x for d in done for x in d):
+        si, j, k, u, x0, T, S = f
         tr, clo = fin_i[3], fin_i[5]
         if not clo <= max(1e6, 1e2 * abs(tr)) * 10.0**-D:
             continue  # a near-periodic trajectory beside a very unstable orbit, not an orbit
@@ -665,32 +673,24 @@ def census(
         family = label if label != "new" else f"N{i + 1}"
         o = atlas_orbit(label, family, E, t_half, (si, j, k, u, x0, T, S), fin_i)
         orbits.append(replace(o, choreography=chor))
-    return Atlas(E, t_max, grid, tuple(orbits), len(jobs), time.perf_counter() - t0)
+    return Atlas(E, t_max, grid, tuple(orbits), n, time.perf_counter() - t0)
 
 
 def atlas(
-    energies,
-    t_max=16.0,
-    grid=300,
-    executor=None,
-    progress=False,
-    digits=None,
-    name=True,
-) -> list:
+    energies: Iterable[float],
+    t_max: float = 16.0,
+    grid: int = 300,
+    executor: Executor | None = None,
+    progress: bool = False,
+    digits: int | None = None,
+    name: bool = True,
+) -> list[Atlas]:
     """:func:`census` at each energy (a list of :class:`Atlas`); the known families are
     followed once through all the energies."""
     energies = [float(E) for E in energies]
     _check(energies, t_max, grid)
-    known = _known(energies, t_max, executor) if name else {E: [] for E in energies}
-    return [
-        census(
-            E,
-            t_max,
-            grid,
-            executor=executor,
-            progress=progress,
-            digits=digits,
-            known=known[E],
-        )
-        for E in energies
-    ]
+    tasks = _known_tasks(energies) if name else []
+    followed = pmap(_known_family, tasks, executor=executor, desc="known families")
+    known = _known(energies, t_max, followed) if name else {E: [] for E in energies}
+    kw: dict = dict(executor=executor, progress=progress, digits=digits)
+    return [census(E, t_max, grid, **kw, known=known[E]) for E in energies]

@@ -22,9 +22,14 @@ import contextlib
 import operator
 import os
 import sys
-from concurrent.futures import ProcessPoolExecutor, as_completed
+from collections.abc import Callable, Iterable, Iterator
+from concurrent.futures import Executor, ProcessPoolExecutor, as_completed
+from typing import TypeVar
 
 __all__ = ["pmap", "executor_for"]
+
+X = TypeVar("X")
+Y = TypeVar("Y")
 
 
 class _NoBar:
@@ -51,7 +56,15 @@ def _call_chunk(func, chunk):
     return [func(x) for x in chunk]
 
 
-def pmap(func, items, *, executor=None, progress=False, desc=None, chunksize=1):
+def pmap(
+    func: Callable[[X], Y],
+    items: Iterable[X],
+    *,
+    executor: Executor | None = None,
+    progress: bool = False,
+    desc: str | None = None,
+    chunksize: int = 1,
+) -> list[Y]:
     """``[func(x) for x in items]``, optionally through an executor.
 
     With an executor, the items are cut into chunks of ``chunksize`` and each
@@ -83,6 +96,16 @@ def pmap(func, items, *, executor=None, progress=False, desc=None, chunksize=1):
     -------
     list
         Results in the order of ``items``.
+
+    Examples
+    --------
+    >>> from concurrent.futures import ThreadPoolExecutor
+    >>> from rotorlib.parallel import pmap
+    >>> pmap(abs, [-3, 1, -2])
+    [3, 1, 2]
+    >>> with ThreadPoolExecutor(2) as ex:
+    ...     pmap(abs, range(-4, 1), executor=ex, chunksize=2)
+    [4, 3, 2, 1, 0]
     """
     items = list(items)
     chunksize = _positive_int(chunksize, "chunksize")
@@ -124,7 +147,9 @@ def _positive_int(value, name):
 
 
 @contextlib.contextmanager
-def executor_for(workers=None, scheduler=None, *, timeout=10.0):
+def executor_for(
+    workers: int | None = None, scheduler: str | None = None, *, timeout: float = 10.0
+) -> Iterator[Executor | None]:
     """The executor for ``--workers N`` or ``--scheduler ADDRESS``, closed on exit.
 
     Parameters
@@ -155,6 +180,16 @@ def executor_for(workers=None, scheduler=None, *, timeout=10.0):
         ``workers`` not an integer >= 1; both ``workers`` and ``scheduler``
         given; ``dask[distributed]`` not installed; the scheduler address
         malformed, unreachable, or without workers within ``timeout``.
+
+    Examples
+    --------
+    >>> from rotorlib.parallel import executor_for, pmap
+    >>> with executor_for(workers=1) as ex:  # serial: no executor
+    ...     ex is None, pmap(abs, [-1, 2], executor=ex)
+    (True, [1, 2])
+    >>> with executor_for(workers=2) as ex:
+    ...     type(ex).__name__
+    'ProcessPoolExecutor'
     """
     if scheduler is None:
         n = 1 if workers is None else _positive_int(workers, "workers")

@@ -316,11 +316,11 @@ def test_atlas_names_choreographies():
     named = {o.label: o for o in a.orbits if o.choreography}
     assert set(named) == {"CG", "CT"}
     assert named["CG"].stable and not named["CT"].stable
-    rec = named["CG"].to_record()
+    rec = named["CG"].to_dict()
     assert rec["choreography"]["sixth"] and not rec["choreography"]["rotating"]
     assert abs(named["CG"].period - cg_orbit(5.3).period) < 1e-9
     others = [o for o in a.orbits if not o.choreography]
-    assert others and all(o.to_record()["choreography"] is None for o in others)
+    assert others and all(o.to_dict()["choreography"] is None for o in others)
 
 
 def _census_data():

@@ -65,7 +65,7 @@ def records(
     for a in atlas(
         energies, t_max, grid, executor=executor, progress=progress, digits=digits
     ):
-        out += [o.to_record() for o in a.orbits]
+        out += [o.to_dict() for o in a.orbits]
     return out
 
 
