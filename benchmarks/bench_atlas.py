@@ -35,7 +35,7 @@ from rotorlib.atlas import Atlas, census
 
 def fingerprint(a: Atlas) -> list:
     """Everything a census reports, to compare runs exactly."""
-    return [a.candidates] + [(o.to_dict(), o.u) for o in a.orbits]
+    return [a.candidates] + [(o.to_dict(), o.extra["u"]) for o in a.orbits]
 
 
 def worker_cpu() -> dict[int, float]:

@@ -33,21 +33,21 @@ import numpy as np
 
 from .atlas import (
     SAME_ORBIT,
-    AtlasOrbit,
     SampledOrbit,
     atlas_orbit,
     brackets,
     distance_to_orbit,
     finish_orbit,
-    lattice_shift,
     refine_bracket,
     scan,
 )
 from .continuation import PALC, ContinuationOptions, continuation, member
 from .flow import SectionNotReached
 from .parallel import pmap
+from .periodic import PeriodicOrbit
 from .reversors import images, start_sets
 from .shooting import NoConvergence, residual, solve
+from .system import lattice_reduce
 
 __all__ = ["AtlasFamily", "families", "daughters", "Cascade", "cascade"]
 
@@ -58,7 +58,7 @@ class AtlasFamily:
 
     Attributes
     ----------
-    orbit : AtlasOrbit
+    orbit : PeriodicOrbit
         The orbit it was started from.
     E, period, trace, u : ndarray
         Its members in order along the family (through its folds: ``E`` need not be
@@ -78,7 +78,7 @@ class AtlasFamily:
         The orbit's problem, closing after ``problem.factor`` times the symmetric time.
     """
 
-    orbit: AtlasOrbit
+    orbit: PeriodicOrbit
     E: np.ndarray
     period: np.ndarray
     trace: np.ndarray
@@ -131,11 +131,12 @@ class AtlasFamily:
 
 def _family(args):
     o, lo, hi, step, du = args
-    s = residual(o.problem, o.u, o.E)
+    s = residual(o.extra["problem"], o.extra["u"], o.E)
     prob = replace(
-        o.problem, factor=float(Fraction(o.period / float(s.t1)).limit_denominator(48))
+        o.extra["problem"],
+        factor=float(Fraction(o.period / float(s.t1)).limit_denominator(48)),
     )
-    m0 = member(prob, o.u, o.E, traces=True)
+    m0 = member(prob, o.extra["u"], o.E, traces=True)
     opts = ContinuationOptions(
         max_steps=600,
         E_range=(lo, hi),
@@ -190,7 +191,7 @@ def families(
 
     Parameters
     ----------
-    orbits : Atlas or sequence of AtlasOrbit
+    orbits : Atlas or sequence of PeriodicOrbit
         A census (:func:`rotorlib.atlas.census`), or orbits (e.g. :func:`daughters`).
     E_range : (float, float)
         The window; it must contain the energy of every orbit.
@@ -248,7 +249,7 @@ def _locate(y, E, tol=1e-7):
             except ValueError:
                 return math.inf
             d = x - ims
-            d[:, :2] = [lattice_shift(v) for v in d[:, :2]]
+            d = lattice_reduce(d)
             return float(np.min(np.max(np.abs(d), axis=1)))
 
         ds = np.array([dist(u) for u in us])
@@ -310,7 +311,7 @@ def daughters(
 
     Returns
     -------
-    tuple of AtlasOrbit
+    tuple of PeriodicOrbit
         Sorted by ``E``, then period; label ``new``, family ``"<parent family>/<kind>"``.
     """
     if not (0 <= point < len(fam.points)) or fam.points[point][0] not in ("IS", "PD"):

@@ -552,7 +552,7 @@ class Island:
 
     Attributes
     ----------
-    orbit : rotorlib.atlas.AtlasOrbit
+    orbit : rotorlib.periodic.PeriodicOrbit
     phi2, P2 : ndarray
         The crossings of the section by one image of the orbit in one period.
     test_phi2, test_P2 : ndarray

@@ -112,6 +112,8 @@ class PeriodicOrbit(OrbitResult):
         ``E``, the period and ``tr M`` with every verified digit (``repr`` in float64).
     state0_str : tuple of str
         The initial state with every verified digit.
+    family : str
+        A census's family id (orbits of one family at other energies share it), else ``""``.
 
     The protocol (:class:`OrbitResult`) adds ``multipliers``, ``stability`` and ``stable``;
     a choreography's stability is decided by its reduced map (``extra['stability']``).
@@ -144,6 +146,7 @@ class PeriodicOrbit(OrbitResult):
     period_str: str = ""
     trace_str: str = ""
     state0_str: tuple[str, ...] = ()
+    family: str = ""
 
     def __post_init__(self) -> None:
         for k in ("E", "period", "trace"):
@@ -184,11 +187,14 @@ class PeriodicOrbit(OrbitResult):
         }
         if ext:
             rec["state0_str"] = list(self.state0_str)
+        if self.family:
+            rec["family"] = self.family
         rec.update(
             {
-                k: v
+                k: list(v) if isinstance(v, tuple) else v
                 for k, v in self.extra.items()
-                if isinstance(v, (str, int, float, list)) and k not in rec
+                if isinstance(v, (str, int, float, list, tuple, dict, type(None)))
+                and k not in rec
             }
         )
         return rec

@@ -42,7 +42,7 @@ def main(argv=None) -> int:
         {
             "period": f.orbit.period,
             "trace": f.orbit.trace,
-            "fixed_sets": list(f.orbit.fixed_sets),
+            "fixed_sets": list(f.orbit.extra["fixed_sets"]),
             "state0_str": list(f.orbit.state0_str),
             "points": [[k, e] for k, e in f.points],
             "stable_windows": [list(w) for w in f.stable_windows()],

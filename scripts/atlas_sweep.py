@@ -50,7 +50,7 @@ def main(argv=None) -> int:
                         "period": o.period,
                         "trace": o.trace,
                         "stable": o.stable,
-                        "fixed_sets": list(o.fixed_sets),
+                        "fixed_sets": list(o.extra["fixed_sets"]),
                         "state0_str": list(o.state0_str),
                     }
                     for o in a.orbits

@@ -80,16 +80,16 @@ def _half_shift(x0, T):
 def _touch_family(o, E_end):
     """The family of the near-resonant orbit ``o`` followed up in energy (PALC, small
     steps) until it turns: ``(E of its located fold, period there)`` or ``(None, None)``."""
-    sh = residual(o.problem, o.u, o.E)
+    sh = residual(o.extra["problem"], o.extra["u"], o.E)
     factor = float(Fraction(o.period / float(sh.t1)).limit_denominator(48))
-    prob = replace(o.problem, factor=factor)
+    prob = replace(o.extra["problem"], factor=factor)
     opts = ContinuationOptions(
         max_steps=200, E_range=(o.E - 0.05, E_end), jump=0.05, folds=True
     )
     alg = PALC(ds=2e-4, ds_max=2e-3, ds_min=1e-12, u_floor=1.0)
     for d in (1, -1):
         b = continuation(
-            prob, replace(alg, direction=d), opts, [member(prob, o.u, o.E)]
+            prob, replace(alg, direction=d), opts, [member(prob, o.extra["u"], o.E)]
         )
         folds = [p for p in b.special_points if p.kind == "fold" and p.located]
         if folds and float(folds[0].member.E) > o.E:
@@ -118,7 +118,7 @@ def touches(pool):
                         {
                             "period": o.period,
                             "trace": o.trace,
-                            "fixed_sets": list(o.fixed_sets),
+                            "fixed_sets": list(o.extra["fixed_sets"]),
                             "state0": list(o.state0),
                             "half_shift": _half_shift(o.state0, o.period),
                             "ends_at_E": E_f,
@@ -161,10 +161,10 @@ def _on(fam, E, T, rel=2e-3):
 def follow(o, lo, hi, step, T_cap):
     """The family of the atlas orbit ``o`` through ``lo <= E <= hi`` in both directions
     (as ``rotorlib.atlas_families.families``, but up to the period ``T_cap``)."""
-    sh = residual(o.problem, o.u, o.E)
+    sh = residual(o.extra["problem"], o.extra["u"], o.E)
     factor = float(Fraction(o.period / float(sh.t1)).limit_denominator(48))
-    prob = replace(o.problem, factor=factor)
-    m0 = member(prob, o.u, o.E, traces=True)
+    prob = replace(o.extra["problem"], factor=factor)
+    m0 = member(prob, o.extra["u"], o.E, traces=True)
     opts = ContinuationOptions(
         max_steps=150,
         E_range=(lo, hi),
@@ -229,8 +229,8 @@ def _family(args):
         "sixth": c.sixth,
         "rotating": c.rotating,
         "power": c.power,
-        "fixed_sets": list(o.fixed_sets),
-        "u0": float(o.u),
+        "fixed_sets": list(o.extra["fixed_sets"]),
+        "u0": float(o.extra["u"]),
         "E": Es,
         "period": Ts,
         "trace": [float(m.trace) for m in ms],
@@ -272,7 +272,7 @@ def main():
                         "period": o.period,
                         "trace": o.trace,
                         "state0": list(o.state0),
-                        "fixed_sets": list(o.fixed_sets),
+                        "fixed_sets": list(o.extra["fixed_sets"]),
                         "choreography": c.to_dict(),
                     }
                 )

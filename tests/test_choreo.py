@@ -313,13 +313,13 @@ def test_atlas_names_choreographies():
     from rotorlib.atlas import census
 
     a = census(5.3, 8.0, known=[])  # the known daughter families are not needed here
-    named = {o.label: o for o in a.orbits if o.choreography}
+    named = {o.label: o for o in a.orbits if o.extra["choreography"]}
     assert set(named) == {"CG", "CT"}
     assert named["CG"].stable and not named["CT"].stable
     rec = named["CG"].to_dict()
     assert rec["choreography"]["sixth"] and not rec["choreography"]["rotating"]
     assert abs(named["CG"].period - cg_orbit(5.3).period) < 1e-9
-    others = [o for o in a.orbits if not o.choreography]
+    others = [o for o in a.orbits if not o.extra["choreography"]]
     assert others and all(o.to_dict()["choreography"] is None for o in others)
 
 

@@ -21,9 +21,9 @@ COLUMNS = [
     "family",
     "period",
     "trace",
-    "stable",
+    "stability",
     "fixed_sets",
-    "state0_str",
+    "state0",
 ]
 
 
@@ -93,7 +93,7 @@ def run(args):
         dict(
             {k: v for k, v in r.items() if k not in ("period_str", "trace_str")},
             fixed_sets=" / ".join(r["fixed_sets"]),
-            state0_str=" ".join(r["state0_str"]),
+            state0=" ".join(r.get("state0_str") or map(repr, r["state0"])),
             period=f"{r['period']:.10g}",
             trace=f"{r['trace']:.8g}",
         )
