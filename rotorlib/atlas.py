@@ -407,7 +407,7 @@ def finish_orbit(args: tuple) -> tuple:
     t, prob = tier(int(digits)), _problem(si, j, k, E, t_half)
     with t.context():
         u0, u1 = t.num(u), t.num(u) * (1 + t.num("1e-12"))
-        u = solve(prob, u0, u1, E=str(E), t=t, r_max=t.eps**0.6).x
+        u = solve(prob, u0, u1, E=str(E), digits=t, r_max=t.eps**0.6).x
         sh = residual(prob, u, str(E), t)
         n = Fraction(T / (2 * float(sh.t1))).limit_denominator(24)  # T = 2 t1 n/m
         Tm = 2 * sh.t1 * n.numerator / n.denominator

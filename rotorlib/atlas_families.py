@@ -140,7 +140,7 @@ def _family(args):
     opts = ContinuationOptions(
         max_steps=600,
         E_range=(lo, hi),
-        t1_max=1.5 * o.period / prob.factor,
+        t_max=1.5 * o.period,
         jump=0.05,
         traces=True,
         folds=True,

@@ -492,7 +492,7 @@ def breather_daughter(E: Any, digits: int | None = None) -> PeriodicOrbit:
     if t.extended:
         with t.context():
             d = solve(
-                DAUGHTER, t.num(d), t.num(d) * (1 + t.num("1e-12")), E=str(E), t=t
+                DAUGHTER, t.num(d), t.num(d) * (1 + t.num("1e-12")), E=str(E), digits=t
             ).x
     return daughter_orbit(str(E) if t.extended else Ef, d, t, shown=digits)
 

@@ -333,7 +333,7 @@ def solve_cg(E: float, u_guess: float | None = None, digits: int | None = None) 
     True
     """
     u0 = _guess_u(E) if u_guess is None else u_guess
-    return solve(cg_problem(), u0, E=E, t=tier(digits))
+    return solve(cg_problem(), u0, E=E, digits=tier(digits))
 
 
 __all__ += ["solve_cg", "tier"]

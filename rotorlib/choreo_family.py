@@ -69,7 +69,7 @@ _U_FOLD = (
     -1.46,
     -1.50,
 )  # a bracket of the fold's amplitude (checked: tr DP - 4 changes sign)
-_T1_MAX = 90.0 / 12  # the continuation stops at T = 90 (E - 4.5 ~ 1e-7)
+_T_MAX = 90.0  # the continuation stops at T = 90 (E - 4.5 ~ 1e-7)
 
 
 def _gap(x: float) -> str:
@@ -107,7 +107,7 @@ def follow() -> Branch:
     return continuation(
         p,
         PALC(ds=0.1, ds_max=0.25, E_ref=0.0),
-        ContinuationOptions(max_steps=400, E_range=(0.01, 10.0), t1_max=_T1_MAX),
+        ContinuationOptions(max_steps=400, E_range=(0.01, 10.0), t_max=_T_MAX),
         start,
     )
 
@@ -262,7 +262,9 @@ def _solve_u(lab, E, t: Tier):
         return u
     with t.context():
         u = t.num(u)
-        return solve(p, u, u * (1 + t.num("1e-12")), E=str(E), t=t, r_max=t.eps**0.6).x
+        return solve(
+            p, u, u * (1 + t.num("1e-12")), E=str(E), digits=t, r_max=t.eps**0.6
+        ).x
 
 
 def _u_at_E(p, a, b, Ea, Eb, E):
@@ -383,7 +385,7 @@ def _at_u(u, E_guess, t: Tier = FLOAT64, p=None, order=6, power=1):
     problem ``p`` with its reduced map of ``order``, ``power``)."""
     p = p or cg_problem()
     with t.context():
-        w = solve(p, t.num(E_guess), u=t.num(u), t=t).x
+        w = solve(p, t.num(E_guess), u=t.num(u), digits=t).x
         s = residual(p, u, w, t)
         T = p.factor * s.t1
         trp, trm = _reduced_trace(s.x0, T, t, order, power)

@@ -151,7 +151,7 @@ def _branch(lab):
     p = z3_problem(lab)
     _, _, _, u0, E0, _ = Z3_FAMILIES[lab]
     opts = ContinuationOptions(
-        max_steps=300, E_range=(4.0, 6.0), t1_max=_T_CAP / 6, jump=0.05, folds=False
+        max_steps=300, E_range=(4.0, 6.0), t_max=_T_CAP, jump=0.05, folds=False
     )
     alg = PALC(ds=_DS, ds_max=_DS, ds_min=1e-10, u_floor=1.0)
     m0 = member(p, u0, E0)
@@ -355,7 +355,7 @@ def _orbits(lab, E, digits):
             w = t.num(str(E)) if t.extended else Ef
             if t.extended:
                 ut = t.num(u)
-                u = solve(p, ut, ut * (1 + t.num("1e-12")), E=w, t=t).x
+                u = solve(p, ut, ut * (1 + t.num("1e-12")), E=w, digits=t).x
             T = float(6 * residual(p, u, w, t).t1)
         if any(abs(T - T2) < 1e-8 * T for T2, _ in found):
             continue  # the same orbit on the other symmetric half

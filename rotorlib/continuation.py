@@ -9,7 +9,7 @@ members and special points. :class:`Natural` steps ``u`` or ``E`` through given 
 :class:`ContinuationOptions`. Events (:class:`SpecialPoint`): ``fold``, ``E`` (a
 requested energy), ``IS`` / ``PD`` (``tr M`` crosses 4 / 0, with ``options.traces``),
 located between members by :func:`illinois`. ``Branch.stop`` says why it ended (``values``,
-``steps``, ``E range``, ``period``: ``t1 > t1_max``, ``event``, ``stuck``); ``reason`` too. Members satisfy ``|r| < options.r_max`` (default
+``steps``, ``E range``, ``period``: the period exceeds ``t_max``, ``event``, ``stuck``); ``reason`` too. Members satisfy ``|r| < options.r_max`` (default
 1e-8 float64, ``eps^(2/3)`` extended); located events are solved to the tier's precision.
 """
 
@@ -100,8 +100,8 @@ class ContinuationOptions:
         Stop (``steps``) after this many members are added.
     E_range : (float, float)
         Stop (``E range``) once a member leaves it.
-    t1_max : float
-        Stop (``period``) once ``t1`` exceeds it.
+    t_max : float
+        Stop (``period``) once the period (the full period, ``factor t1``) exceeds it.
     jump : float or None
         Refuse a step that changes ``t1`` by more than this fraction (a long step can
         land on another family whose members are close in ``(u, w)``).
@@ -125,7 +125,7 @@ class ContinuationOptions:
 
     max_steps: int = 400
     E_range: tuple[Any, Any] = (-math.inf, math.inf)
-    t1_max: float = math.inf
+    t_max: float = math.inf
     jump: float | None = None
     traces: bool = False
     energies: tuple[Any, ...] = ()
@@ -185,7 +185,7 @@ def switch(
     with t.context():
         E0 = t.num(E_birth)
         w0, w1 = problem.w_at(u, E0, t), problem.w_at(u, E0 + t.num(dE), t)
-        root = solve(problem, w0, w1, u=u, t=t, tol=tol, r_max=r_max)
+        root = solve(problem, w0, w1, u=u, digits=t, tol=tol, r_max=r_max)
         return replace(member(problem, u, root.x, t), r=root.residual), root.iterations
 
 
@@ -269,10 +269,10 @@ def _natural(problem, alg: Natural, opts, start, t: Tier, on_member=None):
             guess = _extrapolate(xs, ys, s_of(v), alg.order, t)
             try:
                 if par == "u":
-                    root = solve(problem, guess, u=v, t=t, r_max=opts.r_max)
+                    root = solve(problem, guess, u=v, digits=t, r_max=opts.r_max)
                     new = member(problem, v, root.x, t, opts.traces)
                 else:
-                    root = solve(problem, guess, E=v, t=t, r_max=opts.r_max)
+                    root = solve(problem, guess, E=v, digits=t, r_max=opts.r_max)
                     new = member(
                         problem, root.x, problem.w_at(root.x, v, t), t, opts.traces
                     )
@@ -354,7 +354,7 @@ class _Local:
             abs(guess) * t.num(t.eps) ** t.num(0.5),
             (self.sw if k == 0 else self.su) * tol,
         )
-        kw = dict(t=t, tol=tol, r_max=self.opts.r_max)
+        kw = dict(digits=t, tol=tol, r_max=self.opts.r_max)
         if k == 0:
             root = solve(self.p, guess, x1, u=value, floor=self.sw, **kw)
             return member(self.p, value, root.x, t, self.opts.traces)
@@ -612,7 +612,7 @@ def continuation(
             entered[0] = True
         elif entered[0] or (m.E < lo if members[0].E > hi else m.E > hi):
             return "E range"
-        if m.t1 > opts.t1_max:
+        if float(m.period) > opts.t_max:
             return "period"
         return "event" if _crossed(opts, members) else ""
 
@@ -640,7 +640,7 @@ def _reason(stop: str, members, opts) -> str:
     why = {
         "values": "every value asked for was reached",
         "steps": f"max_steps = {opts.max_steps} members were added",
-        "period": f"t1 = {float(m.t1):.6g} exceeds t1_max = {float(opts.t1_max):.6g} "
+        "period": f"the period {float(m.period):.6g} exceeds t_max = {opts.t_max:.6g} "
         "(the family runs into an orbit of infinite period)",
         "event": f"tr M crossed a level of stop_on = {opts.stop_on}",
         "stuck": "the step fell below its minimum (the family ends or turns sharply)",

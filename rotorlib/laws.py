@@ -549,7 +549,7 @@ def rotational_member(label: Any, dE: Any, digits: Any = None) -> RotationalMemb
                 t.num(m.u),
                 t.num(m.u) * (1 + t.num("1e-12")),
                 E=E,
-                t=t,
+                digits=t,
                 r_max=1e-18,
             ).x
             m = member(b.problem, u, b.problem.w_at(u, E, t), t)

@@ -467,7 +467,9 @@ def newborn_orbit(
         path = [pts[0].member]
     u = path[-1].u
     if t_out != t_cont:
-        u = solve(spec.problem, u, u * (1 + t_out.num("1e-9")), E=str(E), t=t_out).x
+        u = solve(
+            spec.problem, u, u * (1 + t_out.num("1e-9")), E=str(E), digits=t_out
+        ).x
     with t_out.context():
         w = spec.problem.w_at(u, str(E) if t_out.extended else float(E), t_out)
     return periodic_orbit(

@@ -55,7 +55,7 @@ def _branch(
     E_range: tuple[Any, Any],
     t: Tier,
     *,
-    t1_max: float,
+    t_max: float,
     traces: bool,
     energies: tuple[Any, ...],
     chart: str,
@@ -84,7 +84,7 @@ def _branch(
     opts = ContinuationOptions(
         max_steps=max_steps,
         E_range=E_range,
-        t1_max=t1_max,
+        t_max=t_max,
         jump=jump,
         traces=traces,
         energies=tuple(energies),
@@ -103,11 +103,11 @@ def _r_max(spec: FamilySpec, t: Tier, chart: str) -> float:
     return 1e-6 if chart == "K" else t.r_max
 
 
-def _t1_max(spec: FamilySpec, t_max: float | None) -> float:
-    """The symmetric time of the full period ``t_max`` (default: 12 times the period at
-    birth, beyond which the family runs into an orbit of infinite period)."""
+def _t_max(spec: FamilySpec, t_max: float | None) -> float:
+    """The largest full period ``t_max`` (default: 12 times the period at birth, beyond
+    which the family runs into an orbit of infinite period)."""
     T_birth = spec.period_birth * (2 if spec.kind == "PD" else 1)
-    return (12 * T_birth if t_max is None else t_max) / spec.factor
+    return 12 * T_birth if t_max is None else t_max
 
 
 def family(
@@ -196,7 +196,7 @@ def family(
         raise FamilyRangeError(spec, E_range)
     r_max = _r_max(spec, t, chart)
     kw: dict[str, Any] = dict(
-        t1_max=_t1_max(spec, t_max), chart=chart, jump=jump, max_steps=max_steps
+        t_max=_t_max(spec, t_max), chart=chart, jump=jump, max_steps=max_steps
     )
     start, E0 = None, seed(spec.label, t)[0].E
     if E0 < lo:  # the approach, in long steps, to the member at lo
@@ -222,7 +222,7 @@ def _at(b: Branch, m: Member, E: Any, r_max: float) -> list[Member]:
     p, t, traces = b.problem, b.tier, m.trace == m.trace
     try:
         with t.context():
-            u = solve(p, m.u, E=E, t=t, r_max=r_max).x
+            u = solve(p, m.u, E=E, digits=t, r_max=r_max).x
             return [member(p, u, p.w_at(u, E, t), t, traces)]
     except (NoConvergence, SectionNotReached, ValueError):
         return [m] if m.E == E else []
@@ -304,7 +304,7 @@ def follow(
         spec,
         (E_min, E_max),
         t,
-        t1_max=_t1_max(spec, t_max),
+        t_max=_t_max(spec, t_max),
         traces=traces,
         energies=tuple(energies),
         chart=chart,

@@ -28,7 +28,7 @@ from dataclasses import dataclass, replace
 from typing import Any
 
 from .flow import Section, SectionNotReached, to_section
-from .precision import FLOAT64, Tier, tier
+from .precision import Tier, tier
 
 __all__ = [
     "StartSet",
@@ -419,7 +419,7 @@ def solve(
     u: Any = None,
     w: Any = None,
     E: Any = None,
-    t: Tier = FLOAT64,
+    digits: int | Tier | None = None,
     tol: Any = None,
     floor: Any = 0.0,
     r_max: float | None = None,
@@ -446,6 +446,7 @@ def solve(
     """
     if sum(v is not None for v in (u, w, E)) != 1:
         raise ValueError("give exactly one of u, w and E")
+    t = tier(digits)
     with t.context():
         tol = tol if tol is not None else t.step_tol
         r_max = r_max if r_max is not None else t.r_max

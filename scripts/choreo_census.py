@@ -168,7 +168,7 @@ def follow(o, lo, hi, step, T_cap):
     opts = ContinuationOptions(
         max_steps=150,
         E_range=(lo, hi),
-        t1_max=T_cap / factor,
+        t_max=T_cap,
         jump=0.05,
         traces=True,
         folds=True,

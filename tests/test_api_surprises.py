@@ -69,9 +69,8 @@ def test_natural_honours_the_stopping_rules():
     b = _natural(vals, E_range=(0, vals[4]))
     assert b.stop == "E range" and len(b.members) == 7  # the first one outside
     assert "E_range" in b.reason and "7 members" in b.reason
-    t1 = full.t1
-    b = _natural(vals, t1_max=float(t1[3]) + 1e-9)
-    assert b.stop == "period" and len(b.members) == 5 and "t1_max" in b.reason
+    b = _natural(vals, t_max=float(full.period[3]) * (1 + 1e-12))
+    assert b.stop == "period" and len(b.members) == 5 and "t_max" in b.reason
 
 
 def test_branch_says_why_it_stopped():
