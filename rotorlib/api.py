@@ -212,7 +212,7 @@ def family(
 
         return z3_family(lab.upper(), (lo, hi))
     if _NEWBORN.match(lab):
-        from .newborn_families import family as _family
+        from .newborn import family as _family
 
         return _family(lab, (lo, hi), digits=digits)
     raise ValueError(

@@ -1,12 +1,16 @@
-"""``python -m rotorlib family CG --E-range A B``: a family of choreographies followed.
+"""``python -m rotorlib family LABEL --E-range A B``: a family followed (:func:`rotorlib.family`).
 
-Prints the members of the branch with energy in ``[A, B]`` (period, ``tr DP`` of the
-reduced map, ``tr M``, stability) and its special points there: the fold, the stability
-changes and the energies where ``tr M`` touches 4 or 0 without one
-(:mod:`rotorlib.choreo_family`).
+Prints the members of the branch with energy in ``[A, B]`` and its special points there.
+A family born at a pendulum bifurcation (``IS^l_n``, ``PD^r_n``, ...): period, ``tr M``,
+stability, and the folds and ``tr M = 4`` (IS) / ``0`` (PD) points located by the engine,
+with why the branch stopped. A choreography: period, ``tr DP`` of the reduced map,
+``tr M``, stability, the fold, the stability changes and the energies where ``tr M``
+touches 4 or 0 without one (:mod:`rotorlib.choreo_family`).
 
 Examples
 --------
+``python -m rotorlib family IS^l_1 --E-range 3.99 4.1``
+``python -m rotorlib family PDr2 --E-range 4 4.01 --digits 20 --json``
 ``python -m rotorlib family CG --E-range 5 5.4``
 ``python -m rotorlib family CT --E-range 4.5 5.4 --json``
 ``python -m rotorlib family CG --E-range 5.3 5.4 --digits 30`` (the fold to 30 digits)
@@ -23,16 +27,17 @@ import json
 def register(sub):
     p = sub.add_parser(
         "family",
-        help="a family of choreographies (CG, CT, CZ1, CZ2, CR1): members, folds, "
-        "stability changes",
-        description="Follow the choreographies born at G (CG, and CT beyond its fold) "
-        "with the continuation engine and print the members with E in the range and "
-        "the special points (folds, stability changes with their kind).",
+        help="a family (IS^l_n, PD^l_n, IS^r_n, PD^r_n; choreographies CG, CT, CZ1, "
+        "CZ2, CR1) over an energy range: members, folds, stability changes",
+        description="Follow a family of periodic orbits with the continuation engine and "
+        "print the members with E in the range and the special points (folds, the "
+        "energies where tr M crosses 4 (IS) or 0 (PD), with their kind).",
     )
     p.add_argument(
         "label",
-        help="CG (born at G), CT (its partner beyond the fold), or a Z3 choreography "
-        "CZ1, CZ2 (non-rotating), CR1 (rotating)",
+        help="a family born at a pendulum bifurcation (IS^l_2, PDr3, ...), CG (born at "
+        "G), CT (its partner beyond the fold), or a Z3 choreography CZ1, CZ2 "
+        "(non-rotating), CR1 (rotating)",
     )
     p.add_argument(
         "--E-range", nargs=2, required=True, metavar=("A", "B"), help="energies A < B"
@@ -88,12 +93,51 @@ def _table(rec):
         )
 
 
-def run(args):
-    from ..choreo_family import family
+def _run_newborn(args, lo, hi):
+    from ..api import family
 
-    if args.digits is not None and not 1 <= args.digits <= 60:
-        raise ValueError(f"--digits must be from 1 to 60, got {args.digits}")
+    b = family(args.label, (lo, hi), digits=args.digits)
+    rec = b.to_dict()
+    if args.json:
+        print(json.dumps(rec, indent=2))
+        return 0
+    d = max(12, min(30, b.members[0].digits)) if b.members else 12
+    print(
+        f"{rec['label']}: {len(b.members)} members in {lo:g} <= E <= {hi:g}; {b.reason}"
+    )
+    print(f"{'E':>{d + 4}}  {'period':>{d + 4}}  {'tr M':>16}  stability")
+    for m in b.members:
+        print(
+            f"{float(m.E):{d + 4}.{d}f}  {float(m.period):{d + 4}.{d}f}  "
+            f"{float(m.trace):16.10g}  {m.stability}"
+        )
+    print(
+        "special points:" if b.special_points else "special points: none in the range"
+    )
+    for p in b.special_points:
+        what = {"IS": "tr M = 4", "PD": "tr M = 0", "fold": "fold of E"}.get(
+            p.kind, p.kind
+        )
+        E_p = p.member.E_str if p.member.digits > 15 else f"{float(p.member.E):.{d}f}"
+        print(
+            f"  {p.kind:4s} E = {E_p}  ({what}{'' if p.located else ', not located'})"
+        )
+    return 0
+
+
+def run(args):
+    from ..api import _CHOREO
+    from ..choreo_family import family
+    from ..precision import check_digits
+
+    check_digits(args.digits, "--digits")
     lo, hi = (_num(v, "--E-range") for v in args.E_range)
+    if not _CHOREO.match(str(args.label).strip()):
+        return _run_newborn(args, lo, hi)
+    if args.digits is not None and args.digits > 60:
+        raise ValueError(
+            f"--digits for a choreography is at most 60, got {args.digits}"
+        )
     if str(args.label).strip().upper() in ("CZ1", "CZ2", "CR1"):
         return _run_z3(args, lo, hi)
     rec = family(args.label, (lo, hi), digits=args.digits).to_dict()
