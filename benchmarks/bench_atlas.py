@@ -1,7 +1,7 @@
 """Wall time of one atlas census: serial, on a 2-process pool and on 2 Dask workers.
 
 The census (``rotorlib.atlas.census``, by default at E = 5.45, T_max = 16, grid 300,
-named: about 20 s of one core) is timed ``--repeat`` times on each executor, in turn
+named: about 23 s of one core) is timed ``--repeat`` times on each executor, in turn
 (serial, process pool, Dask), and every result is checked to be the serial one, orbit by
 orbit and digit by digit (``to_dict()``, start parameter, number of brackets). Each
 executor first runs a census at ``T_max = 6`` (its workers compile heyoka's integrators

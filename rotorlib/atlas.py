@@ -330,6 +330,9 @@ SAME_ORBIT = 1e-6
 class SampledOrbit:
     """An orbit sampled densely (``states`` at times ``ts``), for :func:`distance_to_orbit`."""
 
+    states: np.ndarray
+    ts: np.ndarray
+
     def __init__(self, x0: ArrayLike, T: float, n: int = 4000) -> None:
         self.states, self.ts = sample(np.asarray(x0, dtype=float), T, n)
 
