@@ -23,6 +23,7 @@ __all__ = [
     "orbit_from_state",
 ]
 
+_NO_EXTREMA = "the extrema of a1, a2 are not computed for this orbit (a census)"
 _NO_LOG = "log|E - 4| is not defined here (E = 4 exactly, or an orbit not born of the pendulum)"
 
 
@@ -176,10 +177,10 @@ class PeriodicOrbit(OrbitResult):
             "multipliers": [[z.real, z.imag] for z in self.multipliers],
             "stability": self.stability,
             "digits": self.digits,
-            "alpha1_max": float(self.alpha1_max),
-            "alpha2_max": float(self.alpha2_max),
-            "residual": float(self.residual),
-            "energy_residual": float(self.energy_residual),
+            **json_number("alpha1_max", self.alpha1_max, note=_NO_EXTREMA),
+            **json_number("alpha2_max", self.alpha2_max, note=_NO_EXTREMA),
+            **json_number("residual", self.residual),
+            **json_number("energy_residual", self.energy_residual),
             "precision": self.precision,
             "monodromy": [
                 [float(v) for v in row] for row in np.asarray(self.monodromy)

@@ -273,8 +273,10 @@ def test_cli_json():
         "family",
         "period",
         "trace",
-        "stable",
-        "state0_str",
+        "stability",
+        "state0",
+        "fixed_sets",
+        "choreography",
     } <= set(rows[0])
     assert any(o["label"] == "pendulum" for o in rows)
 

@@ -133,7 +133,7 @@ def test_ten_lines_run():
         timeout=600,
     )
     assert r.returncode == 0, r.stderr[-2000:]
-    assert len(r.stdout.splitlines()) == 7
+    assert len(r.stdout.splitlines()) == 6
 
 
 def test_five_tasks_checks_pass():
