@@ -484,6 +484,7 @@ def variational_monodromy(
         if method == "scipy":
             Mv, xf, tr, steps = _scipy_variational(x0, T, rtol)
             backend, tr_str = f"scipy-DOP853 rtol={rtol:g}", repr(tr)
+            xT = list(xf)
         else:
             Mv, xT, tr = monodromy_matrix(x0, T, t)
             xf, steps, backend = np.array([float(v) for v in xT]), 0, "heyoka-taylor"
@@ -491,7 +492,9 @@ def variational_monodromy(
         from .periodic import stability_of  # the result protocol's rule
 
         x0f = np.array([float(v) for v in x0])
-        closure = float(np.max(np.abs(lattice_reduce(xf - x0f))))
+        # the closure in the working precision: x(T) - x(0) formed before any rounding
+        gap = lattice_reduce([a - b for a, b in zip(xT, x0)], t)
+        closure = max(abs(float(v)) for v in gap)
         trf = float(tr)
         stability = stability_of(trf, t.dps - 9 if t.extended else 15)
         return Monodromy(
