@@ -25,6 +25,8 @@ the same two members is not seen either.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
+from concurrent.futures import Executor
 from dataclasses import dataclass, field, replace
 from fractions import Fraction
 from typing import Any
@@ -33,6 +35,7 @@ import numpy as np
 
 from .atlas import (
     SAME_ORBIT,
+    Atlas,
     SampledOrbit,
     atlas_orbit,
     brackets,
@@ -180,7 +183,12 @@ def _family(args):
 
 
 def families(
-    orbits, E_range, step=0.01, du=None, executor=None, progress=False
+    orbits: Atlas | Sequence[PeriodicOrbit],
+    E_range: tuple[float, float],
+    step: float = 0.01,
+    du: float | None = None,
+    executor: Executor | None = None,
+    progress: bool = False,
 ) -> list:
     """Orbits of the atlas followed through ``E_range`` with the engine: pseudo-arclength
     continuation (:class:`rotorlib.continuation.PALC`, steps of at most ``step`` in ``E``)
@@ -209,8 +217,10 @@ def families(
     Precision: float64 members (residual < 1e-8); folds located to ~1e-15 in ``E``,
     ``IS``/``PD`` to ~1e-14 in the local parameter.
     """
-    orbits = list(getattr(orbits, "orbits", orbits))
+    given: Any = getattr(orbits, "orbits", orbits)  # a census: its orbits
+    orbits = list(given)
     lo, hi = (float(v) for v in E_range)
+
     if not (math.isfinite(lo) and math.isfinite(hi) and 0 < lo <= hi):
         raise ValueError(f"E_range must be finite with 0 < lo <= hi, got {E_range!r}")
     for o in orbits:
@@ -280,7 +290,12 @@ def _parent_at(fam: AtlasFamily, x, E):
 
 
 def daughters(
-    fam: AtlasFamily, point: int, dE=1e-4, width=0.05, grid=40, executor=None
+    fam: AtlasFamily,
+    point: int,
+    dE: float = 1e-4,
+    width: float = 0.05,
+    grid: int = 40,
+    executor: Executor | None = None,
 ) -> tuple:
     """Branch switching at the located ``IS`` or ``PD`` point ``fam.points[point]``: the
     symmetric orbits born there.
@@ -422,7 +437,12 @@ class Cascade:
         )
 
 
-def cascade(fam: AtlasFamily, point: int, generations=3, executor=None) -> Cascade:
+def cascade(
+    fam: AtlasFamily,
+    point: int,
+    generations: int = 3,
+    executor: Executor | None = None,
+) -> Cascade:
     """Follow a bifurcation cascade from ``fam.points[point]`` (IS or PD): switch branch
     onto the stable daughter born there (:func:`daughters`), follow its family away from its
     birth (:func:`families`), locate its first PD point, and repeat ``generations`` times.

@@ -479,7 +479,11 @@ def _special_float() -> tuple:
     return tuple(out)
 
 
-def special_points(label: str = "CG", E_range=None, digits: int | None = None) -> tuple:
+def special_points(
+    label: str = "CG",
+    E_range: tuple[float, float] | None = None,
+    digits: int | None = None,
+) -> tuple:
     """The special points of a branch (``CG`` or ``CT``) within ``E_range``, ordered by
     energy: the fold, the stability changes (``tr DP`` through 4 or 0, ``DP`` the reduced
     map of :func:`rotorlib.choreo.reduced_trace`) and the energies where ``tr M`` touches

@@ -14,6 +14,8 @@ import json
 import math
 import re
 import sys
+from collections.abc import Sequence
+from typing import Any
 
 #: Command modules, in help order. A module missing from the package is skipped.
 COMMANDS = ("trace", "bifurcations", "orbit", "family", "atlas", "spectrum")
@@ -58,7 +60,7 @@ def build_parser(prog: str = "python -m rotorlib") -> argparse.ArgumentParser:
     return parser
 
 
-def finite(value):
+def finite(value: Any) -> Any:
     """``value`` with every non-finite float (``nan``, ``inf``) replaced by ``None``:
     JSON has no such numbers (the records say why in a ``*_note``)."""
     if isinstance(value, float) and not math.isfinite(value):
@@ -83,7 +85,9 @@ def add_executor_arguments(p: argparse.ArgumentParser) -> None:
     )
 
 
-def emit(records, as_json: bool, columns, one: bool = True) -> None:
+def emit(
+    records: Sequence[Any], as_json: bool, columns: Sequence[str], one: bool = True
+) -> None:
     """Print records as JSON (a list when several, one object when one and ``one``) or
     as a table (a column shows ``<column>_str``, every digit, where a record has it)."""
     if as_json:

@@ -15,9 +15,11 @@ from __future__ import annotations
 
 import math
 import os
+from collections.abc import Iterable
 from dataclasses import dataclass
 from decimal import Decimal, InvalidOperation
 from functools import cache
+from typing import Any
 
 import mpmath as mp
 import numpy as np
@@ -29,7 +31,7 @@ __all__ += ["DIGITS_RANGE", "check_digits", "json_number"]
 DIGITS_RANGE = (1, 1000)
 
 
-def check_digits(digits, name: str = "digits"):
+def check_digits(digits: Any, name: str = "digits") -> int | None:
     """``digits`` itself if it is ``None`` or an integer in :data:`DIGITS_RANGE`.
 
     Raises
@@ -66,7 +68,7 @@ def _same_decimal(text: str, v) -> bool:
         return False
 
 
-def json_number(key: str, value, text: str | None = None, note: str = "") -> dict:
+def json_number(key: str, value: Any, text: str | None = None, note: str = "") -> dict:
     """``key`` (and ``key_str``, ``key_note``) as the command line prints them in JSON.
 
     The one rule of every ``--json`` output: a quantity is a JSON number, its float64
@@ -114,7 +116,7 @@ HEYOKA_CACHE_MB = 512
 
 
 @cache
-def load_heyoka():
+def load_heyoka() -> Any:
     """heyoka, imported once, with its on-disk cache bounded.
 
     The bound is ``ROTORLIB_HEYOKA_CACHE_MB`` MiB if that variable is set, else
@@ -159,7 +161,7 @@ class Tier:
         return 1e-8 if not self.extended else self.eps ** (2 / 3)
 
     @property
-    def step_tol(self):
+    def step_tol(self) -> Any:
         """The relative step at which a secant stops: 4e-15 in float64, ``8 eps``
         extended (a number of the tier)."""
         return 4e-15 if not self.extended else self.num(self.eps) * 8
@@ -198,11 +200,11 @@ class Tier:
     def extended(self) -> bool:
         return self.name != "float64"
 
-    def context(self):
+    def context(self) -> Any:
         """``mp.workdps(dps)``: arithmetic on the tier's numbers happens inside it."""
         return mp.workdps(self.dps)
 
-    def num(self, v):
+    def num(self, v: Any) -> Any:
         """``v`` (float, int, decimal string or mpf) as a number of this tier."""
         if not self.extended:
             return float(v)
@@ -214,15 +216,15 @@ class Tier:
             return mp.mpf(v)
 
     @property
-    def m(self):
+    def m(self) -> Any:
         """The math module of the tier's numbers (``math`` or ``mpmath``)."""
         return mp if self.extended else math
 
     @property
-    def pi(self):
+    def pi(self) -> Any:
         return self.num(mp.pi) if self.extended else math.pi
 
-    def text(self, v, digits=None) -> str:
+    def text(self, v: Any, digits: int | None = None) -> str:
         """``v`` as a decimal string with ``digits`` significant digits (default: all)."""
         if not self.extended:
             return repr(float(v))
@@ -241,7 +243,7 @@ class Tier:
             return {"fp_type": hy.real128}
         return {"fp_type": hy.real, "prec": self.bits}
 
-    def to_hy(self, v):
+    def to_hy(self, v: Any) -> Any:
         """A number in heyoka's type for this tier, without losing digits."""
         if not self.extended:
             return float(v)
@@ -256,14 +258,14 @@ class Tier:
                 s = mp.nstr(mp.mpf(v), self.dps + 2)
         return hy.real128(s) if self.name == "real128" else hy.real(s, self.bits)
 
-    def from_hy(self, v):
+    def from_hy(self, v: Any) -> Any:
         """Back from heyoka's type: a float or an mpf."""
         if not self.extended:
             return float(v)
         with self.context():
             return mp.mpf(str(v))
 
-    def hy_array(self, values):
+    def hy_array(self, values: Iterable[Any]) -> np.ndarray:
         """A numpy array of heyoka numbers (the state of an integrator)."""
         vals = [self.to_hy(v) for v in values]
         if self.name == "float64":

@@ -48,6 +48,7 @@ from __future__ import annotations
 
 import math
 import os
+from concurrent.futures import Executor
 from dataclasses import dataclass
 from functools import cache
 
@@ -219,7 +220,7 @@ def _keys(n, r):
     return (n[..., 0] + r) * w + (n[..., 1] + r)
 
 
-def hamiltonian(hbar: float, cutoff: float):
+def hamiltonian(hbar: float, cutoff: float) -> tuple[sp.csr_matrix, np.ndarray]:
     """The Hamiltonian in the plane-wave basis, ``(H, n)``: a sparse symmetric CSR matrix
     and the wave numbers of :func:`plane_waves`.
 
@@ -268,7 +269,7 @@ def _orbit_vectors(pattern: tuple, sector: str, row: int):
     return slots, vt[:rank]
 
 
-def symmetry_basis(n: np.ndarray, sector: str, row: int = 0):
+def symmetry_basis(n: np.ndarray, sector: str, row: int = 0) -> sp.csc_matrix:
     """Symmetry-adapted orthonormal basis of ``sector`` (row ``row`` of a 2D irrep).
 
     Parameters
@@ -336,7 +337,9 @@ def symmetry_basis(n: np.ndarray, sector: str, row: int = 0):
     return B
 
 
-def sector_hamiltonian(hbar: float, sector: str, cutoff: float, row: int = 0):
+def sector_hamiltonian(
+    hbar: float, sector: str, cutoff: float, row: int = 0
+) -> sp.csr_matrix:
     """The block of ``sector`` (CSR, symmetric): ``B^T H B`` with ``B`` of
     :func:`symmetry_basis`.
 
@@ -660,9 +663,9 @@ class Spectrum:
 def spectrum(
     hbar: float,
     E_max: float,
-    sectors="all",
+    sectors: str | tuple[str, ...] | list[str] = "all",
     cutoff: float | None = None,
-    executor=None,
+    executor: Executor | None = None,
     digits: int | None = None,
 ) -> Spectrum:
     """The levels below ``E_max`` of the given sectors (``"all"``: the six).

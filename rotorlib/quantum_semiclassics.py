@@ -16,9 +16,11 @@ from __future__ import annotations
 
 import math
 import warnings
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 __all__ = [
     "R_POISSON",
@@ -179,7 +181,9 @@ def phase_space_integral(E: float) -> float:
     return _phase_space(float(E), "volume")
 
 
-def weyl_count(E, hbar: float, correction: bool = True):
+def weyl_count(
+    E: ArrayLike, hbar: float, correction: bool = True
+) -> float | np.ndarray:
     """Smoothed number of levels below ``E`` (the whole spectrum, with multiplicities).
 
     ``N(E) = (2 pi hbar)^-2 int (2 pi/sqrt 3)(E - V)_+ dphi`` (the phase-space volume: at
@@ -202,7 +206,7 @@ def weyl_count(E, hbar: float, correction: bool = True):
     return lead if lead.size > 1 else float(lead[0])
 
 
-def weyl_correction(E, dE: float = 1e-5):
+def weyl_correction(E: ArrayLike, dE: float = 1e-5) -> float | np.ndarray:
     """The ``hbar^0`` term of the smoothed counting function (Wigner-Kirkwood).
 
     For ``H = P.A.P/2 + V`` in two dimensions the first correction is
@@ -228,7 +232,7 @@ def weyl_correction(E, dE: float = 1e-5):
     return out if out.size > 1 else float(out[0])
 
 
-def spacing_ratios(levels) -> tuple[np.ndarray, np.ndarray]:
+def spacing_ratios(levels: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
     """``r_n = min(s_n, s_{n+1}) / max(s_n, s_{n+1})`` of one symmetry sector.
 
     Returns ``(E_n, r_n)``: the middle level of each triple and its ratio (a triple of
@@ -262,7 +266,7 @@ class RatioStatistics:
         return 0.5 * (self.edges[1:] + self.edges[:-1])
 
 
-def ratio_statistics(sectors, edges) -> RatioStatistics:
+def ratio_statistics(sectors: Sequence[ArrayLike], edges: ArrayLike) -> RatioStatistics:
     """``<r>`` per energy window, pooling the ratios of every sector given.
 
     Ratios are computed within each sector (levels of different symmetry are
@@ -306,7 +310,9 @@ def ratio_statistics(sectors, edges) -> RatioStatistics:
     return RatioStatistics(edges=edges, mean=mean, error=err, count=cnt)
 
 
-def density_fourier(levels, E0: float, sigma: float, hbar: float, t) -> np.ndarray:
+def density_fourier(
+    levels: ArrayLike, E0: float, sigma: float, hbar: float, t: ArrayLike
+) -> np.ndarray:
     """Fourier transform of the level density in a Gaussian window, against time.
 
     ``A(t) = (sqrt(2 pi) hbar / sigma) |sum_n w(E_n - E0) exp(-i E_n t / hbar)|`` with
@@ -367,7 +373,9 @@ def gutzwiller_amplitude(period: float, trace: float, repetition: int = 1) -> fl
     return T / math.sqrt(d)
 
 
-def orbit_copies(state0, period: float, n: int = 20001, tol: float = 0.02) -> int:
+def orbit_copies(
+    state0: ArrayLike, period: float, n: int = 20001, tol: float = 0.02
+) -> int:
     """Number of distinct periodic orbits among the 24 images of one (symmetry group and
     time reversal), each of which enters the trace formula with the same amplitude.
 

@@ -9,7 +9,10 @@ Examples
 
 from __future__ import annotations
 
+import argparse
 import sys
+from collections.abc import Iterable
+from concurrent.futures import Executor
 
 from ..cli import add_executor_arguments, emit
 from ..energy import as_float
@@ -27,7 +30,7 @@ COLUMNS = [
 ]
 
 
-def register(sub):
+def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
         "atlas",
         help="every symmetric periodic orbit with period <= T_max at energy E",
@@ -56,7 +59,12 @@ def register(sub):
 
 
 def records(
-    energies, t_max, grid=300, digits=None, executor=None, progress=False
+    energies: Iterable[float],
+    t_max: float,
+    grid: int = 300,
+    digits: int | None = None,
+    executor: Executor | None = None,
+    progress: bool = False,
 ) -> list:
     """The records the command prints (one per orbit, in order of energy and period)."""
     from ..atlas import atlas
@@ -69,7 +77,8 @@ def records(
     return out
 
 
-def run(args):
+def run(args: argparse.Namespace) -> int:
+
     from ..atlas import _check
     from ..parallel import executor_for
 

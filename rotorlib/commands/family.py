@@ -21,10 +21,11 @@ fold located again in real128)
 
 from __future__ import annotations
 
+import argparse
 import json
 
 
-def register(sub):
+def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
         "family",
         help="a family (IS^l_n, PD^l_n, IS^r_n, PD^r_n; choreographies CG, CT, CZ1, "
@@ -125,7 +126,8 @@ def _run_newborn(args, lo, hi):
     return 0
 
 
-def run(args):
+def run(args: argparse.Namespace) -> int:
+
     from ..api import _CHOREO
     from ..choreo_family import family
     from ..precision import check_digits

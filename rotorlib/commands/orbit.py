@@ -14,7 +14,9 @@ members at that energy by period; ``CZ1``, ``CZ2`` likewise, :mod:`rotorlib.chor
 
 from __future__ import annotations
 
+import argparse
 import re
+from typing import Any
 
 from ..cli import emit
 from ..energy import as_float
@@ -23,7 +25,7 @@ from ..precision import check_digits
 _CHOREO = re.compile(r"^(C[GT]|CZ[12]|CR1)$", re.IGNORECASE)
 
 
-def register(sub):
+def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
         "orbit",
         help="a periodic orbit: pendulum, breathers R/LG/LD, newborn IS^l_n, PD^l_n, "
@@ -59,7 +61,7 @@ def register(sub):
     p.set_defaults(func=run)
 
 
-def record(label: str, E, digits: int | None = None, branch: int = 0) -> dict:
+def record(label: str, E: Any, digits: int | None = None, branch: int = 0) -> dict:
     """The record the command prints for ``label`` at energy ``E`` (a decimal string keeps
     its digits): :meth:`rotorlib.orbit(label, E, digits=digits).to_dict()
     <rotorlib.periodic.PeriodicOrbit.to_dict>`, the choreographies with their
@@ -75,7 +77,8 @@ def record(label: str, E, digits: int | None = None, branch: int = 0) -> dict:
     return rec
 
 
-def run(args):
+def run(args: argparse.Namespace) -> int:
+
     rec = record(args.label, args.E, args.digits, args.branch)
     cols = ["label", "E", "period", "trace", "alpha1_max", "alpha2_max", "precision"]
     if "trace_reduced" in rec:  # a choreography: its reduced map decides the stability

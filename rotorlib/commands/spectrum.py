@@ -25,7 +25,7 @@ decimals its convergence estimate supports: the largest change of a level when t
 plane-wave cut-off is lowered by 0.5 + 6 hbar."""
 
 
-def register(sub):
+def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
         "spectrum",
         help="quantum levels of the relative motion (flux qubit), by symmetry sector",
@@ -59,7 +59,8 @@ def decimals(convergence: float) -> int:
     return max(1, min(12, int(math.floor(-math.log10(max(convergence, 1e-13)))) - 1))
 
 
-def run(args):
+def run(args: argparse.Namespace) -> int:
+
     from .. import quantum
     from ..parallel import executor_for
 

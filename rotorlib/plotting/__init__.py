@@ -12,10 +12,13 @@ a multi-panel figure (a), (b), ..., :func:`family_tex` typesets a family label
 
 from __future__ import annotations
 
+from collections.abc import Iterable
 from pathlib import Path
 
 import matplotlib.pyplot as plt
 import matplotlib.ticker
+from matplotlib.axes import Axes
+from matplotlib.axis import Axis
 
 from ..compare import label_tex, typeset_labels
 
@@ -76,7 +79,7 @@ def family_tex(label: str) -> str:
     return s
 
 
-def panel_letters(axes, start: int = 0) -> None:
+def panel_letters(axes: Iterable[Axes], start: int = 0) -> None:
     """Prefix each panel's title with (a), (b), ... (row by row); titles that already
     start with a panel letter are left as they are.
 
@@ -101,7 +104,7 @@ def panel_letters(axes, start: int = 0) -> None:
         ax.set_title(f"{letter} {title}".strip())
 
 
-def integer_ticks(axis) -> None:
+def integer_ticks(axis: Axis) -> None:
     """Ticks only at integers (for count axes): ``integer_ticks(ax.yaxis)``."""
     axis.set_major_locator(matplotlib.ticker.MaxNLocator(integer=True, min_n_ticks=1))
 

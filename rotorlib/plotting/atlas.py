@@ -2,10 +2,20 @@
 
 from __future__ import annotations
 
+from collections.abc import Mapping, Sequence
+from typing import TYPE_CHECKING, Any
+
 import matplotlib.pyplot as plt
 import numpy as np
+from matplotlib.figure import Figure
+from numpy.typing import ArrayLike
 
 from . import COLUMN_WIDTH, integer_ticks, panel_letters
+
+if TYPE_CHECKING:
+    from ..atlas import Atlas
+    from ..atlas_families import AtlasFamily, Cascade
+    from ..chaos import ChaoticFraction, PoincareSection
 
 __all__ = [
     "plot_sweep",
@@ -18,7 +28,7 @@ __all__ = [
 BAND = (5.33, 5.6)
 
 
-def plot_sweep(atlases, cf=None):
+def plot_sweep(atlases: Sequence[Atlas], cf: ChaoticFraction | None = None) -> Figure:
     """Period against E of every orbit of each census (stable ones filled), the band
     shaded; beside it the number of stable orbits and the chaotic fraction ``cf``."""
     fig, (ax, bx) = plt.subplots(1, 2, figsize=(COLUMN_WIDTH, 3.3))
@@ -51,7 +61,9 @@ def plot_sweep(atlases, cf=None):
     return fig
 
 
-def plot_growth(periods, T_fit, slope, intercept):
+def plot_growth(
+    periods: ArrayLike, T_fit: tuple[float, float], slope: float, intercept: float
+) -> Figure:
     """``N(T)``: the number of orbits with period ``<= T`` (log scale) and the fit."""
     fig, ax = plt.subplots(figsize=(COLUMN_WIDTH, 3.6))
     T = np.sort(periods)
@@ -68,7 +80,7 @@ def plot_growth(periods, T_fit, slope, intercept):
     return fig
 
 
-def plot_family_trace(fam, E_fold=None):
+def plot_family_trace(fam: AtlasFamily, E_fold: float | None = None) -> Figure:
     """``tr M`` against E along one atlas family, the stable strip ``0 < tr M < 4``."""
     fig, ax = plt.subplots(figsize=(COLUMN_WIDTH, 3.8))
     ax.axhspan(
@@ -93,7 +105,9 @@ def plot_family_trace(fam, E_fold=None):
     return fig
 
 
-def plot_islands(sections, checks):
+def plot_islands(
+    sections: Mapping[float, PoincareSection], checks: Mapping[float, Sequence[Any]]
+) -> Figure:
     """One panel per energy: the Poincaré section (``sections[E]``, grey), the crossings of
     each checked orbit (``checks[E]``, stable: red, hyperbolic: black crosses) and of its
     test trajectory (coloured dots)."""
@@ -127,7 +141,7 @@ def plot_islands(sections, checks):
     return fig
 
 
-def plot_cascade(cas):
+def plot_cascade(cas: Cascade) -> Figure:
     """``tr M`` against ``E - E_last`` (the last located birth) for each generation of a
     :class:`rotorlib.atlas_families.Cascade`, the births marked; ``E`` on a symmetric
     logarithmic axis (each generation's window is ~9 times narrower than its parent's)."""

@@ -6,15 +6,27 @@ a string for tables); all numbers are computed by the caller with :mod:`rotorlib
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+
 import matplotlib.pyplot as plt
 import numpy as np
+from matplotlib.figure import Figure
+from numpy.typing import ArrayLike
 
 from . import COLUMN_WIDTH
 
 __all__ = ["plot_fig10ab", "plot_fig10c", "plot_fig10d"]
 
 
-def plot_fig10ab(E_LG, tr_LG, E_LD, tr_LD, E_R, tr_R, E_PD):
+def plot_fig10ab(
+    E_LG: ArrayLike,
+    tr_LG: ArrayLike,
+    E_LD: ArrayLike,
+    tr_LD: ArrayLike,
+    E_R: ArrayLike,
+    tr_R: ArrayLike,
+    E_PD: float,
+) -> Figure:
     """Paper Fig. 10(a): tr M of LG and LD; Fig. 10(b): tr M of R (log energy axis)."""
     fig, (a, b) = plt.subplots(1, 2, figsize=(COLUMN_WIDTH, 3.2))
     a.semilogy(E_LG, tr_LG, label="LG")
@@ -39,12 +51,25 @@ def plot_fig10ab(E_LG, tr_LG, E_LD, tr_LD, E_R, tr_R, E_PD):
     return fig
 
 
-def plot_fig10c(E, trace, period, E_PD, parent_E=None, parent_trace=None):
+def plot_fig10c(
+    E: ArrayLike,
+    trace: ArrayLike,
+    period: ArrayLike,
+    E_PD: float,
+    parent_E: ArrayLike | None = None,
+    parent_trace: ArrayLike | None = None,
+) -> Figure:
     """Paper Fig. 10(c): tr M and period of the daughter family against E (with the parent's tr M)."""
     fig, ax = plt.subplots(figsize=(COLUMN_WIDTH, 3.8))
     ax.plot(E, trace, "C0", label=r"daughter $\mathrm{tr}\,M$")
     if parent_E is not None:
-        ax.plot(parent_E, parent_trace, "C2--", label=r"parent R $\mathrm{tr}\,M$")
+        ax.plot(
+            parent_E,
+            parent_trace,  # type: ignore[arg-type]  # given with parent_E
+            "C2--",
+            label=r"parent R $\mathrm{tr}\,M$",
+        )
+
     for y in (0.0, 4.0):
         ax.axhline(y, color="k", lw=0.6, ls=":")
     ax.axvline(E_PD, color="C3", lw=0.8, ls="--")
@@ -61,7 +86,7 @@ def plot_fig10c(E, trace, period, E_PD, parent_E=None, parent_trace=None):
     return fig
 
 
-def plot_fig10d(trajectories):
+def plot_fig10d(trajectories: Mapping[str, np.ndarray]) -> Figure:
     """Paper Fig. 10(d): daughter orbits in the beta1-beta2 plane.
 
     ``trajectories``: ``{label: states [b1, b2, q1, q2]}``.

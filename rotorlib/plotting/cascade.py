@@ -6,9 +6,17 @@ these functions only draw. Each returns the matplotlib ``Figure``.
 
 from __future__ import annotations
 
+from collections.abc import Mapping, Sequence
+from typing import TYPE_CHECKING, Any
+
 import matplotlib.pyplot as plt
+import numpy as np
+from matplotlib.figure import Figure
 
 from . import COLUMN_WIDTH, family_tex
+
+if TYPE_CHECKING:
+    from ..bifurcations import Transition
 
 __all__ = ["plot_fig2", "plot_fig3"]
 
@@ -21,7 +29,12 @@ def _band(ax):
     ax.axhline(4.0, color="0.5", lw=0.6)
 
 
-def plot_fig2(curves, trs, label_n_max=6, ylim=(-1.5, 6.0)):
+def plot_fig2(
+    curves: Mapping[str, tuple[np.ndarray, np.ndarray]],
+    trs: Sequence[Transition],
+    label_n_max: int = 6,
+    ylim: tuple[float, float] = (-1.5, 6.0),
+) -> Figure:
     """tr M against the period tau, (a) libration and (b) rotation, transitions marked and labelled.
 
     Parameters
@@ -66,7 +79,7 @@ def plot_fig2(curves, trs, label_n_max=6, ylim=(-1.5, 6.0)):
     return fig
 
 
-def plot_fig3(panels):
+def plot_fig3(panels: Sequence[Mapping[str, Any]]) -> Figure:
     """Self-similarity of tr M(E) under magnification (five panels a-e), with the newborn families.
 
     Parameters

@@ -6,10 +6,19 @@ computed by the caller with :mod:`rotorlib`.
 
 from __future__ import annotations
 
+from collections.abc import Iterable, Mapping, Sequence
+from typing import TYPE_CHECKING
+
 import matplotlib.pyplot as plt
 import numpy as np
+from matplotlib.figure import Figure
+from numpy.typing import ArrayLike
 
 from . import COLUMN_WIDTH, family_tex, integer_ticks, panel_letters
+
+if TYPE_CHECKING:
+    from ..branch import Branch
+    from ..chaos import ChaoticFraction, PoincareSection
 
 __all__ = [
     "plot_band_traces",
@@ -26,7 +35,7 @@ def _band(ax):
     ax.axvspan(*BAND, color="0.85", zorder=0, label=r"band $5.33 \leq E \leq 5.6$")
 
 
-def plot_band_traces(curves):
+def plot_band_traces(curves: Mapping[str, tuple[ArrayLike, ArrayLike]]) -> Figure:
     """``curves``: ``{label: (E, trM)}``; tr M on a symmetric-log axis (linear for |tr M| < 5) with the
     stable window ``0 < tr M < 4`` shaded green and the band grey."""
     fig, ax = plt.subplots(figsize=(COLUMN_WIDTH, 3.9))
@@ -53,7 +62,7 @@ def plot_band_traces(curves):
     return fig
 
 
-def plot_sections(sections, ncols=3):
+def plot_sections(sections: Sequence[PoincareSection], ncols: int = 3) -> Figure:
     """Poincaré sections (``rotorlib.chaos.PoincareSection``), one panel each."""
     n = len(sections)
     nrows = (n + ncols - 1) // ncols
@@ -80,7 +89,7 @@ def plot_sections(sections, ncols=3):
     return fig
 
 
-def plot_fraction(cf):
+def plot_fraction(cf: ChaoticFraction) -> Figure:
     """Chaotic fraction ``f(E)`` with binomial error bars (``rotorlib.chaos.ChaoticFraction``)."""
     fig, ax = plt.subplots(figsize=(COLUMN_WIDTH, 3.4))
     _band(ax)
@@ -102,13 +111,21 @@ def plot_fraction(cf):
     return fig
 
 
-def plot_ftle_histograms(cf, energies, threshold=None):
+def plot_ftle_histograms(
+    cf: ChaoticFraction, energies: Iterable[float], threshold: float | None = None
+) -> Figure:
     """Histograms of the FTLEs at a few energies of ``cf``."""
     fig, ax = plt.subplots(figsize=(COLUMN_WIDTH, 3.3))
     bins = np.linspace(0, max(0.8, max(np.max(x) for x in cf.ftles)), 60)
     for E in energies:
         k = int(np.argmin(np.abs(cf.E - E)))
-        ax.hist(cf.ftles[k], bins=bins, histtype="step", label=f"$E = {cf.E[k]:g}$")
+        ax.hist(
+            cf.ftles[k],
+            bins=bins,  # type: ignore[arg-type]  # an array of edges is fine
+            histtype="step",
+            label=f"$E = {cf.E[k]:g}$",
+        )
+
     ax.axvline(
         threshold if threshold is not None else cf.threshold,
         color="k",
@@ -125,7 +142,9 @@ def plot_ftle_histograms(cf, energies, threshold=None):
     return fig
 
 
-def plot_rotational_branches(branches, E_max=4.5, trace_cap=1e12):
+def plot_rotational_branches(
+    branches: Iterable[Branch], E_max: float = 4.5, trace_cap: float = 1e12
+) -> Figure:
     """tr M against E along rotational newborn families (:class:`rotorlib.continuation.Branch`
     with traces, e.g. ``FamilyInBand.branch`` of :func:`rotorlib.chaos.band_families`),
     symmetric-log axis, with the band shaded and the energy ``E_max`` (where the families

@@ -7,9 +7,13 @@ numbers are computed by the caller with :mod:`rotorlib`.
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping, Sequence
+from typing import Any
 
 import matplotlib.pyplot as plt
 import numpy as np
+from matplotlib.figure import Figure
+from numpy.typing import ArrayLike
 
 __all__ = ["plot_family", "plot_all_families", "plot_orbits", "plot_birth", "BAND"]
 
@@ -21,7 +25,12 @@ def _band(ax):
     ax.axvspan(*BAND, color="0.85", lw=0, label="band of global chaos")
 
 
-def plot_family(cg, ct, E_fold, marks=()):
+def plot_family(
+    cg: Mapping[str, ArrayLike],
+    ct: Mapping[str, ArrayLike],
+    E_fold: float,
+    marks: Sequence[tuple[float, float, str]] = (),
+) -> Figure:
     """Period and ``tr DP``, ``tr M`` of CG and CT against E, the band shaded.
 
     ``cg``, ``ct``: dicts of arrays ``E``, ``period``, ``trp`` (``tr DP``), ``trm``
@@ -64,7 +73,7 @@ def plot_family(cg, ct, E_fold, marks=()):
     return fig
 
 
-def plot_orbits(orbits):
+def plot_orbits(orbits: Sequence[tuple[str, np.ndarray]]) -> Figure:
     """The orbits on the torus ``(phi1, phi2)`` and the three rotors on the circle.
 
     ``orbits``: list of ``(title, theta)`` with ``theta`` an array ``(n, 3)`` of the rotor
@@ -102,16 +111,16 @@ def plot_orbits(orbits):
         t = np.linspace(0, 2 * math.pi, 200)
         b.plot(np.cos(t), np.sin(t), color="0.7", lw=0.8)
         m = len(th)
-        for i, col in enumerate(("C0", "C1", "C2")):
+        for i, color in enumerate(("C0", "C1", "C2")):
             b.plot(
                 np.cos(th[:, i]) * (1 - 0.04 * i),
                 np.sin(th[:, i]) * (1 - 0.04 * i),
-                col,
+                color,
                 lw=1,
             )
-            b.plot(np.cos(th[0, i]), np.sin(th[0, i]), col + "o", ms=6)
+            b.plot(np.cos(th[0, i]), np.sin(th[0, i]), color + "o", ms=6)
             j = m // 12
-            b.plot(np.cos(th[j, i]), np.sin(th[j, i]), col + "o", ms=4, mfc="w")
+            b.plot(np.cos(th[j, i]), np.sin(th[j, i]), color + "o", ms=4, mfc="w")
         b.set_aspect("equal")
         b.set_xlim(-1.15, 1.15)
         b.set_ylim(-1.15, 1.15)
@@ -122,7 +131,9 @@ def plot_orbits(orbits):
     return fig
 
 
-def plot_birth(E, ratios, slopes):
+def plot_birth(
+    E: ArrayLike, ratios: Mapping[str, ArrayLike], slopes: Mapping[str, float]
+) -> Figure:
     """``(T/T0 - 1)/E`` of the three families born at G against E with their first-order
     slopes (``ratios``, ``slopes``: dicts by family name)."""
     fig, ax = plt.subplots(figsize=(6.2, 3.6))
@@ -137,7 +148,12 @@ def plot_birth(E, ratios, slopes):
     return fig
 
 
-def plot_all_families(families, cg, ct, E_fold):
+def plot_all_families(
+    families: Sequence[Mapping[str, Any]],
+    cg: Mapping[str, ArrayLike],
+    ct: Mapping[str, ArrayLike],
+    E_fold: float,
+) -> Figure:
     """Period and reduced trace of every choreography family against E, the band shaded.
 
     ``families``: list of dicts with ``label``, ``E``, ``period``, ``trace_reduced`` (the

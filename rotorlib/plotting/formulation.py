@@ -11,12 +11,19 @@ potential V(phi1, phi2) on a grid, which is evaluated here with
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
+from typing import TYPE_CHECKING
 
 import matplotlib.pyplot as plt
 import numpy as np
+from matplotlib.figure import Figure
+from numpy.typing import ArrayLike
 
 from ..system import potential_phi
 from . import COLUMN_WIDTH, panel_letters
+
+if TYPE_CHECKING:
+    from ..system import CriticalPoint
 
 __all__ = [
     "pendulum_lines",
@@ -109,7 +116,11 @@ def _equipotentials(ax, points, levels, grid):
     ax.set_ylabel(r"$\varphi_2$ (rad)")
 
 
-def plot_fig1(points, levels=None, grid: int = 301):
+def plot_fig1(
+    points: Sequence[CriticalPoint],
+    levels: Sequence[float] | None = None,
+    grid: int = 301,
+) -> Figure:
     """Paper Fig. 1: equipotentials of V on [0, 2pi]^2 with G, T, D; (a) pendulum lines, (b) breather lines.
 
     Parameters
@@ -152,7 +163,11 @@ def plot_fig1(points, levels=None, grid: int = 301):
 
 
 # --------------------------------------------------------------------------- separatrix
-def plot_separatrix_approach(curves, period_marks=None, portrait_curves=None):
+def plot_separatrix_approach(
+    curves: Sequence[tuple[str, np.ndarray, np.ndarray]],
+    period_marks: Sequence[tuple[str, float]] | None = None,
+    portrait_curves: Sequence[tuple[str, np.ndarray, np.ndarray]] | None = None,
+) -> Figure:
     """Time series a2(t) and phase portrait (a2, p2) of pendula near E = 4.
 
     Parameters
@@ -191,8 +206,11 @@ def plot_separatrix_approach(curves, period_marks=None, portrait_curves=None):
 
 # --------------------------------------------------------------------------- chapter 2
 def plot_textbook_error(
-    eps, err, label=r"textbook $4 \times 4$ (scipy DOP853, rtol $10^{-12}$)", slope=-1.0
-):
+    eps: ArrayLike,
+    err: ArrayLike,
+    label: str = r"textbook $4 \times 4$ (scipy DOP853, rtol $10^{-12}$)",
+    slope: float | None = -1.0,
+) -> Figure:
     """Log-log plot of |error of tr M| against |E - 4|, with a reference line of the given slope."""
     eps, err = np.asarray(eps, float), np.asarray(err, float)
     fig, ax = plt.subplots(figsize=(COLUMN_WIDTH, 4.0), constrained_layout=True)
@@ -208,7 +226,13 @@ def plot_textbook_error(
     return fig
 
 
-def plot_trace_vs_energy(E_lib, tr_lib, E_rot, tr_rot, ylim=(-1.0, 5.0)):
+def plot_trace_vs_energy(
+    E_lib: ArrayLike,
+    tr_lib: ArrayLike,
+    E_rot: ArrayLike,
+    tr_rot: ArrayLike,
+    ylim: tuple[float, float] = (-1.0, 5.0),
+) -> Figure:
     """tr M of pendula against E on both sides of the separatrix, with the band 0 < tr M < 4 shaded."""
     fig, ax = plt.subplots(figsize=(COLUMN_WIDTH, 3.9), constrained_layout=True)
     ax.axhspan(

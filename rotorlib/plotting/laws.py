@@ -2,10 +2,18 @@
 
 from __future__ import annotations
 
+from collections.abc import Mapping, Sequence
+from typing import TYPE_CHECKING, Any
+
 import matplotlib.pyplot as plt
 import numpy as np
+from matplotlib.figure import Figure
+from numpy.typing import ArrayLike
 
 from . import COLUMN_WIDTH, family_tex, panel_letters
+
+if TYPE_CHECKING:
+    from ..branch import Branch
 
 
 def _grid(n, row_height, figsize=None):
@@ -23,7 +31,9 @@ def _grid(n, row_height, figsize=None):
     return fig, axes.ravel()[:n]
 
 
-def fans(panels, figsize=None):
+def fans(
+    panels: Sequence[Mapping[str, Any]], figsize: tuple[float, float] | None = None
+) -> Figure:
     """Paper Fig. 7: three panels of tr M(E).
 
     ``panels``: list of dicts with ``title`` and ``curves``: list of ``(label, E, trace)``; optional
@@ -48,7 +58,15 @@ def fans(panels, figsize=None):
     return fig
 
 
-def shapes_fig8(t6, a1_6, a2_6, a2_pend, t_r, a2_r, a2dot_r):
+def shapes_fig8(
+    t6: ArrayLike,
+    a1_6: ArrayLike,
+    a2_6: ArrayLike,
+    a2_pend: ArrayLike,
+    t_r: ArrayLike,
+    a2_r: ArrayLike,
+    a2dot_r: ArrayLike,
+) -> Figure:
     """Paper Fig. 8: (a) a1(t) of IS^l_6 at E = 4; (b) a2(t) of IS^l_6 and of the pendulum at E(IS^l_6);
     (c) a2(t) and (d) a2'(t) of IS^r_1 near its birth."""
     fig, ax = plt.subplots(2, 2, figsize=(COLUMN_WIDTH, 5.4))
@@ -75,7 +93,10 @@ def shapes_fig8(t6, a1_6, a2_6, a2_pend, t_r, a2_r, a2dot_r):
     return fig
 
 
-def self_similar(pairs, figsize=None):
+def self_similar(
+    pairs: Sequence[tuple[Mapping[str, Any], Mapping[str, Any]]],
+    figsize: tuple[float, float] | None = None,
+) -> Figure:
     """Paper Fig. 9: each pair ``(small, big)`` of dicts with ``label``, ``a1``, ``a2``, and the big one's
     ``alpha``, ``beta``; the left panel shows the small-n orbit near a2 = pi, the right the large-n orbit
     with a1 magnified by alpha and pi - a2 by beta (the small-n orbit dashed on top)."""
@@ -129,7 +150,13 @@ def self_similar(pairs, figsize=None):
     return fig
 
 
-def duality(ns, diffs, fit, lame, figsize=None):
+def duality(
+    ns: ArrayLike,
+    diffs: ArrayLike,
+    fit: tuple[float, float],
+    lame: Mapping[str, ArrayLike],
+    figsize: tuple[float, float] | None = None,
+) -> Figure:
     """(a) log10 of log(4 - E(IS^l_n)) - log(E(dual) - 4) against n with the exponential fit;
     (b) periodic transverse solutions at IS^l_1 and IS^r_1 on the rescaled time."""
     fig, ax = plt.subplots(1, 2, figsize=figsize or (COLUMN_WIDTH, 3.3))
@@ -164,7 +191,11 @@ def duality(ns, diffs, fit, lame, figsize=None):
     return fig
 
 
-def rotational_reach(profiles, levels, figsize=None):
+def rotational_reach(
+    profiles: Sequence[Branch],
+    levels: Sequence[tuple[str, float]],
+    figsize: tuple[float, float] | None = None,
+) -> Figure:
     """Rotational newborn families followed in amplitude: (a) ``E - 4`` against the amplitude ``u``,
     (b) ``E - 4`` against the time ``t1`` from the start line to ``a2 = pi`` (half or quarter period).
 

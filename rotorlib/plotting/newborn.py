@@ -2,13 +2,21 @@
 
 from __future__ import annotations
 
+from collections.abc import Mapping, Sequence
+from typing import Any
+
 import matplotlib.pyplot as plt
 import numpy as np
+from matplotlib.axes import Axes
+from matplotlib.figure import Figure, SubFigure
+from numpy.typing import ArrayLike
 
 from . import COLUMN_WIDTH, family_tex
 
 
-def shapes(panels, title=None, ncols=2):
+def shapes(
+    panels: Sequence[Mapping[str, Any]], title: str | None = None, ncols: int = 2
+) -> Figure:
     """Eight panels of orbits in the (a2, a1) plane.
 
     ``panels``: list of dicts with keys ``label``, ``a1``, ``a2`` (arrays) and
@@ -51,8 +59,15 @@ def shapes(panels, title=None, ncols=2):
     return fig
 
 
-def trace_vs_period(pendulum_curves, families, ax=None, title=None, ylim=(-4, 12)):
+def trace_vs_period(
+    pendulum_curves: tuple[ArrayLike, ArrayLike],
+    families: Mapping[str, tuple[ArrayLike, ArrayLike]],
+    ax: Axes | None = None,
+    title: str | None = None,
+    ylim: tuple[float, float] = (-4, 12),
+) -> Figure | SubFigure:
     """tr M vs period: pendula (``(tau, trM)`` arrays, solid black) and families (``label -> (tau, trM)``)."""
+    fig: Figure | SubFigure  # ``ax.figure``: a subfigure when ``ax`` is in one
     if ax is None:
         fig, ax = plt.subplots(figsize=(COLUMN_WIDTH, 4.2))
     else:

@@ -11,9 +11,13 @@ against the digits requested.
 from __future__ import annotations
 
 import math
+from collections.abc import Iterable, Mapping, Sequence
+from typing import Any
 
 import matplotlib.pyplot as plt
 import numpy as np
+from matplotlib.axes import Axes
+from matplotlib.figure import Figure, SubFigure
 from matplotlib.ticker import NullFormatter, ScalarFormatter
 
 from . import COLUMN_WIDTH, family_tex, panel_letters
@@ -64,8 +68,14 @@ def order_of_magnitude(x: float) -> int:
 
 
 def plot_work_precision(
-    rows, ax=None, title=None, floor=1e-70, xlabel=None, ylabel=None, target=1e-11
-):
+    rows: Sequence[Mapping[str, Any]],
+    ax: Axes | None = None,
+    title: str | None = None,
+    floor: float = 1e-70,
+    xlabel: str | None = None,
+    ylabel: str | None = None,
+    target: float | None = 1e-11,
+) -> Figure | SubFigure:
     """Error against time per energy (log-log), one curve per method.
 
     Parameters
@@ -88,6 +98,7 @@ def plot_work_precision(
     -------
     matplotlib.figure.Figure
     """
+    fig: Figure | SubFigure  # ``ax.figure``: a subfigure when ``ax`` is in one
     if ax is None:
         fig, ax = plt.subplots(figsize=(COLUMN_WIDTH, 4.6))
     else:
@@ -133,7 +144,12 @@ def plot_work_precision(
     return fig
 
 
-def plot_locate(rows, ax=None, title=None, floor=1e-70):
+def plot_locate(
+    rows: Sequence[Mapping[str, Any]],
+    ax: Axes | None = None,
+    title: str | None = None,
+    floor: float = 1e-70,
+) -> Figure | SubFigure:
     """Error of a located transition (in ``log|E - 4|``) against the time to locate it, one point per tier.
 
     Methods that fail to bracket the root (``error`` is None) are listed in the legend as failed.
@@ -142,6 +158,7 @@ def plot_locate(rows, ax=None, title=None, floor=1e-70):
     -------
     matplotlib.figure.Figure
     """
+    fig: Figure | SubFigure  # ``ax.figure``: a subfigure when ``ax`` is in one
     if ax is None:
         fig, ax = plt.subplots(figsize=(COLUMN_WIDTH, 4.2))
     else:
@@ -182,7 +199,11 @@ def _cell(r, c, formats):
     return f"{v:.3g}" if isinstance(v, float) else str(v)
 
 
-def cells(rows, columns, formats=None) -> list:
+def cells(
+    rows: Iterable[Mapping[str, Any]],
+    columns: Sequence[str],
+    formats: Mapping[str, str] | None = None,
+) -> list:
     """``rows`` (dicts) as lists of strings in the order of ``columns`` (``formats`` maps a
     column to a format specification; None is shown as ``-``), for
     ``rotorlib.compare.markdown(cells(...), columns)``."""
@@ -190,7 +211,11 @@ def cells(rows, columns, formats=None) -> list:
     return [[_cell(r, c, formats) for c in columns] for r in rows]
 
 
-def table(rows, columns, formats=None) -> str:
+def table(
+    rows: Iterable[Mapping[str, Any]],
+    columns: Sequence[str],
+    formats: Mapping[str, str] | None = None,
+) -> str:
     """A plain-text table of ``rows`` (dicts) with the given columns; ``formats`` maps a column to a format."""
     body = [list(columns)] + cells(rows, columns, formats)
     w = [max(len(row[j]) for row in body) for j in range(len(columns))]
@@ -199,7 +224,9 @@ def table(rows, columns, formats=None) -> str:
     )
 
 
-def plot_digit_cost(rows, title=None):
+def plot_digit_cost(
+    rows: Sequence[Mapping[str, Any]], title: str | None = None
+) -> Figure:
     """Wall time and error of tr M of one periodic orbit against the digits requested.
 
     Parameters

@@ -6,8 +6,18 @@ numbers are computed by the caller.
 
 from __future__ import annotations
 
+from collections.abc import Mapping, Sequence
+from typing import TYPE_CHECKING
+
 import matplotlib.pyplot as plt
 import numpy as np
+from matplotlib.figure import Figure
+from numpy.typing import ArrayLike
+
+if TYPE_CHECKING:
+    from ..chaos import ChaoticFraction
+    from ..quantum import Spectrum
+    from ..quantum_semiclassics import RatioStatistics
 
 __all__ = ["plot_levels_vs_hbar", "plot_ratio", "plot_weyl", "plot_trace"]
 
@@ -15,7 +25,7 @@ BAND = (5.33, 5.6)
 COLORS = {"A1": "C0", "A2": "C1", "B1": "C2", "B2": "C3", "E1": "C4", "E2": "C5"}
 
 
-def plot_levels_vs_hbar(spectra, E_max):
+def plot_levels_vs_hbar(spectra: Sequence[Spectrum], E_max: float) -> Figure:
     """``spectra``: list of :class:`rotorlib.quantum.Spectrum` at several hbar; each level
     a dot coloured by its sector, with the harmonic shells ``hbar sqrt 3 (n + 1)``."""
     fig, ax = plt.subplots(figsize=(7, 4.2))
@@ -51,7 +61,12 @@ def _marks(ax):
         ax.axvline(E, color="0.4", ls=":", lw=1)
 
 
-def plot_ratio(stats, chaotic, r_poisson, r_goe):
+def plot_ratio(
+    stats: Mapping[float, RatioStatistics],
+    chaotic: ChaoticFraction,
+    r_poisson: float,
+    r_goe: float,
+) -> Figure:
     """``stats``: ``{hbar: RatioStatistics}``; ``chaotic``: a ChaoticFraction. Top: <r>(E)
     with error bars; bottom: the chaotic fraction; the band 5.33-5.6 shaded, E = 4 and
     4.5 dotted."""
@@ -86,7 +101,9 @@ def plot_ratio(stats, chaotic, r_poisson, r_goe):
     return fig
 
 
-def plot_weyl(E, N, weyl0, weyl1):
+def plot_weyl(
+    E: ArrayLike, N: np.ndarray, weyl0: ArrayLike, weyl1: ArrayLike
+) -> Figure:
     """The staircase minus Weyl's leading term, and the first correction."""
     fig, ax = plt.subplots(figsize=(7, 3.4))
     ax.plot(E, N - weyl0, lw=0.8, label=r"$N(E) - \bar N_0(E)$")
@@ -99,7 +116,9 @@ def plot_weyl(E, N, weyl0, weyl1):
     return fig
 
 
-def plot_trace(panels):
+def plot_trace(
+    panels: Sequence[tuple[str, np.ndarray, np.ndarray, Sequence[tuple[float, float]]]],
+) -> Figure:
     """``panels``: list of ``(title, t, A(t), orbits)`` with ``orbits`` a list of
     ``(T_p, predicted amplitude)``: the Fourier transform of the windowed level density
     and Gutzwiller's predicted peaks (stems)."""

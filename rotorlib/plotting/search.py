@@ -2,14 +2,25 @@
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+from typing import TYPE_CHECKING
+
 import matplotlib.pyplot as plt
 import numpy as np
+from matplotlib.axes import Axes
+from matplotlib.figure import Figure, SubFigure
+from numpy.typing import ArrayLike
 
 from . import COLUMN_WIDTH, family_tex, panel_letters
 
+if TYPE_CHECKING:
+    from ..branch import Branch
+    from ..search import DefectLandscape, WorkPrecision
 
-def landscape(L, ax=None):
+
+def landscape(L: DefectLandscape, ax: Axes | None = None) -> Figure | SubFigure:
     """``d`` and ``|r|`` against the relative offset of ``p2(0)`` (log-log), with the minimiser's floor."""
+    fig: Figure | SubFigure  # ``ax.figure``: a subfigure when ``ax`` is in one
     if ax is None:
         fig, ax = plt.subplots(figsize=(COLUMN_WIDTH, 4.0))
     else:
@@ -40,7 +51,7 @@ def landscape(L, ax=None):
     return fig
 
 
-def work_precision(wps, cost="integration"):
+def work_precision(wps: Sequence[WorkPrecision], cost: str = "integration") -> Figure:
     """One panel per family: error ``|E - E_ref|`` against cost for both searches.
 
     ``cost='integration'``: total integration time in pendulum periods; ``'evaluations'``: count.
@@ -94,7 +105,12 @@ def work_precision(wps, cost="integration"):
     return fig
 
 
-def amplitude_branch(branch, u_scan=None, r_scan=None, E_scan=None):
+def amplitude_branch(
+    branch: Branch,
+    u_scan: ArrayLike | None = None,
+    r_scan: ArrayLike | None = None,
+    E_scan: float | None = None,
+) -> Figure:
     """(a) ``E`` against the amplitude ``u`` along a family (a :class:`rotorlib.continuation.Branch`)
     with its fold; (b) ``r(u)`` at ``E_scan``."""
     ncols = 1 if u_scan is None else 2
