@@ -190,7 +190,7 @@ def scan(
 ) -> tuple[list, list]:
     """The start points of one class (on ``window = (lo, hi)``, default the whole span): a
     uniform grid, then every interval whose crossing structure changes bisected (up to
-    ``depth`` times): ``(us, rows)``, in tasks of neighbouring points (:func:`_segments`)."""
+    ``depth`` times): ``(us, rows)``, in tasks of neighbouring points (``_segments``)."""
     jobs = _scan_jobs(si, E, t_half, grid, depth, False, 8, window)
     kw: dict = dict(executor=executor, progress=progress, desc=f"scan E={E:g}")
     res = pmap(_segments, jobs, **kw)

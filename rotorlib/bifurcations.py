@@ -126,7 +126,7 @@ class Transition(OrbitResult):
         The family whose stability changes.
     E, E_str : float, str
         Energy, and as a decimal with every verified digit (pendulum: the digits after
-        the leading ``4.000``, :meth:`~rotorlib.energy.PendulumEnergy.decimal_E`).
+        the leading ``4.000``, ``PendulumEnergy.decimal_E``).
     period, period_str : float, str
         Period of the orbit at ``E`` (pendulum ``4K/sqrt3`` or ``2 kappa K/sqrt3``).
     trace, trace_str : float, str

@@ -252,8 +252,8 @@ def z3_points(label: str, digits: int | None = None) -> tuple:
     symmetric halves of a family are listed once (``check`` says so).
 
     Precision: float64 ``E`` to ~1e-13 (the agreement measures it), a tier's to
-    ``~eps^(3/4)``; ``born at CG`` as CG's point (:func:`rotorlib.choreo_family.
-    special_points`).
+    ``~eps^(3/4)``; ``born at CG`` as CG's point
+    (:func:`rotorlib.choreo_family.special_points`).
 
     Examples
     --------
