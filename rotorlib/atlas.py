@@ -621,8 +621,9 @@ def census(
     --------
     >>> from rotorlib.atlas import census
     >>> a = census(4.3, 7, grid=40, name=False)  # a coarse grid: the 4 orbits with T <= 7
-    >>> [(o.fixed_sets, round(o.period, 4), round(o.trace, 3)) for o in a.orbits][:1]
-    [(('Fix T(12)', 'Fix T(12)'), 3.0612, 0.358)]
+    >>> o = a.orbits[0]
+    >>> o.extra["fixed_sets"], round(o.period, 4), round(o.trace, 3)
+    (('Fix T(12)', 'Fix T(12)'), 3.0612, 0.358)
     """
     E, t_max = float(E), float(t_max)
     _check([E], t_max, grid)

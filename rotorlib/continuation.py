@@ -119,7 +119,7 @@ class ContinuationOptions:
         ``PD``: 0; needs ``traces``).
     enter : bool
         Members before the first one inside ``E_range`` approach it and do not stop the
-        branch, unless one lands beyond the range's far end (:func:`rotorlib.newborn.family`
+        branch, unless one lands beyond the range's far end (:func:`rotorlib.newborn_families.family`
         from a seed below the range).
     """
 

@@ -39,7 +39,7 @@ Rotational scaling constants (§7.5)
 -----------------------------------
 ``alpha^r``, ``beta^r`` need a family far from its birth (IS^r_3 at E(IS^r_1)).
 :func:`rotational_member` follows the family with the engine
-(:func:`rotorlib.newborn.follow`, chart ``K``: the energy ``q`` of the ``a2`` motion
+(:func:`rotorlib.newborn_families.follow`, chart ``K``: the energy ``q`` of the ``a2`` motion
 above the barrier is the second unknown, so ``E - 4 = q + T(u)`` keeps its digits),
 locates the member at a prescribed ``E - 4`` (float64 or real128) and reads its
 amplitudes on the symmetric quarter period; :func:`rotational_ratios` forms the
@@ -505,7 +505,7 @@ def _member_props(prob, m, t, tp=None):
 
 def rotational_member(label: Any, dE: Any, digits: Any = None) -> RotationalMember:
     """The member of a rotational newborn family with ``E - 4 = dE`` (a decimal string keeps
-    its digits in real128), reached by :func:`rotorlib.newborn.follow` in the ``K`` chart and
+    its digits in real128), reached by :func:`rotorlib.newborn_families.follow` in the ``K`` chart and
     located on the branch by a secant on its pseudo-arclength.
 
     Raises :class:`NotReached` when the family ends below (attributes: the highest ``E - 4``

@@ -26,7 +26,7 @@ Following a family: the first member is found at a small amplitude with the ener
 adjusted (:func:`birth_member`, the paper's "adjust one quantity"), which measures
 the fork law ``E - E_n ~ c u^2``; :func:`newborn_orbit` then continues in ``E``
 (:class:`~rotorlib.continuation.Natural`, predictor linear in ``sqrt|E - E_n|``) and,
-past folds, in pseudo-arclength (:func:`follow`), which also measured where each
+past folds, in pseudo-arclength (:func:`~rotorlib.newborn_families.follow`), which also measured where each
 family ends or folds (:data:`FAMILY_REACH`).
 
 Precision: one ``digits`` control. Default: float64 while ``|E_n - 4| > 3e-8``
@@ -77,8 +77,6 @@ __all__ = [
     "seed",
     "newborn_orbit",
     "newborn_family",
-    "follow",
-    "family",
     "linear_orbit",
     "a1_structure",
     "trace_slope_at_birth",
@@ -216,7 +214,7 @@ def _family_spec(kind, phase, n) -> FamilySpec:
     )
 
 
-#: Where each family was followed to, measured by :func:`follow` (``tests/test_newborn.py``
+#: Where each family was followed to, measured by :func:`~rotorlib.newborn_families.follow` (``tests/test_newborn.py``
 #: re-measures some): ``label -> (E_upper, how)``. ``'fold'``: the branch turns back to lower
 #: energies (no member above ``E_upper``); ``'E = 4.5'``: :func:`newborn_orbit` was checked up
 #: to ``E_upper`` and the branch, followed further, runs towards E = 4.5 (the maxima of V) with a
@@ -417,7 +415,7 @@ def newborn_orbit(
     digits: int | None = None,
     steps: int | None = None,
 ) -> PeriodicOrbit:
-    """The member of the family born at ``label`` with energy ``E`` (:func:`family` gives
+    """The member of the family born at ``label`` with energy ``E`` (:func:`~rotorlib.newborn_families.family` gives
     its members over a range).
 
     Parameters
@@ -460,6 +458,8 @@ def newborn_orbit(
     except FamilyEnd:
         if t_cont.extended:
             raise
+        from .newborn_families import follow
+
         b = follow(spec.label, E_max=float(E) + 1e-9, energies=(float(E),))
         pts = b.points("E")
         if not pts:
@@ -626,5 +626,11 @@ def trace_slope_at_birth(
     return slope, trs[0] - slope * (Es[0] - spec.E_birth)
 
 
-# the families over an energy range (rotorlib.newborn_families), re-exported here
-from .newborn_families import family, follow  # noqa: E402
+def __getattr__(name: str) -> Any:
+    """``family`` and ``follow`` (:mod:`rotorlib.newborn_families`), re-exported here; imported
+    on first use, so that either module can be imported first."""
+    if name in ("family", "follow"):
+        from . import newborn_families
+
+        return getattr(newborn_families, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
