@@ -210,7 +210,7 @@ def family(
             return choreo_family.family(lab.upper(), (lo, hi), digits=d)
         from .choreo_z3 import z3_family
 
-        return z3_family(lab.upper(), (lo, hi))
+        return z3_family(lab.upper(), (lo, hi), digits=d)
     if _NEWBORN.match(lab):
         from .newborn import family as _family
 

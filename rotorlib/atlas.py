@@ -431,14 +431,20 @@ def finish_orbit(args: tuple) -> tuple:
 
 
 def atlas_orbit(
-    label: str, family: str, E: float, t_half: float, root: tuple, fin: tuple
+    label: str,
+    family: str,
+    E: float,
+    t_half: float,
+    root: tuple,
+    fin: tuple,
+    choreography: dict | None = None,
 ) -> PeriodicOrbit:
     """The :class:`~rotorlib.periodic.PeriodicOrbit` of a verified root
     ``(si, j, k, u, x0, T, S)`` of :func:`refine_bracket` and its :func:`finish_orbit`
     ``(xs, Ts, trs, tr, Tf, closure, M, digits)``. ``extra`` holds the census's data:
     ``fixed_sets`` (the two fixed sets met half a period apart), ``action``
     (``oint p dq = 2 (E T - int V dt)``), ``u`` (the start parameter), ``problem`` (its
-    shooting problem) and ``choreography`` (set by :func:`census`); ``residual`` is the
+    shooting problem) and ``choreography`` (how it is one, from :func:`census`); ``residual`` is the
     closure ``max |x(T) - x(0) - lattice|`` in the working precision. ``alpha1_max`` and
     ``alpha2_max`` are not computed by a census (nan)."""
     from .system import energy_alpha
@@ -450,7 +456,7 @@ def atlas_orbit(
         "action": float(S),
         "u": float(u),
         "problem": _problem(si, j, k, E, t_half),
-        "choreography": None,
+        "choreography": choreography,
     }
     x = np.array(x0, dtype=float)
     return PeriodicOrbit(
@@ -663,9 +669,8 @@ def census(
             continue  # a near-periodic trajectory beside a very unstable orbit, not an orbit
         label, chor = atlas_name(_name(T, S, known), E, x0, T, name)
         family = label if label != "new" else f"N{i + 1}"
-        o = atlas_orbit(label, family, E, t_half, (si, j, k, u, x0, T, S), fin_i)
-        o.extra["choreography"] = chor
-        orbits.append(o)
+        root = (si, j, k, u, x0, T, S)
+        orbits.append(atlas_orbit(label, family, E, t_half, root, fin_i, chor))
     return Atlas(E, t_max, grid, tuple(orbits), n, time.perf_counter() - t0)
 
 

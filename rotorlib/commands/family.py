@@ -23,6 +23,10 @@ from __future__ import annotations
 
 import argparse
 import json
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from ..branch import Branch
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -60,21 +64,6 @@ def _num(v, name):
     return as_float(v, name)
 
 
-def _run_z3(args, lo, hi):
-    from ..choreo_z3 import z3_family
-
-    rec = z3_family(args.label, (lo, hi), digits=args.digits).to_dict()
-    if args.json:
-        print(json.dumps(rec, indent=2))
-        return 0
-    print(
-        f"{rec['label']}: {rec['description']}; exists for {rec['span'][0]:.10f} <= E "
-        f"<= {rec['span'][1]:.10f} (continuation ends: {' / '.join(rec['stops'])})"
-    )
-    _table(rec)
-    return 0
-
-
 def _table(rec):
     print(f"{'E':>18}  {'period':>18}  {'tr DP':>14}  {'tr M':>14}  stable")
     for m in rec["members"]:
@@ -94,18 +83,10 @@ def _table(rec):
         )
 
 
-def _run_newborn(args, lo, hi):
-    from ..api import family
-
-    b = family(args.label, (lo, hi), digits=args.digits)
-    rec = b.to_dict()
-    if args.json:
-        print(json.dumps(rec, indent=2))
-        return 0
+def _print_branch(b: Branch, lo: float, hi: float) -> None:
+    """A family born at a pendulum bifurcation: its members and special points."""
     d = max(12, min(30, b.members[0].digits)) if b.members else 12
-    print(
-        f"{rec['label']}: {len(b.members)} members in {lo:g} <= E <= {hi:g}; {b.reason}"
-    )
+    print(f"{b.label}: {len(b.members)} members in {lo:g} <= E <= {hi:g}; {b.reason}")
     print(f"{'E':>{d + 4}}  {'period':>{d + 4}}  {'tr M':>16}  stability")
     for m in b.members:
         print(
@@ -123,32 +104,33 @@ def _run_newborn(args, lo, hi):
         print(
             f"  {p.kind:4s} E = {E_p}  ({what}{'' if p.located else ', not located'})"
         )
-    return 0
 
 
 def run(args: argparse.Namespace) -> int:
-
-    from ..api import _CHOREO
-    from ..choreo_family import family
+    from ..api import LABELS, family
+    from ..branch import Branch
     from ..precision import check_digits
 
     check_digits(args.digits, "--digits")
     lo, hi = (_num(v, "--E-range") for v in args.E_range)
-    if not _CHOREO.match(str(args.label).strip()):
-        return _run_newborn(args, lo, hi)
-    if args.digits is not None and args.digits > 60:
+    choreo = str(args.label).strip().upper() in LABELS["choreography"]
+    if choreo and args.digits is not None and args.digits > 60:
         raise ValueError(
             f"--digits for a choreography is at most 60, got {args.digits}"
         )
-    if str(args.label).strip().upper() in ("CZ1", "CZ2", "CR1"):
-        return _run_z3(args, lo, hi)
-    rec = family(args.label, (lo, hi), digits=args.digits).to_dict()
+    res = family(args.label, (lo, hi), digits=args.digits)
+    rec = res.to_dict()
     if args.json:
         print(json.dumps(rec, indent=2))
-        return 0
-    print(
-        f"{rec['label']}: {rec['description']}; exists for {rec['E_min']:g} < E <= "
-        f"{rec['E_max']:.12f}"
-    )
-    _table(rec)
+    elif isinstance(res, Branch):
+        _print_branch(res, lo, hi)
+    else:
+        ends = (
+            f"exists for {rec['span'][0]:.10f} <= E <= {rec['span'][1]:.10f} "
+            f"(continuation ends: {' / '.join(rec['stops'])})"
+            if "span" in rec  # a Z3 family
+            else f"exists for {rec['E_min']:g} < E <= {rec['E_max']:.12f}"
+        )
+        print(f"{rec['label']}: {rec['description']}; {ends}")
+        _table(rec)
     return 0

@@ -15,14 +15,11 @@ members at that energy by period; ``CZ1``, ``CZ2`` likewise, :mod:`rotorlib.chor
 from __future__ import annotations
 
 import argparse
-import re
 from typing import Any
 
 from ..cli import emit
 from ..energy import as_float
 from ..precision import check_digits
-
-_CHOREO = re.compile(r"^(C[GT]|CZ[12]|CR1)$", re.IGNORECASE)
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -70,11 +67,7 @@ def record(label: str, E: Any, digits: int | None = None, branch: int = 0) -> di
 
     as_float(E, "E")
     check_digits(digits, "--digits")
-    o = orbit(label, E, digits=digits, branch=branch)
-    rec = o.to_dict()
-    if _CHOREO.match(str(label).strip()):
-        rec["choreography"] = o.extra.get("choreography")
-    return rec
+    return orbit(label, E, digits=digits, branch=branch).to_dict()
 
 
 def run(args: argparse.Namespace) -> int:
