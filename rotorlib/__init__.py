@@ -9,41 +9,41 @@ Front door (:mod:`rotorlib.api`): ``orbit``, ``family``, ``transition``, ``censu
 
 Modules, by section of the paper
 --------------------------------
-===============  ======  ======================================================================
-module           paper   what
-===============  ======  ======================================================================
-system           §2      potential, energies, equations of motion, coordinates, critical points
-energy           §2      energies carried by their distance to a separatrix (input validation)
-elliptic         §2      K(m), E(m), Jacobi sn/cn/dn accurate as m -> 1
-orbits           §2      closed-form pendula and isosceles breathers
-hill             §4      the symmetry-reduced transverse (Lamé/Hill) problem
-monodromy        §4      monodromy: block form for pendula/breathers, textbook 4x4 for any orbit
-bifurcations     §3, §5  stability transitions of pendula (Tables I, II)
-scaling          §5      scaling constants, asymptotics of tr M, families' tr M curves
-precision        --      the one ``digits`` control: float64, real128, multiprecision tiers
-flow             --      the nonlinear flow, variational equations, section events (any tier)
-shooting         §6      symmetric periodic orbits as roots of one residual; the corrector
-continuation     §6-7    one continuation engine: Natural / PALC, events, Branch
-periodic         §6-7    the PeriodicOrbit result
-search           §6      the paper's search against the symmetric shooting
-newborn          §7.1-2  the families born at pendulum bifurcations (IS/PD)
-laws             §7.3-6  slope theorems, fans, self-similar scaling, duality
-breathers        §8      the breathers' transition and the daughter family PD^b
-chaos            §9      sections, Lyapunov exponents, families followed to the band
-reversors        beyond  reversing symmetries of H and their fixed sets
-atlas            beyond  every symmetric periodic orbit with T <= T_max (the band, §9)
-atlas_families   beyond  their families, branch switching, the period-doubling cascade (§9, §10)
-compare          --      our numbers against the paper's: one rule, one record, one table
-qubit            App. A  the flux-qubit analogy
-lame_functions   App. B  Lamé functions and the trace of M
-parallel         --      sweeps on a process pool or a Dask cluster (pmap)
-===============  ======  ======================================================================
+====================  ======  ======================================================================
+module                paper   what
+====================  ======  ======================================================================
+system                §2      potential, energies, equations of motion, coordinates, critical points
+energy                §2      energies carried by their distance to a separatrix (input validation)
+elliptic              §2      K(m), E(m), Jacobi sn/cn/dn accurate as m -> 1
+orbits                §2      closed-form pendula and isosceles breathers
+hill                  §4      the symmetry-reduced transverse (Lamé/Hill) problem
+floquet               §4      monodromy (Floquet) matrices: block form for pendula/breathers, textbook 4x4 for any orbit
+bifurcations          §3, §5  stability transitions of pendula (Tables I, II)
+scaling               §5      scaling constants, asymptotics of tr M, families' tr M curves
+precision             --      the one ``digits`` control: float64, real128, multiprecision tiers
+flow                  --      the nonlinear flow, variational equations, section events (any tier)
+shooting              §6      symmetric periodic orbits as roots of one residual; the corrector
+continuation          §6-7    one continuation engine: Natural / PALC, events, Branch
+periodic              §6-7    the PeriodicOrbit result
+search                §6      the paper's search against the symmetric shooting
+newborn               §7.1-2  the families born at pendulum bifurcations (IS/PD)
+laws                  §7.3-6  slope theorems, fans, self-similar scaling, duality
+breather_bifurcation  §8      the breathers' transition and the daughter family PD^b
+chaos                 §9      sections, Lyapunov exponents, families followed to the band
+reversors             beyond  reversing symmetries of H and their fixed sets
+atlas                 beyond  every symmetric periodic orbit with T <= T_max (the band, §9)
+atlas_families        beyond  their families, branch switching, the period-doubling cascade (§9, §10)
+compare               --      our numbers against the paper's: one rule, one record, one table
+qubit                 App. A  the flux-qubit analogy
+lame_functions        App. B  Lamé functions and the trace of M
+parallel              --      sweeps on a process pool or a Dask cluster (pmap)
+====================  ======  ======================================================================
 """
 
 from .api import LABELS, census, family, orbit, transition
 from .energy import BreatherEnergy, PendulumEnergy, breather_energy, pendulum_energy
 from .hill import heyoka_available, precision_tier
-from .monodromy import (
+from .floquet import (
     Monodromy,
     monodromy,
     multipliers_from_trace,

@@ -52,7 +52,7 @@ def _digits(digits: int | Tier | None) -> int | None:
 def _closed_form(label: str, E: Any, digits: int | None) -> PeriodicOrbit:
     """A pendulum or breather as a PeriodicOrbit: state from the closed form, monodromy and
     trace from the symmetry-reduced (Hill) problem at ``digits``."""
-    from .monodromy import monodromy
+    from .floquet import monodromy
     from .orbits import breather, pendulum
 
     orb = pendulum(E) if label == "pendulum" else breather(E, family=label)
@@ -160,7 +160,7 @@ def orbit(
     if lab.upper() in ("R", "LG", "LD"):
         return _closed_form(lab.upper(), E, d)
     if _BREATHER_DAUGHTER.match(lab):
-        from .breathers import breather_daughter
+        from .breather_bifurcation import breather_daughter
 
         return breather_daughter(E, digits=d)
     if _CHOREO.match(lab):

@@ -521,7 +521,7 @@ def _known_tasks(energies) -> list:
 def _known(energies, t_max, followed) -> dict:
     """``{E: [(label, period, action)]}``: the known families at each energy with period
     ``<= t_max``, the daughters ``followed`` through all (:func:`_known_tasks`)."""
-    from .breathers import DAUGHTER_E_MIN, breather_daughter
+    from .breather_bifurcation import DAUGHTER_E_MIN, breather_daughter
     from .orbits import breather, pendulum
 
     out: dict = {E: [] for E in energies}

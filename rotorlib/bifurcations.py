@@ -32,7 +32,7 @@ absolute (>= 13 significant digits for ``|x| > 1``; for ``PD^r_1``, at
 heyoka real128 (~32 digits) and checks a few with the textbook 4x4
 variational equations in 256-bit arithmetic. ``transition(label, digits=30)``
 returns a root refined in real128. The breather's transition ``PD^b``
-(:mod:`rotorlib.breathers`) is a :class:`Transition` too, and
+(:mod:`rotorlib.breather_bifurcation`) is a :class:`Transition` too, and
 :func:`transition` returns it.
 """
 
@@ -619,7 +619,7 @@ def refine_mp(
         return x, _mp_pendulum(x, phase, dps).closed_form(dps)["period"]
 
 
-#: The breather transitions that exist (:func:`rotorlib.breathers.breather_transitions`).
+#: The breather transitions that exist (:func:`rotorlib.breather_bifurcation.breather_transitions`).
 BREATHER_LABELS = ("PD^b",)
 _BREATHER_RE = re.compile(r"^\s*(PD)\s*\^?\s*(\{\s*b\s*\}|b)\s*$", re.IGNORECASE)
 
@@ -656,7 +656,7 @@ def transition(label: str, *, digits: int | Tier | None = None) -> Transition:
     t = tier(digits)  # a Tier delivers the digits its working digits keep, less 9
     d = None if not t.extended else (digits if isinstance(digits, int) else t.dps - 9)
     if isinstance(label, str) and _BREATHER_RE.match(label):
-        from .breathers import pd_transition
+        from .breather_bifurcation import pd_transition
 
         return pd_transition(digits=d)
     try:

@@ -18,7 +18,7 @@ For small ``k^2`` the equation becomes Mathieu's ``y'' + (a - 2 q cos 2z) y = 0`
 These are direct integrations (scipy DOP853, rtol 1e-12, Jacobi sn from
 :mod:`rotorlib.elliptic`), kept apart from the symmetry-reduced solver of
 :mod:`rotorlib.hill` on purpose: Appendix B's formula is checked against
-:func:`rotorlib.monodromy.monodromy`. Accuracy ~1e-10 away from ``E = 4`` (this is the
+:func:`rotorlib.floquet.monodromy`. Accuracy ~1e-10 away from ``E = 4`` (this is the
 textbook route; do not use it near the separatrix).
 """
 

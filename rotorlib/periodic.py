@@ -11,7 +11,7 @@ import mpmath as mp
 import numpy as np
 
 from .flow import extrema, monodromy_matrix
-from .monodromy import multipliers_from_trace
+from .floquet import multipliers_from_trace
 from .precision import FLOAT64, Tier, json_number, tier
 from .shooting import ShootingProblem, residual
 

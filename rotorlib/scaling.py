@@ -23,7 +23,7 @@ import mpmath as mp
 import numpy as np
 
 from .bifurcations import CLASSES, Transition, parse_label, transition
-from .monodromy import monodromy, multipliers_from_trace
+from .floquet import monodromy, multipliers_from_trace
 from .newborn import newborn_family
 from .orbits import pendulum
 

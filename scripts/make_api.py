@@ -27,7 +27,7 @@ FIRST = [
     "rotorlib.elliptic",
     "rotorlib.orbits",
     "rotorlib.hill",
-    "rotorlib.monodromy",
+    "rotorlib.floquet",
     "rotorlib.flow",
     "rotorlib.periodic",
 ]

@@ -9,7 +9,7 @@ import pytest
 
 from rotorlib.bifurcations import transition
 from rotorlib.continuation import ContinuationOptions, FamilyEnd, Natural, continuation
-from rotorlib.monodromy import monodromy, trace_monodromy
+from rotorlib.floquet import monodromy, trace_monodromy
 from rotorlib.newborn import family_spec, newborn_family, seed
 
 
@@ -140,3 +140,21 @@ def test_family_end_lives_with_the_engine():
 def test_monodromy_accepts_a_transition():
     tr = transition("PD^r_1")
     assert abs(monodromy(tr).trace) < 1e-9  # tr M = 0 at a PD transition
+
+
+def test_no_module_shares_a_public_functions_name():
+    """``rotorlib.monodromy`` and ``rotorlib.breather`` are functions; no module of
+    rotorlib is called ``monodromy``, ``breather`` or ``breathers`` (the module of the
+    monodromy routes is ``rotorlib.floquet``, that of §8 ``rotorlib.breather_bifurcation``)."""
+    import importlib.util
+    import pkgutil
+
+    import rotorlib
+
+    modules = {m.name for m in pkgutil.iter_modules(rotorlib.__path__)}
+    assert callable(rotorlib.monodromy) and callable(rotorlib.breather)
+    assert not {"monodromy", "breather", "breathers"} & modules
+    assert {"floquet", "breather_bifurcation"} <= modules
+    for name in rotorlib.__all__:
+        assert name not in modules or not callable(getattr(rotorlib, name)), name
+    assert importlib.util.find_spec("rotorlib.floquet") is not None

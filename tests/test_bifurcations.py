@@ -337,7 +337,7 @@ def test_cli_bad_input_one_line(args):
 def test_cli_breather_family():
     rc, out, err = run("bifurcations", "--family", "breather", "--json")
     try:
-        import rotorlib.breathers  # noqa: F401
+        import rotorlib.breather_bifurcation  # noqa: F401
     except ModuleNotFoundError:
         assert rc == 2 and "breather transitions are not available yet" in err
         return
@@ -486,7 +486,7 @@ def test_family_curve_float64_and_default_precision():
 def test_one_transition_class_for_pendulum_and_breather():
     """Pendulum and breather transitions are one class that follows the result protocol,
     and transition() is the one front door for both (ASCII and paper labels)."""
-    from rotorlib.breathers import pd_transition
+    from rotorlib.breather_bifurcation import pd_transition
 
     b = bf.transition("PD^b")
     assert type(b) is bf.Transition

@@ -6,7 +6,7 @@ import pytest
 from scipy.integrate import solve_ivp
 
 import rotorlib
-from rotorlib import breathers as B
+from rotorlib import breather_bifurcation as B
 from rotorlib.system import energy_alpha, lattice_reduce, rhs_alpha
 
 

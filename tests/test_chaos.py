@@ -92,7 +92,7 @@ def test_amplitude_branch_passes_the_fold():
         abs(float(exits[0].member.E) - 4.55) < 0.005
     )  # paper: PD^r_2 unstable from ~4.55
     # the member at the exit closes under scipy and has tr M = 4 (independent 4x4 route)
-    from rotorlib.monodromy import variational_monodromy
+    from rotorlib.floquet import variational_monodromy
 
     m = exits[0].member
     v = variational_monodromy(

@@ -13,7 +13,7 @@ import pytest
 from scipy.integrate import solve_ivp
 
 import rotorlib
-from rotorlib import breathers as br
+from rotorlib import breather_bifurcation as br
 from rotorlib import newborn as nb
 from rotorlib.continuation import (
     ContinuationOptions,

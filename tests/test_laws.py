@@ -224,7 +224,7 @@ def test_rotational_bad_input():
 def test_rotational_member_where_energy_continuation_stops():
     """IS^r_3 reaches E(IS^r_1) (the follow in the K chart: q = K - 4 the second unknown), and the
     member there is a periodic orbit: it closes under an independent integrator (scipy DOP853)."""
-    from rotorlib.monodromy import variational_monodromy
+    from rotorlib.floquet import variational_monodromy
 
     target = transition("IS^r_1").E - 4
     m = laws.rotational_member("IS^r_3", laws.dE_str("IS^r_1"))

@@ -14,7 +14,7 @@ import pytest
 
 import rotorlib as rl
 from rotorlib.hill import hill_problem, precision_tier, solve_hill
-from rotorlib.monodromy import _monodromy
+from rotorlib.floquet import _monodromy
 from rotorlib.precision import Tier, tier
 
 HEYOKA = rl.heyoka_available()

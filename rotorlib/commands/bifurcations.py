@@ -51,7 +51,7 @@ def register(sub: Any) -> None:
 def run(args: argparse.Namespace) -> int:
     check_digits(args.digits, "--digits")
     if args.family == "breather":
-        from ..breathers import breather_transitions
+        from ..breather_bifurcation import breather_transitions
 
         records = [t.to_dict() for t in breather_transitions(digits=args.digits)]
         emit(records, args.json, ["kind", "E", "period", "transition"], one=False)

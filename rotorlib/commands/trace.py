@@ -16,7 +16,7 @@ import argparse
 from typing import Any
 
 from ..cli import emit
-from ..monodromy import monodromy
+from ..floquet import monodromy
 from ..orbits import BreatherOrbit, PendulumOrbit, breather, pendulum
 from ..precision import check_digits, json_number
 

@@ -4,7 +4,7 @@ The breather ``phi1 = phi2 = phi`` is ``b1 = 2 phi, b2 = 0`` in the breather var
 ``[b1, b2, q1, q2]`` of :mod:`rotorlib.system` (the paper's beta_i, pi_i). Its
 monodromy is block diagonal, ``(b1, q1 | b2, q2)`` = (longitudinal | transverse),
 with ``tr M = 2 + Delta`` for R (``Delta^2`` for LG, LD); it comes from
-:func:`rotorlib.monodromy.monodromy`.
+:func:`rotorlib.floquet.monodromy`.
 
 Transition
     :func:`breather_transitions` locates the single stability transition of R
@@ -56,7 +56,7 @@ from .bifurcations import Transition, locate_root, refine_root
 from .continuation import Branch, ContinuationOptions, Natural, continuation, switch
 from .energy import as_float
 from .flow import Section, flow, sample, to_section
-from .monodromy import monodromy, trace_monodromy
+from .floquet import monodromy, trace_monodromy
 from .orbits import breather
 from .periodic import PeriodicOrbit, orbit_from_state
 from .precision import FLOAT64, Tier, tier
@@ -94,7 +94,7 @@ _SCAN = np.concatenate([np.linspace(4.55, 20.0, 160), np.geomspace(20.0, 1e4, 40
 def breather_trace(E: Any, family: str = "R", digits: int | None = None) -> Any:
     """``tr M`` of the breather ``family`` at energy ``E``: a float in float64, an mpf
     with every digit of ``trace_str`` when ``digits > 15``
-    (:func:`rotorlib.monodromy.trace_monodromy`)."""
+    (:func:`rotorlib.floquet.trace_monodromy`)."""
     return trace_monodromy(breather(E, family), digits=digits)
 
 
@@ -200,7 +200,7 @@ def pd_transition(digits: int | None = None) -> Transition:
 
     Examples
     --------
-    >>> from rotorlib.breathers import pd_transition
+    >>> from rotorlib.breather_bifurcation import pd_transition
     >>> t = pd_transition()
     >>> t.label, t.family, t.transition, round(t.E, 9), round(t.period, 9)
     ('PD^b', 'R', 'unstable->stable', 8.968972047, 2.633423826)
