@@ -55,8 +55,8 @@ from scipy import optimize
 from .bifurcations import Transition, locate_root, refine_root
 from .continuation import Branch, ContinuationOptions, Natural, continuation, switch
 from .energy import as_float
-from .flow import Section, flow, sample, to_section
 from .floquet import monodromy, trace_monodromy
+from .flow import Section, flow, sample, to_section
 from .orbits import breather
 from .periodic import PeriodicOrbit, orbit_from_state
 from .precision import FLOAT64, Tier, tier

@@ -13,8 +13,8 @@ import numpy as np
 import pytest
 
 import rotorlib as rl
-from rotorlib.hill import hill_problem, precision_tier, solve_hill
 from rotorlib.floquet import _monodromy
+from rotorlib.hill import hill_problem, precision_tier, solve_hill
 from rotorlib.precision import Tier, tier
 
 HEYOKA = rl.heyoka_available()
