@@ -58,79 +58,61 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.set_defaults(func=run)
 
 
-def _num(v, name):
-    from ..energy import as_float
-
-    return as_float(v, name)
-
-
-def _table(rec):
-    print(f"{'E':>18}  {'period':>18}  {'tr DP':>14}  {'tr M':>14}  stable")
-    for m in rec["members"]:
-        print(
-            f"{m['E']:18.12f}  {m['period']:18.12f}  {m['trace_reduced']:14.8g}  "
-            f"{m['trace']:14.8g}  {'yes' if m['stable'] else 'no'}"
-        )
-    print("special points:")
-    if not rec["special_points"]:
-        print("  none in the range")
-    for p in rec["special_points"]:
-        e = p["E_str"] if p["E_str"] != repr(p["E"]) else f"{p['E']:.13f}"
-        check = f"  ({p['check']})" if p["check"] else ""
-        print(
-            f"  E = {e}  T = {p['period']:.10f}  tr DP = {p['trace_reduced']:.10f}  "
-            f"{p['kind']}  [{p['branch']}]{check}"
-        )
-
-
 def _print_branch(b: Branch, lo: float, hi: float) -> None:
-    """A family born at a pendulum bifurcation: its members and special points."""
+    """Any family: its members and special points; a choreography's (members with
+    ``trace_reduced``) also ``tr DP``, and each point's period, branch and check."""
     d = max(12, min(30, b.members[0].digits)) if b.members else 12
+    from ..choreo_family import ChoreoPoint
+
+    reduced = any(isinstance(p, ChoreoPoint) for p in b.special_points) or any(
+        hasattr(m, "trace_reduced") for m in b.members
+    )
     print(f"{b.label}: {len(b.members)} members in {lo:g} <= E <= {hi:g}; {b.reason}")
-    print(f"{'E':>{d + 4}}  {'period':>{d + 4}}  {'tr M':>16}  stability")
+    print(
+        f"{'E':>{d + 4}}  {'period':>{d + 4}}  "
+        + (f"{'tr DP':>16}  " if reduced else "")
+        + f"{'tr M':>16}  stability"
+    )
     for m in b.members:
+        trp = f"{float(getattr(m, 'trace_reduced')):16.10g}  " if reduced else ""
         print(
-            f"{float(m.E):{d + 4}.{d}f}  {float(m.period):{d + 4}.{d}f}  "
+            f"{float(m.E):{d + 4}.{d}f}  {float(m.period):{d + 4}.{d}f}  {trp}"
             f"{float(m.trace):16.10g}  {m.stability}"
         )
     print(
         "special points:" if b.special_points else "special points: none in the range"
     )
     for p in b.special_points:
-        what = {"IS": "tr M = 4", "PD": "tr M = 0", "fold": "fold of E"}.get(
-            p.kind, p.kind
-        )
-        E_p = p.member.E_str if p.member.digits > 15 else f"{float(p.member.E):.{d}f}"
-        print(
-            f"  {p.kind:4s} E = {E_p}  ({what}{'' if p.located else ', not located'})"
-        )
+        m = getattr(p, "refined", None) or p.member  # the best location
+        E_p = m.E_str if m.precision != "float64" else f"{float(m.E):.{d}f}"
+        what = f"({_WHAT.get(p.kind, p.kind)}{'' if p.located else ', not located'})"
+        if isinstance(p, ChoreoPoint):
+            m = p.refined or p.member
+            what = (
+                f"T = {float(m.period):.10f}  tr DP = {float(m.trace_reduced):.10f}  "
+                f"({p.description})  [{p.branch}]" + (f"  {p.check}" if p.check else "")
+            )
+        print(f"  {p.kind:4s} E = {E_p}  {what}")
+
+
+_WHAT = {"IS": "tr M = 4", "PD": "tr M = 0", "fold": "fold of E"}
 
 
 def run(args: argparse.Namespace) -> int:
     from ..api import LABELS, family
-    from ..branch import Branch
+    from ..energy import as_float
     from ..precision import check_digits
 
     check_digits(args.digits, "--digits")
-    lo, hi = (_num(v, "--E-range") for v in args.E_range)
+    lo, hi = (as_float(v, "--E-range") for v in args.E_range)
     choreo = str(args.label).strip().upper() in LABELS["choreography"]
     if choreo and args.digits is not None and args.digits > 60:
         raise ValueError(
             f"--digits for a choreography is at most 60, got {args.digits}"
         )
-    res = family(args.label, (lo, hi), digits=args.digits)
-    rec = res.to_dict()
+    b = family(args.label, (lo, hi), digits=args.digits)
     if args.json:
-        print(json.dumps(rec, indent=2))
-    elif isinstance(res, Branch):
-        _print_branch(res, lo, hi)
+        print(json.dumps(b.to_dict(), indent=2))
     else:
-        ends = (
-            f"exists for {rec['span'][0]:.10f} <= E <= {rec['span'][1]:.10f} "
-            f"(continuation ends: {' / '.join(rec['stops'])})"
-            if "span" in rec  # a Z3 family
-            else f"exists for {rec['E_min']:g} < E <= {rec['E_max']:.12f}"
-        )
-        print(f"{rec['label']}: {rec['description']}; {ends}")
-        _table(rec)
+        _print_branch(b, lo, hi)
     return 0
