@@ -1,7 +1,7 @@
 """``python -m rotorlib family LABEL --E-range A B``: a family followed (:func:`rotorlib.family`).
 
-Prints the members of the branch with energy in ``[A, B]`` and its special points there.
-A family born at a pendulum bifurcation (``IS^l_n``, ``PD^r_n``, ...): period, ``tr M``,
+Prints the members of the branch with energy in ``[A, B]`` and its special points there,
+one path for every family (a :class:`~rotorlib.branch.Branch`). A family born at a pendulum bifurcation (``IS^l_n``, ``PD^r_n``, ...): period, ``tr M``,
 stability, and the folds and ``tr M = 4`` (IS) / ``0`` (PD) points located by the engine,
 with why the branch stopped. A choreography: period, ``tr DP`` of the reduced map,
 ``tr M``, stability, the fold, the stability changes and the energies where ``tr M``
@@ -59,14 +59,14 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def _print_branch(b: Branch, lo: float, hi: float) -> None:
-    """Any family: its members and special points; a choreography's (members with
-    ``trace_reduced``) also ``tr DP``, and each point's period, branch and check."""
-    d = max(12, min(30, b.members[0].digits)) if b.members else 12
-    from ..choreo_family import ChoreoPoint
+    """Any family: its members and special points; a choreography's
+    (:class:`~rotorlib.choreo_family.ChoreoMember`, ``ChoreoPoint``) also ``tr DP``, and
+    each point's period, description, branch and check."""
+    from ..choreo_family import ChoreoMember, ChoreoPoint
 
-    reduced = any(isinstance(p, ChoreoPoint) for p in b.special_points) or any(
-        hasattr(m, "trace_reduced") for m in b.members
-    )
+    d = max(12, min(30, b.members[0].digits)) if b.members else 12
+    ms = [*b.members, *(p.member for p in b.special_points)]
+    reduced = any(isinstance(m, ChoreoMember) for m in ms)
     print(f"{b.label}: {len(b.members)} members in {lo:g} <= E <= {hi:g}; {b.reason}")
     print(
         f"{'E':>{d + 4}}  {'period':>{d + 4}}  "
@@ -74,7 +74,9 @@ def _print_branch(b: Branch, lo: float, hi: float) -> None:
         + f"{'tr M':>16}  stability"
     )
     for m in b.members:
-        trp = f"{float(getattr(m, 'trace_reduced')):16.10g}  " if reduced else ""
+        trp = (
+            f"{float(m.trace_reduced):16.10g}  " if isinstance(m, ChoreoMember) else ""
+        )
         print(
             f"{float(m.E):{d + 4}.{d}f}  {float(m.period):{d + 4}.{d}f}  {trp}"
             f"{float(m.trace):16.10g}  {m.stability}"
@@ -83,15 +85,15 @@ def _print_branch(b: Branch, lo: float, hi: float) -> None:
         "special points:" if b.special_points else "special points: none in the range"
     )
     for p in b.special_points:
-        m = getattr(p, "refined", None) or p.member  # the best location
-        E_p = m.E_str if m.precision != "float64" else f"{float(m.E):.{d}f}"
+        m = p.member
         what = f"({_WHAT.get(p.kind, p.kind)}{'' if p.located else ', not located'})"
         if isinstance(p, ChoreoPoint):
-            m = p.refined or p.member
+            m = p.refined or p.member  # the best location
             what = (
                 f"T = {float(m.period):.10f}  tr DP = {float(m.trace_reduced):.10f}  "
                 f"({p.description})  [{p.branch}]" + (f"  {p.check}" if p.check else "")
             )
+        E_p = m.E_str if m.precision != "float64" else f"{float(m.E):.{d}f}"
         print(f"  {p.kind:4s} E = {E_p}  {what}")
 
 
