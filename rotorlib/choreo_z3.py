@@ -103,6 +103,9 @@ _DS = (
     0.0125  # pseudo-arclength step (twice that of the census, scripts/choreo_census.py)
 )
 
+#: The description of the end where CZ1 and CZ2 are born (a ``fold`` of ``E``).
+_BORN = "born at CG (CG's tr M = 0, theta = pi/2)"
+
 
 def _label(label):
     up = {k.upper(): k for k in Z3_FAMILIES}
@@ -228,10 +231,6 @@ def _raw_points(lab: str) -> list:
     used = {i + d for k, _, i in out if k == "fold" for d in (0, 1)}
     out += [(_BORN, None, j) for j in ext if j not in used]
     return out
-
-
-#: The description of the end where CZ1 and CZ2 are born (a ``fold`` of ``E``).
-_BORN = "born at CG (CG's tr M = 0, theta = pi/2)"
 
 
 def _born(lab: str, m: ChoreoMember) -> ChoreoMember:
