@@ -49,7 +49,7 @@ import numpy as np
 
 from .flow import Section, flow
 from .precision import Tier, tier
-from .shooting import Root, ShootingProblem, StartSet, solve
+from .shooting import ShootingProblem, StartSet
 
 __all__ = [
     "C_PHI",
@@ -314,29 +314,6 @@ def rotor_angles(
     return np.stack(
         [(2 * phi1 + phi2) / 3, (phi2 - phi1) / 3, -(phi1 + 2 * phi2) / 3], axis=1
     )
-
-
-def _guess_u(E):
-    """The start amplitude of ``CG`` to first order: ``V = 3 u^2 = E/2`` on the mirror."""
-    return -math.sqrt(float(E) / 6)
-
-
-def solve_cg(E: float, u_guess: float | None = None, digits: int | None = None) -> Root:
-    """The root ``u`` of ``CG`` at energy ``E`` (a :class:`~rotorlib.shooting.Root`) by the
-    engine's secant from ``u_guess`` (default the first-order amplitude), in the tier of
-    ``digits``.
-
-    Examples
-    --------
-    >>> from rotorlib.choreo import solve_cg
-    >>> round(float(solve_cg(1.0).x), 6) < 0
-    True
-    """
-    u0 = _guess_u(E) if u_guess is None else u_guess
-    return solve(cg_problem(), u0, E=E, digits=tier(digits))
-
-
-__all__ += ["solve_cg", "tier"]
 
 
 def atlas_name(

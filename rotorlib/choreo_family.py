@@ -12,7 +12,8 @@ potential (three rotors ``2 pi/3`` apart). Beyond ``E_f`` the family does not ex
 :func:`follow` (the branch, cached), :func:`fold_energy`, :func:`branch_range`,
 :func:`cg_orbit` (one member, any precision), :func:`special_points` (folds, stability
 changes of the reduced map, and the energies where ``tr M`` touches 4 or 0 without a
-change of stability).
+change of stability), :func:`family` (``CG`` or ``CT`` over an energy range as a
+:class:`~rotorlib.branch.Branch` of :class:`ChoreoMember` with :class:`ChoreoPoint`).
 
 Precision: members ``|r| < 1e-8`` (typically 1e-15); special points located by the
 Illinois method on the amplitude ``u`` (each value solved for ``E``) to ``|du| < 1e-13``,
@@ -26,13 +27,14 @@ import math
 from collections.abc import Sequence
 from dataclasses import dataclass, replace
 from functools import cache
+from typing import Any
 
 import numpy as np
 
-from .choreo import T0, _reduced_trace, cg_problem, choreography_of
+from .branch import Branch, Member, SpecialPoint
+from .choreo import _reduced_trace, cg_problem, choreography_of
 from .continuation import (
     PALC,
-    Branch,
     ContinuationOptions,
     FamilyEnd,
     Natural,
@@ -42,7 +44,7 @@ from .continuation import (
 )
 from .periodic import PeriodicOrbit, periodic_orbit, stability_of
 from .precision import FLOAT64, Tier, json_number, tier
-from .shooting import residual, solve
+from .shooting import ShootingProblem, residual, solve
 
 __all__ = [
     "LABELS",
@@ -52,9 +54,9 @@ __all__ = [
     "branch_range",
     "cg_orbit",
     "choreography_orbit",
+    "ChoreoMember",
     "ChoreoPoint",
     "special_points",
-    "FamilyReport",
     "family",
 ]
 
@@ -65,10 +67,8 @@ LABELS = {
 }
 
 _E_START = 0.02  # the first members (u ~ -0.06)
-_U_FOLD = (
-    -1.46,
-    -1.50,
-)  # a bracket of the fold's amplitude (checked: tr DP - 4 changes sign)
+#: A bracket of the fold's amplitude (checked: tr DP - 4 changes sign).
+_U_FOLD = (-1.46, -1.50)
 _T_MAX = 90.0  # the continuation stops at T = 90 (E - 4.5 ~ 1e-7)
 
 
@@ -113,14 +113,18 @@ def follow() -> Branch:
 
 
 @cache
-def _fold(digits=None) -> tuple:
+def _fold(digits: int | None = None) -> ChoreoMember:
     t = tier(digits) if digits is not None and digits > 15 else FLOAT64
     with t.context():
         tol = 1e-14 if not t.extended else t.num(t.eps) ** t.num(0.75)
-        u, r = _locate(
-            lambda r: r[2] - 4, t.num(_U_FOLD[0]), t.num(_U_FOLD[1]), 5.3, t, tol=tol
+        return _locate(
+            lambda m: m.trace_reduced - 4,
+            t.num(_U_FOLD[0]),
+            t.num(_U_FOLD[1]),
+            5.3,
+            t,
+            tol=tol,
         )
-        return (u, *r)
 
 
 def fold(digits: int | None = None) -> tuple:
@@ -140,7 +144,8 @@ def fold(digits: int | None = None) -> tuple:
     >>> round(float(E), 9), round(float(T), 6)
     (5.315323913, 7.396377)
     """
-    return _fold(digits)
+    m = _fold(digits)
+    return m.u, m.E, m.period, m.trace_reduced, m.trace
 
 
 def fold_energy() -> float:
@@ -335,42 +340,77 @@ def cg_orbit(
 
 
 @dataclass(frozen=True)
-class ChoreoPoint:
-    """A special point of a family: ``kind`` (``fold``, ``stable -> unstable`` ...,
-    ``tr M = 4 (no change)``, ``tr M = 0 (no change)``, ``IS``, ``PD``), the branch it
-    lies on, its energy, period, ``tr DP`` and ``tr M`` (floats), ``E_str`` (the energy
-    with the digits of its tier), ``agreement`` (the difference of two independent
-    locations of ``E``, nan if located once), ``check`` (which, in words) and the
-    amplitude ``u`` where it was located.
+class ChoreoMember(Member):
+    """A member of a choreography family (a :class:`~rotorlib.branch.Member`): ``trace`` is
+    ``tr M`` over the full period, as for every member, and ``trace_reduced`` is ``tr DP``
+    of the reduced map (:func:`rotorlib.choreo.reduced_trace`: over ``T/6`` for ``CG`` and
+    ``CT``, over ``T/3`` for the Z3 families), which decides ``stability``.
+
+    Examples
+    --------
+    >>> from rotorlib.choreo_family import family
+    >>> m = family("CG", (5.0, 5.2)).members[0]
+    >>> round(float(m.trace_reduced), 4), round(float(m.trace), 4), m.stability
+    (2.7186, 3.1855, 'stable')
+    """
+
+    trace_reduced: Any = math.nan
+
+    @property
+    def stability(self) -> str:
+        """:func:`~rotorlib.periodic.stability_of` applied to ``tr DP``."""
+        return stability_of(float(self.trace_reduced), self.digits)
+
+    def to_dict(self) -> dict[str, Any]:
+        """:meth:`Member.to_dict <rotorlib.branch.Member.to_dict>` and ``trace_reduced``."""
+        return {**super().to_dict(), "trace_reduced": float(self.trace_reduced)}
+
+
+def _choreo_member(m: Member, trm: Any, trp: Any, **kw: Any) -> ChoreoMember:
+    return ChoreoMember(**{**vars(m), "trace": trm, "trace_reduced": trp, **kw})
+
+
+@dataclass(frozen=True)
+class ChoreoPoint(SpecialPoint):
+    """A special point of a choreography family (a :class:`~rotorlib.branch.SpecialPoint`
+    whose ``member`` is the :class:`ChoreoMember` located in float64): ``kind`` ``fold``,
+    ``IS`` (``tr DP`` or ``tr M`` = 4) or ``PD`` (``tr DP`` or ``tr M`` = 0);
+    ``description`` says which (``stable -> unstable (tr DP = 4)``, ``tr M = 0 (no
+    change: theta = pi/6)``, ...); ``branch`` the branch(es) it lies on; ``refined`` the
+    same point located again in the tier of ``digits`` (``None`` without); ``agreement``
+    the difference of the two energies (nan if located once) and ``check`` which, in
+    words; ``E_str`` the energy with the digits verified.
 
     Examples
     --------
     >>> from rotorlib.choreo_family import special_points
-    >>> special_points("CT")[0].to_dict()["kind"]
-    'fold (saddle-node)'
+    >>> p = special_points("CT")[0]
+    >>> p.kind, p.description, p.E_str
+    ('fold', 'fold (saddle-node)', '5.3153239127509')
     """
 
-    kind: str
-    branch: str
-    E: float
-    period: float
-    trace_reduced: float
-    trace: float
-    E_str: str = ""
+    member: ChoreoMember
+    description: str = ""
+    branch: str = ""
+    refined: ChoreoMember | None = None
     agreement: float = math.nan
     check: str = ""
-    u: float = math.nan
 
-    def to_dict(self) -> dict:
-        """A JSON-serialisable dict (the ``family`` command's ``--json`` output)."""
+    @property
+    def E_str(self) -> str:
+        """The refined location's ``E_str``, else the float64 energy to 13 decimals."""
+        if self.refined is not None:
+            return self.refined.E_str
+        return f"{float(self.member.E):.13f}"
+
+    def to_dict(self) -> dict[str, Any]:
+        """:meth:`SpecialPoint.to_dict <rotorlib.branch.SpecialPoint.to_dict>` and
+        ``description``, ``branch``, ``E_str`` (when refined), ``agreement``, ``check``."""
         return {
-            "kind": self.kind,
+            **super().to_dict(),
+            **({"E_str": self.E_str} if self.refined is not None else {}),
+            "description": self.description,
             "branch": self.branch,
-            "E": self.E,
-            "E_str": self.E_str or repr(self.E),
-            "period": self.period,
-            "trace_reduced": self.trace_reduced,
-            "trace": self.trace,
             **json_number(
                 "agreement",
                 self.agreement,
@@ -380,102 +420,92 @@ class ChoreoPoint:
         }
 
 
-def _at_u(u, E_guess, t: Tier = FLOAT64, p=None, order=6, power=1):
-    """``(E, T, tr DP, tr M)`` of the member with amplitude ``u`` (of ``CG``, or of the
-    problem ``p`` with its reduced map of ``order``, ``power``)."""
+def _at_u(
+    u: Any,
+    E_guess: Any,
+    t: Tier = FLOAT64,
+    p: ShootingProblem | None = None,
+    order: int = 6,
+    power: int = 1,
+) -> ChoreoMember:
+    """The member with amplitude ``u`` (of ``CG``, or of the problem ``p`` with its reduced
+    map of ``order``, ``power``), with ``tr M`` and ``tr DP``."""
     p = p or cg_problem()
     with t.context():
         w = solve(p, t.num(E_guess), u=t.num(u), digits=t).x
         s = residual(p, u, w, t)
-        T = p.factor * s.t1
-        trp, trm = _reduced_trace(s.x0, T, t, order, power)
-        return w, T, trp, trm
+        trp, trm = _reduced_trace(s.x0, p.factor * s.t1, t, order, power)
+        return _choreo_member(member(p, u, w, t, shot=s), trm, trp)
 
 
 def _locate(g, ua, ub, Ea, t: Tier, tol=1e-13, p=None, order=6, power=1):
-    """The ``u`` in ``(ua, ub)`` where ``g(at(u)) = 0``, by the engine's Illinois method
-    (:func:`rotorlib.continuation.illinois`); returns ``(u, at(u))``."""
+    """The member with ``u`` in ``(ua, ub)`` where ``g(member) = 0``, by the engine's
+    Illinois method (:func:`rotorlib.continuation.illinois`)."""
     E_last = [Ea]
 
     def at(v):
-        u = ua + v
-        r = _at_u(u, E_last[0], t, p, order, power)
-        E_last[0] = r[0]
-        return u, r
+        m = _at_u(ua + v, E_last[0], t, p, order, power)
+        E_last[0] = m.E
+        return m
 
-    def g_of(m):
-        return g(m[1])
-
-    fa, fb = g_of(at(0 * (ub - ua))), g_of(at(ub - ua))
-    return illinois(g_of, at, ub - ua, fa, fb, tol)
-
-
-def _column(name):
-    b = follow()
-    return np.array([float(getattr(m, name)) for m in b.members])
+    fa, fb = g(at(0 * (ub - ua))), g(at(ub - ua))
+    return illinois(g, at, ub - ua, fa, fb, tol)
 
 
 @cache
-def _traces():
-    """``(tr DP, tr M)`` of every member of :func:`follow`."""
+def _members() -> tuple[ChoreoMember, ...]:
+    """The members of :func:`follow` with ``tr M`` and ``tr DP``."""
     b = follow()
-    out = [_reduced_trace(b.state(m), 12 * m.t1, FLOAT64) for m in b.members]
-    return np.array([o[0] for o in out]), np.array([o[1] for o in out])
+    out = []
+    for m in b.members:
+        trp, trm = _reduced_trace(b.state(m), 12 * m.t1, FLOAT64)
+        out.append(_choreo_member(m, trm, trp))
+    return tuple(out)
 
 
-#: Levels of ``tr DP = 2 + 2 cos theta``: leaving ``[0, 4]`` changes the stability;
-#: ``6 theta = 0 mod 2 pi`` (``tr M = 4``) and ``6 theta = pi mod 2 pi`` (``tr M = 0``)
-#: do not.
+#: ``(level of tr DP = 2 + 2 cos theta, kind, description)``: leaving ``[0, 4]`` changes
+#: the stability; ``6 theta = 0 mod 2 pi`` (``tr M = 4``) and ``6 theta = pi mod 2 pi``
+#: (``tr M = 0``) do not.
 _LEVELS = (
-    (4.0, " (tr DP = 4)"),
-    (0.0, " (tr DP = 0)"),
-    (3.0, "tr M = 4 (no change: theta = pi/3)"),
-    (1.0, "tr M = 4 (no change: theta = 2 pi/3)"),
-    (2.0 + math.sqrt(3), "tr M = 0 (no change: theta = pi/6)"),
-    (2.0, "tr M = 0 (no change: theta = pi/2; the map over T/3 has multipliers -1)"),
-    (2.0 - math.sqrt(3), "tr M = 0 (no change: theta = 5 pi/6)"),
+    (4.0, "IS", " (tr DP = 4)"),
+    (0.0, "PD", " (tr DP = 0)"),
+    (3.0, "IS", "tr M = 4 (no change: theta = pi/3)"),
+    (1.0, "IS", "tr M = 4 (no change: theta = 2 pi/3)"),
+    (2.0 + math.sqrt(3), "PD", "tr M = 0 (no change: theta = pi/6)"),
+    (
+        2.0,
+        "PD",
+        "tr M = 0 (no change: theta = pi/2; the map over T/3 has multipliers -1)",
+    ),
+    (2.0 - math.sqrt(3), "PD", "tr M = 0 (no change: theta = 5 pi/6)"),
 )
 
 
 @cache
-def _special_float() -> tuple:
+def _special_float() -> tuple[ChoreoPoint, ...]:
+    """Every special point of :func:`follow`, ``index`` that of its members."""
     k_fold = _fold_index()
-    trp, trm = _traces()
-    us = _column("u")
-    Es = _column("E")
-    out = []
-    _, E_f, T_f, trp_f, trm_f = fold()
-    out.append(
-        ChoreoPoint(
-            "fold (saddle-node)",
-            "CG/CT",
-            float(E_f),
-            float(T_f),
-            float(trp_f),
-            float(trm_f),
-            u=float(fold()[0]),
-        )
-    )
-    for i in range(len(us) - 1):
-        branch = "CG" if i < k_fold else "CT" if i > k_fold else None
-        if branch is None:
+    ms = _members()
+    out = [ChoreoPoint("fold", _fold(), k_fold, True, "fold (saddle-node)", "CG/CT")]
+    for i, (a, b) in enumerate(zip(ms, ms[1:])):
+        if i == k_fold:
             continue
-        for lev, kind in _LEVELS:
-            if not (trp[i] - lev) * (trp[i + 1] - lev) < 0:
+        for lev, kind, text in _LEVELS:
+            if not (a.trace_reduced - lev) * (b.trace_reduced - lev) < 0:
                 continue
-            u, r = _locate(
-                lambda r, lev=lev: r[2] - lev,
-                float(us[i]),
-                float(us[i + 1]),
-                float(Es[i]),
+            m = _locate(
+                lambda m, lev=lev: m.trace_reduced - lev,
+                float(a.u),
+                float(b.u),
+                float(a.E),
                 FLOAT64,
             )
-            E, T, tp, tm = (float(v) for v in r)
             if lev in (0.0, 4.0):
-                up = (trp[i + 1] > trp[i]) == (Es[i + 1] > Es[i])  # tr DP up with E
+                up = (b.trace_reduced > a.trace_reduced) == (b.E > a.E)  # tr DP up, E
                 into = (lev == 4.0) == up  # leaves [0, 4] as E grows
-                kind = ("stable -> unstable" if into else "unstable -> stable") + kind
-            out.append(ChoreoPoint(kind, branch, E, T, tp, tm, u=float(u)))
+                text = ("stable -> unstable" if into else "unstable -> stable") + text
+            branch = "CG" if i < k_fold else "CT"
+            out.append(ChoreoPoint(kind, m, i, True, text, branch))
     return tuple(out)
 
 
@@ -483,30 +513,30 @@ def special_points(
     label: str = "CG",
     E_range: tuple[float, float] | None = None,
     digits: int | None = None,
-) -> tuple:
+) -> tuple[ChoreoPoint, ...]:
     """The special points of a branch (``CG`` or ``CT``) within ``E_range``, ordered by
     energy: the fold, the stability changes (``tr DP`` through 4 or 0, ``DP`` the reduced
     map of :func:`rotorlib.choreo.reduced_trace`) and the energies where ``tr M`` touches
     4 or 0 without one (``6 theta = 0 mod pi`` for the reduced multipliers
     ``e^{+-i theta}``). With ``digits`` (> 15) each is located again in that tier as the
-    root of ``tr DP`` = its level (``E_str``; ``agreement``: the difference from the
+    root of ``tr DP`` = its level (``refined``; ``agreement``: the difference from the
     float64 location; the fold's ``check`` adds the engine's own location as the maximum
-    of ``E`` along :func:`follow`).
+    of ``E`` along :func:`follow`). ``index`` counts the members of :func:`follow`.
 
     Examples
     --------
     >>> from rotorlib.choreo_family import special_points
-    >>> [p.kind for p in special_points("CG")][-1]
-    'fold (saddle-node)'
+    >>> [(p.kind, p.description[:8]) for p in special_points("CG")][-2:]
+    [('PD', 'tr M = 0'), ('fold', 'fold (sa')]
     """
     lab = _label(label)
     pts = [p for p in _special_float() if lab in p.branch.split("/")]
     if E_range is not None:
         lo, hi = (float(v) for v in E_range)
-        pts = [p for p in pts if lo <= p.E <= hi]
+        pts = [p for p in pts if lo <= p.member.E <= hi]
     if digits is not None and digits > 15:
         pts = [_refine(p, int(digits)) for p in pts]
-    return tuple(sorted(pts, key=lambda p: p.E))
+    return tuple(sorted(pts, key=lambda p: p.member.E))
 
 
 @cache
@@ -514,119 +544,116 @@ def _refine(p: ChoreoPoint, digits: int) -> ChoreoPoint:
     """``p`` located again in the tier of ``digits``: ``E`` to ``D - 10`` digits."""
     t = tier(digits)
     d = max(10, digits - 10)  # u to eps^(3/4); E to the same or, at the fold, ~eps
-    if p.kind.startswith("fold"):
-        u, E, T, tp, tm = fold(digits)
-        agree = abs(float(E) - p.E)
+    E0, trp0 = float(p.member.E), float(p.member.trace_reduced)
+    if p.kind == "fold":
+        m = _fold(digits)
+        agree = abs(float(m.E) - E0)
         engine_fold = follow().fold
         assert engine_fold is not None  # CG's branch always passes its fold
         check = (
             f"root of tr DP = 4 in float64 and {t.name} agree to {_gap(agree)}; the "
-            f"engine's maximum of E along the branch is {_gap(abs(engine_fold.E - p.E))}"
+            f"engine's maximum of E along the branch is {_gap(abs(engine_fold.E - E0))}"
             " away"
         )
     else:
-        lev = next(v for v, _ in _LEVELS if abs(p.trace_reduced - v) < 1e-6)
+        lev = next(v for v, _, _ in _LEVELS if abs(trp0 - v) < 1e-6)
+        u0 = float(p.member.u)
         with t.context():
             r3 = t.m.sqrt(3)
             levt = {2 + math.sqrt(3): 2 + r3, 2 - math.sqrt(3): 2 - r3}.get(
                 lev, t.num(lev)
             )
-            h = t.num(1e-7 * max(1.0, abs(p.u)))
+            h = t.num(1e-7 * max(1.0, abs(u0)))
             tol = t.num(t.eps) ** t.num(0.75)
-            u, (E, T, tp, tm) = _locate(
-                lambda r: r[2] - levt, t.num(p.u) - h, t.num(p.u) + h, p.E, t, tol
+            m = _locate(
+                lambda m: m.trace_reduced - levt,
+                t.num(u0) - h,
+                t.num(u0) + h,
+                E0,
+                t,
+                tol,
             )
-        agree = abs(float(E) - p.E)
+        agree = abs(float(m.E) - E0)
         check = (
             f"root of tr DP = {lev:.6g} in float64 and {t.name} agree to {_gap(agree)}"
         )
-    return replace(
-        p,
-        E=float(E),
-        period=float(T),
-        trace_reduced=float(tp),
-        trace=float(tm),
-        E_str=t.text(E, d),
-        agreement=agree,
-        check=check,
+    return replace(p, refined=replace(m, digits=d), agreement=agree, check=check)
+
+
+def _branch_of(
+    problem: ShootingProblem,
+    members: Sequence[ChoreoMember],
+    points: Sequence[ChoreoPoint],
+    E_range: tuple[float, float],
+    stop: str,
+    reason: str,
+) -> Branch:
+    """The :class:`~rotorlib.branch.Branch` of a choreography family: the ``members`` (in
+    order along the family) with ``E`` in ``E_range`` and the ``points`` there, each
+    ``index`` (counted in ``members``) counted again among those kept (-1: before the
+    first)."""
+    lo, hi = E_range
+    keep = [i for i, m in enumerate(members) if lo <= float(m.E) <= hi]
+    pts = [
+        replace(p, index=sum(k <= p.index for k in keep) - 1)
+        for p in points
+        if lo <= float(p.member.E) <= hi
+    ]
+    return Branch(
+        problem,
+        FLOAT64,
+        tuple(members[i] for i in keep),
+        tuple(sorted(pts, key=lambda p: p.member.E)),
+        stop,
+        reason,
+        (lo, hi),
     )
 
 
-@dataclass(frozen=True)
-class FamilyReport:
-    """``family LABEL --E-range A B``: the branch's members in the range (``E``, period,
-    ``tr DP``, ``tr M``, stable) and its special points.
-
-    Examples
-    --------
-    >>> from rotorlib.choreo_family import family
-    >>> sorted(family("CT", (5.0, 5.3)).to_dict())[:3]
-    ['E_max', 'E_min', 'E_range']
-    """
-
-    label: str
-    E_range: tuple
-    members: tuple
-    points: tuple
-
-    def to_dict(self) -> dict:
-        """A JSON-serialisable dict (the ``family`` command's ``--json`` output)."""
-        return {
-            "label": self.label,
-            "description": LABELS[self.label],
-            "E_range": list(self.E_range),
-            "E_min": branch_range(self.label)[0],
-            "E_max": branch_range(self.label)[1],
-            "members": [
-                dict(zip(("E", "period", "trace_reduced", "trace", "stable"), m))
-                for m in self.members
-            ],
-            "special_points": [p.to_dict() for p in self.points],
-        }
-
-
-def family(
-    label: str, E_range: Sequence[float], digits: int | None = None
-) -> FamilyReport:
-    """The members of the branch ``label`` with ``E`` in ``E_range`` and its special points
-    there (:func:`special_points`). A range entirely outside the branch raises ValueError.
-
-    Examples
-    --------
-    >>> from rotorlib.choreo_family import family
-    >>> r = family("CG", (5.0, 5.4))
-    >>> r.points[-1].kind
-    'fold (saddle-node)'
-    """
-    lab = _label(label)
+def _check_range(E_range: Sequence[float]) -> tuple[float, float]:
     lo, hi = (float(v) for v in E_range)
     if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi):
         raise ValueError(f"--E-range must be two finite energies A < B, got {E_range}")
+    return lo, hi
+
+
+def family(label: str, E_range: Sequence[float], digits: int | None = None) -> Branch:
+    """The branch ``label`` (``CG`` or ``CT``) with its members in ``E_range`` (in order
+    along the family: ``CG`` up from G to the fold, ``CT`` down from the fold to
+    ``E -> 4.5``; :class:`ChoreoMember`, float64) and its special points there
+    (:func:`special_points`, re-located in the tier of ``digits`` > 15). ``stop`` names
+    the two ends (``G / fold``, ``period / fold``: the period exceeds 90 at
+    ``E - 4.5 ~ 1e-7``), ``reason`` says where the branch exists. A range entirely outside
+    the branch raises ValueError.
+
+    Examples
+    --------
+    >>> from rotorlib.choreo_family import family
+    >>> b = family("CG", (5.0, 5.4))
+    >>> b.label, b.stop, b.special_points[-1].kind, round(float(b.fold.E), 9)
+    ('CG', 'G / fold', 'fold', 5.315323913)
+    """
+    lab = _label(label)
+    lo, hi = _check_range(E_range)
     e0, e1 = branch_range(lab)
     if lo > e1 or hi <= e0:
         raise ValueError(
             f"{lab} exists only for {e0:g} < E <= {e1:.10f} (G or the maxima T1, T2 at "
             f"the low end, the fold at the top): the range {lo:g}..{hi:g} misses it"
         )
-    b, k = follow(), _fold_index()
-    trp, trm = _traces()
-    idx = range(0, k + 1) if lab == "CG" else range(k + 1, len(b.members))
-    rows = []
-    for i in idx:
-        m = b.members[i]
-        if lo <= float(m.E) <= hi:
-            rows.append(
-                (
-                    float(m.E),
-                    float(12 * m.t1),
-                    float(trp[i]),
-                    float(trm[i]),
-                    bool(0 < trp[i] < 4),
-                )
-            )
-    rows.sort()
-    return FamilyReport(
-        lab, (lo, hi), tuple(rows), special_points(lab, (lo, hi), digits)
+    k = _fold_index() + 1  # CG: the members before the fold; CT: after it
+    ms = _members()[:k] if lab == "CG" else _members()[k:]
+    off = 0 if lab == "CG" else k
+    pts = [
+        replace(p, index=p.index - off) for p in special_points(lab, (lo, hi), digits)
+    ]
+    return _branch_of(
+        cg_problem() if lab == "CG" else replace(cg_problem(), label="CT"),
+        [replace(m, label=lab) for m in ms],
+        pts,
+        (lo, hi),
+        "G / fold" if lab == "CG" else "period / fold",
+        f"{LABELS[lab]}; exists for {e0:g} < E <= {e1:.12f}",
     )
 
 
@@ -669,15 +696,3 @@ def choreography_orbit(
         known = ", ".join([*LABELS, *Z3_FAMILIES])
         raise ValueError(f"unknown choreography family {label!r} (known: {known})")
     return z3_orbit(lab, E, digits=digits, branch=branch)
-
-
-def period_ratio(E: float) -> float:
-    """``T(E) / T0`` of ``CG`` (``T0 = 2 pi / sqrt 3``).
-
-    Examples
-    --------
-    >>> from rotorlib.choreo_family import period_ratio
-    >>> round(period_ratio(1e-3), 5)
-    1.00004
-    """
-    return cg_orbit(E).period / T0

@@ -9,7 +9,7 @@ atlas's start sets and fixed sets, :mod:`rotorlib.reversors`) and one member fou
 census (a seed). The engine (pseudo-arclength, :func:`rotorlib.continuation.continuation`)
 follows the whole family from the seed both ways until its period exceeds 40 (once per
 process, 15-25 s a family): :func:`z3_range`, :func:`z3_orbits` and :func:`z3_orbit`
-(the members at one energy), :func:`z3_points` and :func:`z3_family` (the report of
+(the members at one energy), :func:`z3_points` and :func:`z3_family` (the Branch of
 ``family CZ1 --E-range A B``). Their examples are not run as doctests (each first
 follows a family, ~20 s); ``tests/test_choreo.py`` checks the same values.
 
@@ -37,15 +37,25 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass, replace
+from dataclasses import replace
 from functools import cache
 
-import numpy as np
-
+from .branch import Branch
 from .choreo import Choreography, choreography_of, reduced_trace
+from .choreo_family import (
+    ChoreoMember,
+    ChoreoPoint,
+    _branch_of,
+    _check_range,
+    _choreo_member,
+    _gap,
+    _locate,
+    _u_at_E,
+    special_points,
+)
 from .continuation import PALC, ContinuationOptions, continuation, member
 from .periodic import PeriodicOrbit, periodic_orbit, stability_of
-from .precision import FLOAT64, tier
+from .precision import FLOAT64, Tier, tier
 from .reversors import start_sets, targets
 from .shooting import ShootingProblem, residual, solve
 
@@ -57,7 +67,6 @@ __all__ = [
     "z3_orbits",
     "z3_orbit",
     "z3_points",
-    "Z3Report",
     "z3_family",
 ]
 
@@ -93,6 +102,9 @@ _T_CAP = 40.0  # the continuation stops where the period exceeds this
 _DS = (
     0.0125  # pseudo-arclength step (twice that of the census, scripts/choreo_census.py)
 )
+
+#: The description of the end where CZ1 and CZ2 are born (a ``fold`` of ``E``).
+_BORN = "born at CG (CG's tr M = 0, theta = pi/2)"
 
 
 def _label(label):
@@ -146,8 +158,9 @@ def seed_choreography(label: str) -> Choreography:
 
 
 @cache
-def _branch(lab):
-    """``(problem, members, tr DP, tr M, stops)``: the whole family, float64."""
+def _branch(lab: str) -> tuple:
+    """``(members, stops)``: the whole family along the continuation, float64, each member
+    a :class:`~rotorlib.choreo_family.ChoreoMember` (``tr M`` and ``tr DP``)."""
     p = z3_problem(lab)
     _, _, _, u0, E0, _ = Z3_FAMILIES[lab]
     opts = ContinuationOptions(
@@ -157,35 +170,20 @@ def _branch(lab):
     m0 = member(p, u0, E0)
     back = continuation(p, replace(alg, direction=-1), opts, [m0])
     fwd = continuation(p, alg, opts, [m0])
-    ms = tuple(back.members[::-1]) + tuple(fwd.members[1:])
     k = seed_choreography(lab).power
-    tr = [reduced_trace(p.state(m.u, m.w), 6 * m.t1, order=3, power=k) for m in ms]
-    trp = np.array([float(v[0]) for v in tr])
-    trm = np.array([float(v[1]) for v in tr])
-    return p, ms, trp, trm, (back.stop, fwd.stop)
+    ms = []
+    for m in back.members[::-1] + fwd.members[1:]:
+        trp, trm = reduced_trace(p.state(m.u, m.w), 6 * m.t1, order=3, power=k)
+        ms.append(_choreo_member(m, float(trm), float(trp)))
+    return tuple(ms), (back.stop, fwd.stop)
 
 
-def _gap(x):
-    from .choreo_family import _gap as gap
-
-    return gap(x)
-
-
-def _at_u(lab, u, E_guess, t=FLOAT64):
-    from .choreo_family import _at_u as at
-
-    k = seed_choreography(lab).power
-    return at(u, E_guess, t, z3_problem(lab), 3, k)
-
-
-def _root(lab, lev, ua, ub, Ea, t):
-    from .choreo_family import _locate
-
+def _root(lab: str, lev: float, ua, ub, Ea: float, t: Tier) -> ChoreoMember:
     k = seed_choreography(lab).power
     tol = 1e-13 if not t.extended else t.num(t.eps) ** t.num(0.75)
     with t.context():
         return _locate(
-            lambda r: r[2] - lev,
+            lambda m: m.trace_reduced - lev,
             t.num(ua),
             t.num(ub),
             Ea,
@@ -197,12 +195,12 @@ def _root(lab, lev, ua, ub, Ea, t):
         )
 
 
-def _extremum(lab, j):
+def _extremum(lab: str, j: int) -> float:
     """``E`` at the extremum of ``E(u)`` next to the member ``j`` of the branch (bounded
     Brent on ``(u_{j-1}, u_{j+1})``, each ``u`` solved for ``E``; float64)."""
     from scipy.optimize import minimize_scalar
 
-    p, ms = z3_problem(lab), _branch(lab)[1]
+    p, ms = z3_problem(lab), _branch(lab)[0]
     a, m, b = ms[j - 1], ms[j], ms[j + 1]
     sign = 1 if float(m.E) > float(a.E) else -1  # a maximum: minimise -E
     guess = [float(m.E)]
@@ -217,39 +215,52 @@ def _extremum(lab, j):
 
 
 @cache
-def _raw_points(lab):
+def _raw_points(lab: str) -> list:
     """``(kind, level, index)`` of every crossing of ``tr DP`` through 4 or 0 between the
     members ``index`` and ``index + 1``, and the extrema of ``E`` without one."""
-    _, ms, trp, _, _ = _branch(lab)
+    ms = _branch(lab)[0]
     E = [float(m.E) for m in ms]
+    trp = [m.trace_reduced for m in ms]
     ext = [j for j in range(1, len(E) - 1) if (E[j] - E[j - 1]) * (E[j + 1] - E[j]) < 0]
-    out = []
+    out: list[tuple[str, float | None, int]] = []
     for i in range(len(ms) - 1):
         for lev in (4.0, 0.0):
             if (trp[i] - lev) * (trp[i + 1] - lev) < 0:
                 fold = lev == 4.0 and any(j in (i, i + 1) for j in ext)
                 out.append(("fold" if fold else "IS" if lev == 4.0 else "PD", lev, i))
     used = {i + d for k, _, i in out if k == "fold" for d in (0, 1)}
-    out += [("born at CG", None, j) for j in ext if j not in used]
+    out += [(_BORN, None, j) for j in ext if j not in used]
     return out
 
 
-def _cg_birth(digits):
-    from .choreo_family import special_points
-
-    (q,) = [p for p in special_points("CG", digits=digits) if "pi/2" in p.kind]
-    return q
+def _born(lab: str, m: ChoreoMember) -> ChoreoMember:
+    """CG's member ``m`` at its point ``tr M = 0`` (``theta = pi/2``) as the Z3 family's:
+    CG's orbit run twice (``T = 6 t1``; ``P`` over ``T/3`` is CG's ``P^4``)."""
+    th = math.acos(float(m.trace_reduced) / 2 - 1)  # CG's reduced angle, pi/2
+    with Tier(m.precision).context():
+        t1 = 4 * m.t1
+    return replace(
+        m,
+        label=lab,
+        factor=6,
+        t1=t1,
+        trace_reduced=2 + 2 * math.cos(4 * th),
+        trace=2 + 2 * math.cos(12 * th),
+    )
 
 
 @cache
-def z3_points(label: str, digits: int | None = None) -> tuple:
+def z3_points(label: str, digits: int | None = None) -> tuple[ChoreoPoint, ...]:
     """The special points of a Z3 family, ordered by energy
-    (:class:`rotorlib.choreo_family.ChoreoPoint`, ``branch`` the label): folds, ``IS`` and
-    ``PD`` (the stability changes: ``tr DP`` through 4 or 0) and the end where the family
-    is born at CG (``born at CG``). Each is located in float64 and, with ``digits`` > 15,
-    again in that tier (``E_str``; ``agreement`` = the difference of the two); a fold's
-    ``check`` also gives its distance to the extremum of ``E(u)``. Points found on both
-    symmetric halves of a family are listed once (``check`` says so).
+    (:class:`rotorlib.choreo_family.ChoreoPoint`, ``branch`` the label, ``index`` that of
+    the family's members): folds, ``IS`` and ``PD`` (the stability changes: ``tr DP``
+    through 4 or 0) and the end where the family is born at CG (a ``fold``: ``E(u)`` has
+    its extremum there, ``tr DP = 4``; ``description`` ``born at CG ...``; its member is
+    CG's orbit run twice, with CG's amplitude ``u``). Each is located in float64 and,
+    with ``digits`` > 15, again in that tier (``refined``, ``E_str``; ``agreement`` = the
+    difference of the two); a fold's ``check`` also gives its distance to the extremum of
+    ``E(u)``. Points found on both symmetric halves of a family are listed once
+    (``check`` says so).
 
     Precision: float64 ``E`` to ~1e-13 (the agreement measures it), a tier's to
     ``~eps^(3/4)``; ``born at CG`` as CG's point
@@ -258,42 +269,43 @@ def z3_points(label: str, digits: int | None = None) -> tuple:
     Examples
     --------
     >>> from rotorlib.choreo_z3 import z3_points
-    >>> [(p.kind, round(p.E, 8)) for p in z3_points("CR1")]  # doctest: +SKIP
+    >>> [(p.kind, round(p.member.E, 8)) for p in z3_points("CR1")]  # doctest: +SKIP
     [('PD', 5.70695054), ('fold', 5.70770316)]
     """
-    from .choreo_family import ChoreoPoint
-
     lab = _label(label)
     t = tier(digits) if digits is not None and digits > 15 else FLOAT64
-    _, ms, _, _, _ = _branch(lab)
+    ms = _branch(lab)[0]
     out = []
     for kind, lev, i in _raw_points(lab):
-        if kind == "born at CG":
-            q = _cg_birth(digits)
+        if kind == _BORN:
+            (q,) = [
+                p
+                for p in special_points("CG", digits=digits)
+                if "pi/2" in p.description
+            ]
             Ez = _extremum(lab, i)
-            th = math.acos(q.trace_reduced / 2 - 1)  # CG's reduced angle, pi/2
             out.append(
                 replace(
                     q,
-                    kind=kind + " (CG's tr M = 0, theta = pi/2)",
+                    kind="fold",
+                    member=_born(lab, q.member),
+                    index=i,
+                    refined=q.refined and _born(lab, q.refined),
+                    description=kind,
                     branch=lab,
-                    period=2 * q.period,  # CG twice: P over T/3 is CG's P^4
-                    trace_reduced=2 + 2 * math.cos(4 * th),
-                    trace=2 + 2 * math.cos(12 * th),
                     check="period, tr DP, tr M: CG's orbit run twice; the family's own "
-                    f"extremum of E differs by {_gap(abs(Ez - q.E))}",
+                    f"extremum of E differs by {_gap(abs(Ez - float(q.member.E)))}",
                 )
             )
             continue
-        ua, ub, Ea = float(ms[i].u), float(ms[i + 1].u), float(ms[i].E)
-        u, r = _root(lab, lev, ua, ub, Ea, FLOAT64)
-        E, T, trp, trm = (float(v) for v in r)
-        E_str, agree, check = f"{E:.13f}", math.nan, ""
+        m = _root(lab, lev, float(ms[i].u), float(ms[i + 1].u), float(ms[i].E), FLOAT64)
+        u, E = float(m.u), float(m.E)
+        refined, agree, check = None, math.nan, ""
         if t.extended:
             h = 1e-7 * max(1.0, abs(u))
-            ut, rt = _root(lab, lev, u - h, u + h, E, t)
-            d = max(10, int(digits or 0) - 10)
-            E_str, agree = t.text(rt[0], d), abs(float(rt[0]) - E)
+            refined = _root(lab, lev, u - h, u + h, E, t)
+            refined = replace(refined, digits=max(10, int(digits or 0) - 10))
+            agree = abs(float(refined.E) - E)
             check = f"float64 and {t.name} agree to {_gap(agree)}"
         if kind == "fold":
             j = i if abs(float(ms[i].u) - u) < abs(float(ms[i + 1].u) - u) else i + 1
@@ -301,10 +313,14 @@ def z3_points(label: str, digits: int | None = None) -> tuple:
             check += (
                 "; " if check else ""
             ) + f"extremum of E(u) {_gap(abs(Eb - E))} away"
-        out.append(ChoreoPoint(kind, lab, E, T, trp, trm, E_str, agree, check, u))
-    uniq: list = []
-    for q in sorted(out, key=lambda q: q.E):
-        if uniq and uniq[-1].kind == q.kind and abs(uniq[-1].E - q.E) < 1e-9:
+        out.append(ChoreoPoint(kind, m, i, True, kind, lab, refined, agree, check))
+    uniq: list[ChoreoPoint] = []
+    for q in sorted(out, key=lambda q: q.member.E):
+        if (
+            uniq
+            and uniq[-1].description == q.description
+            and abs(uniq[-1].member.E - q.member.E) < 1e-9
+        ):
             note = "found on both symmetric halves"
             uniq[-1] = replace(uniq[-1], check=f"{uniq[-1].check}; {note}".lstrip("; "))
             continue
@@ -326,24 +342,27 @@ def z3_range(label: str) -> tuple:
     (5.70770316, 'a fold (saddle-node)')
     """
     lab = _label(label)
-    _, ms, _, _, _ = _branch(lab)
-    E = [float(m.E) for m in ms]
-    ends = [(E[0], "the period exceeds 40 (E -> 4.5: the maxima T1, T2)")]
-    ends.append((E[-1], ends[0][1]))
+    ms = _branch(lab)[0]
+    why = "the period exceeds 40 (E -> 4.5: the maxima T1, T2)"
+    ends = [(float(ms[0].E), why), (float(ms[-1].E), why)]
     for q in z3_points(lab):
         if q.kind == "fold":
-            ends.append((q.E, "a fold (saddle-node)"))
-        elif q.kind.startswith("born"):
-            ends.append((q.E, "CG's point tr M = 0, where the family is born"))
+            born = q.description == _BORN
+            ends.append(
+                (
+                    float(q.member.E),
+                    "CG's point tr M = 0, where the family is born"
+                    if born
+                    else "a fold (saddle-node)",
+                )
+            )
     lo, hi = min(ends), max(ends)
     return lo[0], hi[0], lo[1], hi[1]
 
 
 @cache
 def _orbits(lab, E, digits):
-    p, ms, _, _, _ = _branch(lab)
-    from .choreo_family import _u_at_E
-
+    p, ms = z3_problem(lab), _branch(lab)[0]
     t = tier(digits) if digits is not None and digits > 15 else FLOAT64
     Ef, k = float(E), seed_choreography(lab).power
     found = []
@@ -438,71 +457,40 @@ def z3_orbit(
     )
 
 
-@dataclass(frozen=True)
-class Z3Report:
-    """``family CZ1 --E-range A B``: members ``(E, period, tr DP, tr M, stable)`` with
-    ``E`` in the range, the special points there (:func:`z3_points`), the energies the
-    continuation spanned and why it stopped each way.
-
-    Examples
-    --------
-    >>> from rotorlib.choreo_z3 import z3_family
-    >>> z3_family("CR1", (5.7, 5.71)).to_dict()["label"]  # doctest: +SKIP
-    'CR1'
-    """
-
-    label: str
-    E_range: tuple
-    members: tuple
-    points: tuple
-    span: tuple
-    stops: tuple
-
-    def to_dict(self) -> dict:
-        """A JSON-serialisable dict (the ``family`` command's ``--json`` output)."""
-        return {
-            "label": self.label,
-            "description": Z3_FAMILIES[self.label][5],
-            "E_range": list(self.E_range),
-            "span": list(self.span),
-            "stops": list(self.stops),
-            "members": [
-                dict(zip(("E", "period", "trace_reduced", "trace", "stable"), m))
-                for m in self.members
-            ],
-            "special_points": [p.to_dict() for p in self.points],
-        }
-
-
 def z3_family(
     label: str, E_range: Sequence[float], digits: int | None = None
-) -> Z3Report:
-    """The members of the Z3 family ``label`` with ``E`` in ``E_range`` and its special
-    points there (:func:`z3_points`, re-located in the tier of ``digits`` > 15); a range
-    the family does not reach raises ValueError with the energies it spans.
+) -> Branch:
+    """The Z3 family ``label`` as a :class:`~rotorlib.branch.Branch`: its members with
+    ``E`` in ``E_range`` (in order along the continuation;
+    :class:`~rotorlib.choreo_family.ChoreoMember`, float64, ``trace`` is ``tr M``,
+    ``trace_reduced`` is ``tr DP`` over ``T/3``, which decides ``stability``) and its
+    special points there (:func:`z3_points`, re-located in the tier of ``digits`` > 15).
+    ``stop`` is why the continuation stopped each way (``period``: ``T > 40``),
+    ``reason`` the energies the family spans and why it ends there (:func:`z3_range`).
+    A range the family does not reach raises ValueError with the energies it spans.
 
     Examples
     --------
     >>> from rotorlib.choreo_z3 import z3_family
-    >>> r = z3_family("CR1", (5.65, 5.75))  # doctest: +SKIP
-    >>> [(p.kind, round(p.E, 10)) for p in r.points]  # doctest: +SKIP
+    >>> b = z3_family("CR1", (5.65, 5.75))  # doctest: +SKIP
+    >>> [(p.kind, round(p.member.E, 10)) for p in b.special_points]  # doctest: +SKIP
     [('PD', 5.706950538), ('fold', 5.7077031647)]
     """
     lab = _label(label)
-    lo, hi = (float(v) for v in E_range)
-    if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi):
-        raise ValueError(f"--E-range must be two finite energies A < B, got {E_range}")
-    _, ms, trp, trm, stops = _branch(lab)
-    e0, e1, _, _ = z3_range(lab)
+    lo, hi = _check_range(E_range)
+    ms, stops = _branch(lab)
+    e0, e1, why0, why1 = z3_range(lab)
     if hi < e0 or lo > e1:
         raise ValueError(
             f"{lab} was followed over {e0:.10f} <= E <= {e1:.10f} (ends: "
             f"{' / '.join(stops)}): the range {lo:g}..{hi:g} misses it"
         )
-    rows = [
-        (float(m.E), float(6 * m.t1), float(a), float(b), bool(0 < a < 4))
-        for m, a, b in zip(ms, trp, trm)
-        if lo <= float(m.E) <= hi
-    ]
-    pts = tuple(q for q in z3_points(lab, digits) if lo <= q.E <= hi)
-    return Z3Report(lab, (lo, hi), tuple(rows), pts, (e0, e1), stops)
+    return _branch_of(
+        z3_problem(lab),
+        ms,
+        z3_points(lab, digits),
+        (lo, hi),
+        " / ".join(stops),
+        f"{Z3_FAMILIES[lab][5]}; exists for {e0:.10f} <= E <= {e1:.10f} (below: "
+        f"{why0}; above: {why1}; continuation ends: {' / '.join(stops)})",
+    )

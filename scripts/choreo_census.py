@@ -101,12 +101,12 @@ def _touch_family(o, E_end):
 def touches(pool):
     """Near-resonant orbits just below and above CG's touches (see the docstring)."""
     out = []
-    cg = {p.kind: p for p in special_points("CG")}
+    cg = {p.description: p.member for p in special_points("CG")}
     for key, mult, dE in TOUCHES:
-        (q,) = [p for k, p in cg.items() if key in k]
+        (q,) = [m for k, m in cg.items() if key in k]
         for side in (-1, 1):
             E = round(q.E + side * dE, 6)
-            T_cg = q.period  # CG's period at the touch
+            T_cg = float(q.period)  # CG's period at the touch
             a = _census(E, round(mult * T_cg * 1.05, 2), pool)
             found = []
             for o in a.orbits:
@@ -129,7 +129,7 @@ def touches(pool):
                 {
                     "touch": key,
                     "E_touch": q.E,
-                    "period_touch": q.period,
+                    "period_touch": T_cg,
                     "periods_of_CG": mult,
                     "E": E,
                     "t_max": round(mult * T_cg * 1.05, 2),
@@ -142,7 +142,28 @@ def touches(pool):
 
 
 def _z3_points(label):
-    return [{**p.to_dict(), "u": p.u} for p in z3_points(label, 30)]
+    """The family's special points to 30 digits in this file's format: ``kind`` the
+    point's description, ``E``, ``period``, the traces and ``u`` of the float64 location
+    (the birth at CG: of CG's point located again in real128, with CG's float64 ``u``),
+    ``E_str`` of the real128 one, their ``agreement`` and the ``check``."""
+    out = []
+    for p in z3_points(label, 30):
+        v = p.refined if p.description.startswith("born") else p.member
+        out.append(
+            {
+                "kind": p.description,
+                "branch": p.branch,
+                "E": float(v.E),
+                "E_str": p.E_str,
+                "period": float(v.period),
+                "trace_reduced": float(v.trace_reduced),
+                "trace": float(v.trace),
+                "agreement": p.agreement,
+                "check": p.check,
+                "u": float(p.member.u),
+            }
+        )
+    return out
 
 
 def _on(fam, E, T, rel=2e-3):

@@ -22,6 +22,7 @@ from scipy.integrate import solve_ivp
 from scipy.optimize import least_squares
 
 from rotorlib import cli
+from rotorlib.branch import Branch
 from rotorlib.choreo import T0, cg_problem, relabelling
 from rotorlib.choreo_family import (
     cg_orbit,
@@ -251,9 +252,7 @@ def test_fold_at_band_edge_and_refusal(capsys):
     assert abs(np.polyval(c, h_max) - E_f) < 1e-9
     # family CG prints it, and the orbit beyond it is refused in one line (exit 2)
     rep = family("CG", (5.3, 5.4))
-    assert (
-        rep.points[-1].kind.startswith("fold") and abs(rep.points[-1].E - E_f) < 1e-12
-    )
+    assert rep.special_points[-1].kind == "fold" and abs(rep.fold.E - E_f) < 1e-12
     assert cli.main(["orbit", "CG", "--E", f"{E_f + 1e-8:.12f}"]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "fold" in err[0]
@@ -263,24 +262,29 @@ def test_fold_at_band_edge_and_refusal(capsys):
     # the fold re-solved in the 30-digit tier (family --digits 30)
     p30 = special_points("CG", (5.3, 5.4), digits=30)[-1]
     assert len(p30.E_str) >= 20 and abs(float(p30.E_str) - E_f) < 1e-13
+    assert p30.refined.precision == "real128" and p30.agreement < 1e-13
 
 
 def test_family_stability_kinds():
     """CG is stable from G to the fold (tr DP rises from 1 to 4): its tr M = 0, 4 are no
     stability changes; CT is unstable throughout (tr DP > 4)."""
     pts = special_points("CG")
-    assert [p.kind.split(" (")[0] for p in pts] == [
+    assert [p.description.split(" (")[0] for p in pts] == [
         "tr M = 0",
         "tr M = 4",
         "tr M = 0",
         "fold",
     ]
+    assert [p.kind for p in pts] == ["PD", "IS", "PD", "fold"]
     for p in pts[:-1]:
-        assert 0 < p.trace_reduced < 4
-        assert min(abs(p.trace), abs(p.trace - 4)) < 1e-8
+        assert 0 < p.member.trace_reduced < 4 and p.member.stability == "stable"
+        assert min(abs(p.member.trace), abs(p.member.trace - 4)) < 1e-8
     assert special_points("CT") == pts[-1:]
     rep = family("CT", (4.6, 5.3))
-    assert rep.members and all(not m[4] and m[2] > 4 for m in rep.members)
+    assert rep.members and all(
+        not m.stable and m.stability == "unstable" and m.trace_reduced > 4
+        for m in rep.members
+    )
 
 
 def test_lindstedt_first_correction():
@@ -341,15 +345,17 @@ def test_z3_family_cr1_against_the_census():
     (cr1,) = [f for f in _census_data()["families"] if f["label"] == "CR1"]
     stored = {k: e for k, e in cr1["points"] if k in ("PD", "fold") and e > 5.7}
     r = z3_family("CR1", (5.65, 5.75), digits=30)
-    got = {p.kind: p for p in r.points}
+    assert isinstance(r, Branch) and r.label == "CR1" and r.stop == "period / period"
+    got = {p.kind: p for p in r.special_points}
     assert set(got) == {"PD", "fold"}
     for k in ("PD", "fold"):
-        assert abs(got[k].E - stored[k]) < 1e-8
+        assert abs(got[k].member.E - stored[k]) < 1e-8
         assert len(got[k].E_str) >= 20 and got[k].agreement < 1e-12
-        assert abs(float(got[k].E_str) - got[k].E) < 1e-12
-    assert abs(got["PD"].trace_reduced) < 1e-12
-    assert abs(got["fold"].trace_reduced - 4) < 1e-12
+        assert abs(float(got[k].E_str) - got[k].member.E) < 1e-12
+    assert abs(got["PD"].member.trace_reduced) < 1e-12
+    assert abs(got["fold"].member.trace_reduced - 4) < 1e-12
     assert "extremum of E(u)" in got["fold"].check
+    assert r.fold is got["fold"].member and r.E_max == got["fold"].member.E
     # the 20 digits printed at digits=30 (real128) are those of the 40-digit tier (mp)
     from rotorlib.choreo_z3 import z3_points
 
@@ -357,7 +363,10 @@ def test_z3_family_cr1_against_the_census():
         for p40 in z3_points("CR1", 40):
             d = mp.mpf(p40.E_str) - mp.mpf(got[p40.kind].E_str)
             assert 0 < abs(d) < mp.mpf("1e-19")
-    assert any(m[4] for m in r.members) or got["fold"].E - got["PD"].E < 1e-3
+    # the one stable member lies between PD and fold, where tr DP is in (0, 4)
+    (st,) = [m for m in r.members if m.stable]
+    assert got["PD"].member.E < st.E < got["fold"].member.E
+    assert 0 < st.trace_reduced < 4 and 0 < st.trace < 4
     assert cli.main(["family", "CZ9", "--E-range", "4", "5"]) == 2
 
 
@@ -367,12 +376,59 @@ def test_family_cli_z3_digits(capsys):
         cli.main(["family", "CR1", "--E-range", "5.7", "5.71", "--digits", "30"]) == 0
     )
     out = capsys.readouterr().out
-    lines = [ln for ln in out.splitlines() if ln.strip().startswith("E = ")]
-    assert len(lines) == 2
+    lines = [ln for ln in out.splitlines() if ln.split()[1:2] == ["E"]]
+    assert [ln.split()[0] for ln in lines] == ["PD", "fold"]
     for ln in lines:
-        E = ln.split()[2]
+        E = ln.split()[3]
         assert len(E.split(".")[1]) >= 15
     assert "PD" in out and "fold" in out and "agree to" in out
+
+
+@pytest.mark.parametrize(
+    "label, E_range",
+    [
+        ("CG", (5.2, 5.4)),
+        ("CT", (5.0, 5.4)),
+        ("CZ1", (4.4, 4.69)),
+        ("CZ2", (4.55, 4.7)),
+        ("CR1", (5.7, 5.71)),
+    ],
+)
+def test_every_choreography_family_is_a_branch(label, E_range):
+    """rotorlib.family gives one container for every choreography: a Branch of Members
+    inside E_range, SpecialPoints of kind fold, IS or PD; its JSON round-trips; a Z3
+    family's points are the census's (book/data/choreographies_T16.json) to 1e-12."""
+    import json
+
+    import rotorlib
+    from rotorlib.branch import Member, SpecialPoint
+
+    b = rotorlib.family(label, E_range)
+    lo, hi = E_range
+    assert isinstance(b, Branch) and b.label == label and b.E_range == E_range
+    assert b.members and all(isinstance(m, Member) for m in b.members)
+    for m in b.members:
+        assert lo <= m.E <= hi and m.label == label and m.period == m.factor * m.t1
+        assert m.stable == bool(0 < m.trace_reduced < 4)  # the verdict of tr DP
+    assert b.special_points and b.stop and b.reason
+    for p in b.special_points:
+        assert isinstance(p, SpecialPoint) and p.kind in ("fold", "IS", "PD")
+        assert p.located and lo <= p.member.E <= hi
+        assert -1 <= p.index < len(b.members)
+    d = b.to_dict()
+    assert json.loads(json.dumps(d, allow_nan=False)) == d
+    assert d["E_range"] == list(E_range) and len(d["members"]) == len(b.members)
+    assert [q["kind"] for q in d["special_points"]] == [
+        p.kind for p in b.special_points
+    ]
+    assert d["members"][0]["trace_reduced"] == float(b.members[0].trace_reduced)
+    if label in ("CG", "CT"):
+        return
+    (fam,) = [f for f in _census_data()["families"] if f["label"] == label]
+    stored = [(q["kind"], q["E"]) for q in fam["special_points"] if lo <= q["E"] <= hi]
+    got = [(p.description, p.member.E) for p in b.special_points]
+    assert [k for k, _ in got] == [k for k, _ in stored]
+    assert all(abs(a - b) < 1e-12 for (_, a), (_, b) in zip(got, stored))
 
 
 def test_choreography_orbit_z3_against_the_census():

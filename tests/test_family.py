@@ -85,3 +85,23 @@ def test_extended_members_carry_their_digits():
     d = m.to_dict()
     assert d["E"] == 3.991 and d.get("E_str", "3.991").startswith("3.991")
     assert len(d["state0_str"]) == 4
+
+
+def test_one_container_for_every_family(capsys):
+    """rotorlib.family gives a Branch for a newborn family and a choreography alike, and the
+    family command prints both through it (members, then special points)."""
+    import rotorlib
+    from rotorlib import cli
+    from rotorlib.branch import Branch
+
+    for label, E_range in (("IS^l_1", (3.991, 4.0)), ("CG", (5.3, 5.4))):
+        b = rotorlib.family(label, E_range)
+        assert isinstance(b, Branch) and b.label == label and b.E_range == E_range
+        assert all(E_range[0] <= m.E <= E_range[1] for m in b.members)
+        assert cli.main(["family", label, "--E-range", *map(str, E_range)]) == 0
+        out = capsys.readouterr().out.splitlines()
+        assert out[0].startswith(f"{label}: {len(b.members)} members in ")
+        assert "special points:" in out[len(b.members) + 2]
+    (fold,) = rotorlib.family("CT", (5.3, 5.4)).points("fold")
+    assert fold.index == -1 and fold.description == "fold (saddle-node)"
+    assert abs(float(fold.member.E) - 5.3153239128) < 1e-10

@@ -1,7 +1,7 @@
 """``python -m rotorlib family LABEL --E-range A B``: a family followed (:func:`rotorlib.family`).
 
-Prints the members of the branch with energy in ``[A, B]`` and its special points there.
-A family born at a pendulum bifurcation (``IS^l_n``, ``PD^r_n``, ...): period, ``tr M``,
+Prints the members of the branch with energy in ``[A, B]`` and its special points there,
+one path for every family (a :class:`~rotorlib.branch.Branch`). A family born at a pendulum bifurcation (``IS^l_n``, ``PD^r_n``, ...): period, ``tr M``,
 stability, and the folds and ``tr M = 4`` (IS) / ``0`` (PD) points located by the engine,
 with why the branch stopped. A choreography: period, ``tr DP`` of the reduced map,
 ``tr M``, stability, the fold, the stability changes and the energies where ``tr M``
@@ -58,79 +58,63 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.set_defaults(func=run)
 
 
-def _num(v, name):
-    from ..energy import as_float
-
-    return as_float(v, name)
-
-
-def _table(rec):
-    print(f"{'E':>18}  {'period':>18}  {'tr DP':>14}  {'tr M':>14}  stable")
-    for m in rec["members"]:
-        print(
-            f"{m['E']:18.12f}  {m['period']:18.12f}  {m['trace_reduced']:14.8g}  "
-            f"{m['trace']:14.8g}  {'yes' if m['stable'] else 'no'}"
-        )
-    print("special points:")
-    if not rec["special_points"]:
-        print("  none in the range")
-    for p in rec["special_points"]:
-        e = p["E_str"] if p["E_str"] != repr(p["E"]) else f"{p['E']:.13f}"
-        check = f"  ({p['check']})" if p["check"] else ""
-        print(
-            f"  E = {e}  T = {p['period']:.10f}  tr DP = {p['trace_reduced']:.10f}  "
-            f"{p['kind']}  [{p['branch']}]{check}"
-        )
-
-
 def _print_branch(b: Branch, lo: float, hi: float) -> None:
-    """A family born at a pendulum bifurcation: its members and special points."""
+    """Any family: its members and special points; a choreography's
+    (:class:`~rotorlib.choreo_family.ChoreoMember`, ``ChoreoPoint``) also ``tr DP``, and
+    each point's period, description, branch and check."""
+    from ..choreo_family import ChoreoMember, ChoreoPoint
+
     d = max(12, min(30, b.members[0].digits)) if b.members else 12
+    ms = [*b.members, *(p.member for p in b.special_points)]
+    reduced = any(isinstance(m, ChoreoMember) for m in ms)
     print(f"{b.label}: {len(b.members)} members in {lo:g} <= E <= {hi:g}; {b.reason}")
-    print(f"{'E':>{d + 4}}  {'period':>{d + 4}}  {'tr M':>16}  stability")
+    print(
+        f"{'E':>{d + 4}}  {'period':>{d + 4}}  "
+        + (f"{'tr DP':>16}  " if reduced else "")
+        + f"{'tr M':>16}  stability"
+    )
     for m in b.members:
+        trp = (
+            f"{float(m.trace_reduced):16.10g}  " if isinstance(m, ChoreoMember) else ""
+        )
         print(
-            f"{float(m.E):{d + 4}.{d}f}  {float(m.period):{d + 4}.{d}f}  "
+            f"{float(m.E):{d + 4}.{d}f}  {float(m.period):{d + 4}.{d}f}  {trp}"
             f"{float(m.trace):16.10g}  {m.stability}"
         )
     print(
         "special points:" if b.special_points else "special points: none in the range"
     )
     for p in b.special_points:
-        what = {"IS": "tr M = 4", "PD": "tr M = 0", "fold": "fold of E"}.get(
-            p.kind, p.kind
-        )
-        E_p = p.member.E_str if p.member.digits > 15 else f"{float(p.member.E):.{d}f}"
-        print(
-            f"  {p.kind:4s} E = {E_p}  ({what}{'' if p.located else ', not located'})"
-        )
+        m = p.member
+        what = f"({_WHAT.get(p.kind, p.kind)}{'' if p.located else ', not located'})"
+        if isinstance(p, ChoreoPoint):
+            m = p.refined or p.member  # the best location
+            what = (
+                f"T = {float(m.period):.10f}  tr DP = {float(m.trace_reduced):.10f}  "
+                f"({p.description})  [{p.branch}]" + (f"  {p.check}" if p.check else "")
+            )
+        E_p = m.E_str if m.precision != "float64" else f"{float(m.E):.{d}f}"
+        print(f"  {p.kind:4s} E = {E_p}  {what}")
+
+
+_WHAT = {"IS": "tr M = 4", "PD": "tr M = 0", "fold": "fold of E"}
 
 
 def run(args: argparse.Namespace) -> int:
     from ..api import LABELS, family
-    from ..branch import Branch
+    from ..energy import as_float
     from ..precision import check_digits
 
     check_digits(args.digits, "--digits")
-    lo, hi = (_num(v, "--E-range") for v in args.E_range)
+    lo, hi = (as_float(v, "--E-range") for v in args.E_range)
     choreo = str(args.label).strip().upper() in LABELS["choreography"]
     if choreo and args.digits is not None and args.digits > 60:
         raise ValueError(
             f"--digits for a choreography is at most 60, got {args.digits}"
         )
-    res = family(args.label, (lo, hi), digits=args.digits)
-    rec = res.to_dict()
+    b = family(args.label, (lo, hi), digits=args.digits)
     if args.json:
-        print(json.dumps(rec, indent=2))
-    elif isinstance(res, Branch):
-        _print_branch(res, lo, hi)
+        print(json.dumps(b.to_dict(), indent=2))
     else:
-        ends = (
-            f"exists for {rec['span'][0]:.10f} <= E <= {rec['span'][1]:.10f} "
-            f"(continuation ends: {' / '.join(rec['stops'])})"
-            if "span" in rec  # a Z3 family
-            else f"exists for {rec['E_min']:g} < E <= {rec['E_max']:.12f}"
-        )
-        print(f"{rec['label']}: {rec['description']}; {ends}")
-        _table(rec)
+        _print_branch(b, lo, hi)
     return 0
