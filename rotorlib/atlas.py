@@ -46,7 +46,7 @@ from .system import lattice_reduce
 
 __all__ = ["Atlas", "census", "atlas", "budget_seconds", "BUDGET"]
 __all__ += ["E_DOMAIN", "BUDGET_MODEL", "SAME_ORBIT", "scan", "brackets"]
-__all__ += ["refine_bracket", "finish_orbit", "atlas_orbit"]
+__all__ += ["refine_bracket", "finish_orbit", "atlas_orbit", "distinct_orbits"]
 __all__ += ["SampledOrbit", "distance_to_orbit"]
 
 #: Energies where the census is validated (``tests/test_atlas.py``). Below ``E = 0.1`` the
@@ -554,7 +554,7 @@ def _run(job):
     return job[0](job[1])
 
 
-def _distinct(args) -> list:
+def distinct_orbits(args: tuple) -> list:
     """A group of roots of :func:`census` (periods within 1e-7 of a neighbour's) without its
     repeats (the same period and action, and an image of the start state within
     ``SAME_ORBIT`` of an earlier root's orbit), finished (:func:`finish_orbit`):
@@ -659,7 +659,7 @@ def census(
     kw: dict = dict(
         executor=executor, progress=progress, desc="orbits", chunksize=chunk
     )
-    done = pmap(_distinct, tasks, **kw)
+    done = pmap(distinct_orbits, tasks, **kw)
     orbits = []
     D = 15 if digits is None else int(digits)
     for i, (f, fin_i) in enumerate(x for d in done for x in d):
