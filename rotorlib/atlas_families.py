@@ -10,10 +10,11 @@ about the parent's at IS, twice it at PD) are found beside the parent at ``E = E
 A daughter orbit converges to the parent as ``dE -> 0``, so each of its points on a fixed set
 tends to a point of the parent on a fixed set: the daughter meets the start set of the parent
 near the parent's start, or the parent's target fixed set near the parent's symmetric point.
-Both neighbourhoods are scanned (the census scan, ``atlas.scan``, on a window of the start set,
-the target point mapped onto its class's start set by the symmetry group) for symmetric
-orbits of the daughter's period, refined and verified as in the census. The daughters are
-atlas orbits: :func:`families` follows them in turn.
+Both neighbourhoods are scanned (the census scan, ``atlas.symmetric_roots``, on a window of
+the start set, the target point mapped onto its class's start set by the symmetry group)
+for symmetric orbits of the daughter's period, refined and verified as in the census. The
+daughters are atlas orbits: :func:`families` follows them in turn. A family is a
+:class:`rotorlib.branch.Branch`; :func:`stable_windows` reads its stable energies.
 
 Precision: float64 (members to residual < 1e-8, folds to ~1e-15 in ``E``, IS/PD to ~1e-14
 in the local parameter; daughters verified like census orbits, closure < 1e-9 |tr M|).
@@ -39,11 +40,9 @@ from .atlas import (
     Atlas,
     SampledOrbit,
     atlas_orbit,
-    brackets,
     distance_to_orbit,
     distinct_orbits,
-    refine_bracket,
-    scan,
+    symmetric_roots,
 )
 from .branch import Branch, SpecialPoint
 from .continuation import PALC, ContinuationOptions, continuation, member
@@ -80,7 +79,8 @@ def stable_windows(branch: Branch) -> list[tuple[float, float]]:
     Examples
     --------
     >>> from rotorlib.newborn import family
-    >>> [(round(a, 6), round(b, 6)) for a, b in stable_windows(family("IS^l_1", (3.9, 4.1)))]
+    >>> windows = stable_windows(family("IS^l_1", (3.9, 4.1)))
+    >>> [(round(lo, 6), round(hi, 6)) for lo, hi in windows]
     [(3.99059, 4.035708)]
     """
     st = [0 < t < 4 for t in branch.trace]
@@ -221,9 +221,7 @@ def _locate(y, E, tol=1e-7):
                 x = np.array(s.at(u, E), float)
             except ValueError:
                 return math.inf
-            d = x - ims
-            d = lattice_reduce(d)
-            return float(np.min(np.max(np.abs(d), axis=1)))
+            return float(np.min(np.max(np.abs(lattice_reduce(x - ims)), axis=1)))
 
         ds = np.array([dist(u) for u in us])
         i = int(np.argmin(ds))
@@ -319,22 +317,18 @@ def daughters(
         except (NoConvergence, SectionNotReached, ValueError):
             continue
         s = residual(fam.problem, u_p, E)
-        x0 = np.array(s.x0, float)
         T_p = float(fam.problem.factor * s.t1)
-        parent, T_d = SampledOrbit(x0, T_p), n * T_p
-        si0 = [k for k, st in enumerate(start_sets(E)) if st == fam.problem.start]
-        windows = [(k, u_p) for k in si0] + _locate(np.array(s.x1, float), E)
-        jobs = []
-        for si, uc in windows:
-            us, rows = scan(
-                si, E, t_half, grid, 8, executor, False, (uc - width, uc + width)
-            )
-            jobs += [
-                (si, j, k, E, t_half, float(us[a]), float(us[a + 1]))
-                for a, j, k in brackets(us, rows, t_half)
-            ]
+        parent, T_d = SampledOrbit(s.x0, T_p), n * T_p
+        # the parent's start on its own start set, and its symmetric point on others
+        windows = [
+            (k, u_p) for k, st in enumerate(start_sets(E)) if st == fam.problem.start
+        ] + _locate(np.array(s.x1, float), E)
         found = [
-            f for f in pmap(refine_bracket, jobs, executor=executor) if f is not None
+            f
+            for si, uc in windows
+            for f in symmetric_roots(
+                si, E, t_half, grid, (uc - width, uc + width), executor
+            )
         ]
         near = []
         for f in found:
@@ -364,14 +358,20 @@ class Cascade:
         The energy of each bifurcation: the starting point, then each daughter's PD point.
     periods : tuple of float
         Each generation's period at its birth.
+
+    Examples
+    --------
+    >>> c = Cascade((), (5.51582, 5.51493, 5.514829), (9.45, 18.9))
+    >>> [round(r, 2) for r in c.ratios]  # (E_1 - E_0) / (E_2 - E_1)
+    [8.81]
     """
 
-    families: tuple
-    births: tuple
-    periods: tuple
+    families: tuple[Branch, ...]
+    births: tuple[float, ...]
+    periods: tuple[float, ...]
 
     @property
-    def ratios(self) -> tuple:
+    def ratios(self) -> tuple[float, ...]:
         """``(E_n - E_{n-1}) / (E_{n+1} - E_n)`` of the bifurcation energies: Feigenbaum's
         ``delta`` in the limit (8.7210972... for area-preserving maps)."""
         E = self.births
@@ -405,15 +405,13 @@ def cascade(
     near = [w for w in stable_windows(fam) if w[0] - 1e-12 <= Eb <= w[1] + 1e-12]
     scale = max(w[1] - w[0] for w in near) if near else 1e-3
     fams, births, periods = [fam], [Eb], []
-    parent = fam
     for _ in range(generations):
-        dE = (
-            scale / 20
-        )  # the daughter lies ~sqrt(dE) from the parent: scan near it only
+        # the daughter lies ~sqrt(dE) from the parent (the last family): scan near it only
+        dE = scale / 20
         width = min(0.05, 10 * math.sqrt(dE))
         stable = [
             d
-            for d in daughters(parent, point, dE=dE, width=width, executor=executor)
+            for d in daughters(fams[-1], point, dE=dE, width=width, executor=executor)
             if d.stable
         ]
         if not stable:
@@ -431,7 +429,6 @@ def cascade(
         if not pds:
             raise ValueError(f"the daughter born at E = {Eb:.12f} has no PD point")
         scale, point, Eb = min(pds)
-        parent = h
         fams.append(h)
         births.append(Eb)
     return Cascade(tuple(fams), tuple(births), tuple(periods))
