@@ -64,7 +64,7 @@ __all__ = [
 E_DOMAIN = (0.1, 100.0)
 
 #: Largest accepted cost of one census in CPU seconds (:func:`budget_seconds`, whose
-#: model, fitted to ``atlas([5.45], T)``, is ``BUDGET_MODEL``).
+#: model, fitted to ``census(5.45, T)``, is ``BUDGET_MODEL``).
 BUDGET = 3600.0
 BUDGET_MODEL = {"BASE": 2.2, "GROWTH": 23.0, "RATE": 0.36}
 
@@ -98,7 +98,7 @@ class Atlas:
 def budget_seconds(E_values: Iterable[float], t_max: float, grid: int = 300) -> float:
     """A census's cost in seconds of one core (CPU time): per energy ``(BASE + GROWTH
     exp(RATE (T_max - 16)) grid / 300) max(1, E / 5.45)`` (``BUDGET_MODEL``, fitted
-    to the CPU time of ``atlas([5.45], T)``, 3.5, 7.7 and 25.3 s at T = 8, 12, 16, serial,
+    to the CPU time of ``census(5.45, T)``, 3.5, 7.7 and 25.3 s at T = 8, 12, 16, serial,
     ``nice -n 10`` on the 2-core CI machine). Measured accuracy: within 2% of that fit;
     1.2-1.25x over at ``E = 8`` (T = 8, 12); over below the band (1.2-1.7x at
     ``E = 4.3``, 3.7x at ``E = 2``, ``T = 8``); 0.7x at ``T = 4`` (a first run compiles
@@ -310,15 +310,16 @@ def _period(x0, t1, t_max):
     return T
 
 
-def _invariants(x0, T, E):
-    """``(period, action)``: the action ``oint p dq = 2 (E T - int V dt)`` (Simpson on 801
-    samples) is the same for every image of the orbit under the group and time reversal."""
+def _action(x0, T, E):
+    """The action ``oint p dq = 2 (E T - int V dt)`` of the orbit from ``x0`` of period
+    ``T`` (Simpson on 801 samples): the same for every image of the orbit under the group
+    and time reversal."""
     from scipy.integrate import simpson
 
     from .system import potential_alpha
 
     st, ts = sample(x0, T, 801)
-    return T, 2 * (E * T - simpson(potential_alpha(st[:, 0], st[:, 1]), x=ts))
+    return 2 * (E * T - simpson(potential_alpha(st[:, 0], st[:, 1]), x=ts))
 
 
 #: An orbit is kept if it closes after one period to ``max(1e6, 100 |tr M|) 10^-D`` (``D``
@@ -384,7 +385,7 @@ def _refine_bracket(args: tuple) -> tuple | None:
         return None
     x0 = [float(v) for v in s.x0]
     T = _period(x0, float(s.t1), 2 * t_half)
-    return None if T is None else (si, j, k, u, x0, T, *_invariants(x0, T, E)[1:])
+    return None if T is None else (si, j, k, u, x0, T, _action(x0, T, E))
 
 
 def finish_orbit(args: tuple) -> tuple:
@@ -497,7 +498,7 @@ def _known_family(args):
     if not located:
         return None
     T = float(b.problem.factor * located[-1].t1)
-    return spec.label, T, _invariants(list(b.state(located[-1])), T, E)[1]
+    return spec.label, T, _action(list(b.state(located[-1])), T, E)
 
 
 def _known_tasks(E) -> list:
@@ -524,7 +525,7 @@ def _known(E, t_max, followed) -> list:
     if DAUGHTER_E_MIN <= E < 8.968:
         closed.append(("PD^b", breather_daughter(E)))
     known = [
-        (lab, o.period, _invariants(list(o.state0), o.period, E)[1])
+        (lab, o.period, _action(list(o.state0), o.period, E))
         for lab, o in closed
         if o.period <= t_max * 1.001
     ]
@@ -638,16 +639,17 @@ def census(
         found += _gather(s[0], res[i : i + len(s)])
         i += len(s)
     groups: list = []  # roots by period; a root is compared with its group only
-    for f in sorted(found, key=lambda f: (f[5], f[0], f[1], f[2])):
-        if groups and f[5] - groups[-1][-1][5] < 1e-7 * f[5] and f[5] <= t_max:
+    for f in sorted(
+        (f for f in found if f[5] <= t_max), key=lambda f: (f[5], f[0], f[1], f[2])
+    ):
+        if groups and f[5] - groups[-1][-1][5] < 1e-7 * f[5]:
             groups[-1].append(f)
-        elif f[5] <= t_max:
+        else:
             groups.append([f])
-    tasks = [(g, E, t_half, digits) for g in groups]
     chunk = len(groups) // len(jobs) + 1  # as many tasks as in the first round
     done = pmap(
         distinct_orbits,
-        tasks,
+        [(g, E, t_half, digits) for g in groups],
         executor=executor,
         progress=progress,
         desc="orbits",
