@@ -101,3 +101,26 @@ def test_bad_input(family, orbit):
     with pytest.raises(ValueError, match="generations"):
         af.cascade(family, 0, generations=0)
     assert math.isfinite(family.E[0])
+
+
+def test_stable_windows_of_a_synthetic_branch():
+    """A stable run bounded by its IS points, and a stretch between two unstable members
+    where tr M crosses 4 and then 0 (a window narrower than the step); none without."""
+    from rotorlib.branch import Member, SpecialPoint
+    from rotorlib.precision import FLOAT64
+
+    def m(E, trace):
+        return Member(u=0.0, w=0.0, E=E, t1=1.0, r=0.0, trace=trace)
+
+    members = tuple(m(E, t) for E, t in zip([1, 2, 3, 4, 5], [5, 3, 3, 5, -1]))
+    points = [("IS", 1.5, 0), ("IS", 3.5, 2), ("IS", 4.2, 3), ("PD", 4.6, 3)]
+    b = Branch(
+        None,
+        FLOAT64,
+        members,
+        tuple(SpecialPoint(k, m(E, 4.0), i) for k, E, i in points),
+    )
+    assert af.stable_windows(b) == [(1.5, 3.5), (4.2, 4.6)]
+    # without located points a run is bounded by its members; no stable member: none
+    assert af.stable_windows(Branch(None, FLOAT64, members)) == [(2.0, 3.0)]
+    assert af.stable_windows(Branch(None, FLOAT64, members[3:])) == []
