@@ -3,7 +3,7 @@
 The census (``rotorlib.atlas.census``, by default at E = 5.45, T_max = 16, grid 300,
 named: about 23 s of one core) is timed ``--repeat`` times on each executor, in turn
 (serial, process pool, Dask), and every result is checked to be the serial one, orbit by
-orbit and digit by digit (``to_dict()``, start parameter, number of brackets). Each
+orbit and digit by digit (``to_dict()`` and start parameter). Each
 executor first runs a census at ``T_max = 6`` (its workers compile heyoka's integrators
 once); the Dask cluster is local (``distributed.LocalCluster``, 2 workers of one thread).
 
@@ -35,7 +35,7 @@ from rotorlib.atlas import Atlas, census
 
 def fingerprint(a: Atlas) -> list:
     """Everything a census reports, to compare runs exactly."""
-    return [a.candidates] + [(o.to_dict(), o.extra["u"]) for o in a.orbits]
+    return [(o.to_dict(), o.extra["u"]) for o in a.orbits]
 
 
 def worker_cpu() -> dict[int, float]:
@@ -100,7 +100,7 @@ def main() -> None:
                     f"  {label:<16} {wall:6.1f} s, CPU path {path:5.1f} s, load {load:.2f}"
                 )
     print(
-        f"\ncensus at E = {E:g}, T_max = {t_max:g}, grid 300: {len(ref) - 1} orbits, "
+        f"\ncensus at E = {E:g}, T_max = {t_max:g}, grid 300: {len(ref)} orbits, "
         f"every run the same"
     )
     base = [statistics.median(v[k] for v in runs["serial"]) for k in (0, 1)]

@@ -5,10 +5,9 @@ Markellos, Celest. Mech. Dyn. Astr. 103, 49 (2009)): a symmetric periodic orbit 
 fixed sets of two reversing symmetries half a period apart (:mod:`rotorlib.reversors`).
 The start points of each class of fixed set (:func:`rotorlib.reversors.start_sets`), a
 grid of ``grid`` points, are integrated for ``T_max / 2`` and every crossing of every
-fixed set is recorded with the residual of its condition (:func:`scan`); a sign change
-between neighbours at the same crossing brackets an orbit (:func:`brackets`), refined by
-the engine (:func:`refine_bracket`: Brent's method in the start parameter) and verified:
-it must close, modulo the configuration lattice, after ``2 t1`` times the order of the
+fixed set is recorded with the residual of its condition; a sign change between
+neighbours at the same crossing brackets an orbit, refined by the engine (Brent's method
+in the start parameter: :func:`symmetric_roots`) and verified: it must close, modulo the configuration lattice, after ``2 t1`` times the order of the
 symmetry relating the two fixed sets; its primitive period is found; a root closing only
 to ~1e-4 (beside a very unstable orbit) is dropped; orbits related by the symmetry group
 or time reversal are merged (same period and action ``2 (E T - int V dt)``, and an image
@@ -26,7 +25,6 @@ from __future__ import annotations
 import contextlib
 import functools
 import math
-import time
 from collections.abc import Iterable
 from concurrent.futures import Executor
 from dataclasses import dataclass
@@ -44,10 +42,21 @@ from .reversors import _group_images, start_sets, targets
 from .shooting import ShootingProblem, residual, solve
 from .system import lattice_reduce
 
-__all__ = ["Atlas", "census", "atlas", "budget_seconds", "BUDGET"]
-__all__ += ["E_DOMAIN", "BUDGET_MODEL", "SAME_ORBIT", "scan", "brackets"]
-__all__ += ["refine_bracket", "finish_orbit", "atlas_orbit"]
-__all__ += ["SampledOrbit", "distance_to_orbit"]
+__all__ = [
+    "Atlas",
+    "census",
+    "budget_seconds",
+    "BUDGET",
+    "E_DOMAIN",
+    "BUDGET_MODEL",
+    "SAME_ORBIT",
+    "symmetric_roots",
+    "finish_orbit",
+    "atlas_orbit",
+    "distinct_orbits",
+    "SampledOrbit",
+    "distance_to_orbit",
+]
 
 #: Energies where the census is validated (``tests/test_atlas.py``). Below ``E = 0.1`` the
 #: normal modes at G (pendulum, breather LG) differ by less than the closure test resolves;
@@ -55,15 +64,15 @@ __all__ += ["SampledOrbit", "distance_to_orbit"]
 E_DOMAIN = (0.1, 100.0)
 
 #: Largest accepted cost of one census in CPU seconds (:func:`budget_seconds`, whose
-#: model, fitted to ``atlas([5.45], T)``, is ``BUDGET_MODEL``).
+#: model, fitted to ``census(5.45, T)``, is ``BUDGET_MODEL``).
 BUDGET = 3600.0
 BUDGET_MODEL = {"BASE": 2.2, "GROWTH": 23.0, "RATE": 0.36}
 
 
 @dataclass(frozen=True)
 class Atlas:
-    """The census at one energy (:func:`census`): its ``orbits`` sorted by period, the
-    ``grid``, the number of ``candidates`` (brackets refined) and the wall time.
+    """The census at one energy (:func:`census`): its ``orbits`` sorted by period, and the
+    ``grid`` of start points.
 
     Examples
     --------
@@ -79,8 +88,6 @@ class Atlas:
     t_max: float
     grid: int
     orbits: tuple[PeriodicOrbit, ...]
-    candidates: int
-    seconds: float
 
     @property
     def stable(self) -> tuple[PeriodicOrbit, ...]:
@@ -91,7 +98,7 @@ class Atlas:
 def budget_seconds(E_values: Iterable[float], t_max: float, grid: int = 300) -> float:
     """A census's cost in seconds of one core (CPU time): per energy ``(BASE + GROWTH
     exp(RATE (T_max - 16)) grid / 300) max(1, E / 5.45)`` (``BUDGET_MODEL``, fitted
-    to the CPU time of ``atlas([5.45], T)``, 3.5, 7.7 and 25.3 s at T = 8, 12, 16, serial,
+    to the CPU time of ``census(5.45, T)``, 3.5, 7.7 and 25.3 s at T = 8, 12, 16, serial,
     ``nice -n 10`` on the 2-core CI machine). Measured accuracy: within 2% of that fit;
     1.2-1.25x over at ``E = 8`` (T = 8, 12); over below the band (1.2-1.7x at
     ``E = 4.3``, 3.7x at ``E = 2``, ``T = 8``); 0.7x at ``T = 4`` (a first run compiles
@@ -160,7 +167,7 @@ def _needs_split(a, b, t_half):
     )
 
 
-def brackets(us: list, rows: list, t_half: float) -> list[tuple[int, int, int]]:
+def _brackets(us: list, rows: list, t_half: float) -> list[tuple[int, int, int]]:
     """Sign changes of the residual between neighbouring start points at the same crossing of
     the same fixed set, where that fixed set's crossings correspond on both sides (same
     number, times close); other fixed sets may change their crossings in between."""
@@ -178,33 +185,30 @@ def brackets(us: list, rows: list, t_half: float) -> list[tuple[int, int, int]]:
     return out
 
 
-def scan(
+def symmetric_roots(
     si: int,
     E: float,
     t_half: float,
     grid: int,
-    depth: int,
-    executor: Executor | None,
-    progress: bool,
-    window: tuple[float, float] | None = None,
-) -> tuple[list, list]:
-    """The start points of one class (on ``window = (lo, hi)``, default the whole span): a
-    uniform grid, then every interval whose crossing structure changes bisected (up to
-    ``depth`` times): ``(us, rows)``, in tasks of neighbouring points (``_segments``)."""
-    jobs = _scan_jobs(si, E, t_half, grid, depth, False, 8, window)
-    kw: dict = dict(executor=executor, progress=progress, desc=f"scan E={E:g}")
-    res = pmap(_segments, jobs, **kw)
-    pts = [res[0][1][0][:2], *(p for s in _gather(jobs[0], res) for p in s)]
-    return [u for u, _ in pts], [r for _, r in pts]
+    window: tuple[float, float],
+    executor: Executor | None = None,
+) -> list[tuple]:
+    """The symmetric orbits of the census's scan (:func:`census`) started on ``window =
+    (lo, hi)`` of start set ``si``: ``grid`` start points, bisected 8 times at most where
+    their crossings change, each sign change refined and verified, in 8 tasks through
+    :func:`rotorlib.parallel.pmap`. Returns the roots ``(si, j, k, u, x0, T, action)``
+    (float64, residual ~1e-13), for :func:`distinct_orbits`."""
+    jobs = _scan_jobs(si, E, t_half, grid, 8, 8, window)
+    return _gather(jobs[0], pmap(_segments, jobs, executor=executor))
 
 
-def _scan_jobs(si, E, t_half, grid, depth, refine, parts, window=None) -> list:
+def _scan_jobs(si, E, t_half, grid, depth, parts, window=None) -> list:
     """The tasks of one class's scan: its grid (cell midpoints and both ends of the span,
     where a mirror's turning points sit) cut into ``parts`` runs of neighbours."""
     lo, hi = window or start_sets(E)[si].span(E)
     us = [lo, *(np.linspace(lo, hi, grid + 1)[:-1] + (hi - lo) / (2 * grid)), hi]
     n = -(-(len(us) - 1) // parts)
-    args = (E, t_half, (hi - lo) / grid, depth, refine)
+    args = (E, t_half, (hi - lo) / grid, depth)
     return [(si, us[i : i + n + 1], *args) for i in range(0, len(us) - 1, n)]
 
 
@@ -222,45 +226,45 @@ def _bisect(si, E, t_half, a, ra, b, rb, width, depth) -> list:
 
 def _segments(args) -> tuple[bool, list]:
     """One task of a scan: neighbours ``us`` on the grid of class ``si``, each interval
-    between them bisected (:func:`_bisect`) but an end of the span (half a cell, left to
-    :func:`_gather`): ``(split, [(a, ra, b, rb, points in (a, b] with rows, or None)])``;
-    with ``refine``, ``(brackets, roots)`` (:func:`_roots`) instead, and no rows."""
-    si, us, E, t_half, width, depth, refine = args
+    between them bisected (:func:`_bisect`) and its roots found (:func:`_roots`) but an
+    end of the span (half a cell, left to :func:`_gather`): ``(split, [(a, ra, b, rb,
+    roots)])``, ``roots`` None and the rows ``ra``, ``rb`` kept for an end only."""
+    si, us, E, t_half, width, depth = args
     rows = [_scan_one((si, u, E, t_half)) for u in us]
-    split, out = False, []
+    split, out = False, []  # type: bool, list
     for a, b, ra, rb in zip(us, us[1:], rows, rows[1:]):
-        seg: tuple = (a, ra, b, rb, None)
         if b - a > 1.5 * (width / 2):
             split = split or _needs_split(ra, rb, t_half)
             pts = _bisect(si, E, t_half, a, ra, b, rb, width, depth)
-            seg = (a, ra, b, rb, pts)
-            if refine:
-                seg = (a, None, b, None, _roots(si, E, t_half, [(a, ra), *pts]))
-        out.append(seg)
+            out.append((a, None, b, None, _roots(si, E, t_half, [(a, ra), *pts])))
+        else:
+            out.append((a, ra, b, rb, None))
     return split, out
 
 
 def _gather(job, results) -> list:
-    """The ``points`` (or ``(brackets, roots)``) of a class's tasks in order, its ends
-    bisected from the second level on if another interval was at the first."""
-    si, _, E, t_half, width, depth, refine = job
+    """The roots of a class's tasks in order, its ends bisected from the second level on
+    if another interval was at the first."""
+    si, _, E, t_half, width, depth = job
     split = any(s for s, _ in results)
     out = []
-    for a, ra, b, rb, pts in (seg for _, segs in results for seg in segs):
-        if pts is None:
+    for a, ra, b, rb, roots in (seg for _, segs in results for seg in segs):
+        if roots is None:
             pts = _bisect(si, E, t_half, a, ra, b, rb, width / 2, (depth - 1) * split)
-            pts = _roots(si, E, t_half, [(a, ra), *pts]) if refine else pts
-        out.append(pts)
+            roots = _roots(si, E, t_half, [(a, ra), *pts])
+        out += roots
     return out
 
 
-def _roots(si, E, t_half, pts) -> tuple[int, list]:
-    """``(brackets, roots)``: the sign changes between the neighbours ``pts = [(u, row)]``
-    (:func:`brackets`), refined (:func:`refine_bracket`)."""
+def _roots(si, E, t_half, pts) -> list:
+    """The sign changes between the neighbours ``pts = [(u, row)]`` (:func:`_brackets`),
+    refined (:func:`_refine_bracket`)."""
     us, rows = [u for u, _ in pts], [r for _, r in pts]
-    bs = brackets(us, rows, t_half)
-    args = [(si, j, k, E, t_half, float(us[i]), float(us[i + 1])) for i, j, k in bs]
-    return len(bs), [r for r in map(refine_bracket, args) if r is not None]
+    args = [
+        (si, j, k, E, t_half, float(us[i]), float(us[i + 1]))
+        for i, j, k in _brackets(us, rows, t_half)
+    ]
+    return [r for r in map(_refine_bracket, args) if r is not None]
 
 
 def _problem(si, j, k, E, t_half):
@@ -306,15 +310,16 @@ def _period(x0, t1, t_max):
     return T
 
 
-def _invariants(x0, T, E):
-    """``(period, action)``: the action ``oint p dq = 2 (E T - int V dt)`` (Simpson on 801
-    samples) is the same for every image of the orbit under the group and time reversal."""
+def _action(x0, T, E):
+    """The action ``oint p dq = 2 (E T - int V dt)`` of the orbit from ``x0`` of period
+    ``T`` (Simpson on 801 samples): the same for every image of the orbit under the group
+    and time reversal."""
     from scipy.integrate import simpson
 
     from .system import potential_alpha
 
     st, ts = sample(x0, T, 801)
-    return T, 2 * (E * T - simpson(potential_alpha(st[:, 0], st[:, 1]), x=ts))
+    return 2 * (E * T - simpson(potential_alpha(st[:, 0], st[:, 1]), x=ts))
 
 
 #: An orbit is kept if it closes after one period to ``max(1e6, 100 |tr M|) 10^-D`` (``D``
@@ -345,22 +350,15 @@ def distance_to_orbit(c: SampledOrbit, y0: ArrayLike) -> float:
     from .system import rhs_alpha
 
     def gap(y, x):
-        d = np.array(y) - x
-        d = lattice_reduce(d)
-        return d
+        return lattice_reduce(np.array(y) - x)
 
     ta, _ = _integrator(FLOAT64, None, False)
     best = math.inf
     for y in _group_images() @ np.asarray(y0, float):
-        d = c.states - y
-        d = lattice_reduce(d)
-        dist = np.max(np.abs(d), axis=1)
+        dist = np.max(np.abs(lattice_reduce(c.states - y)), axis=1)
         best = min(best, float(dist.min()))
-        near = np.flatnonzero(
-            (dist < 0.05) & (dist <= np.roll(dist, 1)) & (dist <= np.roll(dist, -1))
-        )
-        for i in near:
-            x = c.states[i]
+        near = (dist < 0.05) & (dist <= np.roll(dist, 1)) & (dist <= np.roll(dist, -1))
+        for x in c.states[near]:  # each local minimum below 0.05
             for _ in range(4):
                 v = np.asarray(rhs_alpha(0.0, x), float)
                 _start(ta, FLOAT64, list(x), False)
@@ -370,7 +368,7 @@ def distance_to_orbit(c: SampledOrbit, y0: ArrayLike) -> float:
     return best
 
 
-def refine_bracket(args: tuple) -> tuple | None:
+def _refine_bracket(args: tuple) -> tuple | None:
     """One bracket: the root in ``u`` (Brent), its verification and invariants, or ``None``."""
     from scipy.optimize import brentq
 
@@ -387,7 +385,7 @@ def refine_bracket(args: tuple) -> tuple | None:
         return None
     x0 = [float(v) for v in s.x0]
     T = _period(x0, float(s.t1), 2 * t_half)
-    return None if T is None else (si, j, k, u, x0, T, *_invariants(x0, T, E)[1:])
+    return None if T is None else (si, j, k, u, x0, T, _action(x0, T, E))
 
 
 def finish_orbit(args: tuple) -> tuple:
@@ -440,7 +438,7 @@ def atlas_orbit(
     choreography: dict | None = None,
 ) -> PeriodicOrbit:
     """The :class:`~rotorlib.periodic.PeriodicOrbit` of a verified root
-    ``(si, j, k, u, x0, T, S)`` of :func:`refine_bracket` and its :func:`finish_orbit`
+    ``(si, j, k, u, x0, T, S)`` of :func:`symmetric_roots` and its :func:`finish_orbit`
     ``(xs, Ts, trs, tr, Tf, closure, M, digits)``. ``extra`` holds the census's data:
     ``fixed_sets`` (the two fixed sets met half a period apart), ``action``
     (``oint p dq = 2 (E T - int V dt)``), ``u`` (the start parameter), ``problem`` (its
@@ -485,61 +483,53 @@ def atlas_orbit(
 
 
 def _known_family(args):
-    """``{E: (label, period, action)}`` of one daughter family at each of ``energies``."""
+    """``(label, period, action)`` of one daughter family at ``E`` (where it is located
+    last along the family), or ``None``."""
     from . import newborn as nb
 
-    lab, energies = args
+    lab, E = args
     spec = nb.family_spec(lab)
     try:
-        E_max = max(max(energies), nb.family_range(spec)[1]) + 0.05
-        b = nb.follow(lab, E_max=E_max, energies=tuple(energies), max_steps=600)
+        E_max = max(E, nb.family_range(spec)[1]) + 0.05
+        b = nb.follow(lab, E_max=E_max, energies=(E,), max_steps=600)
     except (ValueError, SectionNotReached):
-        return {}
-    out = {}
-    for pt in b.points("E"):
-        if pt.located:
-            m = pt.member
-            E = min(energies, key=lambda e: abs(e - float(m.E)))
-            T = float(b.problem.factor * m.t1)
-            out[E] = (spec.label, T, _invariants(list(b.state(m)), T, E)[1])
-    return out
+        return None
+    located = [pt.member for pt in b.points("E") if pt.located]
+    if not located:
+        return None
+    T = float(b.problem.factor * located[-1].t1)
+    return spec.label, T, _action(list(b.state(located[-1])), T, E)
 
 
-def _known_tasks(energies) -> list:
-    """The daughter families to follow (:func:`_known_family`) to ``energies``."""
+def _known_tasks(E) -> list:
+    """The daughter families to follow (:func:`_known_family`) to ``E``."""
     from . import newborn as nb
 
-    specs = [nb.family_spec(lab) for lab in nb.FAMILIES]
-    tasks = [(s.label, [E for E in energies if s.E_birth < E]) for s in specs]
     return [
-        (lab, es)
-        for (lab, es), s in zip(tasks, specs)
-        if s.depth >= FLOAT64.separatrix_depth and es
+        (s.label, E)
+        for s in map(nb.family_spec, nb.FAMILIES)
+        if s.E_birth < E and s.depth >= FLOAT64.separatrix_depth
     ]
 
 
-def _known(energies, t_max, followed) -> dict:
-    """``{E: [(label, period, action)]}``: the known families at each energy with period
-    ``<= t_max``, the daughters ``followed`` through all (:func:`_known_tasks`)."""
+def _known(E, t_max, followed) -> list:
+    """``[(label, period, action)]``: the known families at ``E`` with period ``<= t_max``,
+    the daughters ``followed`` (:func:`_known_tasks`) last."""
     from .breather_bifurcation import DAUGHTER_E_MIN, breather_daughter
     from .orbits import breather, pendulum
 
-    out: dict = {E: [] for E in energies}
-    for E in energies:
-        closed: list = [("pendulum", pendulum(E))] if E != 4.0 else []
-        for fam in ("LG", "LD", "R"):
-            with contextlib.suppress(ValueError):
-                closed.append((f"breather {fam}", breather(E, fam)))
-        if DAUGHTER_E_MIN <= E < 8.968:
-            closed.append(("PD^b", breather_daughter(E)))
-        for lab, o in closed:
-            if o.period <= t_max * 1.001:
-                S = _invariants(list(o.state0), o.period, E)[1]
-                out[E].append((lab, o.period, S))
-    for E, (label, T, S) in (x for found in followed for x in found.items()):
-        if T <= t_max * 1.001:
-            out[E].append((label, T, S))
-    return out
+    closed: list = [("pendulum", pendulum(E))] if E != 4.0 else []
+    for fam in ("LG", "LD", "R"):
+        with contextlib.suppress(ValueError):
+            closed.append((f"breather {fam}", breather(E, fam)))
+    if DAUGHTER_E_MIN <= E < 8.968:
+        closed.append(("PD^b", breather_daughter(E)))
+    known = [
+        (lab, o.period, _action(list(o.state0), o.period, E))
+        for lab, o in closed
+        if o.period <= t_max * 1.001
+    ]
+    return known + [f for f in followed if f is not None and f[1] <= t_max * 1.001]
 
 
 def _name(T, S, known):
@@ -554,7 +544,7 @@ def _run(job):
     return job[0](job[1])
 
 
-def _distinct(args) -> list:
+def distinct_orbits(args: tuple) -> list:
     """A group of roots of :func:`census` (periods within 1e-7 of a neighbour's) without its
     repeats (the same period and action, and an image of the start state within
     ``SAME_ORBIT`` of an earlier root's orbit), finished (:func:`finish_orbit`):
@@ -617,7 +607,8 @@ def census(
         every orbit re-solved at ``E`` in the tier that delivers ``D`` digits (real128 for
         ``D <= 31``) and its state, period and trace given to ``D`` digits.
     known : list, optional
-        The known families at ``E`` (computed by :func:`atlas` for all its energies at once).
+        The known families at ``E``, ``(label, period, action)`` (default: the closed-form
+        orbits and the daughter families, followed to ``E`` when ``name``).
 
     Returns
     -------
@@ -633,62 +624,45 @@ def census(
     """
     E, t_max = float(E), float(t_max)
     _check([E], t_max, grid)
-    t0, t_half = time.perf_counter(), t_max / 2 * 1.02
+    t_half = t_max / 2 * 1.02
     classes = range(len(start_sets(E)))
     parts = max(4, round(budget_seconds([E], t_max, grid) / 0.25 / len(classes)))
-    scans = [_scan_jobs(si, E, t_half, grid, depth, True, parts) for si in classes]
-    follow = _known_tasks([E]) if known is None and name else []
+    scans = [_scan_jobs(si, E, t_half, grid, depth, parts) for si in classes]
+    follow = _known_tasks(E) if known is None and name else []
     jobs = [(_known_family, a) for a in follow]
     jobs += [(_segments, a) for s in scans for a in s]
     res = pmap(_run, jobs, executor=executor, progress=progress, desc=f"census E={E:g}")
     if known is None:
-        known = _known([E], t_max, res[: len(follow)])[E] if name else []
-    n, found, i = 0, [], len(follow)  # type: int, list, int
+        known = _known(E, t_max, res[: len(follow)]) if name else []
+    found, i = [], len(follow)
     for s in scans:
-        for m, roots in _gather(s[0], res[i : i + len(s)]):
-            n, found = n + m, found + roots
+        found += _gather(s[0], res[i : i + len(s)])
         i += len(s)
     groups: list = []  # roots by period; a root is compared with its group only
-    for f in sorted(found, key=lambda f: (f[5], f[0], f[1], f[2])):
-        if groups and f[5] - groups[-1][-1][5] < 1e-7 * f[5] and f[5] <= t_max:
+    for f in sorted(
+        (f for f in found if f[5] <= t_max), key=lambda f: (f[5], f[0], f[1], f[2])
+    ):
+        if groups and f[5] - groups[-1][-1][5] < 1e-7 * f[5]:
             groups[-1].append(f)
-        elif f[5] <= t_max:
+        else:
             groups.append([f])
-    tasks = [(g, E, t_half, digits) for g in groups]
     chunk = len(groups) // len(jobs) + 1  # as many tasks as in the first round
-    kw: dict = dict(
-        executor=executor, progress=progress, desc="orbits", chunksize=chunk
+    done = pmap(
+        distinct_orbits,
+        [(g, E, t_half, digits) for g in groups],
+        executor=executor,
+        progress=progress,
+        desc="orbits",
+        chunksize=chunk,
     )
-    done = pmap(_distinct, tasks, **kw)
     orbits = []
     D = 15 if digits is None else int(digits)
     for i, (f, fin_i) in enumerate(x for d in done for x in d):
-        si, j, k, u, x0, T, S = f
+        x0, T, S = f[4:]
         tr, clo = fin_i[3], fin_i[5]
         if not clo <= max(1e6, 1e2 * abs(tr)) * 10.0**-D:
             continue  # a near-periodic trajectory beside a very unstable orbit, not an orbit
         label, chor = atlas_name(_name(T, S, known), E, x0, T, name)
         family = label if label != "new" else f"N{i + 1}"
-        root = (si, j, k, u, x0, T, S)
-        orbits.append(atlas_orbit(label, family, E, t_half, root, fin_i, chor))
-    return Atlas(E, t_max, grid, tuple(orbits), n, time.perf_counter() - t0)
-
-
-def atlas(
-    energies: Iterable[float],
-    t_max: float = 16.0,
-    grid: int = 300,
-    executor: Executor | None = None,
-    progress: bool = False,
-    digits: int | None = None,
-    name: bool = True,
-) -> list[Atlas]:
-    """:func:`census` at each energy (a list of :class:`Atlas`); the known families are
-    followed once through all the energies."""
-    energies = [float(E) for E in energies]
-    _check(energies, t_max, grid)
-    tasks = _known_tasks(energies) if name else []
-    followed = pmap(_known_family, tasks, executor=executor, desc="known families")
-    known = _known(energies, t_max, followed) if name else {E: [] for E in energies}
-    kw: dict = dict(executor=executor, progress=progress, digits=digits)
-    return [census(E, t_max, grid, **kw, known=known[E]) for E in energies]
+        orbits.append(atlas_orbit(label, family, E, t_half, f, fin_i, chor))
+    return Atlas(E, t_max, grid, tuple(orbits))

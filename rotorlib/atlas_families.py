@@ -10,10 +10,11 @@ about the parent's at IS, twice it at PD) are found beside the parent at ``E = E
 A daughter orbit converges to the parent as ``dE -> 0``, so each of its points on a fixed set
 tends to a point of the parent on a fixed set: the daughter meets the start set of the parent
 near the parent's start, or the parent's target fixed set near the parent's symmetric point.
-Both neighbourhoods are scanned (the census scan, ``atlas.scan``, on a window of the start set,
-the target point mapped onto its class's start set by the symmetry group) for symmetric
-orbits of the daughter's period, refined and verified as in the census. The daughters are
-atlas orbits: :func:`families` follows them in turn.
+Both neighbourhoods are scanned (the census scan, ``atlas.symmetric_roots``, on a window of
+the start set, the target point mapped onto its class's start set by the symmetry group)
+for symmetric orbits of the daughter's period, refined and verified as in the census. The
+daughters are atlas orbits: :func:`families` follows them in turn. A family is a
+:class:`rotorlib.branch.Branch`; :func:`stable_windows` reads its stable energies.
 
 Precision: float64 (members to residual < 1e-8, folds to ~1e-15 in ``E``, IS/PD to ~1e-14
 in the local parameter; daughters verified like census orbits, closure < 1e-9 |tr M|).
@@ -24,10 +25,11 @@ the same two members is not seen either.
 
 from __future__ import annotations
 
+import itertools
 import math
 from collections.abc import Sequence
 from concurrent.futures import Executor
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, replace
 from fractions import Fraction
 from typing import Any
 
@@ -38,12 +40,11 @@ from .atlas import (
     Atlas,
     SampledOrbit,
     atlas_orbit,
-    brackets,
     distance_to_orbit,
-    finish_orbit,
-    refine_bracket,
-    scan,
+    distinct_orbits,
+    symmetric_roots,
 )
+from .branch import Branch, SpecialPoint
 from .continuation import PALC, ContinuationOptions, continuation, member
 from .flow import SectionNotReached
 from .parallel import pmap
@@ -52,91 +53,58 @@ from .reversors import images, start_sets
 from .shooting import NoConvergence, residual, solve
 from .system import lattice_reduce
 
-__all__ = ["AtlasFamily", "families", "daughters", "Cascade", "cascade"]
+__all__ = ["families", "stable_windows", "daughters", "Cascade", "cascade"]
 
 
-@dataclass(frozen=True)
-class AtlasFamily:
-    """An atlas orbit followed through a window of energy (:func:`families`).
+def _position(p: SpecialPoint) -> float:
+    """Where a special point lies among the members of its branch: a fold at its member,
+    an IS or PD point half-way from its member to the next."""
+    return p.index + (0.0 if p.kind == "fold" else 0.5)
 
-    Attributes
-    ----------
-    orbit : PeriodicOrbit
-        The orbit it was started from.
-    E, period, trace, u : ndarray
-        Its members in order along the family (through its folds: ``E`` need not be
-        monotonic); ``u`` is the start parameter on the orbit's start set.
-    points : tuple
-        ``(kind, E)`` located by the engine along the family: ``fold`` (``E`` turns: a
-        saddle-centre pair, or a pitchfork partner), ``IS`` (``tr M`` crosses 4), ``PD``
-        (``tr M`` crosses 0).
-    positions : tuple of float
-        Where each point lies among the members (``i + 0.5``: between members ``i`` and
-        ``i + 1``; a fold near member ``i``: about ``i``).
-    stops : tuple of str
-        Why each end stopped (:class:`rotorlib.continuation.Branch` ``stop``): ``'E range'``
-        (it left the window), ``'period'`` (its period grew beyond 1.5 times the orbit's),
-        ``'steps'``, ``'stuck'`` or ``'section lost'``.
-    problem : ShootingProblem
-        The orbit's problem, closing after ``problem.factor`` times the symmetric time.
+
+def _marks(branch: Branch) -> list[tuple[str, float, float]]:
+    """``(kind, E, position)`` of each special point (:func:`_position`)."""
+    return [(p.kind, float(p.member.E), _position(p)) for p in branch.special_points]
+
+
+def stable_windows(branch: Branch) -> list[tuple[float, float]]:
+    """The energies where a family (:func:`families`) is linearly stable.
+
+    ``[(E_a, E_b)]``: each run of consecutive linearly stable members (``0 < tr M < 4``),
+    bounded by the located points on either side of it and the folds within it (or by its
+    end members where none was located); and each stretch between two members, both
+    unstable, where ``tr M`` crosses both 4 and 0 (bounded by those two points). The ends
+    have the precision of the located points (:func:`families`), or of the members' ``E``.
+
+    Examples
+    --------
+    >>> from rotorlib.newborn import family
+    >>> windows = stable_windows(family("IS^l_1", (3.9, 4.1)))
+    >>> [(round(lo, 6), round(hi, 6)) for lo, hi in windows]
+    [(3.99059, 4.035708)]
     """
-
-    orbit: PeriodicOrbit
-    E: np.ndarray
-    period: np.ndarray
-    trace: np.ndarray
-    points: tuple
-    positions: tuple
-    stops: tuple
-    u: np.ndarray | None = field(repr=False, default=None)
-    problem: Any = field(repr=False, default=None)
-
-    def stable_windows(self) -> list:
-        """``[(E_a, E_b)]``: each run of consecutive linearly stable members
-        (``0 < tr M < 4``), bounded by the located points on either side of it and the
-        folds within it (or by its end members where none was located); and each stretch
-        between two members, both unstable, where ``tr M`` crosses both 4 and 0 (bounded by
-        those two points)."""
-        st = (self.trace > 0) & (self.trace < 4)
-        out, i = [], 0
-        while i < len(st):
-            if not st[i]:
-                i += 1
-                continue
-            j = i
-            while j + 1 < len(st) and st[j + 1]:
-                j += 1
-            ends = [float(e) for e in self.E[i : j + 1]]
-            for (_, E), x in zip(self.points, self.positions):
-                if i - 1 < x < j + 1:  # beside the run, or a fold within it
-                    ends.append(E)
-            out.append((min(ends), max(ends)))
-            i = j + 1
-        # tr M crossing 4 and 0 between the same two unstable members: stable in between
-        for i in range(len(st) - 1):
-            if st[i] or st[i + 1]:
-                continue
-            inside = [
-                (k, E)
-                for (k, E), x in zip(self.points, self.positions)
-                if i < x < i + 1
-            ]
-            if {"IS", "PD"} <= {k for k, _ in inside}:
-                Es = [E for k, E in inside if k in ("IS", "PD")]
-                out.append((min(Es), max(Es)))
-        return sorted(out)
-
-    @property
-    def stable(self) -> bool:
-        """Whether some member is linearly stable (``0 < tr M < 4``)."""
-        return bool(np.any((self.trace > 0) & (self.trace < 4)))
+    st = [0 < t < 4 for t in branch.trace]
+    E, marks, out = branch.E, _marks(branch), []
+    i = 0
+    for stable, run in itertools.groupby(st):
+        j = i + len(list(run))  # members i .. j - 1
+        if stable:  # the run, the points beside it and the folds within it
+            ends = [*E[i:j], *(e for _, e, x in marks if i - 1 < x < j)]
+            out.append((float(min(ends)), float(max(ends))))
+        i = j
+    for i in range(len(st) - 1):  # tr M crossing 4 and 0 between two unstable members
+        inside = [(k, e) for k, e, x in marks if i < x < i + 1 and k in ("IS", "PD")]
+        if not (st[i] or st[i + 1]) and {k for k, _ in inside} == {"IS", "PD"}:
+            out.append((min(e for _, e in inside), max(e for _, e in inside)))
+    return sorted(out)
 
 
-def _family(args):
+def _family(args: tuple) -> Branch:
     o, lo, hi, step, du = args
     s = residual(o.extra["problem"], o.extra["u"], o.E)
     prob = replace(
         o.extra["problem"],
+        label=o.family,
         factor=float(Fraction(o.period / float(s.t1)).limit_denominator(48)),
     )
     m0 = member(prob, o.extra["u"], o.E, traces=True)
@@ -156,29 +124,23 @@ def _family(args):
     back, fwd = (
         continuation(prob, replace(alg, direction=d), opts, [m0]) for d in (-1, 1)
     )
-    ms = list(back.members[::-1]) + list(fwd.members[1:])
     n = len(back.members)
-
-    def where(p, sign):  # a fold is at member p.index, an IS/PD between it and the next
-        x = p.index + (0.0 if p.kind == "fold" else 0.5)
-        return n - 1 - x if sign < 0 else n - 1 + x
-
-    pts = sorted(
-        [(where(p, -1), p) for p in back.special_points]
-        + [(where(p, 1), p) for p in fwd.special_points],
-        key=lambda v: v[0],
-    )
-    pts = [(x, p) for x, p in pts if p.located and p.kind != "E"]
-    return AtlasFamily(
-        o,
-        np.array([float(m.E) for m in ms]),
-        np.array([float(prob.factor * m.t1) for m in ms]),
-        np.array([float(m.trace) for m in ms]),
-        tuple((p.kind, float(p.member.E)) for _, p in pts),
-        tuple(float(x) for x, _ in pts),
-        (back.stop, fwd.stop),
-        np.array([float(m.u) for m in ms]),
+    # the backward branch reversed: a fold stays at its member, an IS/PD point lies
+    # after the member before it
+    pts = [
+        replace(p, index=n - 1 - p.index - (p.kind != "fold"))
+        for p in back.special_points
+    ]
+    pts += [replace(p, index=n - 1 + p.index) for p in fwd.special_points]
+    pts.sort(key=_position)
+    return Branch(
         prob,
+        fwd.tier,
+        back.members[::-1] + fwd.members[1:],
+        tuple(p for p in pts if p.located and p.kind != "E"),
+        f"{back.stop} / {fwd.stop}",
+        f"backward: {back.reason}; forward: {fwd.reason}",
+        (lo, hi),
     )
 
 
@@ -188,8 +150,7 @@ def families(
     step: float = 0.01,
     du: float | None = None,
     executor: Executor | None = None,
-    progress: bool = False,
-) -> list:
+) -> list[Branch]:
     """Orbits of the atlas followed through ``E_range`` with the engine: pseudo-arclength
     continuation (:class:`rotorlib.continuation.PALC`, steps of at most ``step`` in ``E``)
     in both directions from each orbit until its family leaves the window, passing its folds,
@@ -212,7 +173,14 @@ def families(
 
     Returns
     -------
-    list of AtlasFamily
+    list of Branch
+        One per orbit, in their order: the members in order along the family (through its
+        folds: ``E`` need not be monotonic), the located folds (``E`` turns: a
+        saddle-centre pair, or a pitchfork partner) and crossings of ``tr M = 4`` (``IS``)
+        and ``0`` (``PD``); ``label`` is the orbit's family, ``problem.factor`` the
+        period over the symmetric time, ``stop`` why each end stopped (``'backward /
+        forward'``: ``E range``, ``period`` beyond 1.5 times the orbit's, ``steps``,
+        ``stuck`` or ``section lost``).
 
     Precision: float64 members (residual < 1e-8); folds located to ~1e-15 in ``E``,
     ``IS``/``PD`` to ~1e-14 in the local parameter.
@@ -220,7 +188,6 @@ def families(
     given: Any = getattr(orbits, "orbits", orbits)  # a census: its orbits
     orbits = list(given)
     lo, hi = (float(v) for v in E_range)
-
     if not (math.isfinite(lo) and math.isfinite(hi) and 0 < lo <= hi):
         raise ValueError(f"E_range must be finite with 0 < lo <= hi, got {E_range!r}")
     for o in orbits:
@@ -230,11 +197,7 @@ def families(
         if not (math.isfinite(v) and v > 0):
             raise ValueError(f"{name} must be finite and > 0, got {v!r}")
     return pmap(
-        _family,
-        [(o, lo, hi, float(step), du) for o in orbits],
-        executor=executor,
-        progress=progress,
-        desc="families",
+        _family, [(o, lo, hi, float(step), du) for o in orbits], executor=executor
     )
 
 
@@ -258,9 +221,7 @@ def _locate(y, E, tol=1e-7):
                 x = np.array(s.at(u, E), float)
             except ValueError:
                 return math.inf
-            d = x - ims
-            d = lattice_reduce(d)
-            return float(np.min(np.max(np.abs(d), axis=1)))
+            return float(np.min(np.max(np.abs(lattice_reduce(x - ims)), axis=1)))
 
         ds = np.array([dist(u) for u in us])
         i = int(np.argmin(ds))
@@ -275,30 +236,26 @@ def _locate(y, E, tol=1e-7):
     return out
 
 
-def _parent_at(fam: AtlasFamily, x, E):
+def _parent_at(fam: Branch, x, E):
     """The parent's start parameter at energy ``E`` near position ``x`` among the members
     (secant in ``u`` from the members' values, linear in ``E`` between them)."""
-    if fam.u is None:
-        raise ValueError(
-            f"family of the orbit at E = {fam.orbit.E}: no start parameters stored for this family"
-        )
-    i = min(max(int(math.floor(x)), 0), len(fam.E) - 2)
-    Ea, Eb, ua, ub = fam.E[i], fam.E[i + 1], fam.u[i], fam.u[i + 1]
+    i = min(max(int(math.floor(x)), 0), len(fam.members) - 2)
+    (Ea, Eb), (ua, ub) = fam.E[i : i + 2], fam.u[i : i + 2]
     u0 = ua + (ub - ua) * (E - Ea) / (Eb - Ea) if Eb != Ea else ua
     root = solve(fam.problem, u0, u0 + 1e-7 * max(1.0, abs(u0)), E=E)
     return float(root.x)
 
 
 def daughters(
-    fam: AtlasFamily,
+    fam: Branch,
     point: int,
     dE: float = 1e-4,
     width: float = 0.05,
     grid: int = 40,
     executor: Executor | None = None,
 ) -> tuple:
-    """Branch switching at the located ``IS`` or ``PD`` point ``fam.points[point]``: the
-    symmetric orbits born there.
+    """Branch switching at the located ``IS`` or ``PD`` point ``fam.special_points[point]``:
+    the symmetric orbits born there.
 
     At ``E = E_b - dE`` and ``E_b + dE`` (on whichever side the daughters exist), the
     parent is solved, its start and its symmetric point are mapped onto the start sets,
@@ -312,9 +269,10 @@ def daughters(
 
     Parameters
     ----------
-    fam : AtlasFamily
+    fam : Branch
+        A family of :func:`families`.
     point : int
-        Index into ``fam.points`` (an ``IS`` or ``PD`` point).
+        Index into ``fam.special_points`` (an ``IS`` or ``PD`` point).
     dE : float
         Distance in energy from the bifurcation (a pitchfork's daughters lie at
         ``~sqrt(dE)`` from the parent: keep ``dE`` small, but the daughter must be farther
@@ -329,7 +287,8 @@ def daughters(
     tuple of PeriodicOrbit
         Sorted by ``E``, then period; label ``new``, family ``"<parent family>/<kind>"``.
     """
-    if not (0 <= point < len(fam.points)) or fam.points[point][0] not in ("IS", "PD"):
+    marks = _marks(fam)
+    if not (0 <= point < len(marks)) or marks[point][0] not in ("IS", "PD"):
         raise ValueError(
             f"point must index an IS or PD point of the family, got {point!r}"
         )
@@ -337,21 +296,20 @@ def daughters(
         raise ValueError(f"dE must be in (0, 0.1), got {dE!r}")
     if not (math.isfinite(width) and 0 < width <= 0.5):
         raise ValueError(f"width must be in (0, 0.5], got {width!r}")
-    kind, Eb = fam.points[point]
+    kind, Eb, x = marks[point]
     if kind == "IS" and any(
-        k == "fold" and abs(E - Eb) < 1e-9 * max(1.0, Eb) for k, E in fam.points
+        k == "fold" and abs(E - Eb) < 1e-9 * max(1.0, Eb) for k, E, _ in marks
     ):
         raise ValueError(
             f"the IS point at E = {Eb:.9f} is a fold of the family (a saddle-centre pair: "
             f"its partner is the family's other branch, not a daughter)"
         )
-    x = fam.positions[point]
-    i = min(int(math.floor(x)), len(fam.E) - 2)
+    i = min(int(math.floor(x)), len(fam.members) - 2)
+    (E0, E1), (T0, T1) = fam.E[i : i + 2], fam.period[i : i + 2]
     n = 2 if kind == "PD" else 1
-    t_half = 1.03 * n * float(fam.period[i]) / 2
+    t_half = 1.03 * n * float(T0) / 2
     # the daughter's period leaves n T_parent at the rate of the parent's (10 times, margin)
-    dT = fam.period[i + 1] - fam.period[i]
-    slope = abs(dT / (fam.E[i + 1] - fam.E[i])) if fam.E[i + 1] != fam.E[i] else 0.0
+    slope = abs((T1 - T0) / (E1 - E0)) if E1 != E0 else 0.0
     out = []
     for E in (Eb - dE, Eb + dE):
         try:
@@ -359,22 +317,18 @@ def daughters(
         except (NoConvergence, SectionNotReached, ValueError):
             continue
         s = residual(fam.problem, u_p, E)
-        x0 = np.array(s.x0, float)
         T_p = float(fam.problem.factor * s.t1)
-        parent, T_d = SampledOrbit(x0, T_p), (2 if kind == "PD" else 1) * T_p
-        si0 = [k for k, st in enumerate(start_sets(E)) if st == fam.problem.start]
-        windows = [(k, u_p) for k in si0] + _locate(np.array(s.x1, float), E)
-        jobs = []
-        for si, uc in windows:
-            us, rows = scan(
-                si, E, t_half, grid, 8, executor, False, (uc - width, uc + width)
-            )
-            jobs += [
-                (si, j, k, E, t_half, float(us[a]), float(us[a + 1]))
-                for a, j, k in brackets(us, rows, t_half)
-            ]
+        parent, T_d = SampledOrbit(s.x0, T_p), n * T_p
+        # the parent's start on its own start set, and its symmetric point on others
+        windows = [
+            (k, u_p) for k, st in enumerate(start_sets(E)) if st == fam.problem.start
+        ] + _locate(np.array(s.x1, float), E)
         found = [
-            f for f in pmap(refine_bracket, jobs, executor=executor) if f is not None
+            f
+            for si, uc in windows
+            for f in symmetric_roots(
+                si, E, t_half, grid, (uc - width, uc + width), executor
+            )
         ]
         near = []
         for f in found:
@@ -383,29 +337,12 @@ def daughters(
                 if 10 * SAME_ORBIT < gap < width:  # not the parent
                     near.append((gap, f))
         # a daughter tends to the parent as dE -> 0, an orbit not born here does not: keep
-        # the nearest (and any within twice its distance: the pair of a pitchfork)
+        # the nearest (and any within twice its distance: the pair of a pitchfork), once
         gmin = min((g for g, _ in near), default=0.0)
-        here: list = []
-        curves: list = []
-        for _, f in sorted((v for v in near if v[0] < 2 * gmin), key=lambda v: v[0]):
-            T = f[5]
-            if any(
-                abs(T - g[5]) < 1e-7 * T and distance_to_orbit(c, f[4]) < SAME_ORBIT
-                for g, c in zip(here, curves)
-            ):
-                continue
-            here.append(f)
-            curves.append(SampledOrbit(f[4], T))
-        fin = pmap(
-            finish_orbit,
-            [(si, j, k, E, t_half, u, x0, T, None) for si, j, k, u, x0, T, S in here],
-            executor=executor,
-        )
-        for f, fi in zip(here, fin):
+        nearest = [f for g, f in sorted(near, key=lambda v: v[0]) if g < 2 * gmin]
+        for f, fi in distinct_orbits((nearest, E, t_half, None)):
             if fi[5] <= max(1e6, 1e2 * abs(fi[3])) * 1e-15:  # closure: an orbit
-                out.append(
-                    atlas_orbit("new", f"{fam.orbit.family}/{kind}", E, t_half, f, fi)
-                )
+                out.append(atlas_orbit("new", f"{fam.label}/{kind}", E, t_half, f, fi))
     return tuple(sorted(out, key=lambda o: (o.E, o.period)))
 
 
@@ -415,20 +352,26 @@ class Cascade:
 
     Attributes
     ----------
-    families : tuple of AtlasFamily
+    families : tuple of Branch
         The parent family, then each daughter's family (on the daughter's side of its birth).
     births : tuple of float
         The energy of each bifurcation: the starting point, then each daughter's PD point.
     periods : tuple of float
         Each generation's period at its birth.
+
+    Examples
+    --------
+    >>> c = Cascade((), (5.51582, 5.51493, 5.514829), (9.45, 18.9))
+    >>> [round(r, 2) for r in c.ratios]  # (E_1 - E_0) / (E_2 - E_1)
+    [8.81]
     """
 
-    families: tuple
-    births: tuple
-    periods: tuple
+    families: tuple[Branch, ...]
+    births: tuple[float, ...]
+    periods: tuple[float, ...]
 
     @property
-    def ratios(self) -> tuple:
+    def ratios(self) -> tuple[float, ...]:
         """``(E_n - E_{n-1}) / (E_{n+1} - E_n)`` of the bifurcation energies: Feigenbaum's
         ``delta`` in the limit (8.7210972... for area-preserving maps)."""
         E = self.births
@@ -438,12 +381,13 @@ class Cascade:
 
 
 def cascade(
-    fam: AtlasFamily,
+    fam: Branch,
     point: int,
     generations: int = 3,
     executor: Executor | None = None,
 ) -> Cascade:
-    """Follow a bifurcation cascade from ``fam.points[point]`` (IS or PD): switch branch
+    """Follow a bifurcation cascade from ``fam.special_points[point]`` (IS or PD) of a
+    family of :func:`families`: switch branch
     onto the stable daughter born there (:func:`daughters`), follow its family away from its
     birth (:func:`families`), locate its first PD point, and repeat ``generations`` times.
 
@@ -457,19 +401,17 @@ def cascade(
     """
     if not (isinstance(generations, int) and 1 <= generations <= 6):
         raise ValueError(f"generations must be an integer in 1..6, got {generations!r}")
-    kind, Eb = fam.points[point]
-    near = [w for w in fam.stable_windows() if w[0] - 1e-12 <= Eb <= w[1] + 1e-12]
+    Eb = float(fam.special_points[point].member.E)
+    near = [w for w in stable_windows(fam) if w[0] - 1e-12 <= Eb <= w[1] + 1e-12]
     scale = max(w[1] - w[0] for w in near) if near else 1e-3
     fams, births, periods = [fam], [Eb], []
-    parent = fam
     for _ in range(generations):
-        dE = (
-            scale / 20
-        )  # the daughter lies ~sqrt(dE) from the parent: scan near it only
+        # the daughter lies ~sqrt(dE) from the parent (the last family): scan near it only
+        dE = scale / 20
         width = min(0.05, 10 * math.sqrt(dE))
         stable = [
             d
-            for d in daughters(parent, point, dE=dE, width=width, executor=executor)
+            for d in daughters(fams[-1], point, dE=dE, width=width, executor=executor)
             if d.stable
         ]
         if not stable:
@@ -480,14 +422,13 @@ def cascade(
         lo, hi = sorted((Eb, Eb + side * 1.5 * scale))
         (h,) = families([d], (lo, hi), step=scale / 100, du=0.01, executor=None)
         pds = [
-            (abs(E - Eb), i)
-            for i, (k, E) in enumerate(h.points)
+            (abs(E - Eb), i, E)
+            for i, (k, E, _) in enumerate(_marks(h))
             if k == "PD" and abs(E - Eb) > scale / 200
         ]
         if not pds:
             raise ValueError(f"the daughter born at E = {Eb:.12f} has no PD point")
-        dist, point = min(pds)
-        Eb, scale, parent = h.points[point][1], dist, h
+        scale, point, Eb = min(pds)
         fams.append(h)
         births.append(Eb)
     return Cascade(tuple(fams), tuple(births), tuple(periods))

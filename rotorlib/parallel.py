@@ -19,11 +19,11 @@ returns the same result; tasks must therefore be pure functions of their input.
 from __future__ import annotations
 
 import contextlib
-import operator
 import os
 import sys
 from collections.abc import Callable, Iterable, Iterator
 from concurrent.futures import Executor, ProcessPoolExecutor, as_completed
+from numbers import Integral
 from typing import TypeVar
 
 __all__ = ["pmap", "executor_for"]
@@ -135,15 +135,9 @@ def pmap(
 
 def _positive_int(value, name):
     """``value`` as an int >= 1 (bool, float and str are refused), else ValueError."""
-    try:
-        if isinstance(value, bool):
-            raise TypeError
-        n = operator.index(value)
-    except TypeError:
-        raise ValueError(f"{name} must be an integer >= 1, not {value!r}") from None
-    if n < 1:
-        raise ValueError(f"{name} must be an integer >= 1, not {n}")
-    return n
+    if isinstance(value, bool) or not isinstance(value, Integral) or value < 1:
+        raise ValueError(f"{name} must be an integer >= 1, not {value!r}")
+    return int(value)
 
 
 @contextlib.contextmanager

@@ -31,29 +31,33 @@ OUT = ROOT / "book" / "data" / "atlas_cascade_E5.517.json"
 
 
 def start(executor=None):
-    """``(fam, i_IS)``: the family whose stable window contains ``E_WINDOW`` (the first
-    such family of the census, by period) and the index of the IS point at the lower end
-    of that window (the pitchfork where the cascade starts)."""
+    """``(orbit, fam, i_IS)``: the family whose stable window contains ``E_WINDOW`` (the
+    first such family of the census, by period), its orbit of the census, and the index
+    of the IS point at the lower end of that window (the pitchfork where the cascade
+    starts)."""
     a = atlas.census(E, T_MAX, grid=300, executor=executor, name=False)
     fams = af.families(a, E_RANGE, step=STEP, executor=executor)
-    fam, win = next(
-        (f, w) for f in fams for w in f.stable_windows() if w[0] < E_WINDOW < w[1]
+    o, fam, win = next(
+        (o, f, w)
+        for o, f in zip(a.orbits, fams)
+        for w in af.stable_windows(f)
+        if w[0] < E_WINDOW < w[1]
     )
     (i_IS,) = [
         i
-        for i, (k, e) in enumerate(fam.points)
-        if k == "IS" and abs(e - win[0]) < 1e-12
+        for i, p in enumerate(fam.special_points)
+        if p.kind == "IS" and abs(float(p.member.E) - win[0]) < 1e-12
     ]
-    return fam, i_IS
+    return o, fam, i_IS
 
 
 def record(f) -> dict:
     return {
         "E": [float(x) for x in f.E],
         "trace": [float(x) for x in f.trace],
-        "points": [[k, e] for k, e in f.points],
-        "positions": list(f.positions),
-        "stops": list(f.stops),
+        "points": [[p.kind, float(p.member.E)] for p in f.special_points],
+        "positions": [p.index + 0.5 * (p.kind != "fold") for p in f.special_points],
+        "stops": f.stop.split(" / "),
     }
 
 
@@ -63,7 +67,7 @@ def main(argv=None) -> int:
         return 2
     t0 = time.perf_counter()
     with ProcessPoolExecutor(args.workers) as pool:
-        fam, i_IS = start(pool)
+        orbit, fam, i_IS = start(pool)
         cas = af.cascade(fam, i_IS, generations=GENERATIONS, executor=pool)
     data = {
         "E": E,
@@ -71,7 +75,7 @@ def main(argv=None) -> int:
         "E_range": list(E_RANGE),
         "step": STEP,
         "window_at": E_WINDOW,
-        "parent_period": fam.orbit.period,
+        "parent_period": orbit.period,
         "start_point": i_IS,
         "generations": GENERATIONS,
         "precision": "float64 members; bifurcation energies to ~1e-13",

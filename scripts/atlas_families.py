@@ -40,16 +40,16 @@ def main(argv=None) -> int:
         fams = af.families(a, E_RANGE, step=STEP, executor=pool)
     records = [
         {
-            "period": f.orbit.period,
-            "trace": f.orbit.trace,
-            "fixed_sets": list(f.orbit.extra["fixed_sets"]),
-            "state0_str": list(f.orbit.state0_str),
-            "points": [[k, e] for k, e in f.points],
-            "stable_windows": [list(w) for w in f.stable_windows()],
-            "stops": list(f.stops),
-            "members": len(f.E),
+            "period": o.period,
+            "trace": o.trace,
+            "fixed_sets": list(o.extra["fixed_sets"]),
+            "state0_str": list(o.state0_str),
+            "points": [[p.kind, float(p.member.E)] for p in f.special_points],
+            "stable_windows": [list(w) for w in af.stable_windows(f)],
+            "stops": f.stop.split(" / "),
+            "members": len(f.members),
         }
-        for f in fams
+        for o, f in zip(a.orbits, fams)
     ]
     data = {
         "E": E,

@@ -15,29 +15,41 @@ import pytest
 
 from rotorlib import atlas
 from rotorlib import atlas_families as af
+from rotorlib.branch import Branch
 
 
 @pytest.fixture(scope="module")
-def family():
-    a = atlas.census(5.517, 10, name=False)
-    (o,) = a.stable
-    (f,) = af.families([o], (5.5150, 5.5175), step=0.002)
+def orbit():
+    (o,) = atlas.census(5.517, 10, name=False).stable
+    return o
+
+
+@pytest.fixture(scope="module")
+def family(orbit):
+    (f,) = af.families([orbit], (5.5150, 5.5175), step=0.002)
     return f
 
 
 def _points(f, kind):
-    return [(i, E) for i, (k, E) in enumerate(f.points) if k == kind]
+    return [
+        (i, float(p.member.E)) for i, p in enumerate(f.special_points) if p.kind == kind
+    ]
 
 
-def test_saddle_centre_family(family):
+def test_saddle_centre_family(family, orbit):
+    assert isinstance(family, Branch) and family.label == orbit.family
+    assert all(p.located for p in family.special_points)
+    # the orbit is a member: the backward branch ends at it, reversed
+    assert min(abs(family.E - orbit.E)) == 0.0
+    assert all(s in ("E range", "period") for s in family.stop.split(" / "))
     folds = [E for _, E in _points(family, "fold")]
     IS = [E for _, E in _points(family, "IS")]
     assert len(folds) == 1 and len(IS) == 2
     # tr M = 4 at the fold (located independently: Brent on E, Illinois on tr M - 4)
     assert min(abs(E - folds[0]) for E in IS) < 1e-9
-    ((lo, hi),) = family.stable_windows()
+    ((lo, hi),) = af.stable_windows(family)
     assert hi == pytest.approx(folds[0], abs=1e-9) and lo == pytest.approx(min(IS))
-    assert np.all(np.isfinite(family.u)) and family.problem is not None
+    assert np.all(np.isfinite(family.u)) and family.problem.factor > 0
 
 
 def test_branch_switching_at_the_pitchfork(family):
@@ -45,7 +57,7 @@ def test_branch_switching_at_the_pitchfork(family):
     (d,) = af.daughters(family, i)
     assert d.stable and d.E < E_IS and d.family.endswith("/IS")
     # the daughter's period at birth is the parent's: within |dT/dE| dE of it
-    j = int(family.positions[i])
+    j = family.special_points[i].index
     T_parent = np.interp(
         E_IS, *zip(*sorted(zip(family.E[j : j + 2], family.period[j : j + 2])))
     )
@@ -53,6 +65,7 @@ def test_branch_switching_at_the_pitchfork(family):
     # followed back through its birth, the daughter's family turns there (it merges with
     # the parent): a fold at the pitchfork's energy
     (g,) = af.families([d], (5.5150, 5.5175), step=3e-5, du=0.01)
+    assert isinstance(g, Branch) and g.label == d.family
     folds = [E for _, E in _points(g, "fold")]
     assert any(abs(E - E_IS) < 1e-8 for E in folds), (folds, E_IS)
     assert _points(g, "PD")  # it period-doubles below its birth
@@ -68,6 +81,7 @@ def test_cascade(family):
     ((i, E_IS),) = [(i, E) for i, E in _points(family, "IS") if E < 5.5165]
     c = af.cascade(family, i, generations=2)
     assert len(c.births) == 3 and len(c.families) == 3 and len(c.periods) == 2
+    assert all(isinstance(f, Branch) for f in c.families)
     assert c.births[0] == E_IS and c.births[0] > c.births[1] > c.births[2]
     assert abs(c.periods[1] / c.periods[0] - 2) < 1e-2  # a period doubling
     # the windows shrink by about the area-preserving Feigenbaum delta (8.72)
@@ -75,15 +89,38 @@ def test_cascade(family):
     assert 7.5 < r < 9.5, r
 
 
-def test_bad_input(family):
+def test_bad_input(family, orbit):
     with pytest.raises(ValueError, match="IS or PD"):
         af.daughters(family, 99)
     with pytest.raises(ValueError, match="dE"):
         af.daughters(family, _points(family, "IS")[0][0], dE=-1.0)
     with pytest.raises(ValueError, match="E_range"):
-        af.families([family.orbit], (5.6, 5.7))
+        af.families([orbit], (5.6, 5.7))
     with pytest.raises(ValueError, match="du"):
-        af.families([family.orbit], (5.5, 5.6), du=0.0)
+        af.families([orbit], (5.5, 5.6), du=0.0)
     with pytest.raises(ValueError, match="generations"):
         af.cascade(family, 0, generations=0)
     assert math.isfinite(family.E[0])
+
+
+def test_stable_windows_of_a_synthetic_branch():
+    """A stable run bounded by its IS points, and a stretch between two unstable members
+    where tr M crosses 4 and then 0 (a window narrower than the step); none without."""
+    from rotorlib.branch import Member, SpecialPoint
+    from rotorlib.precision import FLOAT64
+
+    def m(E, trace):
+        return Member(u=0.0, w=0.0, E=E, t1=1.0, r=0.0, trace=trace)
+
+    members = tuple(m(E, t) for E, t in zip([1, 2, 3, 4, 5], [5, 3, 3, 5, -1]))
+    points = [("IS", 1.5, 0), ("IS", 3.5, 2), ("IS", 4.2, 3), ("PD", 4.6, 3)]
+    b = Branch(
+        None,
+        FLOAT64,
+        members,
+        tuple(SpecialPoint(k, m(E, 4.0), i) for k, E, i in points),
+    )
+    assert af.stable_windows(b) == [(1.5, 3.5), (4.2, 4.6)]
+    # without located points a run is bounded by its members; no stable member: none
+    assert af.stable_windows(Branch(None, FLOAT64, members)) == [(2.0, 3.0)]
+    assert af.stable_windows(Branch(None, FLOAT64, members[3:])) == []

@@ -48,7 +48,9 @@ cf = NS(
     T=200.0,
     ftles=[x, x, x],
 )
-fam = NS(E=x + 4, trace=x, points=[("birth", 4.5)], dE=x - 0.5, label="IS^l_1")
+fam = NS(
+    E=x + 4, trace=x, dE=x - 0.5, label="IS^l_1", special_points=[NS(member=NS(E=4.5))]
+)
 tr = [NS(phase="lib", period=0.5, kind="IS", n=1, label="IS^l_1")]
 shape = dict(label="IS^l_1", a1=x, a2=x, E=4.0)
 pair = dict(label="IS^l_2", a1=x, a2=x + 2, alpha=230.0, beta=230.0)

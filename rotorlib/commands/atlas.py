@@ -11,8 +11,6 @@ from __future__ import annotations
 
 import argparse
 import sys
-from collections.abc import Iterable
-from concurrent.futures import Executor
 
 from ..cli import add_executor_arguments, emit
 from ..energy import as_float
@@ -58,43 +56,21 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.set_defaults(func=run)
 
 
-def records(
-    energies: Iterable[float],
-    t_max: float,
-    grid: int = 300,
-    digits: int | None = None,
-    executor: Executor | None = None,
-    progress: bool = False,
-) -> list:
-    """The records the command prints (one per orbit, in order of energy and period)."""
-    from ..atlas import atlas
-
-    out = []
-    for a in atlas(
-        energies, t_max, grid, executor=executor, progress=progress, digits=digits
-    ):
-        out += [o.to_dict() for o in a.orbits]
-    return out
-
-
 def run(args: argparse.Namespace) -> int:
-
-    from ..atlas import _check
+    from ..atlas import _check, census
     from ..parallel import executor_for
 
     energies = [as_float(v, "E") for v in args.E]
     t_max = as_float(args.t_max, "--t-max")
     check_digits(args.digits, "--digits")
     _check(energies, t_max, args.grid)  # refuses before any work is done
+    kw = dict(digits=args.digits, progress=sys.stderr.isatty() and not args.json)
     with executor_for(args.workers, args.scheduler) as ex:
-        recs = records(
-            energies,
-            t_max,
-            args.grid,
-            args.digits,
-            ex,
-            progress=sys.stderr.isatty() and not args.json,
-        )
+        recs: list = [  # one per orbit, in order of energy and period
+            o.to_dict()
+            for E in energies
+            for o in census(E, t_max, args.grid, executor=ex, **kw).orbits
+        ]
     if args.json:
         emit(recs if len(recs) != 1 else [recs], True, COLUMNS)
         return 0

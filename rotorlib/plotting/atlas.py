@@ -14,7 +14,8 @@ from . import COLUMN_WIDTH, integer_ticks, panel_letters
 
 if TYPE_CHECKING:
     from ..atlas import Atlas
-    from ..atlas_families import AtlasFamily, Cascade
+    from ..atlas_families import Cascade
+    from ..branch import Branch
     from ..chaos import ChaoticFraction, PoincareSection
 
 __all__ = [
@@ -80,8 +81,9 @@ def plot_growth(
     return fig
 
 
-def plot_family_trace(fam: AtlasFamily, E_fold: float | None = None) -> Figure:
-    """``tr M`` against E along one atlas family, the stable strip ``0 < tr M < 4``."""
+def plot_family_trace(fam: Branch, E_fold: float | None = None) -> Figure:
+    """``tr M`` against E along one atlas family (:func:`rotorlib.atlas_families.families`),
+    its special points dotted, the stable strip ``0 < tr M < 4``."""
     fig, ax = plt.subplots(figsize=(COLUMN_WIDTH, 3.8))
     ax.axhspan(
         0,
@@ -94,8 +96,8 @@ def plot_family_trace(fam: AtlasFamily, E_fold: float | None = None) -> Figure:
     ax.plot(
         fam.E, fam.trace, ".-", color="C3", label=r"$\mathrm{tr}\,M$ along the family"
     )
-    for kind, E in fam.points:
-        ax.axvline(E, color="0.5", lw=0.8, ls=":")
+    for p in fam.special_points:
+        ax.axvline(float(p.member.E), color="0.5", lw=0.8, ls=":")
     if E_fold is not None:
         ax.axvline(E_fold, color="k", lw=1, ls="--", label="fold of the family")
     ax.set_xlabel(r"$E$ (units of $g$)")
