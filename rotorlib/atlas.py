@@ -492,7 +492,9 @@ def _known_family(args):
     spec = nb.family_spec(lab)
     try:
         E_max = max(max(energies), nb.family_range(spec)[1]) + 0.05
-        b = nb.follow(lab, E_max=E_max, energies=tuple(energies), max_steps=600)
+        b = nb.follow(
+            lab, E_range=(None, E_max), energies=tuple(energies), max_steps=600
+        )
     except (ValueError, SectionNotReached):
         return {}
     out = {}

@@ -526,7 +526,7 @@ def rotational_member(label: Any, dE: Any, digits: Any = None) -> RotationalMemb
     b = follow(
         label,
         chart="K",
-        E_max=4 + target * 1.01,
+        E_range=(None, 4 + target * 1.01),
         energies=(_four_plus(dE, deep),),
         digits=digits,
         jump=0.05 if deep else None,

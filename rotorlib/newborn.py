@@ -52,7 +52,9 @@ import mpmath as mp
 import numpy as np
 
 from .bifurcations import parse_label, transition
+from .branch import Branch
 from .continuation import (
+    ContinuationOptions,
     FamilyEnd,
     Member,
     Natural,
@@ -76,7 +78,6 @@ __all__ = [
     "birth_member",
     "seed",
     "newborn_orbit",
-    "newborn_family",
     "linear_orbit",
     "a1_structure",
     "trace_slope_at_birth",
@@ -140,13 +141,6 @@ class FamilySpec:
     log_abs_dE_birth: float
     period_birth: float
     transition: str
-
-    @property
-    def lame_zeros(self) -> float:
-        """Tables III/IV: the number ``m`` of the Lamé function Ex^m (half-integer for PD^l)."""
-        if self.phase == "lib":
-            return (self.n + 1) // 2 + 1 if self.kind == "IS" else self.n + 0.5
-        return (self.n + 1) // 2 if self.kind == "PD" else (self.n + 1) // 2 + 1
 
     @property
     def u_scale(self) -> float:
@@ -368,9 +362,12 @@ def _seed(label: str, t: Tier) -> tuple[Member, Any]:
         return m, (E_s - _birth(spec, name)) / (u_s * u_s)
 
 
-def _path(spec: FamilySpec, E_target, t: Tier, steps=None):
-    """Members from the seed to ``E_target``, continued in ``E`` (Natural, values spaced in
-    ``sqrt|E - E_n|``); raises :class:`~rotorlib.continuation.FamilyEnd` where it stops."""
+def _path(
+    spec: FamilySpec, E_target: Any, t: Tier, steps: int | None = None, traces=False
+) -> Branch:
+    """The branch from the seed to ``E_target``, continued in ``E`` (Natural, ``steps``
+    values spaced in ``sqrt|E - E_n|``; ``traces``: ``tr M`` of every member); raises
+    :class:`~rotorlib.continuation.FamilyEnd` where it stops."""
     m0, c = seed(spec.label, t)
     with t.context():
         E_target = t.num(E_target)
@@ -392,7 +389,8 @@ def _path(spec: FamilySpec, E_target, t: Tier, steps=None):
         alg = Natural(
             "E", tuple(vals) + (E_target,), order=1, origin=En, origin_other=0.0
         )
-        return continuation(spec.problem, alg, start=[m0], digits=t).members
+        opts = ContinuationOptions(traces=traces)
+        return continuation(spec.problem, alg, opts, [m0], t)
 
 
 def _tiers(spec: FamilySpec, digits):
@@ -454,17 +452,17 @@ def newborn_orbit(
     t0 = time.perf_counter()
     E_in = str(E) if t_cont.extended else float(E)
     try:
-        path = _path(spec, E_in, t_cont, steps)
+        path = _path(spec, E_in, t_cont, steps).members
     except FamilyEnd:
         if t_cont.extended:
             raise
         from .newborn_families import follow
 
-        b = follow(spec.label, E_max=float(E) + 1e-9, energies=(float(E),))
+        b = follow(spec.label, E_range=(None, float(E) + 1e-9), energies=(float(E),))
         pts = b.points("E")
         if not pts:
             raise FamilyRangeError(spec, E) from None
-        path = [pts[0].member]
+        path = (pts[0].member,)
     u = path[-1].u
     if t_out != t_cont:
         u = solve(
@@ -487,59 +485,6 @@ def newborn_orbit(
         },
         shown=digits if digits and digits > 15 else None,
     )
-
-
-def newborn_family(
-    label: str,
-    E_end: float | str | None = None,
-    n: int = 12,
-    digits: int | None = None,
-) -> list[PeriodicOrbit]:
-    """Members of a newborn family from its seed near birth to ``E_end``.
-
-    Parameters
-    ----------
-    label : str
-        The family (``IS^l_2``, ``PD^r_3``, ...).
-    E_end : float or str, optional
-        The last energy (default: 4 for libration, ``E_n + 0.05`` for rotation, or the
-        top of :func:`family_range` if lower).
-    n : int
-        The number of continuation steps, not of members: the energies ``E_1 .. E_n =
-        E_end`` are spaced equally in ``sqrt|E - E_n|`` from the seed. The list holds the
-        seed and one member per step, ``n + 1`` members, plus one member for each step
-        the continuation had to halve (so ``n + 1`` is a lower bound).
-    digits : int, optional
-        The tier of the whole continuation (default float64 while
-        ``|E_n - 4| > FAMILY_FLOAT64_DEPTH``, else real128).
-
-    Returns
-    -------
-    list of PeriodicOrbit
-        Birth first, increasing distance to ``E_n``; the last member is at ``E_end``.
-
-    Examples
-    --------
-    >>> from rotorlib.newborn import newborn_family
-    >>> fam = newborn_family("IS^l_2", n=4)
-    >>> len(fam), float(fam[-1].E)
-    (5, 4.0)
-    """
-    spec = family_spec(label)
-    if digits is None:
-        t = FLOAT64 if spec.depth > FAMILY_FLOAT64_DEPTH else REAL128
-    else:
-        t = tier(int(digits))
-    if E_end is None:
-        E_end = (
-            4.0
-            if spec.phase == "lib"
-            else min(spec.E_birth + 0.05, family_range(spec)[1])
-        )
-    if not (spec.E_birth < float(E_end) <= family_range(spec)[1]):
-        raise FamilyRangeError(spec, E_end)
-    path = _path(spec, str(E_end) if t.extended else float(E_end), t, steps=n)
-    return [periodic_orbit(spec.problem, m.u, m.w, t) for m in path]
 
 
 # --------------------------------------------------------------------------- shapes (Fig. 5, Tables III-IV)

@@ -263,7 +263,7 @@ def test_rotational_family_ends_at_the_potential_maximum():
     E -> 4.5 = V(pi/3, pi) with a diverging half period; tr M = 4 is located at the fold."""
     from rotorlib.newborn import follow
 
-    b = follow("PD^r_2", chart="K", E_max=5.0, traces=True)
+    b = follow("PD^r_2", chart="K", E_range=(None, 5.0), traces=True)
     assert (
         len(b.points("fold")) == 1
         and 4.55 < b.E_max < 4.552
