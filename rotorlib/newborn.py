@@ -51,6 +51,7 @@ from typing import Any
 import mpmath as mp
 import numpy as np
 
+from . import flow
 from .bifurcations import parse_label, transition
 from .branch import Branch
 from .continuation import (
@@ -531,8 +532,6 @@ def a1_structure(
     for IS, half of it for PD) over which it repeats to 1e-6 of its amplitude. ``m`` is the
     Lamé count of Tables III/IV: nodes of ``a1`` per orbit period divided by 2 (IS) or 4 (PD).
     """
-    from . import flow
-
     spec = spec or family_spec(orbit.label)
     tau = orbit.period / (2 if spec.kind == "PD" else 1)
     st, _ = flow.sample(orbit.state0, orbit.period, n + 1)
@@ -541,16 +540,13 @@ def a1_structure(
         np.sum(np.sign(mid[1:]) != np.sign(mid[:-1]))
         + (np.sign(mid[0]) != np.sign(mid[-1]))
     )
-    amp = np.max(np.abs(st[:, 0]))
-    per = None
-    for frac in (0.5, 1.0, 2.0):
-        x = flow.flow(orbit.state0, frac * tau)
-        if (
-            abs(x[0] - orbit.state0[0]) < 1e-6 * amp
-            and abs(x[2] - orbit.state0[2]) < 4e-6 * amp
-        ):
-            per = frac
-            break
+    amp, x0 = np.max(np.abs(st[:, 0])), orbit.state0
+
+    def repeats(frac: float) -> bool:  # a1 and p1 back at their start after frac tau
+        x = flow.flow(x0, frac * tau)
+        return abs(x[0] - x0[0]) < 1e-6 * amp and abs(x[2] - x0[2]) < 4e-6 * amp
+
+    per = next((frac for frac in (0.5, 1.0, 2.0) if repeats(frac)), None)
     return {
         "period_of_a1": per,
         "nodes": nodes,

@@ -68,7 +68,6 @@ def _branch(
     start: list[Member] | None = None,
 ) -> Branch:
     """The family of ``spec`` in pseudo-arclength from its seed (or from ``start``)."""
-    d = spec.depth
     prob = spec.problem if chart == "E" else spec.problem.chart(4.0)
     if start is None:
         m0 = seed(spec.label, t)[0]
@@ -79,8 +78,8 @@ def _branch(
         ds=ds,
         ds_max=ds_max,
         E_ref=spec.E_birth if chart == "E" else 4.0,
-        u_floor=1e-3 * math.sqrt(d),
-        w_floor=1e-3 * d,
+        u_floor=1e-3 * math.sqrt(spec.depth),
+        w_floor=1e-3 * spec.depth,
     )
     opts = ContinuationOptions(
         max_steps=max_steps,

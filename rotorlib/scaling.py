@@ -73,10 +73,11 @@ def asymptotic_distance(tau: Any, phase: str) -> Any:
     """
     if phase not in ("lib", "rot"):
         raise ValueError(f"phase must be 'lib' or 'rot', got {phase!r}")
-    c = math.sqrt(3.0) / (2.0 if phase == "lib" else 1.0)
     if isinstance(tau, mp.mpf):
         return 64 * mp.exp(-mp.sqrt(3) / (2 if phase == "lib" else 1) * tau)
-    return 64.0 * math.exp(-c * float(tau))
+    return 64.0 * math.exp(
+        -math.sqrt(3.0) / (2.0 if phase == "lib" else 1.0) * float(tau)
+    )
 
 
 def fit_convergence(xs: Any, errs: Any) -> Any:
@@ -146,9 +147,7 @@ def transverse_eigenstructure(t: Transition, rel_tol: float = 1e-8) -> Transvers
             vecs.append(np.array([v[0], v[1], 0.0, 0.0]))
     if len(vecs) == 2:  # the whole plane: use the coordinate basis
         vecs = [np.array([1.0, 0, 0, 0]), np.array([0, 1.0, 0, 0])]
-    L = Mpar - np.eye(2)
-    lon = np.array([0.0, 0.0, 1.0, 0.0])
-    assert np.max(np.abs(L @ np.array([1.0, 0.0]))) == 0.0
+    assert np.max(np.abs((Mpar - np.eye(2)) @ np.array([1.0, 0.0]))) == 0.0
     res = max(
         [float(np.max(np.abs((M.matrix - mu * np.eye(4)) @ v))) for v in vecs]
         or [float("nan")]
@@ -156,7 +155,7 @@ def transverse_eigenstructure(t: Transition, rel_tol: float = 1e-8) -> Transvers
     ev = np.concatenate(
         [np.asarray(multipliers_from_trace(M.trace_transverse)), [1.0, 1.0]]
     )
-    return TransverseEigen(ev, mu, s, vecs, lon, res)
+    return TransverseEigen(ev, mu, s, vecs, np.array([0.0, 0.0, 1.0, 0.0]), res)
 
 
 # --------------------------------------------------------------------------- tr M_perp asymptotics
