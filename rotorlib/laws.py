@@ -181,9 +181,9 @@ def pendulum_dtrace_dx(label: str, h: float = 1e-5) -> float:
     """``d tr M / dx`` of the pendulum at the transition, ``x = log|E - 4|``: central difference of
     ``tr M(Delta(x))`` (``Delta`` float64-accurate to ~1e-13; ``h = 1e-5``: ~1e-8 relative + ``O(h^2)``)."""
     t = transition(label)
-    x = t.log_abs_dE
-    tp = trace_of_delta(delta(x + h, t.phase), t.phase)
-    tm = trace_of_delta(delta(x - h, t.phase), t.phase)
+    tp, tm = (
+        trace_of_delta(delta(t.log_abs_dE + s, t.phase), t.phase) for s in (h, -h)
+    )
     return float((tp - tm) / (2 * h))
 
 
@@ -191,8 +191,8 @@ def pendulum_slope(label: str, h: float = 1e-5) -> float:
     """``d tr M / dE`` of the pendulum at the transition: ``(dtrM/dx) / (E - 4)`` with
     :func:`pendulum_dtrace_dx` and ``E - 4 = -+e^x`` (libration / rotation)."""
     t = transition(label)
-    sign = -1.0 if t.phase == "lib" else 1.0
-    return pendulum_dtrace_dx(label, h) / (sign * math.exp(t.log_abs_dE))
+    E_minus_4 = (-1.0 if t.phase == "lib" else 1.0) * math.exp(t.log_abs_dE)
+    return pendulum_dtrace_dx(label, h) / E_minus_4
 
 
 def slope_law(label: str, E: ArrayLike, trace: ArrayLike, u: ArrayLike) -> SlopeLaw:
