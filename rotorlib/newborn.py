@@ -364,7 +364,11 @@ def _seed(label: str, t: Tier) -> tuple[Member, Any]:
 
 
 def _path(
-    spec: FamilySpec, E_target: Any, t: Tier, steps: int | None = None, traces=False
+    spec: FamilySpec,
+    E_target: Any,
+    t: Tier,
+    steps: int | None = None,
+    traces: bool = False,
 ) -> Branch:
     """The branch from the seed to ``E_target``, continued in ``E`` (Natural, ``steps``
     values spaced in ``sqrt|E - E_n|``; ``traces``: ``tr M`` of every member); raises
@@ -412,7 +416,6 @@ def newborn_orbit(
     label: str,
     E: float | str,
     digits: int | None = None,
-    steps: int | None = None,
 ) -> PeriodicOrbit:
     """The member of the family born at ``label`` with energy ``E`` (:func:`~rotorlib.newborn_families.family` gives
     its members over a range).
@@ -425,8 +428,6 @@ def newborn_orbit(
         Energy (a decimal string keeps all its digits in extended tiers).
     digits : int, optional
         Significant digits wanted (see the module docstring); ``None``: the default tiers.
-    steps : int, optional
-        Continuation steps from the seed (default from the distance to birth).
 
     Returns
     -------
@@ -451,9 +452,8 @@ def newborn_orbit(
         )
     t_cont, t_out = _tiers(spec, digits)
     t0 = time.perf_counter()
-    E_in = str(E) if t_cont.extended else float(E)
-    try:
-        path = _path(spec, E_in, t_cont, steps).members
+    try:  # continuation steps from the seed: by the distance to birth
+        path = _path(spec, str(E) if t_cont.extended else float(E), t_cont).members
     except FamilyEnd:
         if t_cont.extended:
             raise

@@ -80,16 +80,16 @@ def asymptotic_distance(tau: Any, phase: str) -> Any:
     )
 
 
-def fit_convergence(xs: Any, errs: Any) -> Any:
+def fit_convergence(xs: Sequence[Any], errs: Sequence[Any]) -> tuple[float, float]:
     """Least-squares fit of ``log|err_n| - log|x_n| = a + b x_n``.
 
     ``b = 1`` means ``err_n ~ C |E_n - 4| log|E_n - 4|``: the error shrinks by the
     factor ``delta`` (times ``x_{n+1}/x_n``) from one member to the next.
     Returns ``(a, b)``.
     """
-    xs = np.array([float(x) for x in xs])
-    y = np.log(np.abs(np.array([float(e) for e in errs]))) - np.log(np.abs(xs))
-    b, a = np.polyfit(xs, y, 1)
+    x = np.array([float(v) for v in xs])
+    y = np.log(np.abs(np.array([float(e) for e in errs]))) - np.log(np.abs(x))
+    b, a = np.polyfit(x, y, 1)
     return float(a), float(b)
 
 
