@@ -289,8 +289,7 @@ def amplitudes(orbit: PeriodicOrbit) -> tuple[float, float]:
 
 def ratios(values: Sequence[float], k: int) -> list[float]:
     """``values[i] / values[i + k]`` (the alpha(n), beta(n) sequences of paper eqs. al-seq, beta-al-2)."""
-    v = list(values)
-    return [v[i] / v[i + k] for i in range(len(v) - k)]
+    return [values[i] / values[i + k] for i in range(len(values) - k)]
 
 
 def asymptotic_a1(label: str, E: float | str = 4.0) -> float:
@@ -394,9 +393,8 @@ def dual_lame(
     tl, tr = transition(lib_label), transition(rot_label)
     t1, y1, _ = linear_orbit(lib_label, [1.0, 0.0, 0.0, 0.0], tl.period, n)
     t2, y2, _ = linear_orbit(rot_label, [1.0, 0.0, 0.0, 0.0], 2 * tr.period, n)
-    w = np.linspace(0.0, 1.0, n)
     return {
-        "w": w,
+        "w": np.linspace(0.0, 1.0, n),
         "lib": y1,
         "rot": y2,
         "closure_lib": abs(y1[-1] - 1.0),
