@@ -491,7 +491,7 @@ def _known_family(args):
     spec = nb.family_spec(lab)
     try:
         E_max = max(E, nb.family_range(spec)[1]) + 0.05
-        b = nb.follow(lab, E_max=E_max, energies=(E,), max_steps=600)
+        b = nb.follow(lab, E_range=(None, E_max), energies=(E,), max_steps=600)
     except (ValueError, SectionNotReached):
         return None
     located = [pt.member for pt in b.points("E") if pt.located]

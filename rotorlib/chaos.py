@@ -476,7 +476,7 @@ def _band_one(args):
     b = follow(
         label,
         chart="K",
-        E_max=4 + dE_stop,
+        E_range=(None, 4 + dE_stop),
         digits=digits,
         traces=True,
         jump=0.05 if deep else None,

@@ -50,18 +50,23 @@ paper's ratios. Every rotational family followed (IS^r_1..4, PD^r_2..6) ends at
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping, Sequence
+from concurrent.futures import Executor
 from dataclasses import dataclass, field
 from typing import Any
 
 import mpmath as mp
 import numpy as np
+from numpy.typing import ArrayLike
 
 from . import flow
-from .bifurcations import delta, parse_label, trace_of_delta, transition, transitions
+from .bifurcations import delta, parse_label, trace_of_delta, transition
+from .branch import Member
 from .continuation import member
+from .flow import monodromy_matrix
 from .newborn import family_spec, follow, linear_orbit, newborn_orbit
 from .parallel import pmap
-from .periodic import orbit_from_state
+from .periodic import PeriodicOrbit
 from .precision import REAL128, Tier
 from .shooting import solve
 
@@ -69,9 +74,9 @@ __all__ = ["SQRT3_PI", "DELTA_L", "SQRT_DELTA_L", "SlopeLaw", "fork_fit"]
 __all__ += ["pendulum_slope", "pendulum_dtrace_dx", "newborn_slope", "slope_law"]
 __all__ += ["expected_ratio", "fan_prediction", "fan_traces", "amplitudes", "ratios"]
 __all__ += ["asymptotic_a1", "asymptotic_a2_deficit", "DualPair", "dual_label"]
-__all__ += ["duality_pairs", "fit_rate", "dual_lame", "RotationalMember", "NotReached"]
+__all__ += ["duality_pairs", "fit_rate", "dual_lame", "NotReached", "a1_max"]
 __all__ += ["rotational_member", "RotationalRatio", "rotational_ratios", "dE_str"]
-__all__ += ["rotational_members"]
+__all__ += ["rotational_members", "a2dot_min", "closure", "rotational_record"]
 
 #: ``sqrt(3) pi``; ``delta^l = e^{sqrt3 pi}`` (230.76), ``sqrt(delta^l) = e^{sqrt3 pi / 2}`` (15.19).
 SQRT3_PI = math.sqrt(3.0) * math.pi
@@ -129,8 +134,13 @@ class SlopeLaw:
 
 
 def fork_fit(
-    E: Any, trace: Any, u: Any, E_birth: Any, trace_birth: Any = 4.0, degree: Any = 2
-) -> Any:
+    E: ArrayLike,
+    trace: ArrayLike,
+    u: ArrayLike,
+    E_birth: float,
+    trace_birth: float = 4.0,
+    degree: int = 2,
+) -> tuple[float, float, float, float]:
     """Fit ``E - E_n = c1 s + c2 s^2`` and ``tr M - 4 = d1 s + d2 s^2`` with ``s = u^2``.
 
     Returns ``(slope = d1/c1, c1, d1, residual)``; ``residual`` is the largest
@@ -147,11 +157,9 @@ def fork_fit(
             "amplitudes must be nonzero (the members must lie on the new family)"
         )
     A = np.column_stack([s**k for k in range(1, degree + 1)])
-    sc = s.max()
-    cE, *_ = np.linalg.lstsq(A / sc ** np.arange(1, degree + 1), E, rcond=None)
-    cT, *_ = np.linalg.lstsq(A / sc ** np.arange(1, degree + 1), y, rcond=None)
-    cE = cE / sc ** np.arange(1, degree + 1)
-    cT = cT / sc ** np.arange(1, degree + 1)
+    scale = s.max() ** np.arange(1, degree + 1)  # columns of order 1
+    cE = np.linalg.lstsq(A / scale, E, rcond=None)[0] / scale
+    cT = np.linalg.lstsq(A / scale, y, rcond=None)[0] / scale
     res = max(
         np.max(np.abs(A @ cE - E)) / np.ptp(E),
         np.max(np.abs(A @ cT - y)) / max(np.ptp(y), 1e-300),
@@ -159,7 +167,7 @@ def fork_fit(
     return float(cT[0] / cE[0]), float(cE[0]), float(cT[0]), float(res)
 
 
-def expected_ratio(label: Any) -> float:
+def expected_ratio(label: str) -> float:
     """The slope theorem's ``tr M_new' / tr M_pend'``: -2 (IS^l, IS^r), 8 (PD^r)."""
     kind, phase, _ = parse_label(label)
     if kind == "PD" and phase == "lib":
@@ -169,25 +177,25 @@ def expected_ratio(label: Any) -> float:
     return -2.0 if kind == "IS" else 8.0
 
 
-def pendulum_dtrace_dx(label: Any, h: Any = 1e-5) -> float:
+def pendulum_dtrace_dx(label: str, h: float = 1e-5) -> float:
     """``d tr M / dx`` of the pendulum at the transition, ``x = log|E - 4|``: central difference of
     ``tr M(Delta(x))`` (``Delta`` float64-accurate to ~1e-13; ``h = 1e-5``: ~1e-8 relative + ``O(h^2)``)."""
     t = transition(label)
-    x = t.log_abs_dE
-    tp = trace_of_delta(delta(x + h, t.phase), t.phase)
-    tm = trace_of_delta(delta(x - h, t.phase), t.phase)
+    tp, tm = (
+        trace_of_delta(delta(t.log_abs_dE + s, t.phase), t.phase) for s in (h, -h)
+    )
     return float((tp - tm) / (2 * h))
 
 
-def pendulum_slope(label: Any, h: Any = 1e-5) -> float:
+def pendulum_slope(label: str, h: float = 1e-5) -> float:
     """``d tr M / dE`` of the pendulum at the transition: ``(dtrM/dx) / (E - 4)`` with
     :func:`pendulum_dtrace_dx` and ``E - 4 = -+e^x`` (libration / rotation)."""
     t = transition(label)
-    sign = -1.0 if t.phase == "lib" else 1.0
-    return pendulum_dtrace_dx(label, h) / (sign * math.exp(t.log_abs_dE))
+    E_minus_4 = (-1.0 if t.phase == "lib" else 1.0) * math.exp(t.log_abs_dE)
+    return pendulum_dtrace_dx(label, h) / E_minus_4
 
 
-def slope_law(label: Any, E: Any, trace: Any, u: Any) -> SlopeLaw:
+def slope_law(label: str, E: ArrayLike, trace: ArrayLike, u: ArrayLike) -> SlopeLaw:
     """:class:`SlopeLaw` from given members ``(E, trace, u)`` of the family born at ``label``."""
     return _law(label, transition(label).E, E, trace, u, E)
 
@@ -197,7 +205,6 @@ def _law(label, x0, x, trace, u, E) -> SlopeLaw:
     t = transition(label)
     s_new, c, d, res = fork_fit(x, trace, u, x0)
     s_p = pendulum_slope(label)
-    as_tuple = lambda v: tuple(float(w) for w in v)  # noqa: E731
     return SlopeLaw(
         t.label,
         t.E,
@@ -209,14 +216,16 @@ def _law(label, x0, x, trace, u, E) -> SlopeLaw:
         c,
         d,
         res,
-        as_tuple(E),
-        as_tuple(trace),
-        as_tuple(u),
+        tuple(map(float, E)),
+        tuple(map(float, trace)),
+        tuple(map(float, u)),
     )
 
 
 def newborn_slope(
-    label: Any, rel: Any = (2e-4, 5e-4, 1e-3, 2e-3, 4e-3), digits: Any = None
+    label: str,
+    rel: Sequence[float] = (2e-4, 5e-4, 1e-3, 2e-3, 4e-3),
+    digits: int | None = None,
 ) -> SlopeLaw:
     """Members at ``E_n + r |E_n - 4|`` (``rotorlib.newborn.newborn_orbit``) and their fork fit.
 
@@ -236,14 +245,14 @@ def newborn_slope(
         )
         for E in Es
     ]
-    amp = [abs(float(o.extra.get("u", o.alpha1_max))) for o in orbs]
+    amp = [abs(o.extra["u"]) for o in orbs]
     return _law(label, 0.0, dE, [o.trace for o in orbs], amp, [o.E for o in orbs])
 
 
 # --------------------------------------------------------------------------- fans (§7.4)
 
 
-def fan_prediction(label: Any) -> float:
+def fan_prediction(label: str) -> float:
     """Backward linear extrapolation of a rotational family to E = 4 using the slope theorem.
 
     ``tr M(4) ~ 4 + r s_pend (4 - E_n) = 4 - r dtrM_pend/dx`` with ``r`` from :func:`expected_ratio`
@@ -252,7 +261,7 @@ def fan_prediction(label: Any) -> float:
     return float(4.0 - expected_ratio(label) * pendulum_dtrace_dx(label))
 
 
-def fan_traces(labels: Any, E: Any = 4.0) -> dict:
+def fan_traces(labels: Sequence[str], E: float | str = 4.0) -> dict[str, PeriodicOrbit]:
     """``{label: PeriodicOrbit}`` at energy ``E`` (``newborn_orbit`` default precision: real128 near E = 4)."""
     return {lab: newborn_orbit(lab, E) for lab in labels}
 
@@ -260,7 +269,7 @@ def fan_traces(labels: Any, E: Any = 4.0) -> dict:
 # --------------------------------------------------------------------------- scaling of shapes (§7.5)
 
 
-def amplitudes(orbit: Any) -> tuple:
+def amplitudes(orbit: PeriodicOrbit) -> tuple[float, float]:
     """``(a1max, pi - a2max)`` of a librational newborn orbit, its turning points located in
     real128 from its 32-digit state (``pi - a2max`` formed in mpmath: no cancellation).
     Falls back to the orbit's float64 extrema for a float64 orbit."""
@@ -269,7 +278,7 @@ def amplitudes(orbit: Any) -> tuple:
     hits = flow.crossings(
         orbit.state0_str,
         (flow.Section((0, 0, 1, 0)), flow.Section((0, 0, 0, 1))),
-        orbit.period_str,
+        orbit.period_str,  # type: ignore[arg-type]  # a string keeps its digits
         REAL128,
     )
     with REAL128.context():
@@ -278,13 +287,12 @@ def amplitudes(orbit: Any) -> tuple:
         return float(a1), float(REAL128.pi - a2)
 
 
-def ratios(values: Any, k: Any) -> list:
+def ratios(values: Sequence[float], k: int) -> list[float]:
     """``values[i] / values[i + k]`` (the alpha(n), beta(n) sequences of paper eqs. al-seq, beta-al-2)."""
-    v = list(values)
-    return [v[i] / v[i + k] for i in range(len(v) - k)]
+    return [values[i] / values[i + k] for i in range(len(values) - k)]
 
 
-def asymptotic_a1(label: Any, E: Any = 4.0) -> float:
+def asymptotic_a1(label: str, E: float | str = 4.0) -> float:
     """Paper eq. (al1-asymptotic): ``a1max(n; E) ~ sqrt(E - E_n)``."""
     t = transition(label)
     if t.phase == "lib":
@@ -293,10 +301,9 @@ def asymptotic_a1(label: Any, E: Any = 4.0) -> float:
     return math.sqrt(float(E) - t.E)
 
 
-def asymptotic_a2_deficit(label: Any) -> float:
+def asymptotic_a2_deficit(label: str) -> float:
     """Paper eq. (al-2-max): ``pi - a2max(n; 4) ~ sqrt(4 - E_n)`` (librational)."""
-    t = transition(label)
-    return math.exp(0.5 * t.log_abs_dE)
+    return math.exp(0.5 * transition(label).log_abs_dE)
 
 
 # --------------------------------------------------------------------------- duality (§7.6)
@@ -324,12 +331,10 @@ def dual_label(n_lib: int) -> str:
     if isinstance(n_lib, bool) or not isinstance(n_lib, (int, np.integer)) or n_lib < 1:
         raise ValueError(f"n must be an integer >= 1, got {n_lib!r}")
     j, r = divmod(n_lib - 1, 4)
-    if r in (0, 1):
-        return f"IS^r_{2 * j + r + 1}"
-    return f"PD^r_{2 * j + r + 1}"
+    return f"{'IS' if r < 2 else 'PD'}^r_{2 * j + r + 1}"
 
 
-def duality_pairs(n_max: Any = 20, digits: Any = None) -> list:
+def duality_pairs(n_max: int = 20, digits: int | None = None) -> list[DualPair]:
     """:class:`DualPair` for ``IS^l_1 .. IS^l_{n_max}``.
 
     ``digits=None``: float64 transitions (``x`` to ~2e-13 absolute, so ``diff`` is resolved only while it
@@ -337,16 +342,12 @@ def duality_pairs(n_max: Any = 20, digits: Any = None) -> list:
     (:func:`rotorlib.bifurcations.transition`, ~30 digits, ~0.3 s per root); ``diff`` and ``k2_sum - 2`` are
     then formed in mpmath and resolved to ~1e-28.
     """
-    if digits is None:
-        lib = {t.label: t for t in transitions("lib", n_max, kinds=("IS",))}
-        rot = {t.label: t for t in transitions("rot", n_max // 2 + 3)}
-        get_l, get_r = lib.__getitem__, rot.__getitem__
-    else:
-        get_l = get_r = lambda lab: transition(lab, digits=digits)
     out = []
     with mp.workdps(40):
         for n in range(1, n_max + 1):
-            tl, tr = get_l(f"IS^l_{n}"), get_r(dual_label(n))
+            tl, tr = (
+                transition(x, digits=digits) for x in (f"IS^l_{n}", dual_label(n))
+            )
             xl, xr = mp.mpf(tl.log_abs_dE_str), mp.mpf(tr.log_abs_dE_str)
             k2m2 = (
                 mp.e**xr - mp.e**xl
@@ -365,7 +366,7 @@ def duality_pairs(n_max: Any = 20, digits: Any = None) -> list:
     return out
 
 
-def fit_rate(ns: Any, values: Any) -> tuple:
+def fit_rate(ns: ArrayLike, values: ArrayLike) -> tuple[float, float]:
     """Least-squares ``log|v_n| = a - b n``; returns ``(b, a)`` (``|v_n| ~ e^{a - b n}``)."""
     ns = np.asarray(ns, float)
     y = np.log(np.abs(np.asarray(values, float)))
@@ -374,8 +375,8 @@ def fit_rate(ns: Any, values: Any) -> tuple:
 
 
 def dual_lame(
-    lib_label: Any = "IS^l_1", rot_label: Any = "IS^r_1", n: Any = 2001
-) -> Any:
+    lib_label: str = "IS^l_1", rot_label: str = "IS^r_1", n: int = 2001
+) -> dict[str, Any]:
     """Periodic transverse solutions ``a1'' = -(2 + cos a2) a1``, ``a1(0) = 1``, ``a1'(0) = 0`` at two dual
     transitions, on the paper's rescaled times ``z = sqrt3 t`` (lib) and ``z = sqrt3 k_r t`` (rot).
 
@@ -392,9 +393,8 @@ def dual_lame(
     tl, tr = transition(lib_label), transition(rot_label)
     t1, y1, _ = linear_orbit(lib_label, [1.0, 0.0, 0.0, 0.0], tl.period, n)
     t2, y2, _ = linear_orbit(rot_label, [1.0, 0.0, 0.0, 0.0], 2 * tr.period, n)
-    w = np.linspace(0.0, 1.0, n)
     return {
-        "w": w,
+        "w": np.linspace(0.0, 1.0, n),
         "lib": y1,
         "rot": y2,
         "closure_lib": abs(y1[-1] - 1.0),
@@ -408,50 +408,6 @@ def dual_lame(
 
 
 # --------------------------------------------------------------------------- rotational scaling (§7.5)
-
-
-@dataclass(frozen=True)
-class RotationalMember:
-    """A member of a rotational newborn family at a prescribed ``E - 4``
-    (:func:`rotational_member`).
-
-    Attributes
-    ----------
-    label, precision : str
-    dE : float
-        ``E - 4``.
-    dE_str : str
-        ``E - 4`` to 30 significant digits (extended) or 17 (float64).
-    u, q : float
-        The unknowns (amplitude; ``q = K - 4``, the ``a2``-mode energy above the barrier).
-    period : float
-    state0 : ndarray (4,)
-    a1_max : float
-        ``max |a1|``, at the turning points ``p1 = 0`` of the symmetric quarter period.
-    a2dot_min : float
-        ``min a2' = (3/2) p2`` at ``a2 = pi`` (the symmetric point).
-    trace, closure : float
-        ``tr M`` and ``max |x(T) - x(0) - L|`` of the full period in ``trace_precision``.
-    residual : float
-        The shooting residual.
-    trace_precision : str
-        The tier of ``trace`` (the member's own).
-    """
-
-    label: str
-    precision: str
-    dE: float
-    dE_str: str
-    u: float
-    q: float
-    period: float
-    state0: np.ndarray
-    a1_max: float
-    a2dot_min: float
-    trace: float
-    closure: float
-    residual: float
-    trace_precision: str = ""
 
 
 class NotReached(ValueError):
@@ -468,7 +424,7 @@ class NotReached(ValueError):
         Why the continuation ended.
     """
 
-    def __init__(self, label: Any, dE: Any, dE_max: Any, stop: Any) -> None:
+    def __init__(self, label: str, dE: float, dE_max: float, stop: str) -> None:
         self.label, self.stop = label, stop
         self.dE, self.dE_max = float(dE), float(dE_max)
         super().__init__(
@@ -477,44 +433,62 @@ class NotReached(ValueError):
         )
 
 
-def _member_props(prob, m, t, tp=None):
-    """Amplitudes on the quarter period, trace and closure of the full period."""
+def a1_max(m: Member) -> float:
+    """``max |a1|`` of a rotational member: at the turning points ``p1 = 0`` of its
+    symmetric quarter period ``(0, t1)`` (located in its tier) or at the ends.
+
+    Examples
+    --------
+    >>> from rotorlib.laws import a1_max, a2dot_min, rotational_member
+    >>> m = rotational_member("IS^r_1", 0.02)
+    >>> round(a1_max(m), 6), round(a2dot_min(m), 6)
+    (0.105303, 0.16416)
+    """
+    t = Tier(m.precision)
     with t.context():
-        x0 = prob.state(m.u, m.w, t)
-        hits = flow.crossings(x0, (flow.Section((0, 0, 1, 0)),), m.t1, t)
-        a1m = max([abs(x0[0]), abs(m.x1[0])] + [abs(x[0]) for _, _, x in hits])
-        o = orbit_from_state(prob.label, x0, prob.factor * m.t1, t, prob.lattice, m.E)
-        dE = m.E - 4
-        return RotationalMember(
-            prob.label,
-            t.name,
-            float(dE),
-            t.text(dE, 30) if t.extended else repr(float(dE)),
-            float(m.u),
-            float(m.w),
-            float(prob.factor * m.t1),
-            np.array([float(v) for v in x0]),
-            float(a1m),
-            float(1.5 * m.x1[3]),
-            o.trace,
-            o.residual,
-            float(abs(m.r)),
-            tp or t.name,
-        )
+        hits = flow.crossings(list(m.x0), (flow.Section((0, 0, 1, 0)),), m.t1, t)
+        ends = [abs(m.x0[0]), abs(m.x1[0])]
+        return float(max(ends + [abs(x[0]) for _, _, x in hits]))
 
 
-def rotational_member(label: Any, dE: Any, digits: Any = None) -> RotationalMember:
+def a2dot_min(m: Member) -> float:
+    """``min a2' = (3/2) p2`` of a rotational member, at ``a2 = pi`` (its symmetric point
+    ``t1``)."""
+    with Tier(m.precision).context():
+        return float(1.5 * m.x1[3])
+
+
+def closure(m: Member) -> float:
+    """``max |x(T) - x(0) - L|`` of a member over its full period ``T`` (``L`` its family's
+    lattice vector), integrated with the variational equations in the member's tier."""
+    t, lattice = Tier(m.precision), family_spec(m.label).problem.lattice
+    with t.context():
+        xT = monodromy_matrix(list(m.x0), m.period, t)[1]
+        lat = [lattice[0] * t.pi, lattice[1] * t.pi, 0, 0]
+        return max(abs(float(a - b - c)) for a, b, c in zip(xT, m.x0, lat))
+
+
+def rotational_member(label: str, dE: float | str, digits: int | None = None) -> Member:
     """The member of a rotational newborn family with ``E - 4 = dE`` (a decimal string keeps
-    its digits in real128), reached by :func:`rotorlib.newborn_families.follow` in the ``K`` chart and
-    located on the branch by a secant on its pseudo-arclength.
+    its digits in real128), reached by :func:`rotorlib.newborn_families.follow` in the
+    ``K`` chart and located on the branch by a secant on its pseudo-arclength, with its
+    ``tr M`` (:func:`a1_max`, :func:`a2dot_min` and :func:`closure` give the rest).
 
     Raises :class:`NotReached` when the family ends below (attributes: the highest ``E - 4``
     and why the continuation stopped). Precision: ``E - 4`` matched to ~1e-15 (float64) or
     ~1e-30 (real128) relative; residuals below 1e-8 (float64) and at the tier's round-off
-    floor (real128: ~1e-18 at ``E - 4 ~ 1e-12``). ``tr M`` moves by about ``|r| |M|^2``: at the
+    floor (real128: ~1e-18 at ``E - 4 ~ 1e-12``); a float64 member whose period does not
+    close to 1e-8 is re-solved in real128. ``tr M`` moves by about ``|r| |M|^2``: at the
     deepest real128 members (IS^r_8, PD^r_8 at ``E - 4 ~ 1e-12``) it is good to ~5e-4
     relative (measured against 45-digit members of IS^r_8 and PD^r_8); pass ``digits``
     for more.
+
+    Examples
+    --------
+    >>> from rotorlib.laws import closure, rotational_member
+    >>> m = rotational_member("IS^r_1", 0.02)
+    >>> m.precision, round(float(m.E), 12), round(m.trace, 3), closure(m) < 1e-10
+    ('float64', 4.02, 4.932, True)
     """
     spec = family_spec(label)
     if spec.phase != "rot":
@@ -523,11 +497,13 @@ def rotational_member(label: Any, dE: Any, digits: Any = None) -> RotationalMemb
     if not target > 0:
         raise ValueError(f"dE must be > 0, got {dE!r}")
     deep = spec.depth < Tier.separatrix_depth
+    with REAL128.context():  # 4 + dE keeping the digits of a decimal string (real128)
+        E = 4 + REAL128.num(dE) if deep else 4 + float(dE)
     b = follow(
         label,
         chart="K",
-        E_max=4 + target * 1.01,
-        energies=(_four_plus(dE, deep),),
+        E_range=(None, 4 + target * 1.01),
+        energies=(E,),
         digits=digits,
         jump=0.05 if deep else None,
         ds_max=0.5,
@@ -536,35 +512,20 @@ def rotational_member(label: Any, dE: Any, digits: Any = None) -> RotationalMemb
     if not pts:
         raise NotReached(spec.label, target, b.E_max - 4, b.stop)
     m, t = pts[0].member, b.tier
-    if not t.extended:
-        first = _member_props(b.problem, m, t)
-        if pts[0].located and first.closure < 1e-8:
-            return first
-        # too unstable for a float64 period (or not located): re-solved at E in real128
-        t = REAL128
-        with t.context():
-            E = 4 + t.num(dE)
-            u = solve(
-                b.problem,
-                t.num(m.u),
-                t.num(m.u) * (1 + t.num("1e-12")),
-                E=E,
-                digits=t,
-                r_max=1e-18,
-            ).x
-            m = member(b.problem, u, b.problem.w_at(u, E, t), t)
-    return _member_props(b.problem, m, t)
+    if t.extended or (pts[0].located and closure(m) < 1e-8):
+        return member(b.problem, m.u, m.w, t, traces=True)
+    # too unstable for a float64 period (or not located): re-solved at E in real128
+    t = REAL128
+    with t.context():
+        E = 4 + t.num(dE)
+        u0 = t.num(m.u)
+        u = solve(
+            b.problem, u0, u0 * (1 + t.num("1e-12")), E=E, digits=t, r_max=1e-18
+        ).x
+        return member(b.problem, u, b.problem.w_at(u, E, t), t, traces=True)
 
 
-def _four_plus(dE, deep):
-    """``4 + dE`` keeping the digits of a decimal string (an mpf for real128 families)."""
-    if not deep:
-        return 4 + float(dE)
-    with REAL128.context():
-        return 4 + REAL128.num(dE)
-
-
-def dE_str(label: Any) -> str:
+def dE_str(label: str) -> str:
     """``E_n - 4`` of a rotational transition as a 35-digit decimal string."""
     t = transition(label)
     if t.phase != "rot":
@@ -573,12 +534,28 @@ def dE_str(label: Any) -> str:
         return mp.nstr(mp.e ** mp.mpf(t.log_abs_dE_str), 35)
 
 
+def rotational_record(m: Member) -> dict[str, Any]:
+    """A rotational member as JSON: :meth:`Member.to_dict <rotorlib.branch.Member.to_dict>`
+    with ``dE`` (``E - 4`` formed in the tier), :func:`a1_max`, :func:`a2dot_min` and
+    :func:`closure`."""
+    with Tier(m.precision).context():
+        dE = float(m.E - 4)
+    extra = {"a1_max": a1_max(m), "a2dot_min": a2dot_min(m), "closure": closure(m)}
+    return {**m.to_dict(), "dE": dE, **extra}
+
+
 def _member_task(args):
     label, dE = args
     try:
-        return rotational_member(label, dE)
+        return rotational_record(rotational_member(label, dE))
     except NotReached as exc:
         return str(exc)
+
+
+#: A rotational member as stored (:func:`rotational_record`), or why it does not exist.
+MemberRecord = dict[str, Any] | str
+#: ``(label, dE)``: a family and the decimal string of ``E - 4`` (:func:`dE_str`).
+Key = tuple[str, str]
 
 
 @dataclass(frozen=True)
@@ -586,13 +563,14 @@ class RotationalRatio:
     """The paper's rotational scaling ratios (eq. alpha-beta-r) for one ``n`` of one class:
     ``alpha = a1max(n; E_{n-2}) / a1max(n+2; E_n)``, ``beta = a2'min(n; E_{n-2}) /
     a2'min(n+2; E_n)`` (``E_k`` the bifurcation energies of the same kind), ``nan`` with a
-    ``reason`` when a member does not exist; ``alpha_pred``, ``beta_pred`` the paper's
-    estimates ``sqrt((E_{n-2} - E_n)/(E_n - E_{n+2}))``, ``sqrt((E_n - 4)/(E_{n+2} - 4))``."""
+    ``reason`` when a member does not exist (its record is then ``None``); ``alpha_pred``,
+    ``beta_pred`` the paper's estimates ``sqrt((E_{n-2} - E_n)/(E_n - E_{n+2}))``,
+    ``sqrt((E_n - 4)/(E_{n+2} - 4))``."""
 
     kind: str
     n: int
-    numerator: object
-    denominator: object
+    numerator: dict[str, Any] | None
+    denominator: dict[str, Any] | None
     alpha: float
     beta: float
     alpha_pred: float
@@ -600,32 +578,33 @@ class RotationalRatio:
     reason: str = ""
 
 
-def _check_specs(specs) -> list:
-    specs = [(str(k), int(n)) for k, n in specs]
+def _pairs(specs: Sequence[tuple[str, int]]) -> list[tuple[str, int, Key, Key]]:
+    """``(kind, n, numerator, denominator)`` for each ``(kind, n)``: the keys
+    ``(label, dE)`` of the two members of the ratio."""
+    out = []
     for k, n in specs:
-        if k not in ("IS", "PD") or n < 3:
+        if k not in ("IS", "PD") or int(n) < 3:
             raise ValueError(
                 f"need kind 'IS' or 'PD' and n >= 3 (E_(n-2) must exist), "
                 f"got {(k, n)!r}"
             )
-    return specs
+        num, den = (f"{k}^r_{n}", f"{k}^r_{n - 2}"), (f"{k}^r_{n + 2}", f"{k}^r_{n}")
+        out.append((k, int(n), (num[0], dE_str(num[1])), (den[0], dE_str(den[1]))))
+    return out
 
 
-def rotational_members(specs: Any, executor: Any = None, progress: Any = False) -> dict:
+def rotational_members(
+    specs: Sequence[tuple[str, int]],
+    executor: Executor | None = None,
+    progress: bool = False,
+) -> dict[Key, MemberRecord]:
     """The members that :func:`rotational_ratios` needs for ``specs``, each once:
-    ``{(label, dE): RotationalMember}``, ``dE`` the decimal string of ``E - 4``
-    (:func:`dE_str`), or the :class:`NotReached` message (a string) for a family that
-    ends below ``dE``. Computed through :func:`rotorlib.parallel.pmap` (``executor``:
-    any :class:`concurrent.futures.Executor`); precision as in
-    :func:`rotational_member`."""
-    tasks = []
-    for k, n in _check_specs(specs):
-        for task in (
-            (f"{k}^r_{n}", dE_str(f"{k}^r_{n - 2}")),
-            (f"{k}^r_{n + 2}", dE_str(f"{k}^r_{n}")),
-        ):
-            if task not in tasks:
-                tasks.append(task)
+    ``{(label, dE): record}``, ``dE`` the decimal string of ``E - 4`` (:func:`dE_str`),
+    the record that of :func:`rotational_record`, or the :class:`NotReached` message (a
+    string) for a family that ends below ``dE``. Computed through
+    :func:`rotorlib.parallel.pmap` (``executor``: any
+    :class:`concurrent.futures.Executor`); precision as in :func:`rotational_member`."""
+    tasks = list(dict.fromkeys(key for *_, a, b in _pairs(specs) for key in (a, b)))
     found = pmap(
         _member_task,
         tasks,
@@ -637,29 +616,30 @@ def rotational_members(specs: Any, executor: Any = None, progress: Any = False) 
 
 
 def rotational_ratios(
-    specs: Any, executor: Any = None, progress: Any = False, members: Any = None
-) -> list:
+    specs: Sequence[tuple[str, int]],
+    executor: Executor | None = None,
+    progress: bool = False,
+    members: Mapping[Key, MemberRecord] | None = None,
+) -> list[RotationalRatio]:
     """:class:`RotationalRatio` for each ``(kind, n)`` of ``specs`` (``n >= 3``); the members
     (each once) from :func:`rotational_members` (``executor``: any
     :class:`concurrent.futures.Executor`), or from ``members``, a dict of the same form
     (e.g. members stored by a script and checked). Precision: ratios to ~1e-8 (float64
     members) or ~1e-15 (real128) relative, far below their distance to the limit."""
-    specs = _check_specs(specs)
+    pairs = _pairs(specs)
     res = rotational_members(specs, executor, progress) if members is None else members
     out = []
     with mp.workdps(40):
-        for k, n in specs:
+        for k, n, num_key, den_key in pairs:
             a, b, c = (mp.mpf(dE_str(f"{k}^r_{m}")) for m in (n - 2, n, n + 2))
             ap, bp = float(mp.sqrt((a - b) / (b - c))), float(mp.sqrt(b / c))
-            num = res[(f"{k}^r_{n}", dE_str(f"{k}^r_{n - 2}"))]
-            den = res[(f"{k}^r_{n + 2}", dE_str(f"{k}^r_{n}"))]
-            bad = [m for m in (num, den) if isinstance(m, str)]
-            alpha, beta = (
-                (num.a1_max / den.a1_max, num.a2dot_min / den.a2dot_min)
-                if not bad
-                else (math.nan, math.nan)
-            )
-            num, den = (None if isinstance(m, str) else m for m in (num, den))
+            recs = [res[num_key], res[den_key]]
+            bad = [m for m in recs if isinstance(m, str)]
+            num, den = (None if isinstance(m, str) else m for m in recs)
+            alpha = beta = math.nan
+            if num is not None and den is not None:
+                alpha = num["a1_max"] / den["a1_max"]
+                beta = num["a2dot_min"] / den["a2dot_min"]
             out.append(
                 RotationalRatio(k, n, num, den, alpha, beta, ap, bp, "; ".join(bad))
             )

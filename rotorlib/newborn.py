@@ -51,8 +51,11 @@ from typing import Any
 import mpmath as mp
 import numpy as np
 
+from . import flow
 from .bifurcations import parse_label, transition
+from .branch import Branch
 from .continuation import (
+    ContinuationOptions,
     FamilyEnd,
     Member,
     Natural,
@@ -76,7 +79,6 @@ __all__ = [
     "birth_member",
     "seed",
     "newborn_orbit",
-    "newborn_family",
     "linear_orbit",
     "a1_structure",
     "trace_slope_at_birth",
@@ -140,13 +142,6 @@ class FamilySpec:
     log_abs_dE_birth: float
     period_birth: float
     transition: str
-
-    @property
-    def lame_zeros(self) -> float:
-        """Tables III/IV: the number ``m`` of the Lamé function Ex^m (half-integer for PD^l)."""
-        if self.phase == "lib":
-            return (self.n + 1) // 2 + 1 if self.kind == "IS" else self.n + 0.5
-        return (self.n + 1) // 2 if self.kind == "PD" else (self.n + 1) // 2 + 1
 
     @property
     def u_scale(self) -> float:
@@ -368,9 +363,16 @@ def _seed(label: str, t: Tier) -> tuple[Member, Any]:
         return m, (E_s - _birth(spec, name)) / (u_s * u_s)
 
 
-def _path(spec: FamilySpec, E_target, t: Tier, steps=None):
-    """Members from the seed to ``E_target``, continued in ``E`` (Natural, values spaced in
-    ``sqrt|E - E_n|``); raises :class:`~rotorlib.continuation.FamilyEnd` where it stops."""
+def _path(
+    spec: FamilySpec,
+    E_target: Any,
+    t: Tier,
+    steps: int | None = None,
+    traces: bool = False,
+) -> Branch:
+    """The branch from the seed to ``E_target``, continued in ``E`` (Natural, ``steps``
+    values spaced in ``sqrt|E - E_n|``; ``traces``: ``tr M`` of every member); raises
+    :class:`~rotorlib.continuation.FamilyEnd` where it stops."""
     m0, c = seed(spec.label, t)
     with t.context():
         E_target = t.num(E_target)
@@ -392,7 +394,8 @@ def _path(spec: FamilySpec, E_target, t: Tier, steps=None):
         alg = Natural(
             "E", tuple(vals) + (E_target,), order=1, origin=En, origin_other=0.0
         )
-        return continuation(spec.problem, alg, start=[m0], digits=t).members
+        opts = ContinuationOptions(traces=traces)
+        return continuation(spec.problem, alg, opts, [m0], t)
 
 
 def _tiers(spec: FamilySpec, digits):
@@ -413,7 +416,6 @@ def newborn_orbit(
     label: str,
     E: float | str,
     digits: int | None = None,
-    steps: int | None = None,
 ) -> PeriodicOrbit:
     """The member of the family born at ``label`` with energy ``E`` (:func:`~rotorlib.newborn_families.family` gives
     its members over a range).
@@ -426,8 +428,6 @@ def newborn_orbit(
         Energy (a decimal string keeps all its digits in extended tiers).
     digits : int, optional
         Significant digits wanted (see the module docstring); ``None``: the default tiers.
-    steps : int, optional
-        Continuation steps from the seed (default from the distance to birth).
 
     Returns
     -------
@@ -452,19 +452,18 @@ def newborn_orbit(
         )
     t_cont, t_out = _tiers(spec, digits)
     t0 = time.perf_counter()
-    E_in = str(E) if t_cont.extended else float(E)
-    try:
-        path = _path(spec, E_in, t_cont, steps)
+    try:  # continuation steps from the seed: by the distance to birth
+        path = _path(spec, str(E) if t_cont.extended else float(E), t_cont).members
     except FamilyEnd:
         if t_cont.extended:
             raise
         from .newborn_families import follow
 
-        b = follow(spec.label, E_max=float(E) + 1e-9, energies=(float(E),))
+        b = follow(spec.label, E_range=(None, float(E) + 1e-9), energies=(float(E),))
         pts = b.points("E")
         if not pts:
             raise FamilyRangeError(spec, E) from None
-        path = [pts[0].member]
+        path = (pts[0].member,)
     u = path[-1].u
     if t_out != t_cont:
         u = solve(
@@ -487,59 +486,6 @@ def newborn_orbit(
         },
         shown=digits if digits and digits > 15 else None,
     )
-
-
-def newborn_family(
-    label: str,
-    E_end: float | str | None = None,
-    n: int = 12,
-    digits: int | None = None,
-) -> list[PeriodicOrbit]:
-    """Members of a newborn family from its seed near birth to ``E_end``.
-
-    Parameters
-    ----------
-    label : str
-        The family (``IS^l_2``, ``PD^r_3``, ...).
-    E_end : float or str, optional
-        The last energy (default: 4 for libration, ``E_n + 0.05`` for rotation, or the
-        top of :func:`family_range` if lower).
-    n : int
-        The number of continuation steps, not of members: the energies ``E_1 .. E_n =
-        E_end`` are spaced equally in ``sqrt|E - E_n|`` from the seed. The list holds the
-        seed and one member per step, ``n + 1`` members, plus one member for each step
-        the continuation had to halve (so ``n + 1`` is a lower bound).
-    digits : int, optional
-        The tier of the whole continuation (default float64 while
-        ``|E_n - 4| > FAMILY_FLOAT64_DEPTH``, else real128).
-
-    Returns
-    -------
-    list of PeriodicOrbit
-        Birth first, increasing distance to ``E_n``; the last member is at ``E_end``.
-
-    Examples
-    --------
-    >>> from rotorlib.newborn import newborn_family
-    >>> fam = newborn_family("IS^l_2", n=4)
-    >>> len(fam), float(fam[-1].E)
-    (5, 4.0)
-    """
-    spec = family_spec(label)
-    if digits is None:
-        t = FLOAT64 if spec.depth > FAMILY_FLOAT64_DEPTH else REAL128
-    else:
-        t = tier(int(digits))
-    if E_end is None:
-        E_end = (
-            4.0
-            if spec.phase == "lib"
-            else min(spec.E_birth + 0.05, family_range(spec)[1])
-        )
-    if not (spec.E_birth < float(E_end) <= family_range(spec)[1]):
-        raise FamilyRangeError(spec, E_end)
-    path = _path(spec, str(E_end) if t.extended else float(E_end), t, steps=n)
-    return [periodic_orbit(spec.problem, m.u, m.w, t) for m in path]
 
 
 # --------------------------------------------------------------------------- shapes (Fig. 5, Tables III-IV)
@@ -586,8 +532,6 @@ def a1_structure(
     for IS, half of it for PD) over which it repeats to 1e-6 of its amplitude. ``m`` is the
     Lamé count of Tables III/IV: nodes of ``a1`` per orbit period divided by 2 (IS) or 4 (PD).
     """
-    from . import flow
-
     spec = spec or family_spec(orbit.label)
     tau = orbit.period / (2 if spec.kind == "PD" else 1)
     st, _ = flow.sample(orbit.state0, orbit.period, n + 1)
@@ -596,16 +540,13 @@ def a1_structure(
         np.sum(np.sign(mid[1:]) != np.sign(mid[:-1]))
         + (np.sign(mid[0]) != np.sign(mid[-1]))
     )
-    amp = np.max(np.abs(st[:, 0]))
-    per = None
-    for frac in (0.5, 1.0, 2.0):
-        x = flow.flow(orbit.state0, frac * tau)
-        if (
-            abs(x[0] - orbit.state0[0]) < 1e-6 * amp
-            and abs(x[2] - orbit.state0[2]) < 4e-6 * amp
-        ):
-            per = frac
-            break
+    amp, x0 = np.max(np.abs(st[:, 0])), orbit.state0
+
+    def repeats(frac: float) -> bool:  # a1 and p1 back at their start after frac tau
+        x = flow.flow(x0, frac * tau)
+        return abs(x[0] - x0[0]) < 1e-6 * amp and abs(x[2] - x0[2]) < 4e-6 * amp
+
+    per = next((frac for frac in (0.5, 1.0, 2.0) if repeats(frac)), None)
     return {
         "period_of_a1": per,
         "nodes": nodes,

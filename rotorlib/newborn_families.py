@@ -32,6 +32,7 @@ from .newborn import (
     FAMILY_REACH,
     FamilyRangeError,
     FamilySpec,
+    _path,
     family_range,
     family_spec,
     seed,
@@ -67,7 +68,6 @@ def _branch(
     start: list[Member] | None = None,
 ) -> Branch:
     """The family of ``spec`` in pseudo-arclength from its seed (or from ``start``)."""
-    d = spec.depth
     prob = spec.problem if chart == "E" else spec.problem.chart(4.0)
     if start is None:
         m0 = seed(spec.label, t)[0]
@@ -78,8 +78,8 @@ def _branch(
         ds=ds,
         ds_max=ds_max,
         E_ref=spec.E_birth if chart == "E" else 4.0,
-        u_floor=1e-3 * math.sqrt(d),
-        w_floor=1e-3 * d,
+        u_floor=1e-3 * math.sqrt(spec.depth),
+        w_floor=1e-3 * spec.depth,
     )
     opts = ContinuationOptions(
         max_steps=max_steps,
@@ -115,6 +115,7 @@ def family(
     E_range: tuple[float | str, float | str],
     *,
     digits: int | Tier | None = None,
+    steps: int | None = None,
     t_max: float | None = None,
     traces: bool = True,
     energies: tuple[float | str, ...] = (),
@@ -141,6 +142,12 @@ def family(
     digits : int or Tier, optional
         Tier of the continuation (default float64 while ``|E_n - 4| > 1e-5``, where
         float64 ``tr M`` is still right, else real128; without ``traces``: 3e-8).
+    steps : int, optional
+        Instead of pseudo-arclength: ``steps`` energies from the seed to ``hi``, spaced
+        equally in ``sqrt|E - E_n|`` (a natural continuation in ``E``, which stops at a
+        fold: :class:`~rotorlib.continuation.FamilyEnd`); the members are the seed and
+        one per step (plus one per halved step) that lie in ``E_range``, the last at
+        ``hi``. ``hi`` must lie in :func:`~rotorlib.newborn.family_range`.
     t_max : float, optional
         Stop once the period exceeds it (default: 12 times the period at birth): the
         family runs into an orbit of infinite period (through the maxima of V, E -> 4.5).
@@ -180,6 +187,9 @@ def family(
     (3.991, 4.0, 14, 'E range')
     >>> b.special_points, [m.stability for m in b.members][-1]
     ((), 'stable')
+    >>> g = family("IS^l_2", (3.99, 4.0), steps=4)  # the seed and 4 steps
+    >>> len(g.members), float(g.E[-1]), round(float(g.trace[-1]), 4)
+    (5, 4.0, 7.6664)
     >>> family("IS^l_1", (3.9, 3.99))  # doctest: +ELLIPSIS
     Traceback (most recent call last):
     ...
@@ -195,6 +205,10 @@ def family(
     if hi <= spec.E_birth or (FAMILY_REACH[spec.label][1] == "fold" and lo > top):
         raise FamilyRangeError(spec, E_range)
     r_max = _r_max(spec, t, chart)
+    if steps is not None:
+        if float(hi) > top:
+            raise FamilyRangeError(spec, E_range)
+        return _inside(_path(spec, hi, t, steps, traces), lo, hi, r_max)
     kw: dict[str, Any] = dict(
         t_max=_t_max(spec, t_max), chart=chart, jump=jump, max_steps=max_steps
     )
@@ -268,8 +282,7 @@ def _inside(b: Branch, lo: Any, hi: Any, r_max: float) -> Branch:
 def follow(
     label: str,
     *,
-    E_max: float | None = None,
-    E_min: float | None = None,
+    E_range: tuple[float | None, float | None] = (None, None),
     t_max: float | None = None,
     digits: int | Tier | None = None,
     traces: bool = False,
@@ -282,8 +295,8 @@ def follow(
     clip: bool = True,
 ) -> Branch:
     """The engine's view of :func:`family` (the chapters' and the census's): the branch
-    from the seed, stopped by the first member outside ``[E_min, E_max]`` (default
-    ``[E_n - 2|E_n - 4|, 4.2]`` for libration, ``[E_n - 2|E_n - 4|, E_n + 6]`` for
+    from the seed, stopped by the first member outside ``E_range = (lo, hi)`` (``None``
+    for an end: ``lo = E_n - 2|E_n - 4|``; ``hi = 4.2`` for libration, ``E_n + 6`` for
     rotation), which is dropped with ``clip``; the seed is kept even when it lies
     outside. ``t_max`` bounds the period as in :func:`family`. Prefer :func:`family`,
     whose members all lie inside its range.
@@ -291,18 +304,18 @@ def follow(
     Examples
     --------
     >>> from rotorlib.newborn import follow
-    >>> b = follow("IS^r_1", E_min=5.8, E_max=6.0)
+    >>> b = follow("IS^r_1", E_range=(5.8, 6.0))
     >>> b.stop, len(b.members)
     ('E range', 1)
     """
     spec = family_spec(label)
     t = _default_tier(spec, False) if digits is None else tier(digits)
-    top = 4.2 if spec.phase == "lib" else spec.E_birth + 6
-    E_max = E_max if E_max is not None else top
-    E_min = E_min if E_min is not None else spec.E_birth - 2 * spec.depth
+    lo, hi = E_range
+    hi = hi if hi is not None else 4.2 if spec.phase == "lib" else spec.E_birth + 6
+    lo = lo if lo is not None else spec.E_birth - 2 * spec.depth
     b = _branch(
         spec,
-        (E_min, E_max),
+        (lo, hi),
         t,
         t_max=_t_max(spec, t_max),
         traces=traces,
@@ -318,9 +331,7 @@ def follow(
         return b
     keep = b.members[:-1]
     pts = [
-        p
-        for p in b.special_points
-        if p.index < len(keep) and E_min <= p.member.E <= E_max
+        p for p in b.special_points if p.index < len(keep) and lo <= p.member.E <= hi
     ]
     why = b.reason + " (dropped: the branch ends with its last member inside)"
     return replace(b, members=keep, special_points=tuple(pts), reason=why)

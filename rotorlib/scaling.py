@@ -22,9 +22,8 @@ from typing import Any
 import mpmath as mp
 import numpy as np
 
-from .bifurcations import CLASSES, Transition, parse_label, transition
+from .bifurcations import CLASSES, Transition
 from .floquet import monodromy, multipliers_from_trace
-from .newborn import newborn_family
 from .orbits import pendulum
 
 __all__ = [
@@ -39,9 +38,6 @@ __all__ = [
     "separatrix_transmission",
     "TraceAsymptotics",
     "trace_asymptotics",
-    "FamilyCurve",
-    "family_curve",
-    "FAMILY_FLOAT64_DEPTH",
 ]
 
 
@@ -77,22 +73,23 @@ def asymptotic_distance(tau: Any, phase: str) -> Any:
     """
     if phase not in ("lib", "rot"):
         raise ValueError(f"phase must be 'lib' or 'rot', got {phase!r}")
-    c = math.sqrt(3.0) / (2.0 if phase == "lib" else 1.0)
     if isinstance(tau, mp.mpf):
         return 64 * mp.exp(-mp.sqrt(3) / (2 if phase == "lib" else 1) * tau)
-    return 64.0 * math.exp(-c * float(tau))
+    return 64.0 * math.exp(
+        -math.sqrt(3.0) / (2.0 if phase == "lib" else 1.0) * float(tau)
+    )
 
 
-def fit_convergence(xs: Any, errs: Any) -> Any:
+def fit_convergence(xs: Sequence[Any], errs: Sequence[Any]) -> tuple[float, float]:
     """Least-squares fit of ``log|err_n| - log|x_n| = a + b x_n``.
 
     ``b = 1`` means ``err_n ~ C |E_n - 4| log|E_n - 4|``: the error shrinks by the
     factor ``delta`` (times ``x_{n+1}/x_n``) from one member to the next.
     Returns ``(a, b)``.
     """
-    xs = np.array([float(x) for x in xs])
-    y = np.log(np.abs(np.array([float(e) for e in errs]))) - np.log(np.abs(xs))
-    b, a = np.polyfit(xs, y, 1)
+    x = np.array([float(v) for v in xs])
+    y = np.log(np.abs(np.array([float(e) for e in errs]))) - np.log(np.abs(x))
+    b, a = np.polyfit(x, y, 1)
     return float(a), float(b)
 
 
@@ -150,9 +147,7 @@ def transverse_eigenstructure(t: Transition, rel_tol: float = 1e-8) -> Transvers
             vecs.append(np.array([v[0], v[1], 0.0, 0.0]))
     if len(vecs) == 2:  # the whole plane: use the coordinate basis
         vecs = [np.array([1.0, 0, 0, 0]), np.array([0, 1.0, 0, 0])]
-    L = Mpar - np.eye(2)
-    lon = np.array([0.0, 0.0, 1.0, 0.0])
-    assert np.max(np.abs(L @ np.array([1.0, 0.0]))) == 0.0
+    assert np.max(np.abs((Mpar - np.eye(2)) @ np.array([1.0, 0.0]))) == 0.0
     res = max(
         [float(np.max(np.abs((M.matrix - mu * np.eye(4)) @ v))) for v in vecs]
         or [float("nan")]
@@ -160,7 +155,7 @@ def transverse_eigenstructure(t: Transition, rel_tol: float = 1e-8) -> Transvers
     ev = np.concatenate(
         [np.asarray(multipliers_from_trace(M.trace_transverse)), [1.0, 1.0]]
     )
-    return TransverseEigen(ev, mu, s, vecs, lon, res)
+    return TransverseEigen(ev, mu, s, vecs, np.array([0.0, 0.0, 1.0, 0.0]), res)
 
 
 # --------------------------------------------------------------------------- tr M_perp asymptotics
@@ -320,80 +315,3 @@ def trace_asymptotics(phase: str) -> TraceAsymptotics:
     if phase == "rot":
         return TraceAsymptotics(phase, T, 0.0, 2.0 / t, 2.0 * math.acos(t))
     return TraceAsymptotics(phase, T, 2.0 / T - 2.0, 2.0 / T, 4.0 * math.acos(t))
-
-
-# --------------------------------------------------------------------------- newborn curves for Fig. 3
-
-from .newborn import FAMILY_FLOAT64_DEPTH  # noqa: E402  (the one definition: newborn)
-
-
-@dataclass(frozen=True)
-class FamilyCurve:
-    """``tr M`` along a newborn family (:func:`rotorlib.newborn.newborn_family`), for plotting.
-
-    Attributes
-    ----------
-    label : str
-        The bifurcation the family is born at (``IS^l_3``).
-    kind, phase : str
-    dE_birth : float
-        ``E_n - 4`` at the bifurcation (float64).
-    dE : ndarray
-        ``E - 4`` of the members (from their ``log|E - 4|``, so small distances keep their digits;
-        0 at ``E = 4``; librational families may continue to ``E > 4``).
-    trace : ndarray
-        ``tr M`` of each member over its own period (``tau`` for IS, ``2 tau`` for PD).
-    precision : str
-        ``float64`` or ``real128`` (search and variational equations).
-    max_residual : float
-        Largest closure error ``|x(T) - x(0)|`` of the members.
-    """
-
-    label: str
-    kind: str
-    phase: str
-    dE_birth: float
-    dE: np.ndarray
-    trace: np.ndarray
-    precision: str
-    max_residual: float
-
-
-def family_curve(
-    label: str, E_end: float, n: int = 12, digits: int | None = None
-) -> FamilyCurve:
-    """``tr M(E)`` of the family born at ``label``, from birth to ``E_end`` (``n`` members).
-
-    Precision: ``digits=None`` picks float64 when ``|E_n - 4| > FAMILY_FLOAT64_DEPTH``
-    and real128 otherwise (see :data:`FAMILY_FLOAT64_DEPTH`); the traces are then good to
-    ~1e-4 absolute or better (float64, checked against real128 in the chapter) or ~1e-20
-    (real128).
-
-    Raises
-    ------
-    ValueError
-        Unknown label, ``E_end`` outside the family's range, or a continuation that fails
-        before ``E_end`` (from :mod:`rotorlib.newborn`).
-    """
-    kind, phase, _ = parse_label(label)
-    tr = transition(label)
-    d_birth = math.exp(tr.log_abs_dE)  # energy.eps
-    fam = newborn_family(label, E_end=E_end, n=n, digits=digits)
-    prec = fam[0].precision
-    side = -1.0 if phase == "lib" else 1.0  # the side of E = 4 the family is born on
-
-    def dE(o):  # librational families may continue past E = 4
-        if not math.isfinite(o.log_abs_dE):
-            return o.E - 4.0
-        return math.copysign(math.exp(o.log_abs_dE), o.E - 4.0 if o.E != 4.0 else side)
-
-    return FamilyCurve(
-        tr.label,
-        kind,
-        phase,
-        side * d_birth,
-        np.array([dE(o) for o in fam]),
-        np.array([o.trace for o in fam]),
-        prec,
-        float(max(o.residual for o in fam)),
-    )

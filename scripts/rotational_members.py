@@ -5,8 +5,9 @@
 Writes book/data/rotational_members.json: each member of a rotational newborn family
 (IS^r_3..8, PD^r_3..8) that the paper's ratios alpha^r(n), beta^r(n) need for n = 3..6
 (``rotorlib.laws.rotational_members``: the family followed from its birth in the ``K``
-chart to the bifurcation energy of the similar member two steps below it), with its tier,
-``E - 4``, amplitudes, trace and closure; or, for a family that ends below the energy
+chart to the bifurcation energy of the similar member two steps below it), as
+``rotorlib.laws.rotational_record`` (the member's JSON with ``E - 4``, its amplitudes
+``a1_max``, ``a2dot_min`` and closure); or, for a family that ends below the energy
 asked for, why. About 2 minutes of CPU (one minute on two cores): too long to run twice in
 every CI run (book build and nbval), so chapter 06 reads this file, forms the ratios from
 it, and recomputes some of the members itself to check it.
@@ -17,7 +18,6 @@ from __future__ import annotations
 import sys
 import time
 from concurrent.futures import ProcessPoolExecutor
-from dataclasses import asdict
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -32,12 +32,9 @@ OUT = ROOT / "book" / "data" / "rotational_members.json"
 
 
 def as_record(label, dE, m) -> dict:
-    """A member (or the reason it does not exist) as a JSON record."""
-    if isinstance(m, str):
-        return {"label": label, "dE_target": dE, "not_reached": m}
-    d = asdict(m)
-    d["state0"] = [float(v) for v in m.state0]
-    return {"label": label, "dE_target": dE, "member": d}
+    """A member (``rotorlib.laws.rotational_record``), or the reason it does not exist."""
+    key = "not_reached" if isinstance(m, str) else "member"
+    return {"label": label, "dE_target": dE, key: m}
 
 
 def main(argv=None) -> int:

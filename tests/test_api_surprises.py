@@ -10,7 +10,7 @@ import pytest
 from rotorlib.bifurcations import transition
 from rotorlib.continuation import ContinuationOptions, FamilyEnd, Natural, continuation
 from rotorlib.floquet import monodromy, trace_monodromy
-from rotorlib.newborn import family_spec, newborn_family, seed
+from rotorlib.newborn import family, family_spec, seed
 
 
 def test_trace_monodromy_returns_the_extended_value():
@@ -41,10 +41,10 @@ def test_monodromy_names_what_to_pass(bad):
         monodromy(bad)
 
 
-def test_newborn_family_n_counts_steps_as_documented():
-    doc = newborn_family.__doc__
-    assert "not of members" in doc and "n + 1" in doc
-    fam = newborn_family("IS^l_2", n=4)
+def test_family_steps_counts_steps_as_documented():
+    doc = family.__doc__
+    assert "one per step (plus one per halved step)" in doc
+    fam = family("IS^l_2", (3.99, 4.0), steps=4).members
     assert len(fam) >= 4 + 1
     assert float(fam[-1].E) == 4.0
     E = [float(o.E) for o in fam]
@@ -84,7 +84,7 @@ def test_branch_says_why_it_stopped():
 def test_follow_says_why_it_stopped():
     from rotorlib.newborn import follow
 
-    b = follow("IS^r_1", E_min=5.8, E_max=6.0)
+    b = follow("IS^r_1", E_range=(5.8, 6.0))
     assert b.stop == "E range" and len(b.members) == 1  # the seed only
     assert "outside E_range = (5.8, 6)" in b.reason
     assert "the first member" in b.reason  # the seed is outside the range too
@@ -94,10 +94,10 @@ def test_follow_says_why_it_stopped():
 def test_follow_members_stay_inside_the_range():
     from rotorlib.newborn import follow
 
-    b = follow("IS^r_1", E_max=4.3)
+    b = follow("IS^r_1", E_range=(None, 4.3))
     assert b.stop == "E range" and b.E.max() <= 4.3  # it ended at 4.309
     assert all(float(p.member.E) <= 4.3 for p in b.special_points)
-    out = follow("IS^r_1", E_max=4.3, clip=False)
+    out = follow("IS^r_1", E_range=(None, 4.3), clip=False)
     assert out.E.max() > 4.3 and len(out.members) == len(b.members) + 1
 
 

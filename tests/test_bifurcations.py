@@ -445,41 +445,6 @@ def test_trace_asymptotics_against_the_80_roots_and_a_deep_fit():
         sc.trace_asymptotics("both")
 
 
-def test_family_curve_float64_and_default_precision():
-    c = sc.family_curve("IS^l_1", 4.0, n=4)
-    T = by_label()
-    assert (
-        c.precision == "float64"
-        and c.kind == "IS"
-        and c.phase == "lib"
-        and len(c.dE) == len(c.trace) == 5
-    )
-    assert (
-        c.dE_birth == -T["IS^l_1"].energy.eps
-        and c.dE[-1] == 0.0
-        and np.all(np.diff(c.dE) > 0)
-    )
-    assert (
-        abs(c.trace[0] - 4.0) < 0.01
-        and abs(c.trace[-1] - 1.5082) < 1e-3
-        and c.max_residual < 1e-10
-    )
-    deep = sc.family_curve(
-        "IS^l_7", 4.0, n=2
-    )  # born at 4 - E = 7.6e-10: real128 by default
-    # closure measured in real128 over a full period: eps / |E - 4| ~ 1e-25, times the orbit's growth
-    assert (
-        deep.precision == "real128"
-        and abs(deep.trace[-1] - 1.5211) < 1e-3
-        and deep.max_residual < 1e-21
-    )
-    past = sc.family_curve("IS^l_1", 4.02, n=6)  # continued past the separatrix energy
-    assert past.dE[0] < 0 < past.dE[-1] and abs(past.dE[-1] - 0.02) < 1e-12
-    for args in (("XY^l_1", 4.0), ("IS^l_1", 6.0), ("IS^l_1", 3.0), ("IS^r_1", 3.9)):
-        with pytest.raises(ValueError):
-            sc.family_curve(*args, n=3)
-
-
 # ----------------------------------------------------------------------------- one Transition
 
 

@@ -110,7 +110,7 @@ def test_palc_passes_folds_and_locates_them():
 
 
 def test_energy_events_are_members_at_that_energy():
-    b = nb.follow("PD^r_2", E_max=4.55, energies=(4.52, 4.54))
+    b = nb.follow("PD^r_2", E_range=(None, 4.55), energies=(4.52, 4.54))
     pts = b.points("E")
     assert [round(float(p.member.E), 12) for p in pts] == [4.52, 4.54]
     for p in pts:  # the same orbit, found at fixed E
@@ -120,7 +120,7 @@ def test_energy_events_are_members_at_that_energy():
 
 def test_trace_events_against_the_textbook_monodromy():
     """Where the engine locates tr M = 4 (an IS point), the independent 4x4 route agrees."""
-    b = nb.follow("IS^r_2", chart="K", E_max=4.03, traces=True)
+    b = nb.follow("IS^r_2", chart="K", E_range=(None, 4.03), traces=True)
     p = [p for p in b.special_points if p.kind in ("IS", "PD")][0]
     x0 = np.array(b.state(p.member), float)
     v = rotorlib.variational_monodromy(

@@ -228,21 +228,24 @@ def test_rotational_member_where_energy_continuation_stops():
 
     target = transition("IS^r_1").E - 4
     m = laws.rotational_member("IS^r_3", laws.dE_str("IS^r_1"))
-    assert abs(m.dE / target - 1) < 1e-12 and m.residual < 1e-6
-    v = variational_monodromy(m.state0, m.period, rtol=1e-13)
+    rec = laws.rotational_record(m)
+    assert abs(rec["dE"] / target - 1) < 1e-12 and abs(m.r) < 1e-6
+    v = variational_monodromy(m.state0, float(m.period), rtol=1e-13)
     assert v.closure < 1e-6
     # paper's asymptotic amplitudes: a1max ~ sqrt(E - E_n), a2'min ~ sqrt(3 (E_n - 4)), within 3%
-    assert abs(m.a1_max / math.sqrt(target - (transition("IS^r_3").E - 4)) - 1) < 0.03
-    assert abs(m.a2dot_min / math.sqrt(3 * (transition("IS^r_3").E - 4)) - 1) < 0.03
+    a1, a2dot = laws.a1_max(m), laws.a2dot_min(m)
+    assert (rec["a1_max"], rec["a2dot_min"]) == (a1, a2dot)
+    assert abs(a1 / math.sqrt(target - (transition("IS^r_3").E - 4)) - 1) < 0.03
+    assert abs(a2dot / math.sqrt(3 * (transition("IS^r_3").E - 4)) - 1) < 0.03
 
 
 def test_rotational_member_real128_extreme():
     """IS^r_7, born e^-37.3 = 6e-17 above E = 4, evaluated at E(IS^r_5) in real128: the orbit closes
     and its a2'min matches sqrt(3 (E_7 - 4)) to 1e-4."""
     m = laws.rotational_member("IS^r_7", laws.dE_str("IS^r_5"))
-    assert m.precision == "real128" and m.closure < 1e-15
+    assert m.precision == "real128" and laws.closure(m) < 1e-15
     d7 = math.exp(transition("IS^r_7").log_abs_dE)
-    assert abs(m.a2dot_min / math.sqrt(3 * d7) - 1) < 1e-4
+    assert abs(laws.a2dot_min(m) / math.sqrt(3 * d7) - 1) < 1e-4
 
 
 def test_rotational_ratio_converges_to_sqrt_delta_r():
@@ -263,7 +266,7 @@ def test_rotational_family_ends_at_the_potential_maximum():
     E -> 4.5 = V(pi/3, pi) with a diverging half period; tr M = 4 is located at the fold."""
     from rotorlib.newborn import follow
 
-    b = follow("PD^r_2", chart="K", E_max=5.0, traces=True)
+    b = follow("PD^r_2", chart="K", E_range=(None, 5.0), traces=True)
     assert (
         len(b.points("fold")) == 1
         and 4.55 < b.E_max < 4.552
@@ -282,11 +285,9 @@ def test_rotational_member_too_unstable_for_float64_is_re_solved_in_real128():
     re-solved at that energy in real128; its amplitudes agree with the real128 continuation's."""
     m = laws.rotational_member("PD^r_4", laws.dE_str("PD^r_2"))
     r = laws.rotational_member("PD^r_4", laws.dE_str("PD^r_2"), digits=30)
-    assert m.precision == "real128" and m.closure < 1e-12 and m.trace > 1e14
-    assert (
-        abs(m.a1_max / r.a1_max - 1) < 1e-12
-        and abs(m.a2dot_min / r.a2dot_min - 1) < 1e-9
-    )
+    assert m.precision == "real128" and laws.closure(m) < 1e-12 and m.trace > 1e14
+    assert abs(laws.a1_max(m) / laws.a1_max(r) - 1) < 1e-12
+    assert abs(laws.a2dot_min(m) / laws.a2dot_min(r) - 1) < 1e-9
 
 
 def test_rotational_ratios_from_given_members():
@@ -295,10 +296,8 @@ def test_rotational_ratios_from_given_members():
     amplitudes given, and a member given as a NotReached message makes the ratio nan."""
     num_key = ("IS^r_3", laws.dE_str("IS^r_1"))
     den_key = ("IS^r_5", laws.dE_str("IS^r_3"))
-    fields = dict(precision="float64", dE=1.0, dE_str="1", u=0.1, q=0.1, period=1.0)
-    fields.update(state0=np.zeros(4), trace=4.0, closure=0.0, residual=0.0)
-    num = laws.RotationalMember("IS^r_3", a1_max=6.0, a2dot_min=3.0, **fields)
-    den = laws.RotationalMember("IS^r_5", a1_max=2.0, a2dot_min=1.5, **fields)
+    num = {"label": "IS^r_3", "a1_max": 6.0, "a2dot_min": 3.0}
+    den = {"label": "IS^r_5", "a1_max": 2.0, "a2dot_min": 1.5}
     (r,) = laws.rotational_ratios([("IS", 3)], members={num_key: num, den_key: den})
     assert (r.alpha, r.beta) == (3.0, 2.0) and r.numerator is num and not r.reason
     (r,) = laws.rotational_ratios(

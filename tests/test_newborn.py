@@ -226,3 +226,24 @@ def test_deep_family_born_with_trace_4():
     slope, tr0 = nb.trace_slope_at_birth("IS^l_8")
     assert abs(tr0 - 4.0) < 1e-3
     assert abs(slope) > 1e6  # steep: |E_n - 4| = 2.5e-10
+
+
+def test_family_steps_float64_and_default_precision():
+    """``family(..., steps=n)``: the seed and ``n`` members spaced in ``sqrt|E - E_n|`` (the
+    grid of chapters 03-06), float64 or real128 by depth, to E = 4 and past it."""
+    from rotorlib.newborn import family
+
+    c = family("IS^l_1", (3.99, 4.0), steps=4)
+    assert c.tier.name == "float64" and len(c.members) == len(c.trace) == 5
+    assert c.dE[-1] == 0.0 and np.all(np.diff(c.dE) > 0)
+    assert abs(c.trace[0] - 4.0) < 0.01 and abs(c.trace[-1] - 1.5082) < 1e-3
+    assert max(abs(float(m.r)) for m in c.members) < 1e-10
+    deep = family("IS^l_7", (3.999, 4.0), steps=2)  # born 7.6e-10 below 4: real128
+    assert deep.tier.name == "real128" and abs(deep.trace[-1] - 1.5211) < 1e-3
+    assert max(abs(float(m.r)) for m in deep.members) < 1e-21
+    past = family("IS^l_1", (3.99, 4.02), steps=6)  # continued past the separatrix
+    assert past.dE[0] < 0 < past.dE[-1] and abs(past.dE[-1] - 0.02) < 1e-12
+    bad = [("XY^l_1", (3.9, 4.0)), ("IS^l_1", (3.9, 6.0)), ("IS^l_1", (2.9, 3.0))]
+    for label, E_range in bad + [("IS^r_1", (3.8, 3.9))]:
+        with pytest.raises(ValueError):
+            family(label, E_range, steps=3)

@@ -188,6 +188,7 @@ def test_cli_pdr2_at_4_6_says_it_does_not_exist(capsys):
     assert "4.5516743" in err and "folds back" in err and "no member above" in err
 
 
-def test_newborn_family_default_end_within_range():
-    fam = nb.newborn_family("IS^r_3", n=3)
-    assert fam[-1].E <= nb.family_range(nb.family_spec("IS^r_3"))[1]
+def test_family_steps_end_within_range():
+    lo, hi = nb.family_range(nb.family_spec("IS^r_3"))
+    fam = nb.family("IS^r_3", (lo, hi), steps=3)
+    assert fam.E[-1] <= hi

@@ -87,8 +87,8 @@ def plot_fig3(panels: Sequence[Mapping[str, Any]]) -> Figure:
     panels : list of dict
         Each with ``dE`` (``E - 4``, array), ``trace`` (array), ``title`` (str),
         ``marks`` (list of ``(E - 4, y, label)``), optionally ``ylim`` and
-        ``families``: a list of objects with ``label``, ``kind``, ``dE`` and ``trace``
-        (:class:`rotorlib.scaling.FamilyCurve`), drawn dashed (IS) or dotted (PD)
+        ``families``: a list of objects with ``label``, ``dE`` and ``trace``
+        (:class:`rotorlib.branch.Branch`), drawn dashed (IS) or dotted (PD)
         and listed in the panel's legend; ``deeper``: more such families, drawn thin
         and grey under one legend entry ``deeper_label``; ``legend_loc``.
     """
@@ -99,7 +99,7 @@ def plot_fig3(panels: Sequence[Mapping[str, Any]]) -> Figure:
         ax.plot(p["dE"], p["trace"], color="k", lw=0.9, label="pendulum")
         fams = p.get("families", [])
         for i, f in enumerate(fams):
-            style = "--" if f.kind == "IS" else ":"
+            style = "--" if f.label.startswith("IS") else ":"
             ax.plot(
                 f.dE,
                 f.trace,
@@ -112,7 +112,7 @@ def plot_fig3(panels: Sequence[Mapping[str, Any]]) -> Figure:
             ax.plot(
                 f.dE,
                 f.trace,
-                "--" if f.kind == "IS" else ":",
+                "--" if f.label.startswith("IS") else ":",
                 lw=0.8,
                 color="0.45",
                 label=p.get("deeper_label", "deeper families") if i == 0 else None,
