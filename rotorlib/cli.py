@@ -17,6 +17,8 @@ import sys
 from collections.abc import Sequence
 from typing import Any
 
+from .precision import DIGITS_RANGE, check_digits
+
 #: Command modules, in help order. A module missing from the package is skipped.
 COMMANDS = ("trace", "bifurcations", "orbit", "family", "atlas", "spectrum")
 
@@ -70,6 +72,28 @@ def finite(value: Any) -> Any:
     if isinstance(value, (list, tuple)):
         return [finite(v) for v in value]
     return value
+
+
+class _Digits(argparse.Action):
+    """Stores ``--digits`` once :func:`rotorlib.precision.check_digits` accepts it (a
+    ``ValueError`` otherwise: the one range and message of every command)."""
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        setattr(namespace, self.dest, check_digits(values, "--digits"))
+
+
+def add_digits_argument(p: argparse.ArgumentParser, detail: str) -> None:
+    """``--digits D``, the one precision option of every command: an integer in
+    :data:`rotorlib.precision.DIGITS_RANGE` (default float64), checked as it is read;
+    ``detail`` says what the command does with it."""
+    lo, hi = DIGITS_RANGE
+    p.add_argument(
+        "--digits",
+        type=int,
+        default=None,
+        action=_Digits,
+        help=f"significant digits, {lo} to {hi} (default: float64); {detail}",
+    )
 
 
 def add_executor_arguments(p: argparse.ArgumentParser) -> None:

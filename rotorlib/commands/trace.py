@@ -15,10 +15,10 @@ from __future__ import annotations
 import argparse
 from typing import Any
 
-from ..cli import emit
+from ..cli import add_digits_argument, emit
 from ..floquet import monodromy
 from ..orbits import BreatherOrbit, PendulumOrbit, breather, pendulum
-from ..precision import check_digits, json_number
+from ..precision import json_number
 
 _DESCRIPTION = """\
 tr M (full 4x4) of pendula or isosceles breathers, with the precision that produced it.
@@ -68,12 +68,7 @@ def register(sub: Any) -> None:
         choices=["LG", "LD", "R"],
         help="breather family (default LG below 4.5, R above)",
     )
-    p.add_argument(
-        "--digits",
-        type=int,
-        default=None,
-        help="significant digits (default float64; > 15 uses heyoka real128/multiprecision)",
-    )
+    add_digits_argument(p, "> 15 uses heyoka real128/multiprecision")
     p.add_argument(
         "--json",
         action="store_true",
@@ -123,27 +118,19 @@ def run(args: argparse.Namespace) -> int:
         raise ValueError("--family applies to breathers only")
     if by_log and args.family == "pendulum" and args.phase is None:
         raise ValueError("--log-dE needs --phase lib or rot")
-    check_digits(args.digits, "--digits")
     records = []
-    orb: PendulumOrbit | BreatherOrbit
     for text in values:
+        at = {"log_abs_dE": text} if by_log else {"E": text}
         if args.family == "pendulum":
-            orb = (
-                pendulum(log_abs_dE=text, phase=args.phase)
-                if by_log
-                else pendulum(E=text, phase=args.phase)
-            )
+            orb: PendulumOrbit | BreatherOrbit = pendulum(**at, phase=args.phase)
         else:
             fam = (
                 args.breather_family
                 or {"lib": "LG", "rot": "R", None: None}[args.phase]
             )
-            if by_log:
-                if fam is None:
-                    raise ValueError("--log-dE for breathers needs --phase or --family")
-                orb = breather(log_abs_dE=text, family=fam)
-            else:
-                orb = breather(E=text, family=fam)
+            if by_log and fam is None:
+                raise ValueError("--log-dE for breathers needs --phase or --family")
+            orb = breather(**at, family=fam)
         records.append(_record(monodromy(orb, digits=args.digits), args.digits))
     emit(
         records,
