@@ -88,31 +88,31 @@ class Reversor:
         return "time reversal" if tr == 2 else "point" if tr == -2 else "mirror"
 
 
+#: The involutions ``g`` (entries row by row) named by what they do to ``(phi1, phi2, phi3)``.
+_INVOLUTIONS = {
+    (1, 0, 0, 1): "1",
+    (-1, 0, 0, -1): "-1",
+    (0, 1, 1, 0): "(12)",
+    (-1, -1, 0, 1): "(13)",
+    (1, 0, -1, -1): "(23)",
+    (0, -1, -1, 0): "-(12)",
+    (1, 1, 0, -1): "-(13)",
+    (-1, 0, 1, 1): "-(23)",
+}
+
+
 @functools.cache
-def reversors() -> tuple:
+def reversors() -> tuple[Reversor, ...]:
     """The eight reversing symmetries ``T g``, ``g^2 = 1``, named by what ``g`` does to
-    ``(phi1, phi2, phi3)`` (``1``, ``-1``, ``(12)``, ``(13)``, ``(23)``, ``-(12)`` ...)."""
-    perm: dict[tuple[int, ...], str] = {
-        (0, 1, 1, 0): "(12)",
-        (-1, -1, 0, 1): "(13)",
-        (1, 0, -1, -1): "(23)",
+    ``(phi1, phi2, phi3)`` (``1``, ``-1``, ``(12)``, ``(13)``, ``(23)``, ``-(12)`` ...): the
+    involutions of :func:`symmetry_group`."""
+    found = {
+        tuple(int(v) for v in g.ravel())
+        for g in symmetry_group()
+        if np.allclose(g @ g, np.eye(2))
     }
-    out = []
-    for g in symmetry_group():
-        if not np.allclose(g @ g, np.eye(2)):
-            continue
-        key = tuple(int(v) for v in g.ravel())
-        neg = tuple(-v for v in key)
-        name = (
-            "1"
-            if key == (1, 0, 0, 1)
-            else "-1"
-            if key == (-1, 0, 0, -1)
-            else perm.get(key) or "-" + perm[neg]
-        )
-        out.append(Reversor(name, tuple(map(tuple, g.astype(int).tolist()))))
-    order = ["1", "-1", "(12)", "(13)", "(23)", "-(12)", "-(13)", "-(23)"]
-    return tuple(sorted(out, key=lambda r: order.index(r.name)))
+    assert found == set(_INVOLUTIONS), found
+    return tuple(Reversor(name, (g[:2], g[2:])) for g, name in _INVOLUTIONS.items())
 
 
 @dataclass(frozen=True)
@@ -143,13 +143,26 @@ def _alpha_form(n_phi):
     return tuple(float(v) for v in np.array(n_phi) @ np.linalg.inv(A))
 
 
+def _integers(v: np.ndarray) -> np.ndarray:
+    """``v`` scaled so that its smallest nonzero entry is ``+-1``: integers here, so exact in
+    every tier."""
+    v = v / np.min(np.abs(v[np.abs(v) > 1e-9]))
+    assert np.allclose(v, np.round(v)), v
+    return np.round(v)
+
+
+def _reversed_momentum(g: np.ndarray) -> np.ndarray:
+    """The momentum (in ``phi``) that ``T g`` fixes: the ``-1`` eigenvector of ``g^-T``."""
+    w, vec = np.linalg.eig(np.linalg.inv(g).T)
+    return vec[:, int(np.argmin(w))]
+
+
 def _mirror(g):
     """``(e, n, g_v)``: the mirror's direction ``e`` and normal form ``n`` (integers) and the
     number of its components ``g_v``: ``Fix g = {n . phi = 0 mod 2 pi / g_v}``."""
     gm = np.array(g, float)
     w, vec = np.linalg.eig(gm)
-    e = vec[:, int(np.argmax(w))]
-    e = np.round(e / np.min(np.abs(e[np.abs(e) > 1e-9]))).astype(int)
+    e = _integers(vec[:, int(np.argmax(w))]).astype(int)
     n = np.array([-e[1], e[0]])
     d = gm - np.eye(2)  # rank one: d = v n^T
     k = 0 if n[0] else 1
@@ -185,15 +198,9 @@ def fixed_sets() -> tuple:
                 )
         else:
             e, n, gv = _mirror(g)
-            w, vec = np.linalg.eig(
-                np.linalg.inv(g).T
-            )  # momenta: -1 eigenvector of g^-T
-            b = vec[:, int(np.argmin(w))]
+            b = _reversed_momentum(g)
             m_phi = np.array([-b[1], b[0]])  # m . P = 0 on the fixed set
-            m_alpha = A @ m_phi  # P_phi = A^T p_alpha
-            m_alpha = m_alpha / np.min(np.abs(m_alpha[np.abs(m_alpha) > 1e-9]))
-            assert np.allclose(m_alpha, np.round(m_alpha)), m_alpha
-            m_alpha = np.round(m_alpha)  # integers: exact in every tier
+            m_alpha = _integers(A @ m_phi)  # P_phi = A^T p_alpha
             out.append(
                 FixedSet(
                     f"Fix T{r.name}",
@@ -405,16 +412,12 @@ def _start_sets(regime) -> tuple:
         if r.name in ("(12)", "-(12)"):
             g = np.array(r.g, float)
             e, _, _ = _mirror(g)
-            w, vec = np.linalg.eig(np.linalg.inv(g).T)
-            b_phi = vec[:, int(np.argmin(w))]
-            b = np.linalg.inv(A).T @ b_phi  # p_alpha = A^-T P_phi
-            b = b / np.min(np.abs(b[np.abs(b) > 1e-9]))  # integers: exact in every tier
-            assert np.allclose(b, np.round(b)), b
+            b = _integers(np.linalg.inv(A).T @ _reversed_momentum(g))  # A^-T P_phi
             ae = A @ e.astype(float)
             line = StartSet(
                 f"Fix T{r.name}",
                 a=(float(ae[0]), float(ae[1])),
-                b=(float(round(b[0])), float(round(b[1]))),
+                b=(float(b[0]), float(b[1])),
             )
             out.append(MirrorSet(f"Fix T{r.name}", line))
     return tuple(out)
