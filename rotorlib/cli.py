@@ -11,7 +11,6 @@ from __future__ import annotations
 import argparse
 import importlib
 import json
-import math
 import re
 import sys
 from collections.abc import Sequence
@@ -62,18 +61,6 @@ def build_parser(prog: str = "python -m rotorlib") -> argparse.ArgumentParser:
     return parser
 
 
-def finite(value: Any) -> Any:
-    """``value`` with every non-finite float (``nan``, ``inf``) replaced by ``None``:
-    JSON has no such numbers (the records say why in a ``*_note``)."""
-    if isinstance(value, float) and not math.isfinite(value):
-        return None
-    if isinstance(value, dict):
-        return {k: finite(v) for k, v in value.items()}
-    if isinstance(value, (list, tuple)):
-        return [finite(v) for v in value]
-    return value
-
-
 class _Digits(argparse.Action):
     """Stores ``--digits`` once :func:`rotorlib.precision.check_digits` accepts it (a
     ``ValueError`` otherwise: the one range and message of every command)."""
@@ -116,7 +103,9 @@ def emit(
     as a table (a column shows ``<column>_str``, every digit, where a record has it)."""
     if as_json:
         out = records[0] if one and len(records) == 1 else records
-        print(json.dumps(finite(out), indent=2, allow_nan=False))
+        # nan and inf (JSON has no such numbers) become null; the records say why in a *_note
+        out = json.loads(json.dumps(out), parse_constant=lambda _: None)
+        print(json.dumps(out, indent=2, allow_nan=False))
         return
     rows = [[str(r.get(c + "_str", r.get(c, ""))) for c in columns] for r in records]
     widths = [

@@ -66,7 +66,7 @@ def run(args: argparse.Namespace) -> int:
     trs = transitions(phase=args.phase, n_max=args.n_max, kinds=kinds)
     if args.digits is not None and args.digits > 15:
         trs = [transition(t.label, digits=args.digits) for t in trs]
-    records = [t.to_dict() for t in trs]
     columns = ["label", "log_abs_dE", "E", "period", "transition", "precision"]
-    emit(records, args.json, columns, one=False)  # JSON: a list, even for one record
+    # JSON: a list, even for one record
+    emit([t.to_dict() for t in trs], args.json, columns, one=False)
     return 0

@@ -87,16 +87,16 @@ def run(args: argparse.Namespace) -> int:
     with executor_for(args.workers, args.scheduler) as ex:
         s = quantum.spectrum(hbar, E_max, sector, executor=ex)
     d = decimals(s.convergence)
-    rows = []
-    for x in s.sectors:
-        rows += [(float(E), x.sector, x.multiplicity) for E in x.levels]
-    rows.sort()
+    rows = sorted(
+        (float(E), x.sector, x.multiplicity) for x in s.sectors for E in x.levels
+    )
+    n_all = sum(m for _, _, m in rows)
     if args.json:
         out = {
             "hbar": hbar,
             "E_max": E_max,
             "sector": sector,
-            "count": sum(m for _, _, m in rows),
+            "count": n_all,
             "levels": [round(E, d) for E, _, _ in rows],
             "sectors": [sec for _, sec, _ in rows],
             "multiplicities": [m for _, _, m in rows],
@@ -122,7 +122,6 @@ def run(args: argparse.Namespace) -> int:
     ]
     if recs:
         emit(recs, False, ["n", "E", "sector", "multiplicity"])
-    n_all = sum(m for _, _, m in rows)
     print(
         f"# {len(rows)} distinct levels ({n_all} with multiplicity) below {E_max:g} "
         f"at hbar = {hbar:g}; convergence {s.convergence:.1e} "

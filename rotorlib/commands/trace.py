@@ -77,38 +77,38 @@ def register(sub: Any) -> None:
     p.set_defaults(func=run)
 
 
-def _record(M, digits) -> dict:
+def _record(M, digits: int | None) -> dict[str, Any]:
     """The JSON record of one monodromy (the rule of :func:`rotorlib.precision.json_number`:
     numbers are float64 values, the digits beyond them in ``*_str`` decimal strings)."""
     ext = M.precision != "float64"
     en = M.energy
-    given_log = en.given[1] if en.given[0] == "log_abs_dE" else None
-    rec: dict = {"family": "pendulum" if M.family == "pendulum" else "breather"}
-    if M.family != "pendulum":
-        rec["breather_family"] = en.family
-    rec["phase"] = en.phase
-    rec |= json_number("E", en.E, en.E_text(max(17, digits or 0)))
-    rec |= json_number("log_abs_dE", en.log_abs_dE, given_log)  # to E = 4 or 4.5
     overflow = not ext and M.trace_str != repr(M.trace)
-    rec |= json_number("trace", M.trace, M.trace_str if ext or overflow else None)
-    rec |= json_number(
-        "trace_transverse", M.trace_transverse, note="beyond float64: see trace_str"
+    given_log = en.given[1] if en.given[0] == "log_abs_dE" else None
+    family = (
+        {"family": "pendulum"}
+        if M.family == "pendulum"
+        else {"family": "breather", "breather_family": en.family}
     )
-    rec |= json_number("period", M.period, M.period_str if ext else None)
-    rec.update(
-        {
-            "stable": M.stable,
-            "stability": M.stability,
-            "stability_note": M.stability_note,
-            "multipliers": [
-                [float(complex(z).real), float(complex(z).imag)] for z in M.multipliers
-            ],
-            "precision": M.precision,
-            "backend": M.backend,
-        }
-    )
-    rec |= json_number("residual", M.residual)
-    return rec
+    return {
+        **family,
+        "phase": en.phase,
+        **json_number("E", en.E, en.E_text(max(17, digits or 0))),
+        **json_number("log_abs_dE", en.log_abs_dE, given_log),  # to E = 4 or 4.5
+        **json_number("trace", M.trace, M.trace_str if ext or overflow else None),
+        **json_number(
+            "trace_transverse", M.trace_transverse, note="beyond float64: see trace_str"
+        ),
+        **json_number("period", M.period, M.period_str if ext else None),
+        "stable": M.stable,
+        "stability": M.stability,
+        "stability_note": M.stability_note,
+        "multipliers": [
+            [float(complex(z).real), float(complex(z).imag)] for z in M.multipliers
+        ],
+        "precision": M.precision,
+        "backend": M.backend,
+        **json_number("residual", M.residual),
+    }
 
 
 def run(args: argparse.Namespace) -> int:
