@@ -61,18 +61,20 @@ def _V(phi):
 
 
 @functools.cache
-def symmetry_group() -> tuple:
+def symmetry_group() -> tuple[np.ndarray, ...]:
     """The integer 2x2 matrices ``g`` (acting on ``phi``) that preserve V and the metric."""
-    rng = np.random.default_rng(1)
-    pts = rng.uniform(0, 2 * math.pi, (20, 2))
-    out = []
-    for e in itertools.product((-1, 0, 1), repeat=4):
-        g = np.array(e, float).reshape(2, 2)
-        if abs(np.linalg.det(g)) != 1 or not np.allclose(g.T @ _G @ g, _G):
-            continue
-        if all(abs(_V(g @ p) - _V(p)) < 1e-12 for p in pts):
-            out.append(g)
-    return tuple(out)
+    pts = np.random.default_rng(1).uniform(0, 2 * math.pi, (20, 2))
+    candidates = (
+        np.array(e, float).reshape(2, 2)
+        for e in itertools.product((-1, 0, 1), repeat=4)
+    )
+    return tuple(
+        g
+        for g in candidates
+        if abs(np.linalg.det(g)) == 1
+        and np.allclose(g.T @ _G @ g, _G)
+        and all(abs(_V(g @ p) - _V(p)) < 1e-12 for p in pts)
+    )
 
 
 @dataclass(frozen=True)
@@ -423,17 +425,15 @@ def _start_sets(regime) -> tuple:
     return tuple(out)
 
 
-def _group_images():
-    """The 24 linear maps of the state ``(a1, a2, p1, p2)``: the group (12) and time reversal."""
-    Ai = np.linalg.inv(A)
-    out = []
-    for g in symmetry_group():
-        q = A @ g @ Ai
-        for s in (1.0, -1.0):
-            m = np.zeros((4, 4))
-            m[:2, :2], m[2:, 2:] = q, s * np.linalg.inv(q).T
-            out.append(m)
-    return np.array(out)
+def _group_images() -> np.ndarray:
+    """The 24 linear maps of the state ``(a1, a2, p1, p2)``: the group (12) and time reversal
+    (``q = A g A^-1`` on the angles, ``+-q^-T`` on the momenta)."""
+    from scipy.linalg import block_diag
+
+    qs = [A @ g @ np.linalg.inv(A) for g in symmetry_group()]
+    return np.array(
+        [block_diag(q, s * np.linalg.inv(q).T) for q in qs for s in (1, -1)]
+    )
 
 
 def images(state: Any) -> np.ndarray:

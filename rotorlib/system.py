@@ -244,46 +244,30 @@ def beta_to_alpha(state: ArrayLike) -> np.ndarray:
     return phi_to_alpha(beta_to_phi(state))
 
 
+#: Rotor angles of zero mean from the relative ones: ``theta = phi0 + _C phi``.
+_C = np.array([[2.0, 1.0], [-1.0, 1.0], [-1.0, -2.0]]) / 3.0
+#: The kinetic metric, ``P = phi' _K``, and its inverse, ``phi' = P _K_INV``.
+_K = np.array([[2.0, 1.0], [1.0, 2.0]]) / 3.0
+_K_INV = np.array([[2.0, -1.0], [-1.0, 2.0]])
+
+
 def theta_to_phi(
     theta: ArrayLike, theta_dot: ArrayLike
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Rotor angles and velocities -> (``phi0``, ``phi0'``, ``[phi1, phi2, P1, P2]``)."""
-    t1, t2, t3 = np.moveaxis(np.asarray(theta, dtype=float), -1, 0)
-    w1, w2, w3 = np.moveaxis(np.asarray(theta_dot, dtype=float), -1, 0)
-    f1, f2 = t1 - t2, t2 - t3
-    d1, d2 = w1 - w2, w2 - w3
-    P1 = (2.0 * d1 + d2) / 3.0
-    P2 = (d1 + 2.0 * d2) / 3.0
-    return (
-        (t1 + t2 + t3) / 3.0,
-        (w1 + w2 + w3) / 3.0,
-        np.stack([f1, f2, P1, P2], axis=-1),
-    )
+    t, w = np.asarray(theta, dtype=float), np.asarray(theta_dot, dtype=float)
+    phi, phi_dot = t[..., :2] - t[..., 1:], w[..., :2] - w[..., 1:]  # t1 - t2, t2 - t3
+    return t.mean(-1), w.mean(-1), np.concatenate([phi, phi_dot @ _K], axis=-1)
 
 
 def phi_to_theta(
     phi0: Real, phi0_dot: Real, state: ArrayLike
 ) -> tuple[np.ndarray, np.ndarray]:
     """Inverse of :func:`theta_to_phi`: returns ``(theta, theta_dot)``."""
-    f1, f2, P1, P2 = np.moveaxis(np.asarray(state, dtype=float), -1, 0)
-    d1, d2 = 2.0 * P1 - P2, 2.0 * P2 - P1
-    theta = np.stack(
-        [
-            phi0 + (2 * f1 + f2) / 3.0,
-            phi0 + (f2 - f1) / 3.0,
-            phi0 - (f1 + 2 * f2) / 3.0,
-        ],
-        -1,
-    )
-    vel = np.stack(
-        [
-            phi0_dot + (2 * d1 + d2) / 3.0,
-            phi0_dot + (d2 - d1) / 3.0,
-            phi0_dot - (d1 + 2 * d2) / 3.0,
-        ],
-        -1,
-    )
-    return theta, vel
+    s = np.asarray(state, dtype=float)
+    phi_dot = s[..., 2:] @ _K_INV  # (2 P1 - P2, 2 P2 - P1)
+    theta = np.asarray(phi0)[..., None] + s[..., :2] @ _C.T
+    return theta, np.asarray(phi0_dot)[..., None] + phi_dot @ _C.T
 
 
 @dataclass(frozen=True)
