@@ -42,7 +42,6 @@ parallel              --      sweeps on a process pool or a Dask cluster (pmap)
 
 from .api import LABELS, census, family, orbit, transition
 from .energy import BreatherEnergy, PendulumEnergy, breather_energy, pendulum_energy
-from .hill import heyoka_available, precision_tier
 from .floquet import (
     Monodromy,
     monodromy,
@@ -51,6 +50,7 @@ from .floquet import (
     trace_monodromy,
     variational_monodromy,
 )
+from .hill import heyoka_available, precision_tier
 from .orbits import (
     BreatherOrbit,
     PendulumOrbit,

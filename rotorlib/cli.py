@@ -53,9 +53,8 @@ def build_parser(prog: str = "python -m rotorlib") -> argparse.ArgumentParser:
         "--version", action="version", version=f"rotorlib {__version__}"
     )
     sub = parser.add_subparsers(
-        dest="command", parser_class=_OneLineParser, metavar="COMMAND"
+        dest="command", parser_class=_OneLineParser, metavar="COMMAND", required=True
     )
-    sub.required = True
     for name in COMMANDS:
         importlib.import_module(f"rotorlib.commands.{name}").register(sub)
     return parser
@@ -124,8 +123,7 @@ def console() -> int:
 def main(argv: list[str] | None = None, prog: str = "python -m rotorlib") -> int:
     """Entry point; returns the exit status."""
     try:
-        parser = build_parser(prog)
-        args = parser.parse_args(argv)
+        args = build_parser(prog).parse_args(argv)
         return args.func(args) or 0
     except ValueError as exc:
         msg = str(exc).splitlines()[0] if str(exc) else exc.__class__.__name__

@@ -223,11 +223,8 @@ def _rounded(paper: str, ours):
         v, cause = "typo", "two adjacent digits transposed"
     else:
         v, cause = "DIFFERS", "not explained by rounding or a single typo"
-        for i in (
-            diffs
-        ):  # one wrong digit (not the last), maybe with the last off a few units
-            if i == len(a) - 1:
-                continue
+        # one wrong digit (not the last), maybe with the last off a unit
+        for i in [i for i in diffs if i != len(a) - 1]:
             k2 = int(
                 (Decimal(a[:i] + b[i] + a[i + 1 :]) * q * (-1 if p < 0 else 1) - o_r)
                 / q

@@ -177,7 +177,6 @@ def fixed_sets() -> tuple:
     """Every fixed-set component of the eight reversors (:class:`FixedSet`), as targets."""
     out = []
     for r in reversors():
-        g = np.array(r.g, float)
         if r.kind == "time reversal":
             out.append(
                 FixedSet("Fix T", r, Section((0, 0, 0, 1)), Section((0, 0, 1, 0)))
@@ -199,6 +198,7 @@ def fixed_sets() -> tuple:
                     )
                 )
         else:
+            g = np.array(r.g, float)
             e, n, gv = _mirror(g)
             b = _reversed_momentum(g)
             m_phi = np.array([-b[1], b[0]])  # m . P = 0 on the fixed set
@@ -233,9 +233,8 @@ class CircleSet:
     def bound(self, u: Any, digits: int | Tier | None = None) -> Any:
         t = tier(digits)
         with t.context():
-            m = t.m
-            q = [self.q0[0] * t.pi, self.q0[1] * t.pi]
-            return 3 - m.cos(2 * q[0]) - m.cos(q[1] - q[0]) - m.cos(q[0] + q[1])
+            q, c = [self.q0[0] * t.pi, self.q0[1] * t.pi], t.m.cos
+            return 3 - c(2 * q[0]) - c(q[1] - q[0]) - c(q[0] + q[1])
 
     def at(self, u: Any, E: Any, digits: int | Tier | None = None) -> Any:
         t = tier(digits)
