@@ -129,15 +129,12 @@ class FixedSet:
     section, condition : Section
         The event that crosses the fixed set (a configuration line, or ``p2 = 0`` for brake
         points) and the residual that vanishes on it, in the engine's variables.
-    point : tuple or None
-        ``phi`` of the point (``T(-1)``), else ``None``.
     """
 
     name: str
     reversor: Reversor
     section: Section
     condition: Section
-    point: tuple | None = None
 
 
 def _alpha_form(n_phi):
@@ -194,7 +191,6 @@ def fixed_sets() -> tuple:
                         r,
                         Section(_alpha_form((1, 0)) + (0, 0), q[0], 0, 2.0),
                         Section(_alpha_form((0, 1)) + (0, 0), q[1], 0, 2.0),
-                        (q[0] * math.pi, q[1] * math.pi),
                     )
                 )
         else:
