@@ -478,17 +478,16 @@ def _band_one(args):
     E, tr = b.E, b.trace
     out = (tr < 0) | (tr > 4)
     exit_E = lev = float("nan")
-    if (
-        not b.tier.extended and spec.depth < NOISY_BIRTH
-    ):  # float64 tr M is noise near birth: judge E - 4 > 1e-4 only
+    # float64 tr M is noise near a birth closer than NOISY_BIRTH: judge E - 4 > 1e-4 only
+    if not b.tier.extended and spec.depth < NOISY_BIRTH:
         far = E - 4 > 1e-4
         stays, after = bool(np.all(out[far])), tr[far]
     elif out[0]:
         stays, after = bool(np.all(out)), tr
     else:
         pts = [p for p in b.special_points if p.kind in ("IS", "PD")]
-        k = int(np.argmax(out)) if np.any(out) else None
-        stays, after = (False, tr[:0]) if k is None else (bool(np.all(out[k:])), tr[k:])
+        k = int(np.argmax(out)) if np.any(out) else len(out)  # the first one outside
+        stays, after = bool(k < len(out) and np.all(out[k:])), tr[k:]
         if pts:
             exit_E, lev = float(pts[0].member.E), 4.0 if pts[0].kind == "IS" else 0.0
     return FamilyInBand(
