@@ -37,7 +37,6 @@ import math
 from collections.abc import Sequence
 from concurrent.futures import Executor
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -51,13 +50,7 @@ from .parallel import pmap
 from .periodic import PeriodicOrbit
 from .precision import Tier
 from .reversors import images
-from .system import (
-    alpha_to_phi,
-    energy_phi,
-    phi_to_alpha,
-    potential_alpha,
-    potential_phi,
-)
+from .system import alpha_to_phi, energy_phi, potential_alpha, potential_phi
 
 __all__ = [
     "PoincareSection",
@@ -91,38 +84,29 @@ def _check_E(E: float) -> float:
 
 
 @functools.cache
-def _integrator(tangent: bool) -> tuple[Any, list[np.ndarray]]:
-    """The heyoka Taylor integrator of the flow in pendulum variables (float64, tolerance
-    1e-12) and its list of crossings: with one tangent vector (``tangent``, for
-    :func:`ftle`), or with the event ``sin a1 = 0`` (``phi1 = 2 a1 = 0 mod 2 pi``) that
-    records the crossings with ``a1' = p1 / 2 > 0`` in relative variables (the section)."""
+def _section_integrator():
     from .precision import load_heyoka
 
     hy = load_heyoka()
-    a1, a2, d1, d2, e1, e2 = hy.make_vars("a1", "a2", "d1", "d2", "e1", "e2")
-    hits: list[np.ndarray] = []
-    if tangent:
-        cm, cp = hy.cos(a2 - a1), hy.cos(a1 + a2)
-        v11 = 4.0 * hy.cos(2.0 * a1) + cm + cp
-        v12 = cp - cm
-        v22 = cm + cp
-        sys = equations_of_motion(hy) + [
-            (d1, 0.5 * e1),
-            (d2, 1.5 * e2),
-            (e1, -(v11 * d1 + v12 * d2)),
-            (e2, -(v12 * d1 + v22 * d2)),
-        ]
-        return hy.taylor_adaptive(sys, [0.0] * 8, tol=1e-12), hits
 
-    def cb(ta: Any, t: float, d_sgn: int) -> None:
+    f1, f2, P1, P2 = hy.make_vars("f1", "f2", "P1", "P2")
+    s12 = hy.sin(f1 + f2)
+    sys = [
+        (f1, 2.0 * P1 - P2),
+        (f2, 2.0 * P2 - P1),
+        (P1, -(hy.sin(f1) + s12)),
+        (P2, -(hy.sin(f2) + s12)),
+    ]
+    hits = []
+
+    def cb(ta, t, d_sgn):
         ta.update_d_output(t)
-        if ta.d_output[2] > 0:
-            hits.append(alpha_to_phi(ta.d_output))
+        x = ta.d_output.copy()
+        if 2.0 * x[2] - x[3] > 0:
+            hits.append(x)
 
-    ev = hy.nt_event(hy.sin(a1), cb)
-    ta = hy.taylor_adaptive(
-        equations_of_motion(hy), [0.0] * 4, nt_events=[ev], tol=1e-12
-    )
+    ev = hy.nt_event(hy.sin(0.5 * f1), cb)
+    ta = hy.taylor_adaptive(sys, [0.0] * 4, nt_events=[ev], tol=1e-12)
     return ta, hits
 
 
@@ -156,10 +140,10 @@ def section_initial_conditions(
 
 def _section_one(args):
     x0, n_hits, t_max = args
-    ta, hits = _integrator(tangent=False)
+    ta, hits = _section_integrator()
     hits.clear()
     ta.time = 0.0
-    ta.state[:] = phi_to_alpha(x0)
+    ta.state[:] = x0
     t = 0.0
     while len(hits) < n_hits and t < t_max:
         t += 50.0
@@ -278,9 +262,31 @@ def sample_energy_shell(E: float, n: int, seed: int | None = 0) -> np.ndarray:
     )
 
 
+@functools.cache
+def _tangent_integrator():
+    from .precision import load_heyoka
+
+    hy = load_heyoka()
+
+    a1, a2, p1, p2, d1, d2, e1, e2 = hy.make_vars(
+        "a1", "a2", "p1", "p2", "d1", "d2", "e1", "e2"
+    )
+    cm, cp = hy.cos(a2 - a1), hy.cos(a1 + a2)
+    v11 = 4.0 * hy.cos(2.0 * a1) + cm + cp
+    v12 = cp - cm
+    v22 = cm + cp
+    sys = equations_of_motion(hy) + [
+        (d1, 0.5 * e1),
+        (d2, 1.5 * e2),
+        (e1, -(v11 * d1 + v12 * d2)),
+        (e2, -(v12 * d1 + v22 * d2)),
+    ]
+    return hy.taylor_adaptive(sys, [0.0] * 8, tol=1e-12)
+
+
 def _ftle_chunk(args):
     states, T, renorm, seed = args
-    ta = _integrator(tangent=True)[0]
+    ta = _tangent_integrator()
     rng = np.random.default_rng(seed)
     out = np.empty(len(states))
     n_seg = max(1, int(round(T / renorm)))
