@@ -472,17 +472,20 @@ def records(claims: Any, chapter: str) -> str:
     """
     rows = []
     for c in claims:
-        d = asdict(c)
         # The fields added for the ledger's categories are recorded only when they say
         # more than the verdict does, so that records of earlier claims are unchanged
-        # (make_ledger.py derives the defaults the same way).
-        if d["category"] == category_of_verdict(c.verdict):
-            del d["category"]
-        for key in ("inherits", "anchor"):
-            if not d[key]:
-                del d[key]
-        if d["rule"] != "bound":
-            del d["rule"]
+        # (make_ledger.py derives the defaults the same way): a category that is the
+        # verdict's own, an empty inherits or anchor, a rule other than ``bound``.
+        implied = {
+            "category": category_of_verdict(c.verdict),
+            "inherits": "",
+            "anchor": "",
+        }
+        d = {
+            k: v
+            for k, v in asdict(c).items()
+            if (v == "bound" if k == "rule" else k not in implied or implied[k] != v)
+        }
         d.update(
             status=c.status,
             chapter=chapter,
