@@ -118,6 +118,13 @@ def section_initial_conditions(
     A grid of ``n_phi`` values of ``phi2`` in ``(0, 2 pi)`` and ``n_p`` values of ``P2``
     strictly inside the allowed interval ``3 P2^2 <= 4 (E - V(0, phi2))``; points with
     ``V(0, phi2) >= E`` are dropped. ``seed``: jitter the grid randomly.
+
+    Examples
+    --------
+    >>> from rotorlib.chaos import section_initial_conditions
+    >>> section_initial_conditions(5.0, n_phi=2, n_p=2).round(5)[:2]
+    array([[ 0.     ,  1.5708 ,  1.04918, -0.95   ],
+           [ 0.     ,  1.5708 ,  1.99918,  0.95   ]])
     """
     E = _check_E(E)
     rng = np.random.default_rng(seed)
@@ -238,6 +245,15 @@ def sample_energy_shell(E: float, n: int, seed: int | None = 0) -> np.ndarray:
 
     Configuration uniform on ``{V < E}`` in the fundamental domain ``[0, pi) x [0, 2 pi)``
     (rejection sampling), momentum direction uniform in the kinetic-ellipse angle.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from rotorlib.chaos import sample_energy_shell
+    >>> from rotorlib.system import energy_alpha
+    >>> x = sample_energy_shell(5.0, 100, seed=1)
+    >>> x.shape, bool(np.allclose(energy_alpha(x), 5.0, atol=1e-12))
+    ((100, 4), True)
     """
     E = _check_E(E)
     n = int(n)

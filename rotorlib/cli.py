@@ -71,7 +71,21 @@ class _Digits(argparse.Action):
 def add_digits_argument(p: argparse.ArgumentParser, detail: str) -> None:
     """``--digits D``, the one precision option of every command: an integer in
     :data:`rotorlib.precision.DIGITS_RANGE` (default float64), checked as it is read;
-    ``detail`` says what the command does with it."""
+    ``detail`` says what the command does with it.
+
+    Examples
+    --------
+    >>> import argparse
+    >>> from rotorlib.cli import add_digits_argument
+    >>> p = argparse.ArgumentParser()
+    >>> add_digits_argument(p, "> 15 uses real128")
+    >>> p.parse_args(["--digits", "30"]).digits
+    30
+    >>> p.parse_args(["--digits", "0"])
+    Traceback (most recent call last):
+    ...
+    ValueError: --digits must be an integer from 1 to 1000, got 0
+    """
     lo, hi = DIGITS_RANGE
     p.add_argument(
         "--digits",

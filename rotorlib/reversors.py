@@ -62,7 +62,14 @@ def _V(phi):
 
 @functools.cache
 def symmetry_group() -> tuple[np.ndarray, ...]:
-    """The integer 2x2 matrices ``g`` (acting on ``phi``) that preserve V and the metric."""
+    """The integer 2x2 matrices ``g`` (acting on ``phi``) that preserve V and the metric.
+
+    Examples
+    --------
+    >>> from rotorlib.reversors import symmetry_group
+    >>> len(symmetry_group())  # D6: the permutations of (phi1, phi2, phi3) and -1
+    12
+    """
     pts = np.random.default_rng(1).uniform(0, 2 * math.pi, (20, 2))
     candidates = (
         np.array(e, float).reshape(2, 2)
@@ -107,7 +114,14 @@ _INVOLUTIONS = {
 def reversors() -> tuple[Reversor, ...]:
     """The eight reversing symmetries ``T g``, ``g^2 = 1``, named by what ``g`` does to
     ``(phi1, phi2, phi3)`` (``1``, ``-1``, ``(12)``, ``(13)``, ``(23)``, ``-(12)`` ...): the
-    involutions of :func:`symmetry_group`."""
+    involutions of :func:`symmetry_group`.
+
+    Examples
+    --------
+    >>> from rotorlib.reversors import reversors
+    >>> [(r.name, r.kind) for r in reversors()][:3]
+    [('1', 'time reversal'), ('-1', 'point'), ('(12)', 'mirror')]
+    """
     found = {
         tuple(int(v) for v in g.ravel())
         for g in symmetry_group()

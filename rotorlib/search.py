@@ -175,7 +175,14 @@ class SearchComparison:
 
 
 def default_amplitude(label: str, rel: float = 0.1) -> float:
-    """A small amplitude near birth: ``rel sqrt|E_n - 4|`` (``a1`` start) or twice that (``p1``)."""
+    """A small amplitude near birth: ``rel sqrt|E_n - 4|`` (``a1`` start) or twice that (``p1``).
+
+    Examples
+    --------
+    >>> from rotorlib.search import default_amplitude
+    >>> round(default_amplitude("IS^l_1"), 6)
+    0.009701
+    """
     spec = family_spec(label)
     if not rel > 0:
         raise ValueError(f"rel must be > 0, got {rel!r}")

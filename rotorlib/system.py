@@ -71,7 +71,15 @@ _Binv = 0.5 * _B
 
 
 def potential_phi(phi1: Real, phi2: Real) -> Real:
-    """V(phi1, phi2) = 3 - cos phi1 - cos phi2 - cos(phi1 + phi2)."""
+    """V(phi1, phi2) = 3 - cos phi1 - cos phi2 - cos(phi1 + phi2).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from rotorlib.system import potential_phi
+    >>> float(potential_phi(np.pi, np.pi))  # the saddle D1: the separatrix energy
+    4.0
+    """
     return 3.0 - np.cos(phi1) - np.cos(phi2) - np.cos(phi1 + phi2)
 
 
@@ -96,7 +104,17 @@ def potential_beta(b1: Real, b2: Real) -> Real:
 
 
 def energy_alpha(state: ArrayLike) -> Real:
-    """Relative energy of a state ``[a1, a2, p1, p2]`` (last axis)."""
+    """Relative energy of a state ``[a1, a2, p1, p2]`` (last axis).
+
+    Examples
+    --------
+    >>> from rotorlib.system import alpha_to_beta, alpha_to_phi, energy_alpha, energy_beta
+    >>> from rotorlib.system import energy_phi
+    >>> x = [0.3, 1.1, -0.2, 0.7]
+    >>> [round(float(f(y)), 12) for f, y in
+    ...  ((energy_alpha, x), (energy_phi, alpha_to_phi(x)), (energy_beta, alpha_to_beta(x)))]
+    [1.685490532843, 1.685490532843, 1.685490532843]
+    """
     a1, a2, p1, p2 = np.moveaxis(np.asarray(state, dtype=float), -1, 0)
     return 0.25 * p1**2 + 0.75 * p2**2 + potential_alpha(a1, a2)
 
@@ -117,7 +135,14 @@ def energy_beta(state: ArrayLike) -> Real:
 
 
 def rhs_alpha(t: float, state: Sequence[float] | np.ndarray) -> np.ndarray:
-    """Hamilton's equations in pendulum variables, ``d/dt [a1, a2, p1, p2]``."""
+    """Hamilton's equations in pendulum variables, ``d/dt [a1, a2, p1, p2]``.
+
+    Examples
+    --------
+    >>> from rotorlib.system import rhs_alpha
+    >>> rhs_alpha(0.0, [0.0, 0.0, 2.0, 2.0])  # at G: only the angles move
+    array([ 1.,  3., -0., -0.])
+    """
     a1, a2, p1, p2 = state
     s_m = np.sin(a2 - a1)
     s_p = np.sin(a1 + a2)
@@ -220,7 +245,16 @@ def phi_to_alpha(state: ArrayLike) -> np.ndarray:
 
 
 def alpha_to_phi(state: ArrayLike) -> np.ndarray:
-    """``[a1, a2, p1, p2] -> [phi1, phi2, P1, P2]``."""
+    """``[a1, a2, p1, p2] -> [phi1, phi2, P1, P2]``.
+
+    Examples
+    --------
+    >>> from rotorlib.system import alpha_to_phi, phi_to_alpha
+    >>> alpha_to_phi([0.3, 1.1, -0.2, 0.7])
+    array([0.6 , 0.8 , 0.25, 0.7 ])
+    >>> phi_to_alpha(alpha_to_phi([0.3, 1.1, -0.2, 0.7])).round(12)
+    array([ 0.3,  1.1, -0.2,  0.7])
+    """
     return _lin(state, _Ainv, _A.T)
 
 
@@ -254,7 +288,17 @@ _K_INV = np.array([[2.0, -1.0], [-1.0, 2.0]])
 def theta_to_phi(
     theta: ArrayLike, theta_dot: ArrayLike
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Rotor angles and velocities -> (``phi0``, ``phi0'``, ``[phi1, phi2, P1, P2]``)."""
+    """Rotor angles and velocities -> (``phi0``, ``phi0'``, ``[phi1, phi2, P1, P2]``).
+
+    Examples
+    --------
+    >>> from rotorlib.system import phi_to_theta, theta_to_phi
+    >>> phi0, phi0_dot, state = theta_to_phi([0.1, 0.2, 0.6], [1.0, 0.0, -1.0])
+    >>> state.round(12)
+    array([-0.1, -0.4,  1. ,  1. ])
+    >>> phi_to_theta(phi0, phi0_dot, state)[0].round(12)
+    array([0.1, 0.2, 0.6])
+    """
     t, w = np.asarray(theta, dtype=float), np.asarray(theta_dot, dtype=float)
     phi, phi_dot = t[..., :2] - t[..., 1:], w[..., :2] - w[..., 1:]  # t1 - t2, t2 - t3
     return t.mean(-1), w.mean(-1), np.concatenate([phi, phi_dot @ _K], axis=-1)
@@ -318,6 +362,12 @@ def critical_points(grid: int = 16) -> list[CriticalPoint]:
     -------
     list of CriticalPoint
         Sorted by energy, then name.
+
+    Examples
+    --------
+    >>> from rotorlib.system import critical_points
+    >>> [(p.name, p.kind, round(p.energy, 12)) for p in critical_points()][::2]
+    [('G', 'minimum', 0.0), ('D2', 'saddle', 4.0), ('T1', 'maximum', 4.5)]
     """
     from scipy import optimize  # (lazy: scipy.optimize is slow to import)
 
