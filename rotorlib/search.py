@@ -118,10 +118,8 @@ def paper_search(
         raise ValueError(
             f"the bracket half-width must be > 0, got {w!r} (E_guess = E_n?)"
         )
-    neval = [0]
 
-    def d(p2):
-        neval[0] += 1
+    def d(p2: float) -> float:
         return periodicity_defect(spec.label, _with_p2(spec, u, p2))[0]
 
     lo, hi = (
@@ -143,7 +141,7 @@ def paper_search(
         u,
         p2,
         float(energy_alpha(np.array(x0))),
-        neval[0],
+        int(res.nfev),  # evaluations of d
         tstar,
         bool(min(p2 - lo, hi - p2) < edge),
     )

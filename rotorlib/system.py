@@ -24,6 +24,7 @@ so they introduce no error beyond one rounding.
 
 from __future__ import annotations
 
+import itertools
 from collections.abc import Sequence
 from dataclasses import dataclass, replace
 from typing import Any
@@ -373,17 +374,14 @@ def critical_points(grid: int = 16) -> list[CriticalPoint]:
 
     found: list[np.ndarray] = []
     pts = np.linspace(0, 2 * np.pi, grid, endpoint=False) + 0.05
-    for x0 in pts:
-        for y0 in pts:
-            sol = optimize.root(
-                _grad_phi, [x0, y0], jac=_hess_phi, method="lm", tol=1e-15
-            )
-            if not sol.success or np.max(np.abs(_grad_phi(sol.x))) > 1e-12:
-                continue
-            x = np.mod(sol.x, 2 * np.pi)
-            x = np.where(np.abs(x - 2 * np.pi) < 1e-9, 0.0, x)
-            if not any(np.allclose(x, y, atol=1e-8) for y in found):
-                found.append(x)
+    for x0, y0 in itertools.product(pts, pts):
+        sol = optimize.root(_grad_phi, [x0, y0], jac=_hess_phi, method="lm", tol=1e-15)
+        if not sol.success or np.max(np.abs(_grad_phi(sol.x))) > 1e-12:
+            continue
+        x = np.mod(sol.x, 2 * np.pi)
+        x = np.where(np.abs(x - 2 * np.pi) < 1e-9, 0.0, x)
+        if not any(np.allclose(x, y, atol=1e-8) for y in found):
+            found.append(x)
     points = []
     for x in found:
         ev = np.linalg.eigvalsh(_hess_phi(x))
