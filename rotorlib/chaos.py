@@ -37,15 +37,17 @@ import math
 from collections.abc import Sequence
 from concurrent.futures import Executor
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
+from .branch import Branch
 from .continuation import ContinuationOptions, FamilyEnd, Natural, continuation, member
 from .energy import as_float
 from .flow import equations_of_motion
 from .newborn import family_spec, follow, newborn_orbit
 from .parallel import pmap
+from .periodic import PeriodicOrbit
 from .precision import Tier
 from .reversors import images
 from .system import alpha_to_phi, energy_phi, potential_alpha, potential_phi
@@ -69,7 +71,7 @@ __all__ = [
 ]
 
 
-def _check_E(E):
+def _check_E(E: float) -> float:
     E = as_float(E, "E")
     if E <= 0:
         raise ValueError(f"E must be > 0, got {E!r}")
@@ -109,17 +111,24 @@ def _section_integrator():
 
 
 def section_initial_conditions(
-    E: Any, n_phi: Any = 6, n_p: Any = 4, seed: Any = None
-) -> Any:
+    E: float, n_phi: int = 6, n_p: int = 4, seed: int | None = None
+) -> np.ndarray:
     """Initial conditions ``[phi1, phi2, P1, P2]`` on the section ``phi1 = 0`` at energy ``E``.
 
     A grid of ``n_phi`` values of ``phi2`` in ``(0, 2 pi)`` and ``n_p`` values of ``P2``
     strictly inside the allowed interval ``3 P2^2 <= 4 (E - V(0, phi2))``; points with
     ``V(0, phi2) >= E`` are dropped. ``seed``: jitter the grid randomly.
+
+    Examples
+    --------
+    >>> from rotorlib.chaos import section_initial_conditions
+    >>> section_initial_conditions(5.0, n_phi=2, n_p=2).round(5)[:2]
+    array([[ 0.     ,  1.5708 ,  1.04918, -0.95   ],
+           [ 0.     ,  1.5708 ,  1.99918,  0.95   ]])
     """
     E = _check_E(E)
     rng = np.random.default_rng(seed)
-    out = []
+    out: list[list[float]] = []
     for i in range(n_phi):
         f2 = (
             2
@@ -130,12 +139,9 @@ def section_initial_conditions(
         K = E - potential_phi(0.0, f2)
         if K <= 0:
             continue
-        pmax = math.sqrt(4 * K / 3)
-        for j in range(n_p):
-            P2 = pmax * (-1 + 2 * (j + 0.5) / n_p) * 0.95
-            v = math.sqrt(max(4 * K - 3 * P2 * P2, 0.0))  # phi1' = 2 P1 - P2 > 0
-            P1 = 0.5 * (v + P2)
-            out.append([0.0, f2, P1, P2])
+        P2 = math.sqrt(4 * K / 3) * (-1 + 2 * (np.arange(n_p) + 0.5) / n_p) * 0.95
+        P1 = 0.5 * (np.sqrt(np.maximum(4 * K - 3 * P2 * P2, 0.0)) + P2)  # phi1' > 0
+        out += [[0.0, f2, a, b] for a, b in zip(P1, P2)]
     return np.array(out)
 
 
@@ -149,12 +155,12 @@ def _section_one(args):
     while len(hits) < n_hits and t < t_max:
         t += 50.0
         ta.propagate_until(t)
-    h = np.array(hits[:n_hits]).reshape(-1, 4)
-    hits.clear()
-    return h
+    return np.array(hits[:n_hits]).reshape(-1, 4)
 
 
-def section_points(state: Any, t_max: Any, n_hits: Any = 100_000) -> Any:
+def section_points(
+    state: ArrayLike, t_max: float, n_hits: int = 100_000
+) -> tuple[np.ndarray, np.ndarray]:
     """The crossings of the section ``phi1 = 0 (mod 2 pi)``, ``phi1' > 0`` by the trajectory
     from ``state`` (``[phi1, phi2, P1, P2]``, relative variables) up to time ``t_max`` (rounded
     up to a multiple of 50): ``(phi2 mod 2 pi, P2)`` arrays. Float64 Taylor integration,
@@ -185,21 +191,21 @@ class PoincareSection:
     """
 
     E: float
-    phi2: list
-    P2: list
+    phi2: list[np.ndarray]
+    P2: list[np.ndarray]
     energy_error: float
 
 
 def poincare_section(
-    E: Any,
-    n_phi: Any = 6,
-    n_p: Any = 4,
-    n_hits: Any = 300,
-    t_max: Any = 5e3,
-    seed: Any = None,
-    executor: Any = None,
-    progress: Any = False,
-) -> Any:
+    E: float,
+    n_phi: int = 6,
+    n_p: int = 4,
+    n_hits: int = 300,
+    t_max: float = 5e3,
+    seed: int | None = None,
+    executor: Executor | None = None,
+    progress: bool = False,
+) -> PoincareSection:
     """The section at energy ``E`` from a grid of initial conditions on it (see module docstring).
 
     Parameters
@@ -234,11 +240,20 @@ def poincare_section(
 # ----------------------------------------------------------------------------------------------
 
 
-def sample_energy_shell(E: Any, n: Any, seed: Any = 0) -> Any:
+def sample_energy_shell(E: float, n: int, seed: int | None = 0) -> np.ndarray:
     """``n`` states ``[a1, a2, p1, p2]`` distributed microcanonically on ``H = E``.
 
     Configuration uniform on ``{V < E}`` in the fundamental domain ``[0, pi) x [0, 2 pi)``
     (rejection sampling), momentum direction uniform in the kinetic-ellipse angle.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from rotorlib.chaos import sample_energy_shell
+    >>> from rotorlib.system import energy_alpha
+    >>> x = sample_energy_shell(5.0, 100, seed=1)
+    >>> x.shape, bool(np.allclose(energy_alpha(x), 5.0, atol=1e-12))
+    ((100, 4), True)
     """
     E = _check_E(E)
     n = int(n)
@@ -308,14 +323,14 @@ def _ftle_chunk(args):
 
 
 def ftle(
-    states: Any,
-    T: Any = 200.0,
-    renorm: Any = 5.0,
-    executor: Any = None,
-    progress: Any = False,
-    chunk: Any = 50,
-    seed: Any = 0,
-) -> Any:
+    states: ArrayLike,
+    T: float = 200.0,
+    renorm: float = 5.0,
+    executor: Executor | None = None,
+    progress: bool = False,
+    chunk: int = 50,
+    seed: int = 0,
+) -> np.ndarray:
     """Finite-time Lyapunov exponents of states ``[a1, a2, p1, p2]`` over time ``T``.
 
     One random unit tangent vector per state (Euclidean norm in ``[a1, a2, p1, p2]``),
@@ -356,20 +371,20 @@ class ChaoticFraction:
     T: float
     renorm: float
     threshold: float
-    ftles: list
+    ftles: list[np.ndarray]
 
 
 def chaotic_fraction(
-    energies: Any,
-    N: Any = 200,
-    T: Any = 200.0,
-    threshold: Any = 0.05,
-    renorm: Any = 5.0,
-    seed: Any = 0,
-    executor: Any = None,
-    progress: Any = False,
-    chunk: Any = 50,
-) -> Any:
+    energies: ArrayLike,
+    N: int = 200,
+    T: float = 200.0,
+    threshold: float = 0.05,
+    renorm: float = 5.0,
+    seed: int = 0,
+    executor: Executor | None = None,
+    progress: bool = False,
+    chunk: int = 50,
+) -> ChaoticFraction:
     """``f(E)``: fraction of ``N`` microcanonical points per energy with FTLE ``> threshold``."""
     energies = [_check_E(E) for E in np.atleast_1d(energies)]
     if not 0 < threshold:
@@ -377,9 +392,8 @@ def chaotic_fraction(
     samples = [
         sample_energy_shell(E, N, seed=seed + 7919 * k) for k, E in enumerate(energies)
     ]
-    allx = np.concatenate(samples)
     lam = ftle(
-        allx,
+        np.concatenate(samples),
         T=T,
         renorm=renorm,
         executor=executor,
@@ -415,8 +429,8 @@ NOISY_BIRTH = 1e-6
 
 
 def amplitude_branch(
-    label: Any, E_start: Any, du_rel: Any = 0.03, n_max: Any = 30
-) -> Any:
+    label: str, E_start: float, du_rel: float = 0.03, n_max: int = 30
+) -> Branch:
     """A newborn family stepped in its amplitude from the member at ``E_start``:
     ``u_k = u_0 (1 + du_rel k)`` (natural continuation, the energy solved at each ``u``, so
     folds in ``E`` are passed), with ``tr M`` of every member, until ``tr M`` leaves
@@ -457,7 +471,7 @@ class FamilyInBand:
     """
 
     label: str
-    branch: object
+    branch: Branch
     E_max: float
     reaches_band: bool
     band_trace: np.ndarray
@@ -470,42 +484,40 @@ class FamilyInBand:
 def _band_one(args):
     label, dE_stop, digits, t_grow, energies = args
     spec = family_spec(label)
-    T_birth = spec.factor * spec.period_birth / 2  # the orbit's period at birth
-    t_max = None if t_grow is None else T_birth + t_grow
-    deep = spec.depth < Tier.separatrix_depth
+    # the period may grow by t_grow beyond the orbit's period at birth
+    t_max = None if t_grow is None else spec.factor * spec.period_birth / 2 + t_grow
     b = follow(
         label,
         chart="K",
         E_range=(None, 4 + dE_stop),
         digits=digits,
         traces=True,
-        jump=0.05 if deep else None,
+        jump=0.05 if spec.depth < Tier.separatrix_depth else None,
         t_max=t_max,
         energies=energies,
         clip=False,  # the first member beyond E_max is reported (chapter 08)
     )
     E, tr = b.E, b.trace
     out = (tr < 0) | (tr > 4)
-    noisy = not b.tier.extended and spec.depth < NOISY_BIRTH
     exit_E = lev = float("nan")
-    if noisy:  # float64 tr M is noise near birth: judge E - 4 > 1e-4 only
+    # float64 tr M is noise near a birth closer than NOISY_BIRTH: judge E - 4 > 1e-4 only
+    if not b.tier.extended and spec.depth < NOISY_BIRTH:
         far = E - 4 > 1e-4
         stays, after = bool(np.all(out[far])), tr[far]
     elif out[0]:
         stays, after = bool(np.all(out)), tr
     else:
         pts = [p for p in b.special_points if p.kind in ("IS", "PD")]
-        k = int(np.argmax(out)) if np.any(out) else None
-        stays, after = (False, tr[:0]) if k is None else (bool(np.all(out[k:])), tr[k:])
+        k = int(np.argmax(out)) if np.any(out) else len(out)  # the first one outside
+        stays, after = bool(k < len(out) and np.all(out[k:])), tr[k:]
         if pts:
             exit_E, lev = float(pts[0].member.E), 4.0 if pts[0].kind == "IS" else 0.0
-    inb = (E >= BAND[0]) & (E <= BAND[1])
     return FamilyInBand(
         spec.label,
         b,
         float(b.E_max),
         bool(np.any(E >= BAND[0])),
-        tr[inb],
+        tr[(E >= BAND[0]) & (E <= BAND[1])],
         exit_E,
         lev,
         stays,
@@ -564,7 +576,7 @@ class Island:
         order ``1/delta`` where the test trajectory leaves (a hyperbolic orbit).
     """
 
-    orbit: object
+    orbit: PeriodicOrbit
     phi2: np.ndarray
     P2: np.ndarray
     test_phi2: np.ndarray
@@ -574,7 +586,7 @@ class Island:
 
 
 def island(
-    orbit: Any, delta: Any = 0.01, t_max: Any = 2000.0, n_hits: Any = 400
+    orbit: PeriodicOrbit, delta: float = 0.01, t_max: float = 2000.0, n_hits: int = 400
 ) -> Island:
     """The orbit seen in the Poincaré section of :func:`rotorlib.chaos.poincare_section`
     (``phi1 = 0``, ``phi1' > 0``): of its 24 images, the crossing with the largest
@@ -586,10 +598,10 @@ def island(
         raise ValueError(f"delta must be in (0, 0.5), got {delta!r}")
     E = orbit.E
 
-    def speed2(f2, P2):  # (phi1')^2 on the section
-        return 4 * (E - potential_phi(0.0, f2)) - 3 * P2 * P2
+    def speed2(f2: float, P2: float) -> float:  # (phi1')^2 on the section
+        return float(4 * (E - potential_phi(0.0, f2)) - 3 * P2 * P2)
 
-    best = None
+    crossings = []  # (phi1'^2, phi2, P2, the image's crossings in one turn)
     for y in images(orbit.state0):
         ph, P = section_points(np.array(alpha_to_phi(y), float), orbit.period)
         back = np.flatnonzero(
@@ -597,15 +609,12 @@ def island(
         )
         if len(back) > 1:  # integrated past one period: keep one turn
             ph, P = ph[: back[1]], P[: back[1]]
-        for f2, P2 in zip(ph, P):
-            v = speed2(f2, P2)
-            if best is None or v > best[0]:
-                best = (v, f2, P2, ph, P)
-    if best is None:
+        crossings += [(speed2(f2, P2), f2, P2, ph, P) for f2, P2 in zip(ph, P)]
+    if not crossings:
         raise ValueError(
             f"no image of the orbit T = {orbit.period:.6f} crosses phi1 = 0"
         )
-    _, f2, P2, ph, P = best
+    _, f2, P2, ph, P = max(crossings, key=lambda c: c[0])  # the first of the largest
     g = f2 + delta
     w = speed2(g, P2)
     if w <= 0:

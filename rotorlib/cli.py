@@ -11,11 +11,12 @@ from __future__ import annotations
 import argparse
 import importlib
 import json
-import math
 import re
 import sys
 from collections.abc import Sequence
 from typing import Any
+
+from .precision import DIGITS_RANGE, check_digits
 
 #: Command modules, in help order. A module missing from the package is skipped.
 COMMANDS = ("trace", "bifurcations", "orbit", "family", "atlas", "spectrum")
@@ -52,24 +53,47 @@ def build_parser(prog: str = "python -m rotorlib") -> argparse.ArgumentParser:
         "--version", action="version", version=f"rotorlib {__version__}"
     )
     sub = parser.add_subparsers(
-        dest="command", parser_class=_OneLineParser, metavar="COMMAND"
+        dest="command", parser_class=_OneLineParser, metavar="COMMAND", required=True
     )
-    sub.required = True
     for name in COMMANDS:
         importlib.import_module(f"rotorlib.commands.{name}").register(sub)
     return parser
 
 
-def finite(value: Any) -> Any:
-    """``value`` with every non-finite float (``nan``, ``inf``) replaced by ``None``:
-    JSON has no such numbers (the records say why in a ``*_note``)."""
-    if isinstance(value, float) and not math.isfinite(value):
-        return None
-    if isinstance(value, dict):
-        return {k: finite(v) for k, v in value.items()}
-    if isinstance(value, (list, tuple)):
-        return [finite(v) for v in value]
-    return value
+class _Digits(argparse.Action):
+    """Stores ``--digits`` once :func:`rotorlib.precision.check_digits` accepts it (a
+    ``ValueError`` otherwise: the one range and message of every command)."""
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        setattr(namespace, self.dest, check_digits(values, "--digits"))
+
+
+def add_digits_argument(p: argparse.ArgumentParser, detail: str) -> None:
+    """``--digits D``, the one precision option of every command: an integer in
+    :data:`rotorlib.precision.DIGITS_RANGE` (default float64), checked as it is read;
+    ``detail`` says what the command does with it.
+
+    Examples
+    --------
+    >>> import argparse
+    >>> from rotorlib.cli import add_digits_argument
+    >>> p = argparse.ArgumentParser()
+    >>> add_digits_argument(p, "> 15 uses real128")
+    >>> p.parse_args(["--digits", "30"]).digits
+    30
+    >>> p.parse_args(["--digits", "0"])
+    Traceback (most recent call last):
+    ...
+    ValueError: --digits must be an integer from 1 to 1000, got 0
+    """
+    lo, hi = DIGITS_RANGE
+    p.add_argument(
+        "--digits",
+        type=int,
+        default=None,
+        action=_Digits,
+        help=f"significant digits, {lo} to {hi} (default: float64); {detail}",
+    )
 
 
 def add_executor_arguments(p: argparse.ArgumentParser) -> None:
@@ -92,7 +116,9 @@ def emit(
     as a table (a column shows ``<column>_str``, every digit, where a record has it)."""
     if as_json:
         out = records[0] if one and len(records) == 1 else records
-        print(json.dumps(finite(out), indent=2, allow_nan=False))
+        # nan and inf (JSON has no such numbers) become null; the records say why in a *_note
+        out = json.loads(json.dumps(out), parse_constant=lambda _: None)
+        print(json.dumps(out, indent=2, allow_nan=False))
         return
     rows = [[str(r.get(c + "_str", r.get(c, ""))) for c in columns] for r in records]
     widths = [
@@ -111,8 +137,7 @@ def console() -> int:
 def main(argv: list[str] | None = None, prog: str = "python -m rotorlib") -> int:
     """Entry point; returns the exit status."""
     try:
-        parser = build_parser(prog)
-        args = parser.parse_args(argv)
+        args = build_parser(prog).parse_args(argv)
         return args.func(args) or 0
     except ValueError as exc:
         msg = str(exc).splitlines()[0] if str(exc) else exc.__class__.__name__

@@ -82,15 +82,25 @@ def category_of_verdict(verdict: str) -> str:
     >>> category_of_verdict("last digit off by +1")
     'misrounded'
     """
-    if verdict in ("agrees", "holds"):
-        return "reproduced" if verdict == "agrees" else "inequality"
-    if verdict == "not evaluable":
-        return "not evaluable"
-    if verdict == "truncated" or verdict.startswith("last digit"):
+    if verdict.startswith("last digit"):
         return "misrounded"
-    if verdict == "typo":
-        return "typo"
-    return "error"
+    return _CATEGORY_OF_VERDICT.get(verdict, "error")
+
+
+_CATEGORY_OF_VERDICT = {
+    "agrees": "reproduced",
+    "holds": "inequality",
+    "not evaluable": "not evaluable",
+    "truncated": "misrounded",
+    "typo": "typo",
+}
+#: The ledger class (``STATUSES``) of each category; the rest are ``wrong``.
+_STATUS_OF_CATEGORY = {
+    "reproduced": "reproduced",
+    "inequality": "reproduced",
+    "not evaluable": "not evaluable",
+    "misrounded": "not correctly rounded",
+}
 
 
 @dataclass(frozen=True)
@@ -158,14 +168,8 @@ class Claim:
 
     @property
     def status(self) -> str:
-        """The ledger class: one of ``STATUSES``."""
-        if self.verdict in ("agrees", "holds"):
-            return "reproduced"
-        if self.verdict == "not evaluable":
-            return "not evaluable"
-        if self.verdict == "truncated" or self.verdict.startswith("last digit"):
-            return "not correctly rounded"
-        return "wrong"
+        """The ledger class: one of ``STATUSES`` (from the verdict's own category)."""
+        return _STATUS_OF_CATEGORY.get(category_of_verdict(self.verdict), "wrong")
 
 
 def _decimals(text: str) -> int:
@@ -219,11 +223,8 @@ def _rounded(paper: str, ours):
         v, cause = "typo", "two adjacent digits transposed"
     else:
         v, cause = "DIFFERS", "not explained by rounding or a single typo"
-        for i in (
-            diffs
-        ):  # one wrong digit (not the last), maybe with the last off a few units
-            if i == len(a) - 1:
-                continue
+        # one wrong digit (not the last), maybe with the last off a unit
+        for i in [i for i in diffs if i != len(a) - 1]:
             k2 = int(
                 (Decimal(a[:i] + b[i] + a[i + 1 :]) * q * (-1 if p < 0 else 1) - o_r)
                 / q
@@ -335,67 +336,37 @@ def claim(
             note,
             **extra,
         )
-    p = float(paper)
+    p, o = float(paper), float(ours)
     diff = float(_dec(paper) - _dec(ours))
+    t = abs(p) * float(rel) if rel is not None else float(tol or 0.0)
     if inequality is not None:
-        t = abs(p) * float(rel) if rel is not None else float(tol or 0.0)
-        o = float(ours)
         ok = o <= p + t if inequality == "<=" else o >= p - t
-        sign = "≤" if inequality == "<=" else "≥"
-        d = _decimals(paper) + 1
-        s = shown or f"{o:.{max(d, 0)}f}"
-        return Claim(
-            section,
-            quantity,
-            paper,
-            s,
-            diff,
-            t,
-            "holds" if ok else "fails",
-            cause or f"the paper's bound: ours {sign} {paper}",
-            True,
-            note,
-            category=category or ("inequality" if ok else "error"),
-            inherits=inherits,
-            rule="bound",
-            anchor=anchor,
-        )
-    if rel is None and tol is None:
-        v, why, s, t = _rounded(paper, ours)
-        return Claim(
-            section,
-            quantity,
-            paper,
-            shown or s,
-            diff,
-            t,
-            v,
-            cause or why,
-            False,
-            note,
-            rule="digits",
-            **extra,
-        )
-    t = abs(p) * float(rel) if rel is not None else float(tol)
-    ok = math.isfinite(diff) and abs(diff) <= t
-    digits = max(0, 2 - int(math.floor(math.log10(t)))) if t > 0 else 6
-    s = shown or (
-        f"{float(ours):.{digits}f}"
-        if abs(float(ours)) >= 1e-3 or float(ours) == 0
-        else f"{float(ours):.4e}"
-    )
+        verdict = "holds" if ok else "fails"
+        why = f"the paper's bound: ours {'≤' if inequality == '<=' else '≥'} {paper}"
+        s = f"{o:.{max(_decimals(paper) + 1, 0)}f}"
+        rule = "bound"
+    elif rel is None and tol is None:
+        verdict, why, s, t = _rounded(paper, ours)
+        rule = "digits"
+    else:
+        ok = math.isfinite(diff) and abs(diff) <= t
+        verdict = "agrees" if ok else "DIFFERS"
+        why = "within the tolerance" if ok else "outside the tolerance"
+        digits = max(0, 2 - int(math.floor(math.log10(t)))) if t > 0 else 6
+        s = f"{o:.{digits}f}" if abs(o) >= 1e-3 or o == 0 else f"{o:.4e}"
+        rule = "rel" if rel is not None else "abs"
     return Claim(
         section,
         quantity,
         paper,
-        s,
+        shown or s,
         diff,
         t,
-        "agrees" if ok else "DIFFERS",
-        cause or ("within the tolerance" if ok else "outside the tolerance"),
-        True,
+        verdict,
+        cause or why,
+        rule != "digits",
         note,
-        rule="rel" if rel is not None else "abs",
+        rule=rule,
         **extra,
     )
 
@@ -501,17 +472,20 @@ def records(claims: Any, chapter: str) -> str:
     """
     rows = []
     for c in claims:
-        d = asdict(c)
         # The fields added for the ledger's categories are recorded only when they say
         # more than the verdict does, so that records of earlier claims are unchanged
-        # (make_ledger.py derives the defaults the same way).
-        if d["category"] == category_of_verdict(c.verdict):
-            del d["category"]
-        for key in ("inherits", "anchor"):
-            if not d[key]:
-                del d[key]
-        if d["rule"] != "bound":
-            del d["rule"]
+        # (make_ledger.py derives the defaults the same way): a category that is the
+        # verdict's own, an empty inherits or anchor, a rule other than ``bound``.
+        implied = {
+            "category": category_of_verdict(c.verdict),
+            "inherits": "",
+            "anchor": "",
+        }
+        d = {
+            k: v
+            for k, v in asdict(c).items()
+            if (v == "bound" if k == "rule" else k not in implied or implied[k] != v)
+        }
         d.update(
             status=c.status,
             chapter=chapter,

@@ -61,18 +61,27 @@ def _V(phi):
 
 
 @functools.cache
-def symmetry_group() -> tuple:
-    """The integer 2x2 matrices ``g`` (acting on ``phi``) that preserve V and the metric."""
-    rng = np.random.default_rng(1)
-    pts = rng.uniform(0, 2 * math.pi, (20, 2))
-    out = []
-    for e in itertools.product((-1, 0, 1), repeat=4):
-        g = np.array(e, float).reshape(2, 2)
-        if abs(np.linalg.det(g)) != 1 or not np.allclose(g.T @ _G @ g, _G):
-            continue
-        if all(abs(_V(g @ p) - _V(p)) < 1e-12 for p in pts):
-            out.append(g)
-    return tuple(out)
+def symmetry_group() -> tuple[np.ndarray, ...]:
+    """The integer 2x2 matrices ``g`` (acting on ``phi``) that preserve V and the metric.
+
+    Examples
+    --------
+    >>> from rotorlib.reversors import symmetry_group
+    >>> len(symmetry_group())  # D6: the permutations of (phi1, phi2, phi3) and -1
+    12
+    """
+    pts = np.random.default_rng(1).uniform(0, 2 * math.pi, (20, 2))
+    candidates = (
+        np.array(e, float).reshape(2, 2)
+        for e in itertools.product((-1, 0, 1), repeat=4)
+    )
+    return tuple(
+        g
+        for g in candidates
+        if abs(np.linalg.det(g)) == 1
+        and np.allclose(g.T @ _G @ g, _G)
+        and all(abs(_V(g @ p) - _V(p)) < 1e-12 for p in pts)
+    )
 
 
 @dataclass(frozen=True)
@@ -88,31 +97,38 @@ class Reversor:
         return "time reversal" if tr == 2 else "point" if tr == -2 else "mirror"
 
 
+#: The involutions ``g`` (entries row by row) named by what they do to ``(phi1, phi2, phi3)``.
+_INVOLUTIONS = {
+    (1, 0, 0, 1): "1",
+    (-1, 0, 0, -1): "-1",
+    (0, 1, 1, 0): "(12)",
+    (-1, -1, 0, 1): "(13)",
+    (1, 0, -1, -1): "(23)",
+    (0, -1, -1, 0): "-(12)",
+    (1, 1, 0, -1): "-(13)",
+    (-1, 0, 1, 1): "-(23)",
+}
+
+
 @functools.cache
-def reversors() -> tuple:
+def reversors() -> tuple[Reversor, ...]:
     """The eight reversing symmetries ``T g``, ``g^2 = 1``, named by what ``g`` does to
-    ``(phi1, phi2, phi3)`` (``1``, ``-1``, ``(12)``, ``(13)``, ``(23)``, ``-(12)`` ...)."""
-    perm: dict[tuple[int, ...], str] = {
-        (0, 1, 1, 0): "(12)",
-        (-1, -1, 0, 1): "(13)",
-        (1, 0, -1, -1): "(23)",
+    ``(phi1, phi2, phi3)`` (``1``, ``-1``, ``(12)``, ``(13)``, ``(23)``, ``-(12)`` ...): the
+    involutions of :func:`symmetry_group`.
+
+    Examples
+    --------
+    >>> from rotorlib.reversors import reversors
+    >>> [(r.name, r.kind) for r in reversors()][:3]
+    [('1', 'time reversal'), ('-1', 'point'), ('(12)', 'mirror')]
+    """
+    found = {
+        tuple(int(v) for v in g.ravel())
+        for g in symmetry_group()
+        if np.allclose(g @ g, np.eye(2))
     }
-    out = []
-    for g in symmetry_group():
-        if not np.allclose(g @ g, np.eye(2)):
-            continue
-        key = tuple(int(v) for v in g.ravel())
-        neg = tuple(-v for v in key)
-        name = (
-            "1"
-            if key == (1, 0, 0, 1)
-            else "-1"
-            if key == (-1, 0, 0, -1)
-            else perm.get(key) or "-" + perm[neg]
-        )
-        out.append(Reversor(name, tuple(map(tuple, g.astype(int).tolist()))))
-    order = ["1", "-1", "(12)", "(13)", "(23)", "-(12)", "-(13)", "-(23)"]
-    return tuple(sorted(out, key=lambda r: order.index(r.name)))
+    assert found == set(_INVOLUTIONS), found
+    return tuple(Reversor(name, (g[:2], g[2:])) for g, name in _INVOLUTIONS.items())
 
 
 @dataclass(frozen=True)
@@ -127,15 +143,12 @@ class FixedSet:
     section, condition : Section
         The event that crosses the fixed set (a configuration line, or ``p2 = 0`` for brake
         points) and the residual that vanishes on it, in the engine's variables.
-    point : tuple or None
-        ``phi`` of the point (``T(-1)``), else ``None``.
     """
 
     name: str
     reversor: Reversor
     section: Section
     condition: Section
-    point: tuple | None = None
 
 
 def _alpha_form(n_phi):
@@ -143,13 +156,26 @@ def _alpha_form(n_phi):
     return tuple(float(v) for v in np.array(n_phi) @ np.linalg.inv(A))
 
 
+def _integers(v: np.ndarray) -> np.ndarray:
+    """``v`` scaled so that its smallest nonzero entry is ``+-1``: integers here, so exact in
+    every tier."""
+    v = v / np.min(np.abs(v[np.abs(v) > 1e-9]))
+    assert np.allclose(v, np.round(v)), v
+    return np.round(v)
+
+
+def _reversed_momentum(g: np.ndarray) -> np.ndarray:
+    """The momentum (in ``phi``) that ``T g`` fixes: the ``-1`` eigenvector of ``g^-T``."""
+    w, vec = np.linalg.eig(np.linalg.inv(g).T)
+    return vec[:, int(np.argmin(w))]
+
+
 def _mirror(g):
     """``(e, n, g_v)``: the mirror's direction ``e`` and normal form ``n`` (integers) and the
     number of its components ``g_v``: ``Fix g = {n . phi = 0 mod 2 pi / g_v}``."""
     gm = np.array(g, float)
     w, vec = np.linalg.eig(gm)
-    e = vec[:, int(np.argmax(w))]
-    e = np.round(e / np.min(np.abs(e[np.abs(e) > 1e-9]))).astype(int)
+    e = _integers(vec[:, int(np.argmax(w))]).astype(int)
     n = np.array([-e[1], e[0]])
     d = gm - np.eye(2)  # rank one: d = v n^T
     k = 0 if n[0] else 1
@@ -162,7 +188,6 @@ def fixed_sets() -> tuple:
     """Every fixed-set component of the eight reversors (:class:`FixedSet`), as targets."""
     out = []
     for r in reversors():
-        g = np.array(r.g, float)
         if r.kind == "time reversal":
             out.append(
                 FixedSet("Fix T", r, Section((0, 0, 0, 1)), Section((0, 0, 1, 0)))
@@ -180,20 +205,14 @@ def fixed_sets() -> tuple:
                         r,
                         Section(_alpha_form((1, 0)) + (0, 0), q[0], 0, 2.0),
                         Section(_alpha_form((0, 1)) + (0, 0), q[1], 0, 2.0),
-                        (q[0] * math.pi, q[1] * math.pi),
                     )
                 )
         else:
+            g = np.array(r.g, float)
             e, n, gv = _mirror(g)
-            w, vec = np.linalg.eig(
-                np.linalg.inv(g).T
-            )  # momenta: -1 eigenvector of g^-T
-            b = vec[:, int(np.argmin(w))]
+            b = _reversed_momentum(g)
             m_phi = np.array([-b[1], b[0]])  # m . P = 0 on the fixed set
-            m_alpha = A @ m_phi  # P_phi = A^T p_alpha
-            m_alpha = m_alpha / np.min(np.abs(m_alpha[np.abs(m_alpha) > 1e-9]))
-            assert np.allclose(m_alpha, np.round(m_alpha)), m_alpha
-            m_alpha = np.round(m_alpha)  # integers: exact in every tier
+            m_alpha = _integers(A @ m_phi)  # P_phi = A^T p_alpha
             out.append(
                 FixedSet(
                     f"Fix T{r.name}",
@@ -224,9 +243,8 @@ class CircleSet:
     def bound(self, u: Any, digits: int | Tier | None = None) -> Any:
         t = tier(digits)
         with t.context():
-            m = t.m
-            q = [self.q0[0] * t.pi, self.q0[1] * t.pi]
-            return 3 - m.cos(2 * q[0]) - m.cos(q[1] - q[0]) - m.cos(q[0] + q[1])
+            q, c = [self.q0[0] * t.pi, self.q0[1] * t.pi], t.m.cos
+            return 3 - c(2 * q[0]) - c(q[1] - q[0]) - c(q[0] + q[1])
 
     def at(self, u: Any, E: Any, digits: int | Tier | None = None) -> Any:
         t = tier(digits)
@@ -405,32 +423,26 @@ def _start_sets(regime) -> tuple:
         if r.name in ("(12)", "-(12)"):
             g = np.array(r.g, float)
             e, _, _ = _mirror(g)
-            w, vec = np.linalg.eig(np.linalg.inv(g).T)
-            b_phi = vec[:, int(np.argmin(w))]
-            b = np.linalg.inv(A).T @ b_phi  # p_alpha = A^-T P_phi
-            b = b / np.min(np.abs(b[np.abs(b) > 1e-9]))  # integers: exact in every tier
-            assert np.allclose(b, np.round(b)), b
+            b = _integers(np.linalg.inv(A).T @ _reversed_momentum(g))  # A^-T P_phi
             ae = A @ e.astype(float)
             line = StartSet(
                 f"Fix T{r.name}",
                 a=(float(ae[0]), float(ae[1])),
-                b=(float(round(b[0])), float(round(b[1]))),
+                b=(float(b[0]), float(b[1])),
             )
             out.append(MirrorSet(f"Fix T{r.name}", line))
     return tuple(out)
 
 
-def _group_images():
-    """The 24 linear maps of the state ``(a1, a2, p1, p2)``: the group (12) and time reversal."""
-    Ai = np.linalg.inv(A)
-    out = []
-    for g in symmetry_group():
-        q = A @ g @ Ai
-        for s in (1.0, -1.0):
-            m = np.zeros((4, 4))
-            m[:2, :2], m[2:, 2:] = q, s * np.linalg.inv(q).T
-            out.append(m)
-    return np.array(out)
+def _group_images() -> np.ndarray:
+    """The 24 linear maps of the state ``(a1, a2, p1, p2)``: the group (12) and time reversal
+    (``q = A g A^-1`` on the angles, ``+-q^-T`` on the momenta)."""
+    from scipy.linalg import block_diag
+
+    qs = [A @ g @ np.linalg.inv(A) for g in symmetry_group()]
+    return np.array(
+        [block_diag(q, s * np.linalg.inv(q).T) for q in qs for s in (1, -1)]
+    )
 
 
 def images(state: Any) -> np.ndarray:

@@ -18,10 +18,11 @@ from typing import Any
 
 import mpmath as mp
 import numpy as np
+from numpy.typing import ArrayLike
 
 from . import flow
 from .flow import Section, SectionNotReached, StateLike
-from .newborn import birth_member, family_spec, seed
+from .newborn import FamilySpec, birth_member, family_spec, seed
 from .precision import REAL128, Tier, tier
 from .shooting import residual
 from .system import energy_alpha, potential_alpha
@@ -43,7 +44,7 @@ __all__ = [
 _TURN, _UP = Section((0, 0, 0, 1), 0.0, -1), Section((0, 1, 0, 0), 0.0, 1)
 
 
-def _with_p2(spec, u, p2):
+def _with_p2(spec: FamilySpec, u: float, p2: float) -> list[float]:
     """``[a1, a2, p1, p2]`` on the family's start line with ``p2(0)`` given."""
     return [u, 0.0, 0.0, p2] if spec.start == "a1" else [0.0, 0.0, u, p2]
 
@@ -78,7 +79,7 @@ def periodicity_defect(
 @dataclass(frozen=True)
 class PaperSearchResult:
     """Result of :func:`paper_search`: the fixed ``u``, the minimiser ``p2``, its energy ``E``,
-    the defect ``d_min`` there, ``n_evaluations`` of ``d`` (each over one or two cycles of
+    ``n_evaluations`` of ``d`` (each over one or two cycles of
     ``a2``), the integration time ``t_star`` of the minimiser and whether the minimiser sits on
     an end of the bracket (``at_bound``: the bracket missed the minimum)."""
 
@@ -86,19 +87,18 @@ class PaperSearchResult:
     u: float
     p2: float
     E: float
-    d_min: float
     n_evaluations: int
     t_star: float
     at_bound: bool
 
 
 def paper_search(
-    label: Any,
-    u: Any,
-    E_guess: Any,
-    width: Any = None,
-    xatol: Any = 1e-16,
-    maxiter: Any = 500,
+    label: str,
+    u: float,
+    E_guess: float,
+    width: float | None = None,
+    xatol: float = 1e-16,
+    maxiter: int = 500,
 ) -> PaperSearchResult:
     """Paper §6 as written: minimise ``d(p2(0))`` (:func:`periodicity_defect`) at fixed ``u``
     with Brent's bounded minimiser (:func:`scipy.optimize.minimize_scalar`), over the ``p2``
@@ -118,14 +118,14 @@ def paper_search(
         raise ValueError(
             f"the bracket half-width must be > 0, got {w!r} (E_guess = E_n?)"
         )
-    neval = [0]
 
-    def d(p2):
-        neval[0] += 1
+    def d(p2: float) -> float:
         return periodicity_defect(spec.label, _with_p2(spec, u, p2))[0]
 
-    prob = spec.problem
-    lo, hi = (prob.state(u, E_guess - w)[3], prob.state(u, E_guess + w)[3])
+    lo, hi = (
+        spec.problem.state(u, E_guess - w)[3],
+        spec.problem.state(u, E_guess + w)[3],
+    )
     res = minimize_scalar(
         d,
         bounds=(lo, hi),
@@ -134,15 +134,14 @@ def paper_search(
     )
     p2 = float(res.x)
     x0 = _with_p2(spec, u, p2)
-    dmin, tstar = periodicity_defect(spec.label, x0)
+    tstar = periodicity_defect(spec.label, x0)[1]
     edge = 1e-3 * (hi - lo) + 3 * (math.sqrt(np.finfo(float).eps) * abs(p2) + xatol)
     return PaperSearchResult(
         spec.label,
         u,
         p2,
         float(energy_alpha(np.array(x0))),
-        dmin,
-        neval[0],
+        int(res.nfev),  # evaluations of d
         tstar,
         bool(min(p2 - lo, hi - p2) < edge),
     )
@@ -165,7 +164,6 @@ class SearchComparison:
     paper_error: float
     paper_defect: float
     paper_span: float
-    shooting_E: float
     shooting_error: float
     shooting_defect: float
     shooting_evaluations: int
@@ -174,34 +172,45 @@ class SearchComparison:
     shooting_seconds: float
 
 
-def default_amplitude(label: Any, rel: Any = 0.1) -> Any:
-    """A small amplitude near birth: ``rel sqrt|E_n - 4|`` (``a1`` start) or twice that (``p1``)."""
+def default_amplitude(label: str, rel: float = 0.1) -> float:
+    """A small amplitude near birth: ``rel sqrt|E_n - 4|`` (``a1`` start) or twice that (``p1``).
+
+    Examples
+    --------
+    >>> from rotorlib.search import default_amplitude
+    >>> round(default_amplitude("IS^l_1"), 6)
+    0.009701
+    """
     spec = family_spec(label)
     if not rel > 0:
         raise ValueError(f"rel must be > 0, got {rel!r}")
     return rel * spec.u_scale * math.sqrt(spec.depth)
 
 
-def _float64_only(spec, what):
-    if spec.depth < Tier.separatrix_depth:
-        raise ValueError(
-            f"{spec.label}: {what} is float64 only (|E_n - 4| > {Tier.separatrix_depth})"
-        )
-
-
-def _guess_E(spec, u):
+def _guess_E(spec: FamilySpec, u: float) -> float:
     """The fork law ``E_n + c u^2`` (``c`` from the seed): what both searches start from."""
     return spec.E_birth + float(seed(spec.label)[1]) * u * u
 
 
+def _error(E: float, E_ref: Any) -> float:
+    """``|E - E_ref|`` against the real128 root ``E_ref`` (a tier number, hence ``Any``),
+    in 40 digits (the float64 ``E`` exactly)."""
+    with mp.workdps(40):
+        return float(abs(mp.mpf(repr(float(E))) - E_ref))
+
+
 def compare_searches(
-    label: Any, u: Any = None, xatol: Any = 1e-16, tol: Any = None
+    label: str, u: float | None = None, xatol: float = 1e-16, tol: float | None = None
 ) -> SearchComparison:
     """:func:`paper_search` (bracket centred on the fork law, half-width ``c u^2 / 2``) and
     :func:`~rotorlib.newborn.birth_member` (secant from ``E_n``) at the same ``u``, scored
     against real128. Float64 families only (``|E_n - 4| > 3e-8``)."""
     spec = family_spec(label)
-    _float64_only(spec, "compare_searches")
+    if spec.depth < Tier.separatrix_depth:
+        raise ValueError(
+            f"{spec.label}: compare_searches is float64 only "
+            f"(|E_n - 4| > {Tier.separatrix_depth})"
+        )
     u = default_amplitude(label) if u is None else float(u)
     E_ref = birth_member(spec, u, REAL128)[0]
     Eg = _guess_E(spec, u)
@@ -213,18 +222,15 @@ def compare_searches(
     d_p = periodicity_defect(label, _with_p2(spec, u, ps.p2), REAL128)[0]
     d_s = periodicity_defect(label, spec.problem.state(u, float(E_s)), REAL128)[0]
     span = float(residual(spec.problem, u, float(E_s)).t1)
-    with mp.workdps(40):
-        err_p, err_s = (float(abs(mp.mpf(repr(float(x))) - E_ref)) for x in (ps.E, E_s))
     return SearchComparison(
         spec.label,
         u,
         float(E_ref),
         ps,
-        err_p,
+        _error(ps.E, E_ref),
         d_p,
         ps.t_star,
-        float(E_s),
-        err_s,
+        _error(E_s, E_ref),
         d_s,
         it + 2,
         span,
@@ -253,11 +259,11 @@ class WorkPrecision:
 
 
 def work_precision(
-    label: Any,
-    u: Any = None,
-    tolerances_paper: Any = None,
-    tolerances_shooting: Any = None,
-) -> Any:
+    label: str,
+    u: float | None = None,
+    tolerances_paper: ArrayLike | None = None,
+    tolerances_shooting: ArrayLike | None = None,
+) -> WorkPrecision:
     """Both searches at a sequence of tolerances (default ``xatol = 1e-2 ... 1e-16``,
     ``tol = 1e-2 ... 1e-15``), scored against real128 (:class:`WorkPrecision`)."""
     spec = family_spec(label)
@@ -276,24 +282,23 @@ def work_precision(
         raise ValueError("tolerances must be > 0")
     E_ref = birth_member(spec, u, REAL128)[0]
     Eg, tau = _guess_E(spec, u), spec.period_birth
-    rows: dict[str, list[Any]] = {k: [] for k in ("ep", "ip", "rp", "es", "is", "rs")}
-    with mp.workdps(40):
-        for xa in tp:
-            ps = paper_search(
-                label, u, Eg, width=0.5 * abs(Eg - spec.E_birth), xatol=float(xa)
-            )
-            rows["ep"].append(ps.n_evaluations)
-            rows["ip"].append(ps.n_evaluations * ps.t_star / tau)
-            rows["rp"].append(float(abs(mp.mpf(repr(float(ps.E))) - E_ref)))
-        for tl in ts:
-            E_s, it = birth_member(spec, u, tol=float(tl))
-            span = float(residual(spec.problem, u, float(E_s)).t1)
-            rows["es"].append(it + 2)
-            rows["is"].append((it + 2) * span / tau)
-            rows["rs"].append(float(abs(mp.mpf(repr(float(E_s))) - E_ref)))
-    r = {k: np.array(v) for k, v in rows.items()}
+    paper = [
+        paper_search(label, u, Eg, width=0.5 * abs(Eg - spec.E_birth), xatol=float(xa))
+        for xa in tp
+    ]
+    shots = [birth_member(spec, u, tol=float(tl)) for tl in ts]  # (E, iterations)
+    spans = [float(residual(spec.problem, u, float(E)).t1) for E, _ in shots]
     return WorkPrecision(
-        spec.label, u, tp, ts, r["ep"], r["es"], r["ip"], r["is"], r["rp"], r["rs"]
+        spec.label,
+        u,
+        tp,
+        ts,
+        np.array([p.n_evaluations for p in paper]),
+        np.array([it + 2 for _, it in shots]),
+        np.array([p.n_evaluations * p.t_star / tau for p in paper]),
+        np.array([(it + 2) * span / tau for (_, it), span in zip(shots, spans)]),
+        np.array([_error(p.E, E_ref) for p in paper]),
+        np.array([_error(E, E_ref) for E, _ in shots]),
     )
 
 
@@ -304,13 +309,14 @@ class DefectLandscape:
 
     label: str
     u: float
-    p2_star: float
     delta: np.ndarray
     defect: np.ndarray
     residual: np.ndarray
 
 
-def defect_landscape(label: Any, u: Any = None, delta: Any = None) -> DefectLandscape:
+def defect_landscape(
+    label: str, u: float | None = None, delta: ArrayLike | None = None
+) -> DefectLandscape:
     """:class:`DefectLandscape` for offsets ``delta`` (default ``10^-17 ... 10^-3``): both are
     linear in ``delta`` (``d`` a norm of three components vanishing together, ``r`` a simple
     root) down to their round-off floors."""
@@ -319,15 +325,13 @@ def defect_landscape(label: Any, u: Any = None, delta: Any = None) -> DefectLand
     delta = np.logspace(-17, -3, 57) if delta is None else np.asarray(delta, float)
     E_ref = birth_member(spec, u, REAL128)[0]
     p2s = float(spec.problem.state(u, E_ref, REAL128)[3])
-    dd, rr = [], []
-    for dl in delta:
-        x0 = _with_p2(spec, u, p2s * (1 + dl))
-        dd.append(periodicity_defect(label, x0)[0])
-        rr.append(abs(residual(spec.problem, u, float(energy_alpha(np.array(x0)))).r))
-    return DefectLandscape(spec.label, u, p2s, delta, np.array(dd), np.array(rr))
+    x0s = [_with_p2(spec, u, p2s * (1 + dl)) for dl in delta]
+    dd = [periodicity_defect(label, x0)[0] for x0 in x0s]
+    rr = [abs(residual(spec.problem, u, float(energy_alpha(x0))).r) for x0 in x0s]
+    return DefectLandscape(spec.label, u, delta, np.array(dd), np.array(rr))
 
 
-def residual_scan(label: Any, E: Any, n: Any = 2001) -> Any:
+def residual_scan(label: str, E: float, n: int = 2001) -> tuple[np.ndarray, np.ndarray]:
     """``(u, r)``: the symmetric residual at energy ``E`` across the whole energy shell
     (float64; ``n`` points of ``(0, u_max)``, ``r = nan`` where the section is not reached).
     Every member at ``E`` keeps the family's symmetry, so a scan without a sign change shows

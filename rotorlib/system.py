@@ -24,10 +24,18 @@ so they introduce no error beyond one rounding.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+import itertools
+from collections.abc import Sequence
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike
+
+from .precision import Tier, tier
+
+#: A float or an array of them (elementwise numpy functions).
+Real = float | np.ndarray
 
 __all__ = [
     "lattice_reduce",
@@ -63,12 +71,20 @@ _B = np.array([[1.0, 1.0], [1.0, -1.0]])
 _Binv = 0.5 * _B
 
 
-def potential_phi(phi1: Any, phi2: Any) -> Any:
-    """V(phi1, phi2) = 3 - cos phi1 - cos phi2 - cos(phi1 + phi2)."""
+def potential_phi(phi1: Real, phi2: Real) -> Real:
+    """V(phi1, phi2) = 3 - cos phi1 - cos phi2 - cos(phi1 + phi2).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from rotorlib.system import potential_phi
+    >>> float(potential_phi(np.pi, np.pi))  # the saddle D1: the separatrix energy
+    4.0
+    """
     return 3.0 - np.cos(phi1) - np.cos(phi2) - np.cos(phi1 + phi2)
 
 
-def potential_theta(theta1: Any, theta2: Any, theta3: Any) -> Any:
+def potential_theta(theta1: Real, theta2: Real, theta3: Real) -> Real:
     """V in rotor angles: 3 - cos(t1 - t2) - cos(t2 - t3) - cos(t3 - t1)."""
     return (
         3.0
@@ -78,23 +94,33 @@ def potential_theta(theta1: Any, theta2: Any, theta3: Any) -> Any:
     )
 
 
-def potential_alpha(a1: Any, a2: Any) -> Any:
+def potential_alpha(a1: Real, a2: Real) -> Real:
     """V(a1, a2) = 3 - cos 2a1 - cos(a2 - a1) - cos(a1 + a2)."""
     return 3.0 - np.cos(2.0 * a1) - np.cos(a2 - a1) - np.cos(a1 + a2)
 
 
-def potential_beta(b1: Any, b2: Any) -> Any:
+def potential_beta(b1: Real, b2: Real) -> Real:
     """V(b1, b2) = 3 - cos((b1 + b2)/2) - cos((b1 - b2)/2) - cos b1."""
     return 3.0 - np.cos(0.5 * (b1 + b2)) - np.cos(0.5 * (b1 - b2)) - np.cos(b1)
 
 
-def energy_alpha(state: Any) -> Any:
-    """Relative energy of a state ``[a1, a2, p1, p2]`` (last axis)."""
+def energy_alpha(state: ArrayLike) -> Real:
+    """Relative energy of a state ``[a1, a2, p1, p2]`` (last axis).
+
+    Examples
+    --------
+    >>> from rotorlib.system import alpha_to_beta, alpha_to_phi, energy_alpha, energy_beta
+    >>> from rotorlib.system import energy_phi
+    >>> x = [0.3, 1.1, -0.2, 0.7]
+    >>> [round(float(f(y)), 12) for f, y in
+    ...  ((energy_alpha, x), (energy_phi, alpha_to_phi(x)), (energy_beta, alpha_to_beta(x)))]
+    [1.685490532843, 1.685490532843, 1.685490532843]
+    """
     a1, a2, p1, p2 = np.moveaxis(np.asarray(state, dtype=float), -1, 0)
     return 0.25 * p1**2 + 0.75 * p2**2 + potential_alpha(a1, a2)
 
 
-def energy_phi(state: Any) -> Any:
+def energy_phi(state: ArrayLike) -> Real:
     """Relative energy of ``[phi1, phi2, P1, P2]``.
 
     The kinetic energy (phi1'^2 + phi2'^2 + phi1' phi2')/3 in momenta is P1^2 - P1 P2 + P2^2.
@@ -103,14 +129,21 @@ def energy_phi(state: Any) -> Any:
     return P1**2 - P1 * P2 + P2**2 + potential_phi(f1, f2)
 
 
-def energy_beta(state: Any) -> Any:
+def energy_beta(state: ArrayLike) -> Real:
     """Relative energy of a state ``[b1, b2, q1, q2]``."""
     b1, b2, q1, q2 = np.moveaxis(np.asarray(state, dtype=float), -1, 0)
     return q1**2 + 3.0 * q2**2 + potential_beta(b1, b2)
 
 
-def rhs_alpha(t: Any, state: Any) -> Any:
-    """Hamilton's equations in pendulum variables, ``d/dt [a1, a2, p1, p2]``."""
+def rhs_alpha(t: float, state: Sequence[float] | np.ndarray) -> np.ndarray:
+    """Hamilton's equations in pendulum variables, ``d/dt [a1, a2, p1, p2]``.
+
+    Examples
+    --------
+    >>> from rotorlib.system import rhs_alpha
+    >>> rhs_alpha(0.0, [0.0, 0.0, 2.0, 2.0])  # at G: only the angles move
+    array([ 1.,  3., -0., -0.])
+    """
     a1, a2, p1, p2 = state
     s_m = np.sin(a2 - a1)
     s_p = np.sin(a1 + a2)
@@ -124,7 +157,7 @@ def rhs_alpha(t: Any, state: Any) -> Any:
     )
 
 
-def jacobian_alpha(state: Any) -> Any:
+def jacobian_alpha(state: Sequence[float] | np.ndarray) -> np.ndarray:
     """Jacobian of :func:`rhs_alpha` (the variational matrix), shape (4, 4)."""
     a1, a2 = state[0], state[1]
     c_m = np.cos(a2 - a1)
@@ -142,7 +175,7 @@ def jacobian_alpha(state: Any) -> Any:
     )
 
 
-def rhs_beta(t: Any, state: Any) -> Any:
+def rhs_beta(t: float, state: Sequence[float] | np.ndarray) -> np.ndarray:
     """Hamilton's equations in breather variables (paper §8)."""
     b1, b2, q1, q2 = state
     sp = np.sin(0.5 * (b1 + b2))
@@ -152,7 +185,7 @@ def rhs_beta(t: Any, state: Any) -> Any:
     )
 
 
-def rhs_phi(t: Any, state: Any) -> Any:
+def rhs_phi(t: float, state: Sequence[float] | np.ndarray) -> np.ndarray:
     """Hamilton's equations in relative variables ``[phi1, phi2, P1, P2]``."""
     f1, f2, P1, P2 = state
     s12 = np.sin(f1 + f2)
@@ -166,15 +199,17 @@ def rhs_phi(t: Any, state: Any) -> Any:
     )
 
 
-def lattice_reduce(d: Any, digits: Any = None) -> Any:
+def lattice_reduce(
+    d: np.ndarray | Sequence[Any], digits: int | Tier | None = None
+) -> np.ndarray | list[Any]:
     """A difference of pendulum states (or of configurations) ``d = (da1, da2, ...)``
     reduced modulo the configuration lattice of ``(a1, a2)``, generated by ``(0, 2 pi)``
     and ``(pi, pi)`` (``book/numerical_notes.md``): ``da1`` into ``[-pi/2, pi/2]``, then
     ``da2`` into ``[-pi, pi]``; the momenta are left as they are.
 
     ``d`` is a float array (the last axis the state: one difference or many) or a
-    sequence of tier numbers, reduced in the tier of ``digits``
-    (:func:`~rotorlib.precision.tier`; a list is returned).
+    sequence of tier numbers (float, real128 or mpmath: typed ``Any``), reduced in the tier
+    of ``digits`` (:func:`~rotorlib.precision.tier`; a list is returned).
 
     Examples
     --------
@@ -185,13 +220,9 @@ def lattice_reduce(d: Any, digits: Any = None) -> Any:
     """
     if isinstance(d, np.ndarray):
         out = np.array(d, dtype=float)
-        n1 = np.round(out[..., 0] / np.pi)
-        out[..., 0] -= n1 * np.pi
-        out[..., 1] -= n1 * np.pi
+        out[..., :2] -= np.round(out[..., :1] / np.pi) * np.pi
         out[..., 1] -= 2 * np.pi * np.round(out[..., 1] / (2 * np.pi))
         return out
-    from .precision import tier
-
     t = tier(digits)
     with t.context():
         d, pi = list(d), t.pi
@@ -202,79 +233,86 @@ def lattice_reduce(d: Any, digits: Any = None) -> Any:
         return d
 
 
-def _lin(state, Q, Pm):
+def _lin(state: ArrayLike, Q: np.ndarray, Pm: np.ndarray) -> np.ndarray:
     s = np.asarray(state, dtype=float)
     q = np.einsum("ij,...j->...i", Q, s[..., :2])
     p = np.einsum("ij,...j->...i", Pm, s[..., 2:])
     return np.concatenate([q, p], axis=-1)
 
 
-def phi_to_alpha(state: Any) -> Any:
+def phi_to_alpha(state: ArrayLike) -> np.ndarray:
     """``[phi1, phi2, P1, P2] -> [a1, a2, p1, p2]``."""
     return _lin(state, _A, _Ainv.T)
 
 
-def alpha_to_phi(state: Any) -> Any:
-    """``[a1, a2, p1, p2] -> [phi1, phi2, P1, P2]``."""
+def alpha_to_phi(state: ArrayLike) -> np.ndarray:
+    """``[a1, a2, p1, p2] -> [phi1, phi2, P1, P2]``.
+
+    Examples
+    --------
+    >>> from rotorlib.system import alpha_to_phi, phi_to_alpha
+    >>> alpha_to_phi([0.3, 1.1, -0.2, 0.7])
+    array([0.6 , 0.8 , 0.25, 0.7 ])
+    >>> phi_to_alpha(alpha_to_phi([0.3, 1.1, -0.2, 0.7])).round(12)
+    array([ 0.3,  1.1, -0.2,  0.7])
+    """
     return _lin(state, _Ainv, _A.T)
 
 
-def phi_to_beta(state: Any) -> Any:
+def phi_to_beta(state: ArrayLike) -> np.ndarray:
     """``[phi1, phi2, P1, P2] -> [b1, b2, q1, q2]``."""
     return _lin(state, _B, _Binv.T)
 
 
-def beta_to_phi(state: Any) -> Any:
+def beta_to_phi(state: ArrayLike) -> np.ndarray:
     """``[b1, b2, q1, q2] -> [phi1, phi2, P1, P2]``."""
     return _lin(state, _Binv, _B.T)
 
 
-def alpha_to_beta(state: Any) -> Any:
+def alpha_to_beta(state: ArrayLike) -> np.ndarray:
     """``[a1, a2, p1, p2] -> [b1, b2, q1, q2]``."""
     return phi_to_beta(alpha_to_phi(state))
 
 
-def beta_to_alpha(state: Any) -> Any:
+def beta_to_alpha(state: ArrayLike) -> np.ndarray:
     """``[b1, b2, q1, q2] -> [a1, a2, p1, p2]``."""
     return phi_to_alpha(beta_to_phi(state))
 
 
-def theta_to_phi(theta: Any, theta_dot: Any) -> Any:
-    """Rotor angles and velocities -> (``phi0``, ``phi0'``, ``[phi1, phi2, P1, P2]``)."""
-    t1, t2, t3 = np.moveaxis(np.asarray(theta, dtype=float), -1, 0)
-    w1, w2, w3 = np.moveaxis(np.asarray(theta_dot, dtype=float), -1, 0)
-    f1, f2 = t1 - t2, t2 - t3
-    d1, d2 = w1 - w2, w2 - w3
-    P1 = (2.0 * d1 + d2) / 3.0
-    P2 = (d1 + 2.0 * d2) / 3.0
-    return (
-        (t1 + t2 + t3) / 3.0,
-        (w1 + w2 + w3) / 3.0,
-        np.stack([f1, f2, P1, P2], axis=-1),
-    )
+#: Rotor angles of zero mean from the relative ones: ``theta = phi0 + _C phi``.
+_C = np.array([[2.0, 1.0], [-1.0, 1.0], [-1.0, -2.0]]) / 3.0
+#: The kinetic metric, ``P = phi' _K``, and its inverse, ``phi' = P _K_INV``.
+_K = np.array([[2.0, 1.0], [1.0, 2.0]]) / 3.0
+_K_INV = np.array([[2.0, -1.0], [-1.0, 2.0]])
 
 
-def phi_to_theta(phi0: Any, phi0_dot: Any, state: Any) -> Any:
+def theta_to_phi(
+    theta: ArrayLike, theta_dot: ArrayLike
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Rotor angles and velocities -> (``phi0``, ``phi0'``, ``[phi1, phi2, P1, P2]``).
+
+    Examples
+    --------
+    >>> from rotorlib.system import phi_to_theta, theta_to_phi
+    >>> phi0, phi0_dot, state = theta_to_phi([0.1, 0.2, 0.6], [1.0, 0.0, -1.0])
+    >>> state.round(12)
+    array([-0.1, -0.4,  1. ,  1. ])
+    >>> phi_to_theta(phi0, phi0_dot, state)[0].round(12)
+    array([0.1, 0.2, 0.6])
+    """
+    t, w = np.asarray(theta, dtype=float), np.asarray(theta_dot, dtype=float)
+    phi, phi_dot = t[..., :2] - t[..., 1:], w[..., :2] - w[..., 1:]  # t1 - t2, t2 - t3
+    return t.mean(-1), w.mean(-1), np.concatenate([phi, phi_dot @ _K], axis=-1)
+
+
+def phi_to_theta(
+    phi0: Real, phi0_dot: Real, state: ArrayLike
+) -> tuple[np.ndarray, np.ndarray]:
     """Inverse of :func:`theta_to_phi`: returns ``(theta, theta_dot)``."""
-    f1, f2, P1, P2 = np.moveaxis(np.asarray(state, dtype=float), -1, 0)
-    d1, d2 = 2.0 * P1 - P2, 2.0 * P2 - P1
-    theta = np.stack(
-        [
-            phi0 + (2 * f1 + f2) / 3.0,
-            phi0 + (f2 - f1) / 3.0,
-            phi0 - (f1 + 2 * f2) / 3.0,
-        ],
-        -1,
-    )
-    vel = np.stack(
-        [
-            phi0_dot + (2 * d1 + d2) / 3.0,
-            phi0_dot + (d2 - d1) / 3.0,
-            phi0_dot - (d1 + 2 * d2) / 3.0,
-        ],
-        -1,
-    )
-    return theta, vel
+    s = np.asarray(state, dtype=float)
+    phi_dot = s[..., 2:] @ _K_INV  # (2 P1 - P2, 2 P2 - P1)
+    theta = np.asarray(phi0)[..., None] + s[..., :2] @ _C.T
+    return theta, np.asarray(phi0_dot)[..., None] + phi_dot @ _C.T
 
 
 @dataclass(frozen=True)
@@ -296,25 +334,25 @@ class CriticalPoint:
     """
 
     name: str
-    phi: tuple
+    phi: tuple[float, float]
     energy: float
-    hessian_eigenvalues: tuple
+    hessian_eigenvalues: tuple[float, ...]
     kind: str
 
 
-def _grad_phi(x):
+def _grad_phi(x: np.ndarray) -> np.ndarray:
     f1, f2 = x
     s = np.sin(f1 + f2)
     return np.array([np.sin(f1) + s, np.sin(f2) + s])
 
 
-def _hess_phi(x):
+def _hess_phi(x: np.ndarray) -> np.ndarray:
     f1, f2 = x
     c = np.cos(f1 + f2)
     return np.array([[np.cos(f1) + c, c], [c, np.cos(f2) + c]])
 
 
-def critical_points(grid: int = 16) -> Any:
+def critical_points(grid: int = 16) -> list[CriticalPoint]:
     """Locate and classify every critical point of V on the torus.
 
     Newton's method from a ``grid x grid`` set of starting points; duplicates
@@ -325,53 +363,41 @@ def critical_points(grid: int = 16) -> Any:
     -------
     list of CriticalPoint
         Sorted by energy, then name.
+
+    Examples
+    --------
+    >>> from rotorlib.system import critical_points
+    >>> [(p.name, p.kind, round(p.energy, 12)) for p in critical_points()][::2]
+    [('G', 'minimum', 0.0), ('D2', 'saddle', 4.0), ('T1', 'maximum', 4.5)]
     """
     from scipy import optimize  # (lazy: scipy.optimize is slow to import)
 
-    found: list = []
+    found: list[np.ndarray] = []
     pts = np.linspace(0, 2 * np.pi, grid, endpoint=False) + 0.05
-    for x0 in pts:
-        for y0 in pts:
-            sol = optimize.root(
-                _grad_phi, [x0, y0], jac=_hess_phi, method="lm", tol=1e-15
-            )
-            if not sol.success or np.max(np.abs(_grad_phi(sol.x))) > 1e-12:
-                continue
-            x = np.mod(sol.x, 2 * np.pi)
-            x = np.where(np.abs(x - 2 * np.pi) < 1e-9, 0.0, x)
-            if not any(np.allclose(x, y, atol=1e-8) for y in found):
-                found.append(x)
-    out: list = []
+    for x0, y0 in itertools.product(pts, pts):
+        sol = optimize.root(_grad_phi, [x0, y0], jac=_hess_phi, method="lm", tol=1e-15)
+        if not sol.success or np.max(np.abs(_grad_phi(sol.x))) > 1e-12:
+            continue
+        x = np.mod(sol.x, 2 * np.pi)
+        x = np.where(np.abs(x - 2 * np.pi) < 1e-9, 0.0, x)
+        if not any(np.allclose(x, y, atol=1e-8) for y in found):
+            found.append(x)
+    points = []
     for x in found:
         ev = np.linalg.eigvalsh(_hess_phi(x))
         kind = "minimum" if ev.min() > 0 else ("maximum" if ev.max() < 0 else "saddle")
-        out.append((x, float(potential_phi(*x)), tuple(float(e) for e in ev), kind))
-    names = []
-    for x, e, ev, kind in out:
-
-        def near(a, b):
-            return abs(np.mod(a - b + np.pi, 2 * np.pi) - np.pi) < 1e-8
-
-        if kind == "minimum":
-            names.append("G")
-        elif kind == "saddle":
-            names.append(
-                "D1"
-                if near(x[0], np.pi) and near(x[1], np.pi)
-                else "D2"
-                if near(x[0], np.pi)
-                else "D3"
-            )
-        else:
-            names.append("T")
-    tmax = sorted(
-        [i for i, n in enumerate(names) if n == "T"], key=lambda i: out[i][0][0]
-    )
-    for j, i in enumerate(tmax):
-        names[i] = f"T{j + 1}"
+        at_pi = (
+            bool(abs(x[0] - np.pi) < 1e-8),
+            bool(abs(x[1] - np.pi) < 1e-8),
+        )  # x is in [0, 2 pi)
+        name = {"minimum": "G", "maximum": "T"}.get(kind) or (
+            {(True, True): "D1", (True, False): "D2"}.get(at_pi, "D3")
+        )
+        e, h = float(potential_phi(*x)), tuple(float(v) for v in ev)
+        points.append(CriticalPoint(name, (float(x[0]), float(x[1])), e, h, kind))
+    maxima = sorted((p for p in points if p.kind == "maximum"), key=lambda p: p.phi[0])
     points = [
-        CriticalPoint(n, (float(x[0]), float(x[1])), e, ev, kind)
-        for n, (x, e, ev, kind) in zip(names, out)
+        replace(p, name=f"T{maxima.index(p) + 1}") if p in maxima else p for p in points
     ]
     return sorted(points, key=lambda p: (p.energy, p.name))
 

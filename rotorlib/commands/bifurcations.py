@@ -12,8 +12,7 @@ from __future__ import annotations
 import argparse
 from typing import Any
 
-from ..cli import emit
-from ..precision import check_digits
+from ..cli import add_digits_argument, emit
 
 #: Largest --n-max accepted on the command line (float64 reaches n ~ 125 in every sequence).
 N_MAX_LIMIT = 200
@@ -37,19 +36,16 @@ def register(sub: Any) -> None:
     )
     p.add_argument("--kind", default=None, help="IS or PD (default both)")
     p.add_argument("--family", default="pendulum", choices=["pendulum", "breather"])
-    p.add_argument(
-        "--digits",
-        type=int,
-        default=None,
-        help="significant digits (default float64, ~13 in log|E-4|; > 15 re-locates every root "
-        "with heyoka real128 / multiprecision)",
+    add_digits_argument(
+        p,
+        "float64 gives ~13 in log|E-4|; > 15 re-locates every root with heyoka "
+        "real128 / multiprecision",
     )
     p.add_argument("--json", action="store_true", help="print a JSON list of records")
     p.set_defaults(func=run)
 
 
 def run(args: argparse.Namespace) -> int:
-    check_digits(args.digits, "--digits")
     if args.family == "breather":
         from ..breather_bifurcation import breather_transitions
 
@@ -70,7 +66,7 @@ def run(args: argparse.Namespace) -> int:
     trs = transitions(phase=args.phase, n_max=args.n_max, kinds=kinds)
     if args.digits is not None and args.digits > 15:
         trs = [transition(t.label, digits=args.digits) for t in trs]
-    records = [t.to_dict() for t in trs]
     columns = ["label", "log_abs_dE", "E", "period", "transition", "precision"]
-    emit(records, args.json, columns, one=False)  # JSON: a list, even for one record
+    # JSON: a list, even for one record
+    emit([t.to_dict() for t in trs], args.json, columns, one=False)
     return 0

@@ -17,7 +17,7 @@ from __future__ import annotations
 import argparse
 from typing import Any
 
-from ..cli import emit
+from ..cli import add_digits_argument, emit
 from ..energy import as_float
 from ..precision import check_digits
 
@@ -38,14 +38,11 @@ def register(sub: argparse._SubParsersAction) -> None:
         "label", help="pendulum, R, LG, LD, IS^l_2, ISl2, PD^r_3, PDr3, PD^b, CG ..."
     )
     p.add_argument("--E", required=True, metavar="V", help="energy (m = g = r = 1)")
-    p.add_argument(
-        "--digits",
-        type=int,
-        default=None,
-        help="significant digits of state, period and trace (default: float64, "
-        "real128 near E = 4; > 15: the tier that delivers them, with "
-        "state0_str, period_str, trace_str; up to 1000; <= 15: plain float64, "
-        "which loses log10(1/|E_n - 4|) digits near E = 4)",
+    add_digits_argument(
+        p,
+        "for state, period and trace (real128 by default near E = 4); > 15: the tier that "
+        "delivers them, with state0_str, period_str, trace_str; <= 15: plain float64, "
+        "which loses log10(1/|E_n - 4|) digits near E = 4",
     )
     p.add_argument(
         "--branch",

@@ -60,7 +60,6 @@ def decimals(convergence: float) -> int:
 
 
 def run(args: argparse.Namespace) -> int:
-
     from .. import quantum
     from ..parallel import executor_for
 
@@ -70,10 +69,9 @@ def run(args: argparse.Namespace) -> int:
         raise ValueError(f"--hbar must be > 0, got {args.hbar}")
     if E_max <= 0:
         raise ValueError(f"--E-max must be > 0, got {args.E_max}")
-    sector = args.sector
-    if sector != "all" and sector not in quantum.SECTORS:
+    if args.sector != "all" and args.sector not in quantum.SECTORS:
         raise ValueError(
-            f"unknown sector {sector!r}: choose one of "
+            f"unknown sector {args.sector!r}: choose one of "
             f"{', '.join(quantum.SECTORS)} or all"
         )
     need = quantum.memory_estimate(hbar, E_max)
@@ -85,18 +83,18 @@ def run(args: argparse.Namespace) -> int:
             f"waves, ~{need / 2**30:.3g} GiB needed, {have / 2**30:.3g} GiB available"
         )
     with executor_for(args.workers, args.scheduler) as ex:
-        s = quantum.spectrum(hbar, E_max, sector, executor=ex)
+        s = quantum.spectrum(hbar, E_max, args.sector, executor=ex)
     d = decimals(s.convergence)
-    rows = []
-    for x in s.sectors:
-        rows += [(float(E), x.sector, x.multiplicity) for E in x.levels]
-    rows.sort()
+    rows = sorted(
+        (float(E), x.sector, x.multiplicity) for x in s.sectors for E in x.levels
+    )
+    n_all = sum(m for _, _, m in rows)
     if args.json:
-        out = {
+        record = {
             "hbar": hbar,
             "E_max": E_max,
-            "sector": sector,
-            "count": sum(m for _, _, m in rows),
+            "sector": args.sector,
+            "count": n_all,
             "levels": [round(E, d) for E, _, _ in rows],
             "sectors": [sec for _, sec, _ in rows],
             "multiplicities": [m for _, _, m in rows],
@@ -114,7 +112,7 @@ def run(args: argparse.Namespace) -> int:
             },
             "precision": "float64",
         }
-        emit([out], True, [])
+        emit([record], True, [])
         return 0
     recs = [
         {"n": i + 1, "E": f"{E:.{d}f}", "sector": sec, "multiplicity": m}
@@ -122,7 +120,6 @@ def run(args: argparse.Namespace) -> int:
     ]
     if recs:
         emit(recs, False, ["n", "E", "sector", "multiplicity"])
-    n_all = sum(m for _, _, m in rows)
     print(
         f"# {len(rows)} distinct levels ({n_all} with multiplicity) below {E_max:g} "
         f"at hbar = {hbar:g}; convergence {s.convergence:.1e} "

@@ -15,10 +15,10 @@ from __future__ import annotations
 import argparse
 from typing import Any
 
-from ..cli import emit
+from ..cli import add_digits_argument, emit
 from ..floquet import monodromy
 from ..orbits import BreatherOrbit, PendulumOrbit, breather, pendulum
-from ..precision import check_digits, json_number
+from ..precision import json_number
 
 _DESCRIPTION = """\
 tr M (full 4x4) of pendula or isosceles breathers, with the precision that produced it.
@@ -68,12 +68,7 @@ def register(sub: Any) -> None:
         choices=["LG", "LD", "R"],
         help="breather family (default LG below 4.5, R above)",
     )
-    p.add_argument(
-        "--digits",
-        type=int,
-        default=None,
-        help="significant digits (default float64; > 15 uses heyoka real128/multiprecision)",
-    )
+    add_digits_argument(p, "> 15 uses heyoka real128/multiprecision")
     p.add_argument(
         "--json",
         action="store_true",
@@ -82,38 +77,38 @@ def register(sub: Any) -> None:
     p.set_defaults(func=run)
 
 
-def _record(M, digits) -> dict:
+def _record(M, digits: int | None) -> dict[str, Any]:
     """The JSON record of one monodromy (the rule of :func:`rotorlib.precision.json_number`:
     numbers are float64 values, the digits beyond them in ``*_str`` decimal strings)."""
     ext = M.precision != "float64"
     en = M.energy
-    given_log = en.given[1] if en.given[0] == "log_abs_dE" else None
-    rec: dict = {"family": "pendulum" if M.family == "pendulum" else "breather"}
-    if M.family != "pendulum":
-        rec["breather_family"] = en.family
-    rec["phase"] = en.phase
-    rec |= json_number("E", en.E, en.E_text(max(17, digits or 0)))
-    rec |= json_number("log_abs_dE", en.log_abs_dE, given_log)  # to E = 4 or 4.5
     overflow = not ext and M.trace_str != repr(M.trace)
-    rec |= json_number("trace", M.trace, M.trace_str if ext or overflow else None)
-    rec |= json_number(
-        "trace_transverse", M.trace_transverse, note="beyond float64: see trace_str"
+    given_log = en.given[1] if en.given[0] == "log_abs_dE" else None
+    family = (
+        {"family": "pendulum"}
+        if M.family == "pendulum"
+        else {"family": "breather", "breather_family": en.family}
     )
-    rec |= json_number("period", M.period, M.period_str if ext else None)
-    rec.update(
-        {
-            "stable": M.stable,
-            "stability": M.stability,
-            "stability_note": M.stability_note,
-            "multipliers": [
-                [float(complex(z).real), float(complex(z).imag)] for z in M.multipliers
-            ],
-            "precision": M.precision,
-            "backend": M.backend,
-        }
-    )
-    rec |= json_number("residual", M.residual)
-    return rec
+    return {
+        **family,
+        "phase": en.phase,
+        **json_number("E", en.E, en.E_text(max(17, digits or 0))),
+        **json_number("log_abs_dE", en.log_abs_dE, given_log),  # to E = 4 or 4.5
+        **json_number("trace", M.trace, M.trace_str if ext or overflow else None),
+        **json_number(
+            "trace_transverse", M.trace_transverse, note="beyond float64: see trace_str"
+        ),
+        **json_number("period", M.period, M.period_str if ext else None),
+        "stable": M.stable,
+        "stability": M.stability,
+        "stability_note": M.stability_note,
+        "multipliers": [
+            [float(complex(z).real), float(complex(z).imag)] for z in M.multipliers
+        ],
+        "precision": M.precision,
+        "backend": M.backend,
+        **json_number("residual", M.residual),
+    }
 
 
 def run(args: argparse.Namespace) -> int:
@@ -123,27 +118,19 @@ def run(args: argparse.Namespace) -> int:
         raise ValueError("--family applies to breathers only")
     if by_log and args.family == "pendulum" and args.phase is None:
         raise ValueError("--log-dE needs --phase lib or rot")
-    check_digits(args.digits, "--digits")
     records = []
-    orb: PendulumOrbit | BreatherOrbit
     for text in values:
+        at = {"log_abs_dE": text} if by_log else {"E": text}
         if args.family == "pendulum":
-            orb = (
-                pendulum(log_abs_dE=text, phase=args.phase)
-                if by_log
-                else pendulum(E=text, phase=args.phase)
-            )
+            orb: PendulumOrbit | BreatherOrbit = pendulum(**at, phase=args.phase)
         else:
             fam = (
                 args.breather_family
                 or {"lib": "LG", "rot": "R", None: None}[args.phase]
             )
-            if by_log:
-                if fam is None:
-                    raise ValueError("--log-dE for breathers needs --phase or --family")
-                orb = breather(log_abs_dE=text, family=fam)
-            else:
-                orb = breather(E=text, family=fam)
+            if by_log and fam is None:
+                raise ValueError("--log-dE for breathers needs --phase or --family")
+            orb = breather(**at, family=fam)
         records.append(_record(monodromy(orb, digits=args.digits), args.digits))
     emit(
         records,
