@@ -36,9 +36,9 @@ import numpy as np
 
 from .energy import BreatherEnergy, PendulumEnergy
 from .flow import monodromy_matrix
-from .hill import hill_problem, precision_tier, solve_hill
+from .hill import _mpmath_tier, _solve_hill, hill_problem, precision_tier
 from .orbits import BreatherOrbit, PendulumOrbit, breather, pendulum
-from .precision import Tier, tier
+from .precision import Tier, requested_digits, tier
 from .system import (
     _A,
     _B,
@@ -84,7 +84,7 @@ class Monodromy:
     :func:`monodromy` (pendula and breathers, at their base point, in the paper's block
     basis) fills every attribute; the variational routes (:func:`variational_monodromy`,
     :func:`textbook_monodromy`: any orbit) give ``family='orbit'``, the matrix in the
-    state order, no blocks (``None``) and no ``energy``, and add ``final_state``,
+    state order, no blocks (``None``) and no ``energy``, and add
     ``closure`` (also in ``residual``) and ``steps``: the one remaining difference.
 
     Attributes
@@ -128,8 +128,6 @@ class Monodromy:
         ``|psi(K)|`` of the reduced problem (0 in exact arithmetic).
     energy : PendulumEnergy, BreatherEnergy or None
         The :class:`~rotorlib.energy.PendulumEnergy` or ``BreatherEnergy``.
-    final_state : ndarray (4,) or None
-        Variational routes: the state after one period.
     closure : float
         Variational routes: ``max |x(T) - x(0)|`` modulo the lattice of ``(a1, a2)``.
     steps : int
@@ -162,7 +160,6 @@ class Monodromy:
     period_str: str = ""
     stability: str = ""
     stability_note: str = ""
-    final_state: np.ndarray | None = field(repr=False, default=None)
     closure: float = float("nan")
     steps: int = 0
 
@@ -180,10 +177,6 @@ class Monodromy:
         T[:2, :2] = _A @ _Binv
         T[2:, 2:] = _Ainv.T @ _B.T
         return T @ Mb @ np.linalg.inv(T)
-
-    def eigen(self) -> tuple[np.ndarray, np.ndarray]:
-        """Eigenvalues and eigenvectors of the 4x4 matrix (numpy ``eig``; defective at transitions)."""
-        return np.linalg.eig(self.matrix)
 
 
 def _as_orbit(orbit=None, E=None, log_abs_dE=None, phase=None, family="pendulum"):
@@ -265,9 +258,7 @@ def monodromy(
     '0.0195119424111676105307516364433'
     """
     orbit = _as_orbit(orbit, E, log_abs_dE, phase, family)
-    t = tier(digits)
-    d = None if not t.extended else (digits if isinstance(digits, int) else t.dps - 9)
-    return _monodromy(orbit, d, precision_tier(digits)[0], tol)
+    return _monodromy(orbit, requested_digits(digits), precision_tier(digits)[0], tol)
 
 
 def _monodromy(
@@ -279,48 +270,36 @@ def _monodromy(
     """:func:`monodromy` of ``orbit`` with the integrator ``backend`` (``heyoka``,
     ``scipy`` or ``mpmath``), whatever is installed: ``digits`` None is float64 (the
     mpmath Taylor integrator at 20 digits), more is heyoka's tier of ``digits`` or
-    mpmath at ``digits + 5`` working digits."""
-    if backend not in ("heyoka", "scipy", "mpmath"):
-        raise ValueError(f"backend must be heyoka, scipy or mpmath, got {backend!r}")
-    if backend == "scipy" and digits:
-        raise ValueError(
-            f"scipy integrates in float64 only; digits = {digits} needs heyoka or mpmath"
-        )
-    if backend == "mpmath":
-        prec = f"mpmath{digits + 5 if digits else 20}"
-    else:
-        prec = tier(digits).name
-    be = backend
-    dps = None if prec == "float64" else (digits or 20) + 15
-    prob = hill_problem(orbit, digits=None if dps is None else dps - 15)
-    sol = solve_hill(prob, be, prec, tol=tol)
+    mpmath at ``digits + 5`` working digits (the test hook of the integrators)."""
+    t = (
+        _mpmath_tier(digits + 5 if digits else 20)
+        if backend == "mpmath"
+        else tier(digits)
+    )
+    prob = hill_problem(orbit, (digits or 20) if t.extended else None)
+    sol = _solve_hill(prob, backend, t, tol)
     C = sol.coefficient_map
     d = np.array([1.0, prob.momentum_scale * prob.du_dt])
-    with np.errstate(
-        over="ignore", invalid="ignore"
-    ):  # inf/nan entries when tr M overflows float64
+    with np.errstate(over="ignore", invalid="ignore"):  # inf/nan when tr M overflows
         Phi = C @ C if prob.repeats == 2 else C
         Mperp = (Phi * d[:, None]) * (1.0 / d)[None, :]  # D Phi D^-1
-    delta = sol.delta
-    tr_perp = delta * delta - 2.0 if prob.repeats == 2 else delta
-    shown = max(5, digits or 20)
+    tr_perp = sol.delta * sol.delta - 2.0 if prob.repeats == 2 else sol.delta
     tr_exact = tr_perp + 2.0
-    if prec == "float64" and math.isfinite(tr_perp):
-        tr_str = repr(tr_exact)
-        period_str = repr(orbit.period)
-    else:
+    period_str = repr(orbit.period)
+    if t.extended or not math.isfinite(tr_perp):
         import mpmath as mp
 
+        shown = max(5, digits or 20)
         with mp.workdps(len(sol.delta_str) + 5):
             dx = mp.mpf(sol.delta_exact)
             tr_exact = dx * dx if prob.repeats == 2 else dx + 2
-            tr_str = mp.nstr(tr_exact, shown if prec != "float64" else 16)
-        if prec == "float64":
-            period_str = repr(orbit.period)
-        else:
+            tr_str = mp.nstr(tr_exact, shown if t.extended else 16)
+        if t.extended:
+            dps = (digits or 20) + 15
             with mp.workdps(dps):
                 period_str = mp.nstr(orbit.closed_form(dps)["period"], shown)
-    period = orbit.period
+    else:
+        tr_str = repr(tr_exact)
     dT = orbit.dperiod_dE
     M = np.zeros((4, 4))
     if isinstance(orbit, PendulumOrbit):
@@ -332,32 +311,15 @@ def _monodromy(
         q1sq = orbit.E - 4.0 if orbit.energy.family == "LD" else orbit.E
         Mpar = np.array([[1.0, -4.0 * q1sq * dT], [0.0, 1.0]])
         M[:2, :2], M[2:, 2:] = Mpar, Mperp
-    tr = tr_perp + 2.0
     # stability from the value with every computed digit (the float64 view of 4 - 1e-18 is 4.0)
     stability, note = _stability(
-        tr_exact, 1e-12 if prec == "float64" else 10.0 ** (2 - (digits or 20)), orbit
+        tr_exact, 10.0 ** (2 - (digits or 20)) if t.extended else 1e-12, orbit
     )
     return Monodromy(
-        orbit.family,
-        orbit.E,
-        period,
-        M,
-        basis,
-        Mperp,
-        Mpar,
-        tr,
-        tr_perp,
-        tr_str,
-        multipliers_from_trace(tr_perp),
-        bool(0 < tr_exact < 4),
-        prec,
-        be,
-        sol.psi_end,
-        orbit.energy,
-        period_str,
-        stability,
-        note,
-    )
+        orbit.family, orbit.E, orbit.period, M, basis, Mperp, Mpar, tr_perp + 2.0,
+        tr_perp, tr_str, multipliers_from_trace(tr_perp), bool(0 < tr_exact < 4),
+        t.name, backend, sol.psi_end, orbit.energy, period_str, stability, note,
+    )  # fmt: skip
 
 
 def _stability(tr, tol: float, orbit) -> tuple:
@@ -455,7 +417,7 @@ def variational_monodromy(
     -------
     Monodromy
         ``family='orbit'``, ``matrix`` in the state order ``[a1, a2, p1, p2]`` (the
-        ``basis``), no ``transverse``/``longitudinal`` blocks; ``final_state`` and
+        ``basis``), no ``transverse``/``longitudinal`` blocks;
         ``closure = max |x(T) - x(0)|`` modulo the lattice of ``(a1, a2)``; ``backend``
         names the integrator (``scipy-DOP853 rtol=...`` or ``heyoka-taylor``).
 
@@ -482,12 +444,11 @@ def variational_monodromy(
         x0 = [t.num(v) for v in state0]
         T = t.num(period)
         if method == "scipy":
-            Mv, xf, tr, steps = _scipy_variational(x0, T, rtol)
+            Mv, xT, tr, steps = _scipy_variational(x0, T, rtol)
             backend, tr_str = f"scipy-DOP853 rtol={rtol:g}", repr(tr)
-            xT = list(xf)
         else:
             Mv, xT, tr = monodromy_matrix(x0, T, t)
-            xf, steps, backend = np.array([float(v) for v in xT]), 0, "heyoka-taylor"
+            steps, backend = 0, "heyoka-taylor"
             tr_str = t.text(tr, None if t.extended else 17)
         from .periodic import stability_of  # the result protocol's rule
 
@@ -501,13 +462,13 @@ def variational_monodromy(
             "orbit", float(energy_alpha(x0f)), float(T), Mv, STATE_ORDER, None, None,
             trf, trf - 2.0, tr_str, multipliers_from_trace(trf - 2.0), 0 < trf < 4,
             t.name, backend, closure, None, t.text(T), stability, "",
-            final_state=xf, closure=closure, steps=steps,
+            closure=closure, steps=steps,
         )  # fmt: skip
 
 
 def _scipy_variational(
     x0: list[float], T: float, rtol: float
-) -> tuple[np.ndarray, np.ndarray, float, int]:
+) -> tuple[np.ndarray, list[float], float, int]:
     from scipy.integrate import solve_ivp
 
     def rhs(t: float, z: np.ndarray) -> np.ndarray:
@@ -519,7 +480,7 @@ def _scipy_variational(
     sol = solve_ivp(rhs, (0.0, T), z0, method="DOP853", rtol=rtol, atol=rtol * 1e-3)
     z = sol.y[:, -1]
     Mv = z[4:].reshape(4, 4)
-    return Mv, z[:4], float(np.trace(Mv)), len(sol.t) - 1
+    return Mv, list(z[:4]), float(np.trace(Mv)), len(sol.t) - 1
 
 
 #: The default tier of :func:`textbook_monodromy`: 256-bit multiprecision.

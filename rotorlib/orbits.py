@@ -26,8 +26,8 @@ All periods are ``4 K(m)/nu``. Base points: G for LG and R, D for LD.
 Precision: states are float64 closed forms; with :mod:`rotorlib.elliptic`
 they keep ~1e-15 relative accuracy for any distance to the separatrix down to
 ``|E - sep| = 1.8e-307`` (the energy residual is checked in
-``tests/test_orbits.py``). ``closed_form(dps)`` gives the parameters, K, the
-period and its derivative in mpmath at ``dps`` digits from the decimal input,
+``tests/test_orbits.py``). ``closed_form(digits)`` gives the parameters, K, the
+period and its derivative in mpmath at ``digits`` digits from the decimal input,
 at any depth; the float64 ``K``, ``period`` and ``dperiod_dE`` use it beyond
 the float64 range of ``eps``.
 """
@@ -36,6 +36,7 @@ from __future__ import annotations
 
 import contextlib
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
@@ -43,6 +44,7 @@ import numpy as np
 
 from .elliptic import dK_dm, ellipk_m1, jacobi_am, jacobi_sncndn, mp_dK_dm, mp_ellipk_m1
 from .energy import BreatherEnergy, PendulumEnergy, breather_energy, pendulum_energy
+from .precision import Tier
 
 __all__ = [
     "PendulumOrbit",
@@ -57,22 +59,77 @@ SQRT3 = math.sqrt(3.0)
 _DEEP_DPS = 30
 
 
-def _arith(dps):
-    """``(sqrt, K(m1), dK/dm(m, m1), context)`` for float64 (``dps=None``) or mpmath at ``dps`` digits.
-
-    The closed forms below are written once with these and exact binary
-    constants, so the float64 and the extended-precision parameters come from
-    the same formulas.
-    """
-    if dps is None:
-        return math.sqrt, ellipk_m1, dK_dm, contextlib.nullcontext()
-    import mpmath as mp
-
-    return mp.sqrt, mp_ellipk_m1, mp_dK_dm, mp.workdps(dps)
+def _working_dps(digits: int | Tier | None) -> int | None:
+    """mpmath working digits of the closed forms: ``digits`` itself, a Tier's ``dps``,
+    ``None`` for float64."""
+    if isinstance(digits, Tier):
+        return digits.dps if digits.extended else None
+    return None if digits is None else int(digits)
 
 
 class _ClosedForm:
-    """Shared float64 views: K, period and d(period)/dE at any depth."""
+    """The closed form written once, for float64 and mpmath, and its float64 views."""
+
+    energy: PendulumEnergy | BreatherEnergy
+    # each orbit's formulas (float64 or mpmath: ``sqrt`` is math's or mpmath's)
+    _parameters: Callable[[int | None, Any], dict]
+    _period: Callable[[dict, Any], Any]
+    _dperiod_dE: Callable[[dict, Any, Any], Any]
+
+    def closed_form(
+        self, digits: int | Tier | None = None, derivative: bool = False
+    ) -> dict:
+        """E, eps, the parameters (m, m1, ...), K, period (and with ``derivative``
+        d(period)/dE) of the closed form.
+
+        Parameters
+        ----------
+        digits : int or Tier, optional
+            ``None``: float64 (~1e-16 relative at any ``|E - sep| >= 1.8e-307``,
+            refused below with ``ValueError``). An integer: mpmath numbers correct to
+            ``digits`` digits (the working precision), built from the decimal input at
+            any depth; a :class:`~rotorlib.precision.Tier`: its working digits.
+        derivative : bool
+            Also return ``dperiod_dE``.
+
+        Notes
+        -----
+        Pendulum: period ``4K/sqrt3`` (libration, ``m = E/4``) or ``2 kappa K/sqrt3``
+        (rotation, ``m = kappa^2 = 4/E``); ``dK/dm`` by chain rule. Breather:
+        ``tau = 4K(m)/nu``, ``dtau/dE = 4 (K'(m) m'(E) nu - K nu'(E)) / nu^2`` with
+        ``m(E)``, ``nu(E)`` from the module docstring (it diverges at 4.5 like the
+        period's log). ``K`` and ``dK/dm`` come from :mod:`rotorlib.elliptic` in
+        float64, from ``mp_ellipk_m1``/``mp_dK_dm`` in mpmath: the float64 and the
+        extended-precision values follow the same formulas.
+
+        Examples
+        --------
+        >>> import mpmath
+        >>> from rotorlib import pendulum
+        >>> cf = pendulum(E=3.9).closed_form(30, derivative=True)
+        >>> mpmath.nstr(cf["period"], 25), round(float(cf["dperiod_dE"]), 6)
+        ('7.493684782180075798697786', 11.289633)
+        """
+        dps = _working_dps(digits)
+        if dps is None:
+            self.energy.require_float64()
+            sqrt, ellipk, dkdm, ctx = (
+                math.sqrt,
+                ellipk_m1,
+                dK_dm,
+                contextlib.nullcontext(),
+            )
+        else:
+            import mpmath as mp
+
+            sqrt, ellipk, dkdm, ctx = mp.sqrt, mp_ellipk_m1, mp_dK_dm, mp.workdps(dps)
+        with ctx:
+            p = self._parameters(dps, sqrt)
+            p["K"] = ellipk(p["m1"])
+            p["period"] = self._period(p, sqrt)
+            if derivative:
+                p["dperiod_dE"] = self._dperiod_dE(p, dkdm(p["m"], p["m1"]), sqrt)
+        return p
 
     def _view(self, key, derivative=False):
         # inside the float64 range: the float64 closed form; beyond it (eps underflows)
@@ -116,52 +173,22 @@ class PendulumOrbit(_ClosedForm):
     def E(self) -> float:
         return self.energy.E
 
-    def closed_form(self, dps: int | None = None, derivative: bool = False) -> dict:
-        """E, eps, m, m1, K, period (and with ``derivative`` d(period)/dE) of the closed form.
-
-        Parameters
-        ----------
-        dps : int, optional
-            ``None``: float64 (~1e-16 relative at any ``|E - 4| >= 1.8e-307``,
-            refused below with ``ValueError``). Otherwise mpmath numbers correct
-            to ``dps`` digits, built from the decimal input at any depth.
-        derivative : bool
-            Also return ``dperiod_dE``.
-
-        Notes
-        -----
-        Period ``4K/sqrt3`` (libration, ``m = E/4``) or ``2 kappa K/sqrt3``
-        (rotation, ``m = kappa^2 = 4/E``); ``dK/dm`` by chain rule.
-        """
+    def _parameters(self, dps, sqrt):
         en = self.energy
-        sqrt, ellipk, dkdm, ctx = _arith(dps)
         if dps is None:
-            en.require_float64()
-            E, eps, m, m1 = en.E, en.eps, en.m, en.m1
-        else:
-            v = en.mp_values(dps)
-            E, eps, m, m1 = v["E"], v["eps"], v["m"], v["m1"]
-        with ctx:
-            K = ellipk(m1)
-            kappa = sqrt(m)
-            out = dict(
-                E=E,
-                eps=eps,
-                m=m,
-                m1=m1,
-                K=K,
-                period=4 * K / sqrt(3)
-                if en.phase == "lib"
-                else 2 * kappa * K / sqrt(3),
-            )
-            if derivative:
-                dk = dkdm(m, m1)
-                out["dperiod_dE"] = (
-                    dk / sqrt(3)
-                    if en.phase == "lib"  # m = E/4
-                    else 2 / sqrt(3) * (dk * kappa + K / (2 * kappa)) * (-m / E)
-                )  # m = 4/E
-            return out
+            return dict(E=en.E, eps=en.eps, m=en.m, m1=en.m1)
+        return en.mp_values(dps)
+
+    def _period(self, p, sqrt):
+        if self.energy.phase == "lib":
+            return 4 * p["K"] / sqrt(3)
+        return 2 * sqrt(p["m"]) * p["K"] / sqrt(3)  # 2 kappa K / sqrt3
+
+    def _dperiod_dE(self, p, dk, sqrt):
+        if self.energy.phase == "lib":  # m = E/4
+            return dk / sqrt(3)
+        kappa = sqrt(p["m"])  # m = 4/E
+        return 2 / sqrt(3) * (dk * kappa + p["K"] / (2 * kappa)) * (-p["m"] / p["E"])
 
     @property
     def state0(self) -> np.ndarray:
@@ -278,54 +305,30 @@ class BreatherOrbit(_ClosedForm):
         en.require_float64()
         return _breather_params(en.family, en.E, en.eps, math.sqrt)
 
-    def closed_form(self, dps: int | None = None, derivative: bool = False) -> dict:
-        """:attr:`params` plus E, eps, K, period (and with ``derivative`` d(period)/dE), float64 or mpmath.
-
-        Parameters
-        ----------
-        dps : int, optional
-            ``None``: float64 (~1e-16 relative for ``|E - 4.5| >= 1.8e-307``,
-            refused below). Otherwise mpmath numbers correct to ``dps`` digits
-            from the decimal input, at any depth.
-        derivative : bool
-            Also return ``dperiod_dE``.
-
-        Notes
-        -----
-        ``tau = 4K(m)/nu``; ``dtau/dE = 4 (K'(m) m'(E) nu - K nu'(E)) / nu^2``
-        with ``m(E)``, ``nu(E)`` from the module docstring (it diverges at 4.5
-        like the period's log).
-        """
+    def _parameters(self, dps, sqrt):
         en = self.energy
-        sqrt, ellipk, dkdm, ctx = _arith(dps)
-        if dps is None:
-            en.require_float64()
-            E, eps = en.E, en.eps
+        E, eps = (en.E, en.eps) if dps is None else en.mp_E_eps(dps + 5)
+        return dict(_breather_params(en.family, E, eps, sqrt), E=E, eps=eps)
+
+    def _period(self, p, sqrt):
+        return 4 * p["K"] / p["nu"]
+
+    def _dperiod_dE(self, p, dk, sqrt):
+        m, nu, E, eps = p["m"], p["nu"], p["E"], p["eps"]
+        if self.energy.family in ("LG", "LD"):
+            S = sqrt(2 * eps)
+            D = (1 + S) * (3 + S)
+            dS = -1 / S  # S = sqrt(9 - 2E)
+            dD = 2 * S + 4
+            dN = 2 * S - 4  # N = (1 - S)(3 - S) = m D
+            dm = (dN * D - m * D * dD) / (D * D) * dS
+            dnu = dD / (8 * sqrt(D / 2)) * dS  # nu = sqrt(D/2)/2
         else:
-            v = en.mp_values(dps + 5)
-            E, eps = v["E"], v["eps"]
-        with ctx:
-            p = _breather_params(en.family, E, eps, sqrt)
-            m, nu = p["m"], p["nu"]
-            K = ellipk(p["m1"])
-            p.update(E=E, eps=eps, K=K, period=4 * K / nu)
-            if not derivative:
-                return p
-            if en.family in ("LG", "LD"):
-                S = sqrt(2 * eps)
-                D = (1 + S) * (3 + S)
-                dS = -1 / S  # S = sqrt(9 - 2E)
-                dD = 2 * S + 4
-                dN = 2 * S - 4  # N = (1 - S)(3 - S) = m D
-                dm = (dN * D - m * D * dD) / (D * D) * dS
-                dnu = dD / (8 * sqrt(D / 2)) * dS  # nu = sqrt(D/2)/2
-            else:
-                Q = sqrt(E * (E - 4))
-                dQ = (E - 2) / Q
-                dm = (-Q - (6 - E) * dQ) / (2 * Q * Q)  # m = 1/2 + (6 - E)/(2Q)
-                dnu = dQ / (2 * sqrt(Q))  # nu = sqrt(Q)
-            p["dperiod_dE"] = 4 * (dkdm(m, p["m1"]) * dm * nu - K * dnu) / (nu * nu)
-            return p
+            Q = sqrt(E * (E - 4))
+            dQ = (E - 2) / Q
+            dm = (-Q - (6 - E) * dQ) / (2 * Q * Q)  # m = 1/2 + (6 - E)/(2Q)
+            dnu = dQ / (2 * sqrt(Q))  # nu = sqrt(Q)
+        return 4 * (dk * dm * nu - p["K"] * dnu) / (nu * nu)
 
     def phi(self, t: Any) -> tuple[np.ndarray, np.ndarray]:
         """phi(t) and phi'(t) of the breather."""

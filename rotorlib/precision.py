@@ -25,7 +25,7 @@ import mpmath as mp
 import numpy as np
 
 __all__ = ["Tier", "tier", "FLOAT64", "REAL128", "load_heyoka", "HEYOKA_CACHE_MB"]
-__all__ += ["DIGITS_RANGE", "check_digits", "json_number"]
+__all__ += ["DIGITS_RANGE", "check_digits", "json_number", "requested_digits"]
 
 #: The significant digits every function (``digits=``) and command (``--digits``) accepts.
 DIGITS_RANGE = (1, 1000)
@@ -305,3 +305,20 @@ def tier(digits: int | Tier | None = None, extra: float = 0) -> Tier:
     if d <= 31:
         return REAL128
     return Tier(f"mp{int(math.ceil((d + 8) * 3.33))}")
+
+
+def requested_digits(digits: int | Tier | None) -> int | None:
+    """The significant digits an extended tier delivers for ``digits``; ``None`` for float64.
+
+    An integer above 15 is itself; a :class:`Tier` beyond float64 delivers ``dps - 9``
+    digits; ``None``, an integer up to 15 and :data:`FLOAT64` give ``None``.
+
+    Examples
+    --------
+    >>> requested_digits(30), requested_digits(10), requested_digits(REAL128)
+    (30, None, 31)
+    """
+    t = tier(digits)
+    if not t.extended:
+        return None
+    return t.dps - 9 if isinstance(digits, Tier) else int(digits)  # type: ignore[arg-type]
