@@ -9,14 +9,15 @@ Precision
 ---------
 float64 throughout, except ``mp_ellipk_m1`` and ``mp_dK_dm`` (mpmath, at the
 working precision, for the extended tiers and for depths beyond float64).
-``ellipk_m1`` and ``ellipe_m1`` are scipy's Cephes
-routines (relative error ~1e-16). ``jacobi_sncndn`` uses the arithmetic-
-geometric mean (Abramowitz & Stegun 16.4) started from ``b0 = sqrt(m1)``
-after reducing the argument to ``[0, K/2]`` with the quarter-period
-symmetries; measured absolute error ~1e-16 in sn, cn, dn for any ``m1`` down
-to 1e-300 (see ``tests/test_elliptic.py``). ``scipy.special.ellipj`` is *not*
-used: for ``m >= 1 - 1e-10`` it switches to an approximation valid only for
-``u < K`` (scipy issue #8480).
+``ellipk_m1`` and ``dK_dm`` use scipy's Cephes routines (relative error ~1e-16).
+``jacobi_sncndn`` reduces the argument to ``[0, K/2]`` with the quarter-period
+symmetries, then for ``m < 1/2`` calls ``scipy.special.ellipj`` (the descending
+arithmetic-geometric mean, Abramowitz & Stegun 16.4) and for ``m >= 1/2`` runs the
+AGM itself on Jacobi's imaginary transformation, started from ``sqrt(m1)``: measured
+absolute error ~1e-16 in sn, cn, dn for any ``m1`` down to 1e-300 (see
+``tests/test_elliptic.py``). ``scipy.special.ellipj`` is *not* used there: for
+``m >= 1 - 1e-10`` it switches to an approximation valid only for ``u < K`` (scipy
+issue #8480), and ``1 - m`` would lose the digits of ``m1``.
 """
 
 from __future__ import annotations
@@ -28,7 +29,6 @@ from scipy import special
 
 __all__ = [
     "ellipk_m1",
-    "ellipe_m1",
     "dK_dm",
     "jacobi_sncndn",
     "jacobi_am",
@@ -45,22 +45,16 @@ def ellipk_m1(m1: float) -> float:
     return float(special.ellipkm1(m1))
 
 
-def ellipe_m1(m1: float) -> float:
-    """Complete elliptic integral E(m) given m1 = 1 - m (relative error ~1e-16)."""
-    # scipy's ellipe on m = 1 - m1: the rounding error of m enters only times dE/dm,
-    # which is logarithmically small as m1 -> 0 (E = 1 + (m1/2)(log(4/sqrt m1) - 1/2)
-    # + O(m1^2 log m1)): ~1e-16 |log m1|.
-    return float(special.ellipe(1.0 - m1))
-
-
 def dK_dm(m: float, m1: float) -> float:
     """Derivative dK/dm = (E - m1 K) / (2 m m1), with a series near m = 0."""
     if abs(m) < 1e-3:
         c = np.array([1 / 4, 9 / 32, 75 / 256, 1225 / 4096, 19845 / 65536])
         return float(np.pi / 2 * np.polyval(c[::-1], m))
-    K = ellipk_m1(m1)
-    E = ellipe_m1(m1)
-    return (E - m1 * K) / (2.0 * m * m1)
+    # E(m) from scipy's ellipe on m = 1 - m1: the rounding error of m enters only times
+    # dE/dm, logarithmically small as m1 -> 0 (E = 1 + (m1/2)(log(4/sqrt m1) - 1/2)
+    # + O(m1^2 log m1)): ~1e-16 |log m1|.
+    E = float(special.ellipe(1.0 - m1))
+    return (E - m1 * ellipk_m1(m1)) / (2.0 * m * m1)
 
 
 def mp_ellipk_m1(m1: Any) -> Any:
@@ -103,33 +97,6 @@ def mp_dK_dm(m: Any, m1: Any) -> Any:
         if abs(term) <= tiny * abs(total):
             return mp.pi / 2 * total
         mn *= m
-
-
-def _agm_sncndn(u, m, m1):
-    """sn, cn, dn for 0 <= u <= K/2 and 0 <= m <= 1/2 by the descending AGM.
-
-    A&S 16.4: all arcsin arguments are <= c1/a1 < 0.2 here, so the backward
-    recursion is well conditioned.
-    """
-    a = [1.0]
-    c = [np.sqrt(m)]
-    b = np.sqrt(m1)
-    while abs(c[-1]) > 1e-18 * a[-1] and len(a) < 40:
-        an = 0.5 * (a[-1] + b)
-        cn = 0.5 * (a[-1] - b)
-        b = np.sqrt(a[-1] * b)
-        a.append(an)
-        c.append(cn)
-    n = len(a) - 1
-    phi = (2.0**n) * a[-1] * u
-    prev = phi
-    for j in range(n, 0, -1):
-        prev = phi
-        phi = 0.5 * (phi + np.arcsin(c[j] / a[j] * np.sin(phi)))
-    sn = np.sin(phi)
-    cn = np.cos(phi)
-    dn = cn / np.cos(prev - phi) if n > 0 else np.ones_like(sn)
-    return sn, cn, dn
 
 
 def _asinh_c_sinh(c, psi):
@@ -202,7 +169,10 @@ def _sncndn_nonneg(u, m, m1):
     # now 0 <= r <= K; near K use v = K - r: sn = cd(v), cn = k' sd(v), dn = k' nd(v)
     near = r > 0.5 * K
     v = np.where(near, K - r, r)
-    s, c, d = (_agm_sncndn_imag if m >= 0.5 else _agm_sncndn)(v, m, m1)
+    if m >= 0.5:
+        s, c, d = _agm_sncndn_imag(v, m, m1)
+    else:  # 1 - m is exact enough: scipy's ellipj (Cephes, the descending AGM of A&S 16.4)
+        s, c, d, _ = special.ellipj(v, m)
     kp = np.sqrt(m1)
     sn = np.where(near, c / d, s)
     cn = np.where(near, kp * s / d, c)

@@ -180,27 +180,25 @@ class Monodromy:
 
 
 def _as_orbit(orbit=None, E=None, log_abs_dE=None, phase=None, family="pendulum"):
-    if orbit is None or isinstance(orbit, (PendulumOrbit, BreatherOrbit)):
-        pass
-    elif isinstance(getattr(orbit, "energy", None), (PendulumEnergy, BreatherEnergy)):
-        orbit = orbit.energy  # a transition, or an object carrying its orbit's energy
-    if isinstance(orbit, PendulumEnergy):  # e.g. ``transition(...).energy``
-        return PendulumOrbit(orbit)
-    if isinstance(orbit, BreatherEnergy):
-        return BreatherOrbit(orbit)
-    if orbit is not None:
-        if not isinstance(orbit, (PendulumOrbit, BreatherOrbit)):
-            raise TypeError(
-                "monodromy takes a pendulum or breather orbit "
-                "(rotorlib.pendulum(...), rotorlib.breather(...)) or its energy "
-                "(a PendulumEnergy / BreatherEnergy, e.g. transition(label).energy), "
-                f"or E=... / log_abs_dE=... keywords; got {type(orbit).__name__}"
-            )
+    if orbit is None:
+        if family == "pendulum":
+            return pendulum(E=E, log_abs_dE=log_abs_dE, phase=phase)
+        fam = {"lib": "LG", "rot": "R"}.get(phase) if family == "breather" else family
+        return breather(E=E, family=fam, log_abs_dE=log_abs_dE)
+    if isinstance(orbit, (PendulumOrbit, BreatherOrbit)):
         return orbit
-    if family == "pendulum":
-        return pendulum(E=E, log_abs_dE=log_abs_dE, phase=phase)
-    fam = {"lib": "LG", "rot": "R"}.get(phase, None) if family == "breather" else family
-    return breather(E=E, family=fam, log_abs_dE=log_abs_dE)
+    # an energy (e.g. ``transition(...).energy``), or an object carrying its orbit's energy
+    energy = getattr(orbit, "energy", orbit)
+    if isinstance(energy, PendulumEnergy):
+        return PendulumOrbit(energy)
+    if isinstance(energy, BreatherEnergy):
+        return BreatherOrbit(energy)
+    raise TypeError(
+        "monodromy takes a pendulum or breather orbit "
+        "(rotorlib.pendulum(...), rotorlib.breather(...)) or its energy "
+        "(a PendulumEnergy / BreatherEnergy, e.g. transition(label).energy), "
+        f"or E=... / log_abs_dE=... keywords; got {type(orbit).__name__}"
+    )
 
 
 def monodromy(
