@@ -25,6 +25,7 @@ from dataclasses import dataclass
 import mpmath as mp
 
 import rotorlib as rl
+from rotorlib.flow import monodromy_matrix
 from rotorlib.hill import _mpmath_tier, _solve_hill, hill_problem
 from rotorlib.precision import FLOAT64, Tier
 
@@ -77,7 +78,9 @@ def _hill(orbit, backend, precision, tol=None, digits=None):
 
 
 def _textbook(orbit, method, rtol=1e-12):
-    V = rl.variational_monodromy(orbit.state0, orbit.period, method=method, rtol=rtol)
+    if method == "heyoka":  # heyoka's Taylor method in float64 (no step count)
+        return float(monodromy_matrix(list(orbit.state0), orbit.period, FLOAT64)[2]), 0
+    V = rl.variational_monodromy(orbit.state0, orbit.period, rtol=rtol)
     return V.trace, V.steps
 
 

@@ -389,7 +389,6 @@ def variational_monodromy(
     *,
     digits: int | Tier | None = None,
     rtol: float = 1e-12,
-    method: str | None = None,
 ) -> Monodromy:
     """The textbook monodromy: nonlinear flow + 4x4 variational equations over one period.
 
@@ -401,15 +400,12 @@ def variational_monodromy(
     period : float, str or mpf
         Integration time.
     digits : int or Tier, optional
-        The tier (:func:`rotorlib.precision.tier`): ``None`` float64; extended tiers
-        integrate with heyoka (:func:`rotorlib.flow.monodromy_matrix`, the one builder
-        of the equations of motion) at the tier's machine epsilon.
+        The tier (:func:`rotorlib.precision.tier`): ``None`` float64, integrated by scipy
+        DOP853 (the paper's baseline and that of ``book/numerical_notes.md``); extended
+        tiers integrate with heyoka (:func:`rotorlib.flow.monodromy_matrix`, the one
+        builder of the equations of motion) at the tier's machine epsilon.
     rtol : float
-        Tolerance of scipy's ``solve_ivp(DOP853)`` (``atol = rtol 1e-3``).
-    method : {'scipy', 'heyoka'}, optional
-        Float64 integrator: scipy DOP853 (default; the paper's baseline and that of
-        ``book/numerical_notes.md``) or heyoka's Taylor method (the default in the
-        extended tiers, which scipy cannot do).
+        Tolerance of scipy's ``solve_ivp(DOP853)`` (``atol = rtol 1e-3``; float64 only).
 
     Returns
     -------
@@ -433,15 +429,10 @@ def variational_monodromy(
     (0.019512, ('a1', 'a2', 'p1', 'p2'), True)
     """
     t = tier(digits)
-    method = method or ("heyoka" if t.extended else "scipy")
-    if method not in ("scipy", "heyoka"):
-        raise ValueError(f"method must be 'scipy' or 'heyoka', got {method!r}")
-    if method == "scipy" and t.extended:
-        raise ValueError(f"scipy integrates in float64 only; {t.name} needs heyoka")
     with t.context():
         x0 = [t.num(v) for v in state0]
         T = t.num(period)
-        if method == "scipy":
+        if not t.extended:
             Mv, xT, tr, steps = _scipy_variational(x0, T, rtol)
             backend, tr_str = f"scipy-DOP853 rtol={rtol:g}", repr(tr)
         else:

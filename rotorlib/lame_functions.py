@@ -86,16 +86,17 @@ class LameSolutions:
         return self.Ls0 * self.dLc0 - self.dLs0 * self.Lc0
 
 
-def _integrate(coef, w, y0):
+def _solutions(coef, w, c_norm, s_norm) -> LameSolutions:
+    """Integrate ``y'' = -coef(z) y`` for the cosine and sine solutions from 0 to ``w``."""
     sol = solve_ivp(
         lambda z, y: [y[1], -coef(z) * y[0], y[3], -coef(z) * y[2]],
         (0.0, w),
-        y0,
+        [c_norm, 0.0, 0.0, s_norm],
         method="DOP853",
         rtol=1e-12,
         atol=1e-14,
     )
-    return sol.y[:, -1]
+    return LameSolutions(c_norm, 0.0, 0.0, s_norm, *sol.y[:, -1], w)
 
 
 def lame_solutions(
@@ -113,18 +114,14 @@ def lame_solutions(
         s, _, _ = jacobi_sncndn(np.array([z]), k2, m1)
         return h - N_N1 * k2 * float(s[0]) ** 2
 
-    y = _integrate(coef, w, [c_norm, 0.0, 0.0, s_norm])
-    return LameSolutions(c_norm, 0.0, 0.0, s_norm, y[0], y[1], y[2], y[3], w)
+    return _solutions(coef, w, c_norm, s_norm)
 
 
 def mathieu_solutions(
     a: float, q: float, w: float, c_norm: float = 2.0, s_norm: float = 3.0
 ) -> LameSolutions:
     """The Mathieu cosine/sine solutions of ``y'' + (a - 2 q cos 2z) y = 0`` to ``w``."""
-    y = _integrate(
-        lambda z: a - 2.0 * q * np.cos(2.0 * z), w, [c_norm, 0.0, 0.0, s_norm]
-    )
-    return LameSolutions(c_norm, 0.0, 0.0, s_norm, y[0], y[1], y[2], y[3], w)
+    return _solutions(lambda z: a - 2.0 * q * np.cos(2.0 * z), w, c_norm, s_norm)
 
 
 def trace_from_lame(L: LameSolutions) -> float:
