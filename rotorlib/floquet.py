@@ -33,6 +33,7 @@ from decimal import Decimal
 from typing import Any
 
 import numpy as np
+from scipy.linalg import block_diag
 
 from .energy import BreatherEnergy, PendulumEnergy
 from .flow import monodromy_matrix
@@ -170,13 +171,11 @@ class Monodromy:
         # basis (a1, p1, a2, p2) -> state order (a1, a2, p1, p2); breathers likewise
         # (b1, q1, b2, q2) -> (b1, b2, q1, q2), then to alpha
         P = np.eye(4)[[0, 2, 1, 3]]
+        Ms = P @ self.matrix @ P.T
         if self.family == "pendulum":
-            return P @ self.matrix @ P.T
-        Mb = P @ self.matrix @ P.T
-        T = np.zeros((4, 4))
-        T[:2, :2] = _A @ _Binv
-        T[2:, 2:] = _Ainv.T @ _B.T
-        return T @ Mb @ np.linalg.inv(T)
+            return Ms
+        T = block_diag(_A @ _Binv, _Ainv.T @ _B.T)
+        return T @ Ms @ np.linalg.inv(T)
 
 
 def _as_orbit(orbit=None, E=None, log_abs_dE=None, phase=None, family="pendulum"):
@@ -299,16 +298,15 @@ def _monodromy(
     else:
         tr_str = repr(tr_exact)
     dT = orbit.dperiod_dE
-    M = np.zeros((4, 4))
     if isinstance(orbit, PendulumOrbit):
         basis = ("a1", "p1", "a2", "p2")
         Mpar = np.array([[1.0, -3.0 * orbit.E * dT], [0.0, 1.0]])
-        M[:2, :2], M[2:, 2:] = Mperp, Mpar
+        M = block_diag(Mperp, Mpar)
     else:
         basis = ("b1", "q1", "b2", "q2")
         q1sq = orbit.E - 4.0 if orbit.energy.family == "LD" else orbit.E
         Mpar = np.array([[1.0, -4.0 * q1sq * dT], [0.0, 1.0]])
-        M[:2, :2], M[2:, 2:] = Mpar, Mperp
+        M = block_diag(Mpar, Mperp)
     # stability from the value with every computed digit (the float64 view of 4 - 1e-18 is 4.0)
     stability, note = _stability(
         tr_exact, 10.0 ** (2 - (digits or 20)) if t.extended else 1e-12, orbit

@@ -336,15 +336,12 @@ class BreatherOrbit(_ClosedForm):
         p = self.params
         u = p["nu"] * t
         fam = self.energy.family
-        s, c, d = jacobi_sncndn(u, p["m"], p["m1"])
-        if fam == "LG":
-            w = p["A"] * s
-            return 2.0 * np.arctan(w), 2.0 * p["A"] * p["nu"] * c * d / (1.0 + w * w)
-        if fam == "LD":
-            v = p["D"] * s
-            return np.pi - 2.0 * np.arctan(v), -2.0 * p["D"] * p["nu"] * c * d / (
-                1.0 + v * v
-            )
+        if fam != "R":  # w = tan(phi/2) = A sn (LG); cot(phi/2) = D sn (LD)
+            a = p["A"] if fam == "LG" else p["D"]
+            s, c, d = jacobi_sncndn(u, p["m"], p["m1"])
+            w = a * s
+            f, df = 2.0 * np.arctan(w), 2.0 * a * p["nu"] * c * d / (1.0 + w * w)
+            return (f, df) if fam == "LG" else (np.pi - f, -df)
         lam, K = p["lam"], self.K
         j = np.round(u / (4.0 * K))
         r = u - 4.0 * K * j  # theta = am(r) in [-pi, pi]

@@ -132,16 +132,12 @@ def load_heyoka() -> Any:
     """
     import heyoka as hy
 
-    raw = os.environ.get("ROTORLIB_HEYOKA_CACHE_MB")
-    try:
-        mb = HEYOKA_CACHE_MB if raw is None else int(raw)
-    except ValueError:
-        mb = -1
-    if mb < 0:
+    raw = os.environ.get("ROTORLIB_HEYOKA_CACHE_MB", str(HEYOKA_CACHE_MB))
+    if not raw.strip().isdecimal():
         raise ValueError(
             f"ROTORLIB_HEYOKA_CACHE_MB must be a non-negative integer (MiB), got {raw!r}"
         )
-    hy.llvm_state.set_diskcache_limit(mb * 2**20)
+    hy.llvm_state.set_diskcache_limit(int(raw) * 2**20)
     return hy
 
 
@@ -166,11 +162,10 @@ class Tier:
         extended (a number of the tier)."""
         return 4e-15 if not self.extended else self.num(self.eps) * 8
 
-    def __post_init__(self):
-        ok = self.name in ("float64", "real128") or (
+    def __post_init__(self) -> None:
+        if self.name not in ("float64", "real128") and not (
             self.name.startswith("mp") and self.name[2:].isdigit()
-        )
-        if not ok:
+        ):
             raise ValueError(
                 f"precision must be float64, real128 or mp<bits>, got {self.name!r}"
             )
