@@ -331,6 +331,14 @@ def pendulum_energy(
         Negative, non-finite or unparsable input; ``E`` equal to 4 as a
         decimal; both or neither of ``E`` and ``log_abs_dE``; a phase other than
         lib/rot; a librational ``log|E-4| > log 4`` (negative energy).
+
+    Examples
+    --------
+    >>> en = pendulum_energy(log_abs_dE=-50, phase="rot")
+    >>> en.phase, f"{en.eps:.6e}", en.decimal_E(5)
+    ('rot', '1.928750e-22', '4.00000000000000000000019287')
+    >>> pendulum_energy(E="3.99999999999999999999").eps
+    1e-20
     """
     d = _distance(
         Decimal(4),
@@ -403,6 +411,14 @@ def breather_energy(
         For energies the family does not have: ``R`` needs ``E > 4.5``, ``LG``
         ``0 <= E < 4.5``, ``LD`` ``4 <= E < 4.5``; ``E`` equal to 4.5 as a
         decimal; negative or non-finite input; an unknown family.
+
+    Examples
+    --------
+    >>> en = breather_energy(E="4.49999999999999999999", family="LD")
+    >>> en.family, en.phase, en.eps
+    ('LD', 'lib', 1e-20)
+    >>> breather_energy(E=9).family
+    'R'
     """
     d = _distance(
         Decimal("4.5"), E, log_abs_dE, family, _FAMILIES, "breather family",

@@ -96,7 +96,8 @@ def _solutions(coef, w, c_norm, s_norm) -> LameSolutions:
         rtol=1e-12,
         atol=1e-14,
     )
-    return LameSolutions(c_norm, 0.0, 0.0, s_norm, *sol.y[:, -1], w)
+    Lcw, dLcw, Lsw, dLsw = (float(v) for v in sol.y[:, -1])
+    return LameSolutions(c_norm, 0.0, 0.0, s_norm, Lcw, dLcw, Lsw, dLsw, w)
 
 
 def lame_solutions(
@@ -107,7 +108,15 @@ def lame_solutions(
     c_norm: float = 2.0,
     s_norm: float = 3.0,
 ) -> LameSolutions:
-    """Integrate ``Lc`` (``Lc(0) = c_norm``, ``Lc'(0) = 0``) and ``Ls`` (``Ls(0) = 0``, ``Ls'(0) = s_norm``) to ``w``."""
+    """Integrate ``Lc`` (``Lc(0) = c_norm``, ``Lc'(0) = 0``) and ``Ls`` (``Ls(0) = 0``,
+    ``Ls'(0) = s_norm``) to ``w`` (scipy DOP853, rtol 1e-12: ~1e-10 in the trace).
+
+    Examples
+    --------
+    >>> h, k2, m1, w = lame_parameters(3.5)
+    >>> round(trace_from_lame(lame_solutions(h, k2, w, m1)), 10)
+    0.4895306455
+    """
     m1 = 1.0 - k2 if m1 is None else m1
 
     def coef(z):
@@ -120,7 +129,16 @@ def lame_solutions(
 def mathieu_solutions(
     a: float, q: float, w: float, c_norm: float = 2.0, s_norm: float = 3.0
 ) -> LameSolutions:
-    """The Mathieu cosine/sine solutions of ``y'' + (a - 2 q cos 2z) y = 0`` to ``w``."""
+    """The Mathieu cosine/sine solutions of ``y'' + (a - 2 q cos 2z) y = 0`` to ``w``
+    (scipy DOP853, rtol 1e-12).
+
+    Examples
+    --------
+    >>> import math
+    >>> M = mathieu_solutions(1.0, 0.0, 2 * math.pi)  # q = 0: 2 cos z and 3 sin z
+    >>> round(M.Lcw, 10), round(M.dLsw, 10)
+    (2.0, 3.0)
+    """
     return _solutions(lambda z: a - 2.0 * q * np.cos(2.0 * z), w, c_norm, s_norm)
 
 
