@@ -74,29 +74,21 @@ def mp_dK_dm(m: Any, m1: Any) -> Any:
     """dK/dm in mpmath, correct to the working precision for any ``m < 1``.
 
     ``(E(m) - m1 K(m)) / (2 m m1)`` for ``|m| >= 1/2`` (near the separatrix, any
-    small ``m1``, where :func:`dK_dm` overflows float64); the power series
-    ``pi/2 sum n c_n m^(n-1)``, ``c_n = ((2n)!/(2^(2n) n!^2))^2``, for ``|m| < 1/2``
-    (no cancellation as ``m -> 0``).
+    small ``m1``, where :func:`dK_dm` overflows float64); for ``|m| < 1/2`` the
+    derivative of ``K = (pi/2) 2F1(1/2, 1/2; 1; m)``, ``(pi/8) 2F1(3/2, 3/2; 2; m)``
+    (mpmath's hypergeometric series: no cancellation as ``m -> 0``).
+
+    Examples
+    --------
+    >>> import mpmath
+    >>> mpmath.nstr(mp_dK_dm(mpmath.mpf(0), mpmath.mpf(1)), 15)  # pi/8
+    '0.392699081698724'
     """
     import mpmath as mp
 
     if abs(m) >= 0.5:
         return (mp.ellipe(m) - m1 * mp_ellipk_m1(m1)) / (2 * m * m1)
-    a, total, n, mn = (
-        mp.mpf(1),
-        mp.mpf(0),
-        0,
-        mp.mpf(1),
-    )  # a = (2n)!/(2^(2n) n!^2), mn = m^(n-1)
-    tiny = mp.mpf(2) ** (-mp.mp.prec - 4)
-    while True:
-        n += 1
-        a *= mp.mpf(2 * n - 1) / (2 * n)
-        term = n * a * a * mn
-        total += term
-        if abs(term) <= tiny * abs(total):
-            return mp.pi / 2 * total
-        mn *= m
+    return mp.pi / 8 * mp.hyp2f1(1.5, 1.5, 2, m)
 
 
 def _asinh_c_sinh(c, psi):

@@ -436,7 +436,7 @@ def variational_monodromy(
         else:
             Mv, xT, tr = monodromy_matrix(x0, T, t)
             steps, backend = 0, "heyoka-taylor"
-            tr_str = t.text(tr, None if t.extended else 17)
+            tr_str = t.text(tr)
         from .periodic import stability_of  # the result protocol's rule
 
         x0f = np.array([float(v) for v in x0])

@@ -218,12 +218,11 @@ def _coefficient(kind, sp, cp, m, c3, shape, sign):
         return 1.0 - c3 * cp * cp
     if kind == "pendulum-rot":
         return m - c3 * cp * cp
+    w2 = shape * cp * cp  # w^2 = A^2 sn^2 (LG) or v^2 = D^2 sn^2 (LD); sn = cos(psi)
     if kind == "breather-LG":
-        w2 = shape * cp * cp
         return c3 * (1.0 - w2) / (1.0 + w2)
     if kind == "breather-LD":
-        v2 = shape * cp * cp
-        return c3 * (v2 - 1.0) / (v2 + 1.0)
+        return c3 * (w2 - 1.0) / (w2 + 1.0)
     ct = sign * sp  # cos(theta)
     return c3 * ((1.0 + ct) - shape * (1.0 - ct)) / ((1.0 + ct) + shape * (1.0 - ct))
 
@@ -271,11 +270,10 @@ def _segment_scipy(prob, sign, rtol=None):
     from scipy.integrate import solve_ivp
 
     pars = [float(v) for v in (prob.m, prob.m1, prob.c3, prob.shape)] + [sign]
-    m1 = pars[1]
     # rtol=None is the verified default 1e-13; a looser rtol (work-precision
     # studies) scales the absolute tolerances by the same factor.
     scale = 1.0 if rtol is None else rtol / 1e-13
-    atol = [scale * max(1e-300, 1e-17 * math.sqrt(m1))] + [scale * 1e-16] * 4
+    atol = [scale * max(1e-300, 1e-17 * math.sqrt(pars[1]))] + [scale * 1e-16] * 4
     sol = solve_ivp(
         lambda u, x: _equations(prob.kind, x, pars, math),
         (0.0, float(prob.K)),
@@ -391,11 +389,7 @@ def _compose_mp(P1, P2, dps):
     import mpmath as mp
 
     def conv(P):
-        return (
-            None
-            if P is None
-            else [[mp.mpf(str(P[i][j])) for j in range(2)] for i in range(2)]
-        )
+        return None if P is None else [[mp.mpf(str(v)) for v in row] for row in P]
 
     with mp.workdps(dps):
         C = _coefficient_map(_half_map(conv(P1), conv(P2)))
@@ -456,7 +450,6 @@ def _solve_hill(
     if integrator == "scipy":
         if t.extended:
             raise ValueError(f"scipy integrates in float64 only; {t.name} needs heyoka")
-        dps = 17
         segment = functools.partial(_segment_scipy, prob, rtol=tol)
     elif integrator == "heyoka":
         dps = 36 if t.name == "real128" else int(t.bits / 3.33) + 2
