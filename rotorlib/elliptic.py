@@ -24,6 +24,7 @@ from __future__ import annotations
 
 from typing import Any
 
+import mpmath as mp
 import numpy as np
 from scipy import special
 
@@ -65,8 +66,6 @@ def mp_ellipk_m1(m1: Any) -> Any:
     guard digits are needed near the separatrix (``m1 = 1e-4343`` costs
     nothing extra).
     """
-    import mpmath as mp
-
     return mp.pi / (2 * mp.agm(1, mp.sqrt(m1)))
 
 
@@ -84,8 +83,6 @@ def mp_dK_dm(m: Any, m1: Any) -> Any:
     >>> mpmath.nstr(mp_dK_dm(mpmath.mpf(0), mpmath.mpf(1)), 15)  # pi/8
     '0.392699081698724'
     """
-    import mpmath as mp
-
     if abs(m) >= 0.5:
         return (mp.ellipe(m) - m1 * mp_ellipk_m1(m1)) / (2 * m * m1)
     return mp.pi / 8 * mp.hyp2f1(1.5, 1.5, 2, m)

@@ -37,6 +37,8 @@ from dataclasses import dataclass
 from decimal import Context, Decimal, InvalidOperation
 from typing import Any
 
+import mpmath as mp
+
 __all__ = [
     "PendulumEnergy",
     "BreatherEnergy",
@@ -214,8 +216,6 @@ class _SeparatrixDistance:
         for ``log|E - sep|`` input, ``eps`` to ``dps`` digits relative (guard digits
         cover ``exp`` of a large log) and ``E = sep -/+ eps`` to ``dps`` digits of ``sep``.
         """
-        import mpmath as mp
-
         kind, text = self.given
         sep = mp.mpf(str(self._SEP))
         if kind == "E":
@@ -233,8 +233,6 @@ class _SeparatrixDistance:
         """E as a decimal string with ``digits`` significant digits *after* the
         leading ``4.000…`` zeros, so that ``E - sep`` is visible however small
         (the string has about ``-log10|E - sep|`` characters)."""
-        import mpmath as mp
-
         extra = max(0, int(-self.log_abs_dE / math.log(10)) + 1)
         with mp.workdps(digits + extra + 10):
             E, _ = self.mp_E_eps(digits + extra + 10)
@@ -245,8 +243,6 @@ class _SeparatrixDistance:
         (the exact decimal would have ``-log10|E - sep|`` characters)."""
         if self.log_abs_dE > -690.0:
             return self.decimal_E(digits)
-        import mpmath as mp
-
         _, eps = self.mp_E_eps(20)
         return f"{self._SEP} {'-' if self.side < 0 else '+'} {mp.nstr(eps, 15)}"
 
@@ -300,8 +296,6 @@ class PendulumEnergy(_SeparatrixDistance):
         argument), so ``E=3.9`` means exactly 39/10 here. Each value is correct
         to ``dps`` digits relative, at any depth.
         """
-        import mpmath as mp
-
         E, eps = self.mp_E_eps(dps + 5)
         with mp.workdps(dps + 5):
             m, m1 = _pendulum_m(self.phase, E, eps)

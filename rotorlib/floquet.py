@@ -32,6 +32,7 @@ from dataclasses import dataclass, field
 from decimal import Decimal
 from typing import Any
 
+import mpmath as mp
 import numpy as np
 from scipy.linalg import block_diag
 
@@ -73,7 +74,7 @@ def multipliers_from_trace(t: float) -> np.ndarray:
     if disc >= 0:
         r = math.sqrt(disc)
         big = 0.5 * (t + math.copysign(r, t))
-        return np.array([big, 1.0 / big]) if big != 0 else np.array([0.0, 0.0])
+        return np.array([big, 1.0 / big])  # |t| >= 2: big != 0
     r = math.sqrt(-disc)
     return np.array([complex(0.5 * t, 0.5 * r), complex(0.5 * t, -0.5 * r)])
 
@@ -284,8 +285,6 @@ def _monodromy(
     tr_exact = tr_perp + 2.0
     period_str = repr(orbit.period)
     if t.extended or not math.isfinite(tr_perp):
-        import mpmath as mp
-
         shown = max(5, digits or 20)
         with mp.workdps(len(sol.delta_str) + 5):
             dx = mp.mpf(sol.delta_exact)
@@ -342,8 +341,6 @@ def _stability(tr, tol: float, orbit) -> tuple:
         and orbit.E < 1e-2
         and edge == 4
     ):
-        import mpmath as mp
-
         with mp.workdps(20):
             gap = mp.nstr(
                 mp.pi**2 * en.mp_E_eps(20)[0] ** 3 / 3456, 3
@@ -375,8 +372,6 @@ def trace_monodromy(orbit: Any = None, **kwargs: Any) -> Any:
     M = monodromy(orbit, **kwargs)
     if M.precision == "float64":
         return M.trace
-    import mpmath as mp
-
     with mp.workdps(len(M.trace_str) + 5):
         return +mp.mpf(M.trace_str)
 
@@ -439,14 +434,13 @@ def variational_monodromy(
             tr_str = t.text(tr)
         from .periodic import stability_of  # the result protocol's rule
 
-        x0f = np.array([float(v) for v in x0])
         # the closure in the working precision: x(T) - x(0) formed before any rounding
         gap = lattice_reduce([a - b for a, b in zip(xT, x0)], t)
         closure = max(abs(float(v)) for v in gap)
         trf = float(tr)
         stability = stability_of(trf, t.dps - 9 if t.extended else 15)
         return Monodromy(
-            "orbit", float(energy_alpha(x0f)), float(T), Mv, STATE_ORDER, None, None,
+            "orbit", float(energy_alpha(np.array([float(v) for v in x0]))), float(T), Mv, STATE_ORDER, None, None,
             trf, trf - 2.0, tr_str, multipliers_from_trace(trf - 2.0), 0 < trf < 4,
             t.name, backend, closure, None, t.text(T), stability, "",
             closure=closure, steps=steps,
@@ -496,8 +490,6 @@ def textbook_monodromy(
     >>> V.precision, V.trace_str[:22]
     ('mp256', '0.01951194241116761053')
     """
-    import mpmath as mp
-
     t = tier(digits)
     dps = int(t.bits / 3.33) + 10
     with mp.workdps(dps):

@@ -48,6 +48,7 @@ import threading
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
+import mpmath as mp
 import numpy as np
 
 from .precision import FLOAT64, Tier, load_heyoka, requested_digits, tier
@@ -78,8 +79,6 @@ def heyoka_available() -> bool:
 
 def _mpmath_tier(dps: int) -> Tier:
     """The tier ``mp<bits>`` of mpmath's arithmetic at ``dps`` working digits."""
-    import mpmath as mp
-
     return Tier(f"mp{mp.libmp.dps_to_prec(dps)}")
 
 
@@ -181,8 +180,6 @@ def hill_problem(
     if dps is None:
         ctx = contextlib.nullcontext()
     else:
-        import mpmath as mp
-
         ctx = mp.workdps(dps)
     if orbit.family == "pendulum":
         lib = orbit.energy.phase == "lib"
@@ -325,8 +322,6 @@ def _heyoka_integrator(kind, t, tol=None):
 
 
 def _segment_heyoka(prob, sign, t, tol=None):
-    import mpmath as mp
-
     hy = load_heyoka()
     ta = _heyoka_integrator(prob.kind, t, tol)
     with mp.workdps(120):  # every digit of the mpmath parameters
@@ -343,8 +338,6 @@ def _segment_heyoka(prob, sign, t, tol=None):
 
 
 def _segment_mpmath(prob, sign, dps):
-    import mpmath as mp
-
     with mp.workdps(dps):
         pars = [mp.mpf(v) for v in (prob.m, prob.m1, prob.c3, prob.shape)] + [sign]
         f = mp.odefun(
@@ -386,7 +379,6 @@ def _coefficient_map(Ph):
 
 def _compose_mp(P1, P2, dps):
     """Coefficient map and Delta in mpmath at ``dps`` digits from entries of any type (via ``str``)."""
-    import mpmath as mp
 
     def conv(P):
         return None if P is None else [[mp.mpf(str(v)) for v in row] for row in P]
@@ -440,8 +432,6 @@ def _solve_hill(
 ) -> HillSolution:
     """:func:`solve_hill` with the integrator forced (``heyoka``, ``scipy`` or ``mpmath``;
     the latter in a tier of :func:`_mpmath_tier`): the test and benchmark hook."""
-    import mpmath as mp
-
     if t.name == "real128" and mp.mpf(prob.m1) < mp.mpf(REAL128_MIN_M1):
         raise ValueError(
             f"m1 = {mp.nstr(mp.mpf(prob.m1), 3)} is below the real128 range (m1 >= {REAL128_MIN_M1}, "

@@ -40,6 +40,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
+import mpmath as mp
 import numpy as np
 
 from .elliptic import dK_dm, ellipk_m1, jacobi_am, jacobi_sncndn, mp_dK_dm, mp_ellipk_m1
@@ -120,8 +121,6 @@ class _ClosedForm:
                 contextlib.nullcontext(),
             )
         else:
-            import mpmath as mp
-
             sqrt, ellipk, dkdm, ctx = mp.sqrt, mp_ellipk_m1, mp_dK_dm, mp.workdps(dps)
         with ctx:
             p = self._parameters(dps, sqrt)
@@ -137,6 +136,11 @@ class _ClosedForm:
         if self.energy.in_float64_range:
             return self.closed_form(derivative=derivative)[key]
         return float(self.closed_form(_DEEP_DPS, derivative=derivative)[key])
+
+    @property
+    def E(self) -> float:
+        """The energy in float64 (see ``energy`` for its distance to the separatrix)."""
+        return self.energy.E
 
     @property
     def K(self) -> float:
@@ -168,10 +172,6 @@ class PendulumOrbit(_ClosedForm):
     @property
     def family(self) -> str:
         return "pendulum"
-
-    @property
-    def E(self) -> float:
-        return self.energy.E
 
     def _parameters(self, dps, sqrt):
         en = self.energy
@@ -289,10 +289,6 @@ class BreatherOrbit(_ClosedForm):
     """
 
     energy: BreatherEnergy
-
-    @property
-    def E(self) -> float:
-        return self.energy.E
 
     @property
     def family(self) -> str:
