@@ -131,16 +131,11 @@ def _agm_sncndn_imag(u, m, m1):
         psi_top = (2.0**n) * an * umax
         if cn == 0.0 or np.log(cn / an) + min(psi_top, 1e300) < np.log(1e-18):
             break
-    n = len(a) - 1
-    psi = (2.0**n) * a[-1] * u
-    prev = psi
+    psi = (2.0**n) * a[-1] * u  # n >= 1: the loop runs at least once
     for j in range(n, 0, -1):
         prev = psi
         psi = 0.5 * (psi + _asinh_c_sinh(c[j] / a[j], psi))
-    sn = np.tanh(psi)
-    cn = 1.0 / np.cosh(psi)
-    dn = 1.0 / np.cosh(prev - psi)
-    return sn, cn, dn
+    return np.tanh(psi), 1.0 / np.cosh(psi), 1.0 / np.cosh(prev - psi)
 
 
 def _sncndn_nonneg(u, m, m1):
@@ -166,10 +161,10 @@ def _sncndn_nonneg(u, m, m1):
     sn = np.where(near, c / d, s)
     cn = np.where(near, kp * s / d, c)
     dn = np.where(near, kp / d, d)
-    cn = np.where(refl, -cn, cn)
-    sn = np.where(upper, -sn, sn)
-    cn = np.where(upper, -cn, cn)
-    return sgn * sn, cn, dn
+    cn = np.where(
+        refl != upper, -cn, cn
+    )  # -cn under the reflection and under the shift
+    return np.where(upper, -sgn, sgn) * sn, cn, dn
 
 
 def jacobi_sncndn(

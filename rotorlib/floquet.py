@@ -291,9 +291,8 @@ def _monodromy(
             tr_exact = dx * dx if prob.repeats == 2 else dx + 2
             tr_str = mp.nstr(tr_exact, shown if t.extended else 16)
         if t.extended:
-            dps = (digits or 20) + 15
-            with mp.workdps(dps):
-                period_str = mp.nstr(orbit.closed_form(dps)["period"], shown)
+            period = orbit.closed_form((digits or 20) + 15)["period"]
+            period_str = mp.nstr(period, shown)
     else:
         tr_str = repr(tr_exact)
     dT = orbit.dperiod_dE
