@@ -252,7 +252,7 @@ def pendulum(
 
 
 def _breather_params(family, E, eps, sqrt) -> dict:
-    """m, m1, nu, shape and A (LG), D (LD) or lam (R) from ``E`` and ``eps = |E - 4.5|``.
+    """m, m1, nu and shape (A^2 for LG, D^2 for LD, lam^2 for R) from ``E`` and ``eps = |E - 4.5|``.
 
     Written without cancellation (module docstring identities
     ``1 - S = 2(E - 4)/(1 + S)``, ``3 - S = 2E/(3 + S)``, ``Q^2 - (6 - E)^2 = 8 eps``),
@@ -262,21 +262,20 @@ def _breather_params(family, E, eps, sqrt) -> dict:
     if family in ("LG", "LD"):
         S = sqrt(2 * eps)
         den = (1 + S) * (3 + S)
-        p = dict(m=4 * E * (E - 4) / (den * den), m1=8 * S / den, nu=sqrt(den / 2) / 2)
-        if family == "LG":
-            p["shape"] = 2 * E / den  # A^2 = (3 - S)/(1 + S)
-            p["A"] = sqrt(p["shape"])
-        else:
-            p["shape"] = 2 * (E - 4) / den  # D^2 = (1 - S)/(3 + S)
-            p["D"] = sqrt(p["shape"])
-        return p
+        # A^2 = (3 - S)/(1 + S) = 2E/den (LG), D^2 = (1 - S)/(3 + S) = 2(E - 4)/den (LD)
+        shape = 2 * (E if family == "LG" else E - 4) / den
+        return dict(
+            m=4 * E * (E - 4) / (den * den),
+            m1=8 * S / den,
+            nu=sqrt(den / 2) / 2,
+            shape=shape,
+        )
     Q = sqrt(E * (E - 4))
     if E < 6:
         m, m1 = (Q - E + 6) / (2 * Q), 4 * eps / (Q * (Q + 6 - E))
     else:
         m, m1 = 4 * eps / (Q * (Q + E - 6)), (Q + E - 6) / (2 * Q)
-    shape = sqrt(E / (E - 4))  # lam^2
-    return dict(m=m, m1=m1, nu=sqrt(Q), shape=shape, lam=sqrt(shape))
+    return dict(m=m, m1=m1, nu=sqrt(Q), shape=sqrt(E / (E - 4)))  # shape = lam^2
 
 
 @dataclass(frozen=True)
@@ -296,7 +295,7 @@ class BreatherOrbit(_ClosedForm):
 
     @property
     def params(self) -> dict:
-        """Closed-form parameters in float64: m, m1, nu, shape and A (LG), D (LD) or lam (R)."""
+        """Closed-form parameters in float64: m, m1, nu and shape (A^2, D^2 or lam^2)."""
         en = self.energy
         en.require_float64()
         return _breather_params(en.family, en.E, en.eps, math.sqrt)
@@ -333,12 +332,12 @@ class BreatherOrbit(_ClosedForm):
         u = p["nu"] * t
         fam = self.energy.family
         if fam != "R":  # w = tan(phi/2) = A sn (LG); cot(phi/2) = D sn (LD)
-            a = p["A"] if fam == "LG" else p["D"]
+            a = np.sqrt(p["shape"])  # A or D
             s, c, d = jacobi_sncndn(u, p["m"], p["m1"])
             w = a * s
             f, df = 2.0 * np.arctan(w), 2.0 * a * p["nu"] * c * d / (1.0 + w * w)
             return (f, df) if fam == "LG" else (np.pi - f, -df)
-        lam, K = p["lam"], self.K
+        lam, K = np.sqrt(p["shape"]), self.K
         j = np.round(u / (4.0 * K))
         r = u - 4.0 * K * j  # theta = am(r) in [-pi, pi]
         far = np.abs(r) > K
