@@ -295,15 +295,14 @@ def _monodromy(
             period_str = mp.nstr(period, shown)
     else:
         tr_str = repr(tr_exact)
-    dT = orbit.dperiod_dE
     if isinstance(orbit, PendulumOrbit):
         basis = ("a1", "p1", "a2", "p2")
-        Mpar = np.array([[1.0, -3.0 * orbit.E * dT], [0.0, 1.0]])
+        Mpar = np.array([[1.0, -3.0 * orbit.E * orbit.dperiod_dE], [0.0, 1.0]])
         M = block_diag(Mperp, Mpar)
     else:
         basis = ("b1", "q1", "b2", "q2")
         q1sq = orbit.E - 4.0 if orbit.energy.family == "LD" else orbit.E
-        Mpar = np.array([[1.0, -4.0 * q1sq * dT], [0.0, 1.0]])
+        Mpar = np.array([[1.0, -4.0 * q1sq * orbit.dperiod_dE], [0.0, 1.0]])
         M = block_diag(Mpar, Mperp)
     # stability from the value with every computed digit (the float64 view of 4 - 1e-18 is 4.0)
     stability, note = _stability(
@@ -437,11 +436,12 @@ def variational_monodromy(
         gap = lattice_reduce([a - b for a, b in zip(xT, x0)], t)
         closure = max(abs(float(v)) for v in gap)
         trf = float(tr)
-        stability = stability_of(trf, t.dps - 9 if t.extended else 15)
+        E = float(energy_alpha(np.array([float(v) for v in x0])))
         return Monodromy(
-            "orbit", float(energy_alpha(np.array([float(v) for v in x0]))), float(T), Mv, STATE_ORDER, None, None,
+            "orbit", E, float(T), Mv, STATE_ORDER, None, None,
             trf, trf - 2.0, tr_str, multipliers_from_trace(trf - 2.0), 0 < trf < 4,
-            t.name, backend, closure, None, t.text(T), stability, "",
+            t.name, backend, closure, None, t.text(T),
+            stability_of(trf, t.dps - 9 if t.extended else 15), "",
             closure=closure, steps=steps,
         )  # fmt: skip
 

@@ -51,11 +51,10 @@ def lame_parameters(
 ) -> tuple[float, float, float, float]:
     """``(h, k^2, 1 - k^2, w)`` of the pendulum's Lamé equation at energy ``E``; ``w`` is the period in z."""
     en = pendulum_energy(E=E, phase=phase)
-    m, m1 = en.m, en.m1
-    K = ellipk_m1(m1)
+    K = ellipk_m1(en.m1)
     if en.phase == "lib":
-        return 1.0, m, m1, 4.0 * K
-    return m, m, m1, 2.0 * K
+        return 1.0, en.m, en.m1, 4.0 * K
+    return en.m, en.m, en.m1, 2.0 * K
 
 
 @dataclass(frozen=True)
