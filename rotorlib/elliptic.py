@@ -49,8 +49,8 @@ def ellipk_m1(m1: float) -> float:
 def dK_dm(m: float, m1: float) -> float:
     """Derivative dK/dm = (E - m1 K) / (2 m m1), with a series near m = 0."""
     if abs(m) < 1e-3:
-        c = np.array([1 / 4, 9 / 32, 75 / 256, 1225 / 4096, 19845 / 65536])
-        return float(np.pi / 2 * np.polyval(c[::-1], m))
+        c = [19845 / 65536, 1225 / 4096, 75 / 256, 9 / 32, 1 / 4]  # m^4 ... m^0
+        return float(np.pi / 2 * np.polyval(c, m))
     # E(m) from scipy's ellipe on m = 1 - m1: the rounding error of m enters only times
     # dE/dm, logarithmically small as m1 -> 0 (E = 1 + (m1/2)(log(4/sqrt m1) - 1/2)
     # + O(m1^2 log m1)): ~1e-16 |log m1|.

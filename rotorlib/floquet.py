@@ -277,7 +277,7 @@ def _monodromy(
     prob = hill_problem(orbit, (digits or 20) if t.extended else None)
     sol = _solve_hill(prob, backend, t, tol)
     C = sol.coefficient_map
-    d = np.array([1.0, prob.momentum_scale * prob.du_dt])
+    d = np.array([1.0, prob.momentum_scale])
     with np.errstate(over="ignore", invalid="ignore"):  # inf/nan when tr M overflows
         Phi = C @ C if prob.repeats == 2 else C
         Mperp = (Phi * d[:, None]) * (1.0 / d)[None, :]  # D Phi D^-1

@@ -69,10 +69,8 @@ __all__ = [
 def heyoka_available() -> bool:
     """True when heyoka imports (Linux wheels; optional)."""
     try:
-        load_heyoka()
-    except ValueError:  # a malformed ROTORLIB_HEYOKA_CACHE_MB: say so, never hide it
-        raise
-    except Exception:
+        load_heyoka()  # a malformed ROTORLIB_HEYOKA_CACHE_MB raises: never hidden
+    except ImportError:
         return False
     return True
 
@@ -132,10 +130,9 @@ class HillProblem:
         ``A^2`` (LG), ``D^2`` (LD) or ``lam^2`` (R); unused for pendula.
     repeats : int
         Coefficient periods per orbit period (2 libration, 1 rotation).
-    du_dt : float
-        ``du/dt`` (to convert ``dy/du`` into a velocity).
     momentum_scale : float
-        ``delta p = momentum_scale * delta q'`` (2 for ``p1``, 1/6 for ``q2``).
+        ``delta p = momentum_scale * dy/du``: ``du/dt`` (which converts ``dy/du`` into
+        a velocity ``delta q'``) times 2 for ``p1`` (pendula), 1/6 for ``q2`` (breathers).
     """
 
     kind: str
@@ -145,7 +142,6 @@ class HillProblem:
     c3: object
     shape: object
     repeats: int
-    du_dt: float
     momentum_scale: float
 
 
@@ -177,10 +173,7 @@ def hill_problem(
     dps = None if digits is None else int(digits) + 15
     cf = orbit.closed_form(dps)
     m = cf["m"]
-    if dps is None:
-        ctx = contextlib.nullcontext()
-    else:
-        ctx = mp.workdps(dps)
+    ctx = contextlib.nullcontext() if dps is None else mp.workdps(dps)
     if orbit.family == "pendulum":
         lib = orbit.energy.phase == "lib"
         with ctx:
@@ -188,7 +181,7 @@ def hill_problem(
         du_dt = math.sqrt(3.0) if lib else math.sqrt(3.0 / float(m))
         kind = "pendulum-" + orbit.energy.phase
         return HillProblem(
-            kind, m, cf["m1"], cf["K"], c3, 0.0, 2 if lib else 1, du_dt, 2.0
+            kind, m, cf["m1"], cf["K"], c3, 0.0, 2 if lib else 1, 2.0 * du_dt
         )
     with ctx:
         c3 = 3 / cf["nu"] ** 2
@@ -201,8 +194,7 @@ def hill_problem(
         c3,
         cf["shape"],
         repeats,
-        float(cf["nu"]),
-        1 / 6,
+        1 / 6 * float(cf["nu"]),  # du/dt = nu
     )
 
 

@@ -203,19 +203,18 @@ class PendulumOrbit(_ClosedForm):
         t = np.asarray(t, dtype=float)
         en = self.energy
         en.require_float64()
+        k = math.sqrt(en.m)  # k (libration) or kappa (rotation)
         if en.phase == "lib":
-            k = math.sqrt(en.m)
             s, c, d = jacobi_sncndn(SQRT3 * t, en.m, en.m1)
             a2 = 2.0 * np.arctan2(
                 k * s, d
             )  # cos(a2/2) = dn: exact at the turning point
             p2 = 4.0 / SQRT3 * k * c
         else:
-            kappa = math.sqrt(en.m)
-            u = SQRT3 * t / kappa
+            u = SQRT3 * t / k
             _, _, d = jacobi_sncndn(u, en.m, en.m1)
             a2 = 2.0 * jacobi_am(u, en.m, en.m1)
-            p2 = 4.0 / (SQRT3 * kappa) * d
+            p2 = 4.0 / (SQRT3 * k) * d
         z = np.zeros_like(a2)
         return np.stack([z, a2, z, p2], axis=-1)
 

@@ -13,6 +13,7 @@ tier is read as its shortest decimal representation (``4.55`` means 455/100).
 
 from __future__ import annotations
 
+import contextlib
 import math
 import os
 from collections.abc import Iterable
@@ -92,10 +93,8 @@ def json_number(key: str, value: Any, text: str | None = None, note: str = "") -
     """
     v = None if value is None else float(value)
     if text:  # the number is the float64 rounding of every digit, when they are given
-        try:
+        with contextlib.suppress(InvalidOperation):  # "4 + 5.07e-435": the value stays
             v = float(Decimal(str(text)))
-        except InvalidOperation:  # e.g. "4 + 5.07e-435": the value stays
-            pass
     out: dict = {key: v if v is not None and math.isfinite(v) else None}
     if text is not None and text != "" and not _same_decimal(str(text), v):
         out[key + "_str"] = str(text)
