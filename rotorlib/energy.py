@@ -208,25 +208,25 @@ class _SeparatrixDistance:
                 "use the extended precision tiers (digits > 15)"
             )
 
-    def mp_E_eps(self, dps: int) -> tuple[Any, Any]:
-        """``(E, eps)`` as mpmath numbers rounded to ``dps`` digits, from the decimal input.
+    def mp_E_eps(self, digits: int) -> tuple[Any, Any]:
+        """``(E, eps)`` as mpmath numbers rounded to ``digits`` digits, from the decimal input.
 
         Precision: for ``E`` input both are the exact decimals rounded once (so
-        ``eps`` keeps ``dps`` digits however small, and ``E`` however close to 0);
-        for ``log|E - sep|`` input, ``eps`` to ``dps`` digits relative (guard digits
-        cover ``exp`` of a large log) and ``E = sep -/+ eps`` to ``dps`` digits of ``sep``.
+        ``eps`` keeps ``digits`` digits however small, and ``E`` however close to 0);
+        for ``log|E - sep|`` input, ``eps`` to ``digits`` digits relative (guard digits
+        cover ``exp`` of a large log) and ``E = sep -/+ eps`` to ``digits`` digits of ``sep``.
         """
         kind, text = self.given
         sep = mp.mpf(str(self._SEP))
         if kind == "E":
             _, dist = _exact_distance(text, self._SEP)
-            with mp.workdps(dps):
+            with mp.workdps(digits):
                 return mp.mpf(text), mp.mpf(str(dist))
         guard = len(str(int(abs(float(text))))) + 5
-        with mp.workdps(dps + guard):
+        with mp.workdps(digits + guard):
             eps = mp.exp(mp.mpf(text))
             E = sep + self.side * eps
-        with mp.workdps(dps):
+        with mp.workdps(digits):
             return +E, +eps
 
     def decimal_E(self, digits: int = 17) -> str:
@@ -289,17 +289,17 @@ class PendulumEnergy(_SeparatrixDistance):
         """Elliptic modulus ``k = sqrt(E/4)`` (lib) or ``kappa = sqrt(4/E)`` (rot)."""
         return math.sqrt(self.m)
 
-    def mp_values(self, dps: int) -> dict:
-        """E, eps, m, m1 as mpmath numbers at ``dps`` digits, from the decimal input.
+    def mp_values(self, digits: int) -> dict:
+        """E, eps, m, m1 as mpmath numbers at ``digits`` digits, from the decimal input.
 
         The input is read as the decimal the user gave (``repr`` of a float
         argument), so ``E=3.9`` means exactly 39/10 here. Each value is correct
-        to ``dps`` digits relative, at any depth.
+        to ``digits`` digits relative, at any depth.
         """
-        E, eps = self.mp_E_eps(dps + 5)
-        with mp.workdps(dps + 5):
+        E, eps = self.mp_E_eps(digits + 5)
+        with mp.workdps(digits + 5):
             m, m1 = _pendulum_m(self.phase, E, eps)
-        with mp.workdps(dps):
+        with mp.workdps(digits):
             return dict(E=+E, eps=+eps, m=+m, m1=+m1)
 
 
@@ -379,9 +379,9 @@ class BreatherEnergy(_SeparatrixDistance):
     def phase(self) -> str:
         return "rot" if self.family == "R" else "lib"
 
-    def mp_values(self, dps: int) -> dict:
-        """E and eps = |E - 4.5| as mpmath numbers at ``dps`` digits, from the decimal input."""
-        E, eps = self.mp_E_eps(dps)
+    def mp_values(self, digits: int) -> dict:
+        """E and eps = |E - 4.5| as mpmath numbers at ``digits`` digits, from the decimal input."""
+        E, eps = self.mp_E_eps(digits)
         return dict(E=E, eps=eps)
 
 
