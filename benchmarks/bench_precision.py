@@ -25,8 +25,9 @@ from dataclasses import dataclass
 import mpmath as mp
 
 import rotorlib as rl
-from rotorlib.hill import hill_problem, solve_hill
-from rotorlib.precision import Tier
+from rotorlib.flow import monodromy_matrix
+from rotorlib.hill import _mpmath_tier, _solve_hill, hill_problem
+from rotorlib.precision import FLOAT64, Tier
 
 #: Digits of the reference computation (heyoka multiprecision, ~260 bits).
 REF_DIGITS = 70
@@ -68,7 +69,8 @@ def _tm(orbit, **kw):
 def _hill(orbit, backend, precision, tol=None, digits=None):
     """Hill reduction, returning the trace and the integrator steps."""
     prob = hill_problem(orbit, digits)
-    sol = solve_hill(prob, backend, precision, tol=tol)
+    t = _mpmath_tier(int(precision[6:])) if backend == "mpmath" else Tier(precision)
+    sol = _solve_hill(prob, backend, t, tol=tol)
     with mp.workdps(80):
         d = mp.mpf(sol.delta_exact) if precision != "float64" else mp.mpf(sol.delta)
         t = d * d if prob.repeats == 2 else 2 + d
@@ -76,7 +78,9 @@ def _hill(orbit, backend, precision, tol=None, digits=None):
 
 
 def _textbook(orbit, method, rtol=1e-12):
-    V = rl.variational_monodromy(orbit.state0, orbit.period, method=method, rtol=rtol)
+    if method == "heyoka":  # heyoka's Taylor method in float64 (no step count)
+        return float(monodromy_matrix(list(orbit.state0), orbit.period, FLOAT64)[2]), 0
+    V = rl.variational_monodromy(orbit.state0, orbit.period, rtol=rtol)
     return V.trace, V.steps
 
 
@@ -220,10 +224,10 @@ IS_L7 = dict(label="IS^l_7", phase="lib", bracket=(-21.1, -20.9), paper=-21.0012
 
 
 def _delta_float(x, phase, backend, tol=None):
-    return solve_hill(
+    return _solve_hill(
         hill_problem(rl.pendulum(log_abs_dE=x, phase=phase)),
         backend,
-        "float64",
+        FLOAT64,
         tol=tol,
     ).delta
 

@@ -51,7 +51,7 @@ import numpy as np
 
 from .continuation import illinois
 from .energy import BreatherEnergy, PendulumEnergy, pendulum_energy
-from .hill import hill_problem, precision_tier, solve_hill
+from .hill import hill_problem, solve_hill
 from .orbits import PendulumOrbit, pendulum
 from .parallel import pmap
 from .periodic import OrbitResult
@@ -313,7 +313,7 @@ def _label(kind, phase, n):
 def delta(x: float, phase: str) -> float:
     """``Delta`` at ``x = log|E - 4|`` in float64 (~1e-13 absolute; heyoka, else scipy)."""
     prob = hill_problem(pendulum(log_abs_dE=float(x), phase=phase))
-    return solve_hill(prob, *precision_tier(None)).delta
+    return solve_hill(prob).delta
 
 
 def trace_of_delta(d: Any, phase: str) -> Any:
@@ -337,7 +337,7 @@ def delta_mp(x: Any, phase: str, digits: int = 30) -> Any:
     """
     dps = digits + 15
     prob = hill_problem(_mp_pendulum(x, phase, dps), digits=digits)
-    sol = solve_hill(prob, "heyoka", tier(digits).name)
+    sol = solve_hill(prob, digits)
     with mp.workdps(dps):
         return mp.mpf(sol.delta_exact)
 

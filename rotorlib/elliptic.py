@@ -9,26 +9,27 @@ Precision
 ---------
 float64 throughout, except ``mp_ellipk_m1`` and ``mp_dK_dm`` (mpmath, at the
 working precision, for the extended tiers and for depths beyond float64).
-``ellipk_m1`` and ``ellipe_m1`` are scipy's Cephes
-routines (relative error ~1e-16). ``jacobi_sncndn`` uses the arithmetic-
-geometric mean (Abramowitz & Stegun 16.4) started from ``b0 = sqrt(m1)``
-after reducing the argument to ``[0, K/2]`` with the quarter-period
-symmetries; measured absolute error ~1e-16 in sn, cn, dn for any ``m1`` down
-to 1e-300 (see ``tests/test_elliptic.py``). ``scipy.special.ellipj`` is *not*
-used: for ``m >= 1 - 1e-10`` it switches to an approximation valid only for
-``u < K`` (scipy issue #8480).
+``ellipk_m1`` and ``dK_dm`` use scipy's Cephes routines (relative error ~1e-16).
+``jacobi_sncndn`` reduces the argument to ``[0, K/2]`` with the quarter-period
+symmetries, then for ``m < 1/2`` calls ``scipy.special.ellipj`` (the descending
+arithmetic-geometric mean, Abramowitz & Stegun 16.4) and for ``m >= 1/2`` runs the
+AGM itself on Jacobi's imaginary transformation, started from ``sqrt(m1)``: measured
+absolute error ~1e-16 in sn, cn, dn for any ``m1`` down to 1e-300 (see
+``tests/test_elliptic.py``). ``scipy.special.ellipj`` is *not* used there: for
+``m >= 1 - 1e-10`` it switches to an approximation valid only for ``u < K`` (scipy
+issue #8480), and ``1 - m`` would lose the digits of ``m1``.
 """
 
 from __future__ import annotations
 
 from typing import Any
 
+import mpmath as mp
 import numpy as np
 from scipy import special
 
 __all__ = [
     "ellipk_m1",
-    "ellipe_m1",
     "dK_dm",
     "jacobi_sncndn",
     "jacobi_am",
@@ -45,22 +46,16 @@ def ellipk_m1(m1: float) -> float:
     return float(special.ellipkm1(m1))
 
 
-def ellipe_m1(m1: float) -> float:
-    """Complete elliptic integral E(m) given m1 = 1 - m (relative error ~1e-16)."""
-    # scipy's ellipe on m = 1 - m1: the rounding error of m enters only times dE/dm,
-    # which is logarithmically small as m1 -> 0 (E = 1 + (m1/2)(log(4/sqrt m1) - 1/2)
-    # + O(m1^2 log m1)): ~1e-16 |log m1|.
-    return float(special.ellipe(1.0 - m1))
-
-
 def dK_dm(m: float, m1: float) -> float:
     """Derivative dK/dm = (E - m1 K) / (2 m m1), with a series near m = 0."""
     if abs(m) < 1e-3:
-        c = np.array([1 / 4, 9 / 32, 75 / 256, 1225 / 4096, 19845 / 65536])
-        return float(np.pi / 2 * np.polyval(c[::-1], m))
-    K = ellipk_m1(m1)
-    E = ellipe_m1(m1)
-    return (E - m1 * K) / (2.0 * m * m1)
+        c = [19845 / 65536, 1225 / 4096, 75 / 256, 9 / 32, 1 / 4]  # m^4 ... m^0
+        return float(np.pi / 2 * np.polyval(c, m))
+    # E(m) from scipy's ellipe on m = 1 - m1: the rounding error of m enters only times
+    # dE/dm, logarithmically small as m1 -> 0 (E = 1 + (m1/2)(log(4/sqrt m1) - 1/2)
+    # + O(m1^2 log m1)): ~1e-16 |log m1|.
+    E = float(special.ellipe(1.0 - m1))
+    return (E - m1 * ellipk_m1(m1)) / (2.0 * m * m1)
 
 
 def mp_ellipk_m1(m1: Any) -> Any:
@@ -71,8 +66,6 @@ def mp_ellipk_m1(m1: Any) -> Any:
     guard digits are needed near the separatrix (``m1 = 1e-4343`` costs
     nothing extra).
     """
-    import mpmath as mp
-
     return mp.pi / (2 * mp.agm(1, mp.sqrt(m1)))
 
 
@@ -80,56 +73,19 @@ def mp_dK_dm(m: Any, m1: Any) -> Any:
     """dK/dm in mpmath, correct to the working precision for any ``m < 1``.
 
     ``(E(m) - m1 K(m)) / (2 m m1)`` for ``|m| >= 1/2`` (near the separatrix, any
-    small ``m1``, where :func:`dK_dm` overflows float64); the power series
-    ``pi/2 sum n c_n m^(n-1)``, ``c_n = ((2n)!/(2^(2n) n!^2))^2``, for ``|m| < 1/2``
-    (no cancellation as ``m -> 0``).
-    """
-    import mpmath as mp
+    small ``m1``, where :func:`dK_dm` overflows float64); for ``|m| < 1/2`` the
+    derivative of ``K = (pi/2) 2F1(1/2, 1/2; 1; m)``, ``(pi/8) 2F1(3/2, 3/2; 2; m)``
+    (mpmath's hypergeometric series: no cancellation as ``m -> 0``).
 
+    Examples
+    --------
+    >>> import mpmath
+    >>> mpmath.nstr(mp_dK_dm(mpmath.mpf(0), mpmath.mpf(1)), 15)  # pi/8
+    '0.392699081698724'
+    """
     if abs(m) >= 0.5:
         return (mp.ellipe(m) - m1 * mp_ellipk_m1(m1)) / (2 * m * m1)
-    a, total, n, mn = (
-        mp.mpf(1),
-        mp.mpf(0),
-        0,
-        mp.mpf(1),
-    )  # a = (2n)!/(2^(2n) n!^2), mn = m^(n-1)
-    tiny = mp.mpf(2) ** (-mp.mp.prec - 4)
-    while True:
-        n += 1
-        a *= mp.mpf(2 * n - 1) / (2 * n)
-        term = n * a * a * mn
-        total += term
-        if abs(term) <= tiny * abs(total):
-            return mp.pi / 2 * total
-        mn *= m
-
-
-def _agm_sncndn(u, m, m1):
-    """sn, cn, dn for 0 <= u <= K/2 and 0 <= m <= 1/2 by the descending AGM.
-
-    A&S 16.4: all arcsin arguments are <= c1/a1 < 0.2 here, so the backward
-    recursion is well conditioned.
-    """
-    a = [1.0]
-    c = [np.sqrt(m)]
-    b = np.sqrt(m1)
-    while abs(c[-1]) > 1e-18 * a[-1] and len(a) < 40:
-        an = 0.5 * (a[-1] + b)
-        cn = 0.5 * (a[-1] - b)
-        b = np.sqrt(a[-1] * b)
-        a.append(an)
-        c.append(cn)
-    n = len(a) - 1
-    phi = (2.0**n) * a[-1] * u
-    prev = phi
-    for j in range(n, 0, -1):
-        prev = phi
-        phi = 0.5 * (phi + np.arcsin(c[j] / a[j] * np.sin(phi)))
-    sn = np.sin(phi)
-    cn = np.cos(phi)
-    dn = cn / np.cos(prev - phi) if n > 0 else np.ones_like(sn)
-    return sn, cn, dn
+    return mp.pi / 8 * mp.hyp2f1(1.5, 1.5, 2, m)
 
 
 def _asinh_c_sinh(c, psi):
@@ -175,16 +131,11 @@ def _agm_sncndn_imag(u, m, m1):
         psi_top = (2.0**n) * an * umax
         if cn == 0.0 or np.log(cn / an) + min(psi_top, 1e300) < np.log(1e-18):
             break
-    n = len(a) - 1
-    psi = (2.0**n) * a[-1] * u
-    prev = psi
+    psi = (2.0**n) * a[-1] * u  # n >= 1: the loop runs at least once
     for j in range(n, 0, -1):
         prev = psi
         psi = 0.5 * (psi + _asinh_c_sinh(c[j] / a[j], psi))
-    sn = np.tanh(psi)
-    cn = 1.0 / np.cosh(psi)
-    dn = 1.0 / np.cosh(prev - psi)
-    return sn, cn, dn
+    return np.tanh(psi), 1.0 / np.cosh(psi), 1.0 / np.cosh(prev - psi)
 
 
 def _sncndn_nonneg(u, m, m1):
@@ -202,15 +153,18 @@ def _sncndn_nonneg(u, m, m1):
     # now 0 <= r <= K; near K use v = K - r: sn = cd(v), cn = k' sd(v), dn = k' nd(v)
     near = r > 0.5 * K
     v = np.where(near, K - r, r)
-    s, c, d = (_agm_sncndn_imag if m >= 0.5 else _agm_sncndn)(v, m, m1)
+    if m >= 0.5:
+        s, c, d = _agm_sncndn_imag(v, m, m1)
+    else:  # 1 - m is exact enough: scipy's ellipj (Cephes, the descending AGM of A&S 16.4)
+        s, c, d, _ = special.ellipj(v, m)
     kp = np.sqrt(m1)
     sn = np.where(near, c / d, s)
     cn = np.where(near, kp * s / d, c)
     dn = np.where(near, kp / d, d)
-    cn = np.where(refl, -cn, cn)
-    sn = np.where(upper, -sn, sn)
-    cn = np.where(upper, -cn, cn)
-    return sgn * sn, cn, dn
+    cn = np.where(
+        refl != upper, -cn, cn
+    )  # -cn under the reflection and under the shift
+    return np.where(upper, -sgn, sgn) * sn, cn, dn
 
 
 def jacobi_sncndn(

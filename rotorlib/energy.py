@@ -37,7 +37,7 @@ from dataclasses import dataclass
 from decimal import Context, Decimal, InvalidOperation
 from typing import Any
 
-from .system import BREATHER_SEPARATRIX_ENERGY, SEPARATRIX_ENERGY
+import mpmath as mp
 
 __all__ = [
     "PendulumEnergy",
@@ -48,8 +48,6 @@ __all__ = [
     "FLOAT64_MIN_EPS",
 ]
 
-_PHASES = ("lib", "rot")
-_FAMILIES = ("LG", "LD", "R")
 #: Smallest ``|E - sep|`` the float64 closed forms accept: it keeps ``eps`` and the
 #: complementary parameter ``m1`` (>= eps/4 for every family) normal floats.
 FLOAT64_MIN_EPS = 8.0 * sys.float_info.min
@@ -112,50 +110,73 @@ def _exact_distance(text: str, sep: Decimal):
     return (diff > 0) - (diff < 0), abs(diff)
 
 
+#: The branches of each energy: their side of the separatrix (-1 below, +1 above) and
+#: their lowest energy (``None``: the separatrix itself). The first on a side is the
+#: default of an ``E`` on that side.
+_PHASES = {"lib": (-1, Decimal(0)), "rot": (1, None)}
+_FAMILIES = {"LG": (-1, Decimal(0)), "LD": (-1, Decimal(4)), "R": (1, None)}
+
+
 @dataclass(frozen=True)
 class _Distance:
-    """Parsed input: side (-1 below, +1 above the separatrix), eps and its log (floats), E, given."""
+    """Parsed input: the branch (phase or family), eps and its log, E (floats), given."""
 
-    side: int
+    branch: str
     eps: float
     log_abs_dE: float
     E: float
     given: tuple
-    E_exact: Decimal | None = None  # the Decimal E for E input (family checks)
 
 
 def _distance(
-    sep: Decimal, E=None, log_abs_dE=None, side=None, what="E-4"
+    sep: Decimal, E, log_abs_dE, branch, branches: dict, kind: str, what: str
 ) -> _Distance:
-    """Parse ``E`` or ``log|E - sep|`` (with ``side``) into a :class:`_Distance`; shared by both energies."""
+    """Parse ``E`` or ``log|E - sep|`` on ``branch`` (a key of ``branches``, a ``kind`` of
+    orbit) into a :class:`_Distance`, checking the range of the branch; ``what`` names
+    the separatrix. Shared by both energies."""
+    name = f"log|E-{sep}|"
+    if branch is not None and branch not in branches:
+        raise ValueError(f"{kind} must be one of {', '.join(branches)}; got {branch!r}")
     if (E is None) == (log_abs_dE is None):
-        raise ValueError(f"give exactly one of E and log|{what}|")
-    fsep = float(sep)
-    if E is not None:
-        text = _decimal_text(E, "E")
-        s, dist = _exact_distance(text, sep)
-        if s == 0:
-            return _Distance(0, 0.0, -math.inf, fsep, ("E", text), Decimal(text))
-        eps = float(dist)
-        x = (
-            math.log(eps)
-            if eps >= sys.float_info.min
-            else float(dist.ln(Context(prec=25)))
-        )
-        Ef = float(Decimal(text))
-        if not math.isfinite(Ef):
-            raise ValueError(f"E = {text} is beyond the float64 range")
-        return _Distance(s, eps, x, Ef, ("E", text), Decimal(text))
-    text = _decimal_text(log_abs_dE, f"log|{what}|")
-    x = float(Decimal(text))
-    if not math.isfinite(x):
+        raise ValueError(f"give exactly one of E and {name}")
+    if E is None:
+        if branch is None:
+            raise ValueError(f"{name} needs a {kind} ({', '.join(branches)})")
+        side, lowest = branches[branch]
+        text = _decimal_text(log_abs_dE, name)
+        x = float(Decimal(text))
+        if not math.isfinite(x):
+            raise ValueError(
+                f"{name} = {text} is beyond the float64 range of the logarithm"
+            )
+        if x > 700.0:
+            raise ValueError(f"{name} = {text} is too large (|E| would exceed 1e304)")
+        if lowest is not None and x > math.log(sep - lowest):
+            raise ValueError(
+                f"the {kind} {branch} has E = {sep} - exp({name}) >= {lowest}, so {name} <= "
+                f"log {sep - lowest} = {math.log(sep - lowest):.6f}; got {text}"
+            )
+        eps = math.exp(x)  # 0.0 or subnormal below -745 / -708: see require_float64
+        return _Distance(branch, eps, x, float(sep) + side * eps, ("log_abs_dE", text))
+    text = _decimal_text(E, "E")
+    if Decimal(text) < 0:
+        raise ValueError(f"E must be >= 0 (the minimum of V is 0), got {text}")
+    side, dist = _exact_distance(text, sep)
+    if side == 0:
         raise ValueError(
-            f"log|{what}| = {text} is beyond the float64 range of the logarithm"
+            f"E = {sep} is the {what}: the period diverges; give {name} and a {kind} instead"
         )
-    if x > 700.0:
-        raise ValueError(f"log|{what}| = {text} is too large (|E| would exceed 1e304)")
-    eps = math.exp(x)  # 0.0 or subnormal below -745 / -708: see require_float64
-    return _Distance(side, eps, x, fsep + side * eps, ("log_abs_dE", text))
+    branch = branch or next(b for b, (s, _) in branches.items() if s == side)
+    s, lowest = branches[branch]
+    if s != side or (lowest is not None and Decimal(text) < lowest):
+        span = f"E > {sep}" if s > 0 else f"{lowest} <= E < {sep}"
+        raise ValueError(f"the {kind} {branch} has {span}; got E = {text}")
+    eps = float(dist)
+    x = math.log(eps) if eps >= sys.float_info.min else float(dist.ln(Context(prec=25)))
+    Ef = float(Decimal(text))
+    if not math.isfinite(Ef):
+        raise ValueError(f"E = {text} is beyond the float64 range")
+    return _Distance(branch, eps, x, Ef, ("E", text))
 
 
 class _SeparatrixDistance:
@@ -187,35 +208,31 @@ class _SeparatrixDistance:
                 "use the extended precision tiers (digits > 15)"
             )
 
-    def mp_E_eps(self, dps: int) -> tuple[Any, Any]:
-        """``(E, eps)`` as mpmath numbers rounded to ``dps`` digits, from the decimal input.
+    def mp_E_eps(self, digits: int) -> tuple[Any, Any]:
+        """``(E, eps)`` as mpmath numbers rounded to ``digits`` digits, from the decimal input.
 
         Precision: for ``E`` input both are the exact decimals rounded once (so
-        ``eps`` keeps ``dps`` digits however small, and ``E`` however close to 0);
-        for ``log|E - sep|`` input, ``eps`` to ``dps`` digits relative (guard digits
-        cover ``exp`` of a large log) and ``E = sep -/+ eps`` to ``dps`` digits of ``sep``.
+        ``eps`` keeps ``digits`` digits however small, and ``E`` however close to 0);
+        for ``log|E - sep|`` input, ``eps`` to ``digits`` digits relative (guard digits
+        cover ``exp`` of a large log) and ``E = sep -/+ eps`` to ``digits`` digits of ``sep``.
         """
-        import mpmath as mp
-
         kind, text = self.given
         sep = mp.mpf(str(self._SEP))
         if kind == "E":
             _, dist = _exact_distance(text, self._SEP)
-            with mp.workdps(dps):
+            with mp.workdps(digits):
                 return mp.mpf(text), mp.mpf(str(dist))
         guard = len(str(int(abs(float(text))))) + 5
-        with mp.workdps(dps + guard):
+        with mp.workdps(digits + guard):
             eps = mp.exp(mp.mpf(text))
             E = sep + self.side * eps
-        with mp.workdps(dps):
+        with mp.workdps(digits):
             return +E, +eps
 
     def decimal_E(self, digits: int = 17) -> str:
         """E as a decimal string with ``digits`` significant digits *after* the
         leading ``4.000…`` zeros, so that ``E - sep`` is visible however small
         (the string has about ``-log10|E - sep|`` characters)."""
-        import mpmath as mp
-
         extra = max(0, int(-self.log_abs_dE / math.log(10)) + 1)
         with mp.workdps(digits + extra + 10):
             E, _ = self.mp_E_eps(digits + extra + 10)
@@ -226,8 +243,6 @@ class _SeparatrixDistance:
         (the exact decimal would have ``-log10|E - sep|`` characters)."""
         if self.log_abs_dE > -690.0:
             return self.decimal_E(digits)
-        import mpmath as mp
-
         _, eps = self.mp_E_eps(20)
         return f"{self._SEP} {'-' if self.side < 0 else '+'} {mp.nstr(eps, 15)}"
 
@@ -274,19 +289,17 @@ class PendulumEnergy(_SeparatrixDistance):
         """Elliptic modulus ``k = sqrt(E/4)`` (lib) or ``kappa = sqrt(4/E)`` (rot)."""
         return math.sqrt(self.m)
 
-    def mp_values(self, dps: int) -> dict:
-        """E, eps, m, m1 as mpmath numbers at ``dps`` digits, from the decimal input.
+    def mp_values(self, digits: int) -> dict:
+        """E, eps, m, m1 as mpmath numbers at ``digits`` digits, from the decimal input.
 
         The input is read as the decimal the user gave (``repr`` of a float
         argument), so ``E=3.9`` means exactly 39/10 here. Each value is correct
-        to ``dps`` digits relative, at any depth.
+        to ``digits`` digits relative, at any depth.
         """
-        import mpmath as mp
-
-        E, eps = self.mp_E_eps(dps + 5)
-        with mp.workdps(dps + 5):
+        E, eps = self.mp_E_eps(digits + 5)
+        with mp.workdps(digits + 5):
             m, m1 = _pendulum_m(self.phase, E, eps)
-        with mp.workdps(dps):
+        with mp.workdps(digits):
             return dict(E=+E, eps=+eps, m=+m, m1=+m1)
 
 
@@ -312,35 +325,26 @@ def pendulum_energy(
         Negative, non-finite or unparsable input; ``E`` equal to 4 as a
         decimal; both or neither of ``E`` and ``log_abs_dE``; a phase other than
         lib/rot; a librational ``log|E-4| > log 4`` (negative energy).
+
+    Examples
+    --------
+    >>> en = pendulum_energy(log_abs_dE=-50, phase="rot")
+    >>> en.phase, f"{en.eps:.6e}", en.decimal_E(5)
+    ('rot', '1.928750e-22', '4.00000000000000000000019287')
+    >>> pendulum_energy(E="3.99999999999999999999").eps
+    1e-20
     """
-    if phase is not None and phase not in _PHASES:
-        raise ValueError(f"phase must be 'lib' or 'rot', got {phase!r}")
-    side = None if phase is None else (1 if phase == "rot" else -1)
-    if log_abs_dE is not None and E is None and phase is None:
-        raise ValueError("log|E-4| needs a phase, 'lib' or 'rot'")
-    d = _distance(Decimal(4), E=E, log_abs_dE=log_abs_dE, side=side)
-    if E is not None:
-        if d.E_exact is not None and d.E_exact < 0:
-            raise ValueError(
-                f"E must be >= 0 (the minimum of V is 0), got {d.given[1]}"
-            )
-        if d.side == 0:
-            raise ValueError(
-                "E = 4 is the separatrix (homoclinic orbit): the period diverges; "
-                "give log|E-4| and a phase instead"
-            )
-        ph = "lib" if d.side < 0 else "rot"
-        if phase is not None and phase != ph:
-            raise ValueError(f"E = {d.given[1]} is in the {ph} phase, not {phase!r}")
-    else:
-        ph = str(phase)
-        if ph == "lib" and d.log_abs_dE > math.log(SEPARATRIX_ENERGY):
-            raise ValueError(
-                f"libration has E = 4 - exp(log|E-4|) >= 0, so log|E-4| <= log 4 = "
-                f"{math.log(SEPARATRIX_ENERGY):.6f}; got {d.given[1]}"
-            )
-    m, m1 = _pendulum_m(ph, d.E, d.eps)
-    return PendulumEnergy(ph, d.eps, d.log_abs_dE, d.E, m, m1, d.given)
+    d = _distance(
+        Decimal(4),
+        E,
+        log_abs_dE,
+        phase,
+        _PHASES,
+        "phase",
+        "separatrix (homoclinic orbit)",
+    )
+    m, m1 = _pendulum_m(d.branch, d.E, d.eps)
+    return PendulumEnergy(d.branch, d.eps, d.log_abs_dE, d.E, m, m1, d.given)
 
 
 @dataclass(frozen=True)
@@ -375,9 +379,9 @@ class BreatherEnergy(_SeparatrixDistance):
     def phase(self) -> str:
         return "rot" if self.family == "R" else "lib"
 
-    def mp_values(self, dps: int) -> dict:
-        """E and eps = |E - 4.5| as mpmath numbers at ``dps`` digits, from the decimal input."""
-        E, eps = self.mp_E_eps(dps)
+    def mp_values(self, digits: int) -> dict:
+        """E and eps = |E - 4.5| as mpmath numbers at ``digits`` digits, from the decimal input."""
+        E, eps = self.mp_E_eps(digits)
         return dict(E=E, eps=eps)
 
 
@@ -401,44 +405,17 @@ def breather_energy(
         For energies the family does not have: ``R`` needs ``E > 4.5``, ``LG``
         ``0 <= E < 4.5``, ``LD`` ``4 <= E < 4.5``; ``E`` equal to 4.5 as a
         decimal; negative or non-finite input; an unknown family.
+
+    Examples
+    --------
+    >>> en = breather_energy(E="4.49999999999999999999", family="LD")
+    >>> en.family, en.phase, en.eps
+    ('LD', 'lib', 1e-20)
+    >>> breather_energy(E=9).family
+    'R'
     """
-    if family is not None and family not in _FAMILIES:
-        raise ValueError(f"breather family must be one of LG, LD, R; got {family!r}")
-    if log_abs_dE is not None and E is None and family is None:
-        raise ValueError("log|E-4.5| needs a breather family (LG, LD or R)")
-    side = None if family is None else (1 if family == "R" else -1)
-    d = _distance(Decimal("4.5"), E=E, log_abs_dE=log_abs_dE, side=side, what="E-4.5")
-    if E is not None:
-        text = d.given[1]
-        if d.E_exact is not None and d.E_exact < 0:
-            raise ValueError(f"E must be >= 0, got {text}")
-        if d.side == 0:
-            raise ValueError(
-                "E = 4.5 is the breather separatrix (heteroclinic orbit between the maxima T): "
-                "the period diverges; give log|E-4.5| and a family instead"
-            )
-        fam = family or ("R" if d.side > 0 else "LG")
-        if fam == "R" and d.side < 0:
-            raise ValueError(
-                f"the rotational breather R exists only for E > 4.5; got E = {text}"
-            )
-        if fam in ("LG", "LD") and d.side > 0:
-            raise ValueError(
-                f"the librational breather {fam} exists only for E < 4.5; got E = {text}"
-            )
-        if fam == "LD" and d.E_exact is not None and d.E_exact < 4:
-            raise ValueError(
-                f"the breather LD (libration about D) exists only for 4 <= E < 4.5; got E = {text}"
-            )
-    else:
-        fam = str(family)
-        x = d.log_abs_dE
-        if fam == "LG" and x > math.log(BREATHER_SEPARATRIX_ENERGY):
-            raise ValueError(
-                f"LG has E = 4.5 - exp(log|E-4.5|) >= 0, so log|E-4.5| <= log 4.5; got {d.given[1]}"
-            )
-        if fam == "LD" and x > math.log(0.5):
-            raise ValueError(
-                f"LD has E = 4.5 - exp(log|E-4.5|) >= 4, so log|E-4.5| <= log 0.5; got {d.given[1]}"
-            )
-    return BreatherEnergy(fam, d.E, d.eps, d.log_abs_dE, d.given)
+    d = _distance(
+        Decimal("4.5"), E, log_abs_dE, family, _FAMILIES, "breather family",
+        "breather separatrix (heteroclinic orbit between the maxima T)",
+    )  # fmt: skip
+    return BreatherEnergy(d.branch, d.E, d.eps, d.log_abs_dE, d.given)

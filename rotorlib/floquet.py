@@ -32,13 +32,15 @@ from dataclasses import dataclass, field
 from decimal import Decimal
 from typing import Any
 
+import mpmath as mp
 import numpy as np
+from scipy.linalg import block_diag
 
 from .energy import BreatherEnergy, PendulumEnergy
 from .flow import monodromy_matrix
-from .hill import hill_problem, precision_tier, solve_hill
+from .hill import _mpmath_tier, _solve_hill, hill_problem, precision_tier
 from .orbits import BreatherOrbit, PendulumOrbit, breather, pendulum
-from .precision import Tier, tier
+from .precision import Tier, requested_digits, tier
 from .system import (
     _A,
     _B,
@@ -72,7 +74,7 @@ def multipliers_from_trace(t: float) -> np.ndarray:
     if disc >= 0:
         r = math.sqrt(disc)
         big = 0.5 * (t + math.copysign(r, t))
-        return np.array([big, 1.0 / big]) if big != 0 else np.array([0.0, 0.0])
+        return np.array([big, 1.0 / big])  # |t| >= 2: big != 0
     r = math.sqrt(-disc)
     return np.array([complex(0.5 * t, 0.5 * r), complex(0.5 * t, -0.5 * r)])
 
@@ -84,7 +86,7 @@ class Monodromy:
     :func:`monodromy` (pendula and breathers, at their base point, in the paper's block
     basis) fills every attribute; the variational routes (:func:`variational_monodromy`,
     :func:`textbook_monodromy`: any orbit) give ``family='orbit'``, the matrix in the
-    state order, no blocks (``None``) and no ``energy``, and add ``final_state``,
+    state order, no blocks (``None``) and no ``energy``, and add
     ``closure`` (also in ``residual``) and ``steps``: the one remaining difference.
 
     Attributes
@@ -128,8 +130,6 @@ class Monodromy:
         ``|psi(K)|`` of the reduced problem (0 in exact arithmetic).
     energy : PendulumEnergy, BreatherEnergy or None
         The :class:`~rotorlib.energy.PendulumEnergy` or ``BreatherEnergy``.
-    final_state : ndarray (4,) or None
-        Variational routes: the state after one period.
     closure : float
         Variational routes: ``max |x(T) - x(0)|`` modulo the lattice of ``(a1, a2)``.
     steps : int
@@ -162,7 +162,6 @@ class Monodromy:
     period_str: str = ""
     stability: str = ""
     stability_note: str = ""
-    final_state: np.ndarray | None = field(repr=False, default=None)
     closure: float = float("nan")
     steps: int = 0
 
@@ -173,41 +172,33 @@ class Monodromy:
         # basis (a1, p1, a2, p2) -> state order (a1, a2, p1, p2); breathers likewise
         # (b1, q1, b2, q2) -> (b1, b2, q1, q2), then to alpha
         P = np.eye(4)[[0, 2, 1, 3]]
+        Ms = P @ self.matrix @ P.T
         if self.family == "pendulum":
-            return P @ self.matrix @ P.T
-        Mb = P @ self.matrix @ P.T
-        T = np.zeros((4, 4))
-        T[:2, :2] = _A @ _Binv
-        T[2:, 2:] = _Ainv.T @ _B.T
-        return T @ Mb @ np.linalg.inv(T)
-
-    def eigen(self) -> tuple[np.ndarray, np.ndarray]:
-        """Eigenvalues and eigenvectors of the 4x4 matrix (numpy ``eig``; defective at transitions)."""
-        return np.linalg.eig(self.matrix)
+            return Ms
+        T = block_diag(_A @ _Binv, _Ainv.T @ _B.T)
+        return T @ Ms @ np.linalg.inv(T)
 
 
 def _as_orbit(orbit=None, E=None, log_abs_dE=None, phase=None, family="pendulum"):
-    if orbit is None or isinstance(orbit, (PendulumOrbit, BreatherOrbit)):
-        pass
-    elif isinstance(getattr(orbit, "energy", None), (PendulumEnergy, BreatherEnergy)):
-        orbit = orbit.energy  # a transition, or an object carrying its orbit's energy
-    if isinstance(orbit, PendulumEnergy):  # e.g. ``transition(...).energy``
-        return PendulumOrbit(orbit)
-    if isinstance(orbit, BreatherEnergy):
-        return BreatherOrbit(orbit)
-    if orbit is not None:
-        if not isinstance(orbit, (PendulumOrbit, BreatherOrbit)):
-            raise TypeError(
-                "monodromy takes a pendulum or breather orbit "
-                "(rotorlib.pendulum(...), rotorlib.breather(...)) or its energy "
-                "(a PendulumEnergy / BreatherEnergy, e.g. transition(label).energy), "
-                f"or E=... / log_abs_dE=... keywords; got {type(orbit).__name__}"
-            )
+    if orbit is None:
+        if family == "pendulum":
+            return pendulum(E=E, log_abs_dE=log_abs_dE, phase=phase)
+        fam = {"lib": "LG", "rot": "R"}.get(phase) if family == "breather" else family
+        return breather(E=E, family=fam, log_abs_dE=log_abs_dE)
+    if isinstance(orbit, (PendulumOrbit, BreatherOrbit)):
         return orbit
-    if family == "pendulum":
-        return pendulum(E=E, log_abs_dE=log_abs_dE, phase=phase)
-    fam = {"lib": "LG", "rot": "R"}.get(phase, None) if family == "breather" else family
-    return breather(E=E, family=fam, log_abs_dE=log_abs_dE)
+    # an energy (e.g. ``transition(...).energy``), or an object carrying its orbit's energy
+    energy = getattr(orbit, "energy", orbit)
+    if isinstance(energy, PendulumEnergy):
+        return PendulumOrbit(energy)
+    if isinstance(energy, BreatherEnergy):
+        return BreatherOrbit(energy)
+    raise TypeError(
+        "monodromy takes a pendulum or breather orbit "
+        "(rotorlib.pendulum(...), rotorlib.breather(...)) or its energy "
+        "(a PendulumEnergy / BreatherEnergy, e.g. transition(label).energy), "
+        f"or E=... / log_abs_dE=... keywords; got {type(orbit).__name__}"
+    )
 
 
 def monodromy(
@@ -265,9 +256,7 @@ def monodromy(
     '0.0195119424111676105307516364433'
     """
     orbit = _as_orbit(orbit, E, log_abs_dE, phase, family)
-    t = tier(digits)
-    d = None if not t.extended else (digits if isinstance(digits, int) else t.dps - 9)
-    return _monodromy(orbit, d, precision_tier(digits)[0], tol)
+    return _monodromy(orbit, requested_digits(digits), precision_tier(digits)[0], tol)
 
 
 def _monodromy(
@@ -279,85 +268,51 @@ def _monodromy(
     """:func:`monodromy` of ``orbit`` with the integrator ``backend`` (``heyoka``,
     ``scipy`` or ``mpmath``), whatever is installed: ``digits`` None is float64 (the
     mpmath Taylor integrator at 20 digits), more is heyoka's tier of ``digits`` or
-    mpmath at ``digits + 5`` working digits."""
-    if backend not in ("heyoka", "scipy", "mpmath"):
-        raise ValueError(f"backend must be heyoka, scipy or mpmath, got {backend!r}")
-    if backend == "scipy" and digits:
-        raise ValueError(
-            f"scipy integrates in float64 only; digits = {digits} needs heyoka or mpmath"
-        )
-    if backend == "mpmath":
-        prec = f"mpmath{digits + 5 if digits else 20}"
-    else:
-        prec = tier(digits).name
-    be = backend
-    dps = None if prec == "float64" else (digits or 20) + 15
-    prob = hill_problem(orbit, digits=None if dps is None else dps - 15)
-    sol = solve_hill(prob, be, prec, tol=tol)
+    mpmath at ``digits + 5`` working digits (the test hook of the integrators)."""
+    t = (
+        _mpmath_tier(digits + 5 if digits else 20)
+        if backend == "mpmath"
+        else tier(digits)
+    )
+    prob = hill_problem(orbit, (digits or 20) if t.extended else None)
+    sol = _solve_hill(prob, backend, t, tol)
     C = sol.coefficient_map
-    d = np.array([1.0, prob.momentum_scale * prob.du_dt])
-    with np.errstate(
-        over="ignore", invalid="ignore"
-    ):  # inf/nan entries when tr M overflows float64
+    d = np.array([1.0, prob.momentum_scale])
+    with np.errstate(over="ignore", invalid="ignore"):  # inf/nan when tr M overflows
         Phi = C @ C if prob.repeats == 2 else C
         Mperp = (Phi * d[:, None]) * (1.0 / d)[None, :]  # D Phi D^-1
-    delta = sol.delta
-    tr_perp = delta * delta - 2.0 if prob.repeats == 2 else delta
-    shown = max(5, digits or 20)
+    tr_perp = sol.delta * sol.delta - 2.0 if prob.repeats == 2 else sol.delta
     tr_exact = tr_perp + 2.0
-    if prec == "float64" and math.isfinite(tr_perp):
-        tr_str = repr(tr_exact)
-        period_str = repr(orbit.period)
-    else:
-        import mpmath as mp
-
+    period_str = repr(orbit.period)
+    if t.extended or not math.isfinite(tr_perp):
+        shown = max(5, digits or 20)
         with mp.workdps(len(sol.delta_str) + 5):
             dx = mp.mpf(sol.delta_exact)
             tr_exact = dx * dx if prob.repeats == 2 else dx + 2
-            tr_str = mp.nstr(tr_exact, shown if prec != "float64" else 16)
-        if prec == "float64":
-            period_str = repr(orbit.period)
-        else:
-            with mp.workdps(dps):
-                period_str = mp.nstr(orbit.closed_form(dps)["period"], shown)
-    period = orbit.period
-    dT = orbit.dperiod_dE
-    M = np.zeros((4, 4))
+            tr_str = mp.nstr(tr_exact, shown if t.extended else 16)
+        if t.extended:
+            period = orbit.closed_form((digits or 20) + 15)["period"]
+            period_str = mp.nstr(period, shown)
+    else:
+        tr_str = repr(tr_exact)
     if isinstance(orbit, PendulumOrbit):
         basis = ("a1", "p1", "a2", "p2")
-        Mpar = np.array([[1.0, -3.0 * orbit.E * dT], [0.0, 1.0]])
-        M[:2, :2], M[2:, 2:] = Mperp, Mpar
+        Mpar = np.array([[1.0, -3.0 * orbit.E * orbit.dperiod_dE], [0.0, 1.0]])
+        M = block_diag(Mperp, Mpar)
     else:
         basis = ("b1", "q1", "b2", "q2")
         q1sq = orbit.E - 4.0 if orbit.energy.family == "LD" else orbit.E
-        Mpar = np.array([[1.0, -4.0 * q1sq * dT], [0.0, 1.0]])
-        M[:2, :2], M[2:, 2:] = Mpar, Mperp
-    tr = tr_perp + 2.0
+        Mpar = np.array([[1.0, -4.0 * q1sq * orbit.dperiod_dE], [0.0, 1.0]])
+        M = block_diag(Mpar, Mperp)
     # stability from the value with every computed digit (the float64 view of 4 - 1e-18 is 4.0)
     stability, note = _stability(
-        tr_exact, 1e-12 if prec == "float64" else 10.0 ** (2 - (digits or 20)), orbit
+        tr_exact, 10.0 ** (2 - (digits or 20)) if t.extended else 1e-12, orbit
     )
     return Monodromy(
-        orbit.family,
-        orbit.E,
-        period,
-        M,
-        basis,
-        Mperp,
-        Mpar,
-        tr,
-        tr_perp,
-        tr_str,
-        multipliers_from_trace(tr_perp),
-        bool(0 < tr_exact < 4),
-        prec,
-        be,
-        sol.psi_end,
-        orbit.energy,
-        period_str,
-        stability,
-        note,
-    )
+        orbit.family, orbit.E, orbit.period, M, basis, Mperp, Mpar, tr_perp + 2.0,
+        tr_perp, tr_str, multipliers_from_trace(tr_perp), bool(0 < tr_exact < 4),
+        t.name, backend, sol.psi_end, orbit.energy, period_str, stability, note,
+    )  # fmt: skip
 
 
 def _stability(tr, tol: float, orbit) -> tuple:
@@ -384,8 +339,6 @@ def _stability(tr, tol: float, orbit) -> tuple:
         and orbit.E < 1e-2
         and edge == 4
     ):
-        import mpmath as mp
-
         with mp.workdps(20):
             gap = mp.nstr(
                 mp.pi**2 * en.mp_E_eps(20)[0] ** 3 / 3456, 3
@@ -417,8 +370,6 @@ def trace_monodromy(orbit: Any = None, **kwargs: Any) -> Any:
     M = monodromy(orbit, **kwargs)
     if M.precision == "float64":
         return M.trace
-    import mpmath as mp
-
     with mp.workdps(len(M.trace_str) + 5):
         return +mp.mpf(M.trace_str)
 
@@ -429,7 +380,6 @@ def variational_monodromy(
     *,
     digits: int | Tier | None = None,
     rtol: float = 1e-12,
-    method: str | None = None,
 ) -> Monodromy:
     """The textbook monodromy: nonlinear flow + 4x4 variational equations over one period.
 
@@ -441,21 +391,18 @@ def variational_monodromy(
     period : float, str or mpf
         Integration time.
     digits : int or Tier, optional
-        The tier (:func:`rotorlib.precision.tier`): ``None`` float64; extended tiers
-        integrate with heyoka (:func:`rotorlib.flow.monodromy_matrix`, the one builder
-        of the equations of motion) at the tier's machine epsilon.
+        The tier (:func:`rotorlib.precision.tier`): ``None`` float64, integrated by scipy
+        DOP853 (the paper's baseline and that of ``book/numerical_notes.md``); extended
+        tiers integrate with heyoka (:func:`rotorlib.flow.monodromy_matrix`, the one
+        builder of the equations of motion) at the tier's machine epsilon.
     rtol : float
-        Tolerance of scipy's ``solve_ivp(DOP853)`` (``atol = rtol 1e-3``).
-    method : {'scipy', 'heyoka'}, optional
-        Float64 integrator: scipy DOP853 (default; the paper's baseline and that of
-        ``book/numerical_notes.md``) or heyoka's Taylor method (the default in the
-        extended tiers, which scipy cannot do).
+        Tolerance of scipy's ``solve_ivp(DOP853)`` (``atol = rtol 1e-3``; float64 only).
 
     Returns
     -------
     Monodromy
         ``family='orbit'``, ``matrix`` in the state order ``[a1, a2, p1, p2]`` (the
-        ``basis``), no ``transverse``/``longitudinal`` blocks; ``final_state`` and
+        ``basis``), no ``transverse``/``longitudinal`` blocks;
         ``closure = max |x(T) - x(0)|`` modulo the lattice of ``(a1, a2)``; ``backend``
         names the integrator (``scipy-DOP853 rtol=...`` or ``heyoka-taylor``).
 
@@ -473,41 +420,35 @@ def variational_monodromy(
     (0.019512, ('a1', 'a2', 'p1', 'p2'), True)
     """
     t = tier(digits)
-    method = method or ("heyoka" if t.extended else "scipy")
-    if method not in ("scipy", "heyoka"):
-        raise ValueError(f"method must be 'scipy' or 'heyoka', got {method!r}")
-    if method == "scipy" and t.extended:
-        raise ValueError(f"scipy integrates in float64 only; {t.name} needs heyoka")
     with t.context():
         x0 = [t.num(v) for v in state0]
         T = t.num(period)
-        if method == "scipy":
-            Mv, xf, tr, steps = _scipy_variational(x0, T, rtol)
+        if not t.extended:
+            Mv, xT, tr, steps = _scipy_variational(x0, T, rtol)
             backend, tr_str = f"scipy-DOP853 rtol={rtol:g}", repr(tr)
-            xT = list(xf)
         else:
             Mv, xT, tr = monodromy_matrix(x0, T, t)
-            xf, steps, backend = np.array([float(v) for v in xT]), 0, "heyoka-taylor"
-            tr_str = t.text(tr, None if t.extended else 17)
+            steps, backend = 0, "heyoka-taylor"
+            tr_str = t.text(tr)
         from .periodic import stability_of  # the result protocol's rule
 
-        x0f = np.array([float(v) for v in x0])
         # the closure in the working precision: x(T) - x(0) formed before any rounding
         gap = lattice_reduce([a - b for a, b in zip(xT, x0)], t)
         closure = max(abs(float(v)) for v in gap)
         trf = float(tr)
-        stability = stability_of(trf, t.dps - 9 if t.extended else 15)
+        E = float(energy_alpha(np.array([float(v) for v in x0])))
         return Monodromy(
-            "orbit", float(energy_alpha(x0f)), float(T), Mv, STATE_ORDER, None, None,
+            "orbit", E, float(T), Mv, STATE_ORDER, None, None,
             trf, trf - 2.0, tr_str, multipliers_from_trace(trf - 2.0), 0 < trf < 4,
-            t.name, backend, closure, None, t.text(T), stability, "",
-            final_state=xf, closure=closure, steps=steps,
+            t.name, backend, closure, None, t.text(T),
+            stability_of(trf, t.dps - 9 if t.extended else 15), "",
+            closure=closure, steps=steps,
         )  # fmt: skip
 
 
 def _scipy_variational(
     x0: list[float], T: float, rtol: float
-) -> tuple[np.ndarray, np.ndarray, float, int]:
+) -> tuple[np.ndarray, list[float], float, int]:
     from scipy.integrate import solve_ivp
 
     def rhs(t: float, z: np.ndarray) -> np.ndarray:
@@ -519,7 +460,7 @@ def _scipy_variational(
     sol = solve_ivp(rhs, (0.0, T), z0, method="DOP853", rtol=rtol, atol=rtol * 1e-3)
     z = sol.y[:, -1]
     Mv = z[4:].reshape(4, 4)
-    return Mv, z[:4], float(np.trace(Mv)), len(sol.t) - 1
+    return Mv, list(z[:4]), float(np.trace(Mv)), len(sol.t) - 1
 
 
 #: The default tier of :func:`textbook_monodromy`: 256-bit multiprecision.
@@ -548,8 +489,6 @@ def textbook_monodromy(
     >>> V.precision, V.trace_str[:22]
     ('mp256', '0.01951194241116761053')
     """
-    import mpmath as mp
-
     t = tier(digits)
     dps = int(t.bits / 3.33) + 10
     with mp.workdps(dps):

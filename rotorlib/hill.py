@@ -42,16 +42,19 @@ Precision (``tests/test_monodromy.py``, ``tests/test_extremes.py``,
 from __future__ import annotations
 
 import contextlib
+import functools
 import math
 import threading
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
+import mpmath as mp
 import numpy as np
+
+from .precision import FLOAT64, Tier, load_heyoka, requested_digits, tier
 
 if TYPE_CHECKING:
     from .orbits import BreatherOrbit, PendulumOrbit
-    from .precision import Tier
 
 __all__ = [
     "HillProblem",
@@ -62,44 +65,51 @@ __all__ = [
     "precision_tier",
 ]
 
-KINDS = ("pendulum-lib", "pendulum-rot", "breather-LG", "breather-LD", "breather-R")
-
 
 def heyoka_available() -> bool:
     """True when heyoka imports (Linux wheels; optional)."""
     try:
-        from .precision import load_heyoka
-
-        load_heyoka()
-    except ValueError:  # a malformed ROTORLIB_HEYOKA_CACHE_MB: say so, never hide it
-        raise
-    except Exception:
+        load_heyoka()  # a malformed ROTORLIB_HEYOKA_CACHE_MB raises: never hidden
+    except ImportError:
         return False
     return True
 
 
+def _mpmath_tier(dps: int) -> Tier:
+    """The tier ``mp<bits>`` of mpmath's arithmetic at ``dps`` working digits."""
+    return Tier(f"mp{mp.libmp.dps_to_prec(dps)}")
+
+
+def _integrator(digits: int | Tier | None) -> tuple[str, Tier]:
+    """The integrator and the tier of :func:`precision_tier`."""
+    if heyoka_available():
+        return "heyoka", tier(digits)
+    d = requested_digits(digits)
+    if d is None:
+        return "scipy", FLOAT64
+    return "mpmath", _mpmath_tier(d + 5)
+
+
 def precision_tier(digits: int | Tier | None = None) -> tuple[str, str]:
-    """The integrator and the tier (:func:`rotorlib.precision.tier`) that
-    :func:`rotorlib.monodromy` uses for ``digits`` on this machine.
+    """The integrator and the tier that :func:`rotorlib.monodromy` uses for ``digits``
+    on this machine.
 
     Returns
     -------
     (str, str)
-        Integrator (``heyoka``; without it ``scipy`` in float64 and ``mpmath`` beyond)
-        and the tier's name (``float64``, ``real128``, ``mp<bits>``: names
-        :class:`~rotorlib.precision.Tier` accepts).
+        Integrator: ``heyoka``, in the tier :func:`rotorlib.precision.tier` gives
+        (``float64``, ``real128``, ``mp<bits>``); without heyoka ``scipy`` in float64
+        and ``mpmath`` beyond, at ``digits + 5`` working digits: the tier ``mp<bits>``
+        of that arithmetic. Either name is one :class:`~rotorlib.precision.Tier` accepts,
+        and the one :attr:`rotorlib.floquet.Monodromy.precision` records.
 
     Examples
     --------
     >>> precision_tier(None)[1], precision_tier(20)[1], precision_tier(40)[1]
     ('float64', 'real128', 'mp160')
     """
-    from .precision import tier  # (lazy: mpmath stays out of ``import rotorlib``)
-
-    t = tier(digits)
-    return (
-        "heyoka" if heyoka_available() else "mpmath" if t.extended else "scipy"
-    ), t.name
+    integrator, t = _integrator(digits)
+    return integrator, t.name
 
 
 @dataclass(frozen=True)
@@ -120,10 +130,9 @@ class HillProblem:
         ``A^2`` (LG), ``D^2`` (LD) or ``lam^2`` (R); unused for pendula.
     repeats : int
         Coefficient periods per orbit period (2 libration, 1 rotation).
-    du_dt : float
-        ``du/dt`` (to convert ``dy/du`` into a velocity).
     momentum_scale : float
-        ``delta p = momentum_scale * delta q'`` (2 for ``p1``, 1/6 for ``q2``).
+        ``delta p = momentum_scale * dy/du``: ``du/dt`` (which converts ``dy/du`` into
+        a velocity ``delta q'``) times 2 for ``p1`` (pendula), 1/6 for ``q2`` (breathers).
     """
 
     kind: str
@@ -133,24 +142,24 @@ class HillProblem:
     c3: object
     shape: object
     repeats: int
-    du_dt: float
     momentum_scale: float
 
 
 def hill_problem(
-    orbit: PendulumOrbit | BreatherOrbit, digits: int | None = None
+    orbit: PendulumOrbit | BreatherOrbit, digits: int | Tier | None = None
 ) -> HillProblem:
     """The reduced transverse problem of a pendulum or breather orbit.
 
     Parameters
     ----------
     orbit : PendulumOrbit or BreatherOrbit
-    digits : int, optional
-        ``None``: float64 parameters (refused with ``ValueError`` when
-        ``|E - sep| < 1.8e-307``, below the float64 range). Otherwise mpmath
+    digits : int or Tier, optional
+        ``None`` (or the float64 tier): float64 parameters (refused with ``ValueError``
+        when ``|E - sep| < 1.8e-307``, below the float64 range). An integer: mpmath
         parameters correct to ``digits + 15`` digits, built from the decimal input of
         the energy at any depth (:meth:`~rotorlib.orbits.PendulumOrbit.closed_form`);
-        no float64 rounding of ``E`` enters.
+        no float64 rounding of ``E`` enters. An extended tier: as the digits it
+        delivers (:func:`~rotorlib.precision.requested_digits`).
 
     Examples
     --------
@@ -159,44 +168,33 @@ def hill_problem(
     >>> p.kind, p.repeats, round(p.m, 6)
     ('pendulum-lib', 2, 0.975)
     """
+    if isinstance(digits, Tier):
+        digits = requested_digits(digits)
     dps = None if digits is None else int(digits) + 15
     cf = orbit.closed_form(dps)
-    m, m1, K = cf["m"], cf["m1"], cf["K"]
-    ctx = contextlib.nullcontext()
-    if dps is not None:
-        import mpmath as mp
-
-        ctx = mp.workdps(dps)
+    m = cf["m"]
+    ctx = contextlib.nullcontext() if dps is None else mp.workdps(dps)
     if orbit.family == "pendulum":
-        phase = orbit.energy.phase
+        lib = orbit.energy.phase == "lib"
         with ctx:
             c3 = 2 * m / 3
-        du_dt = math.sqrt(3.0) if phase == "lib" else math.sqrt(3.0 / float(m))
+        du_dt = math.sqrt(3.0) if lib else math.sqrt(3.0 / float(m))
+        kind = "pendulum-" + orbit.energy.phase
         return HillProblem(
-            "pendulum-" + phase,
-            m,
-            m1,
-            K,
-            c3,
-            0.0,
-            2 if phase == "lib" else 1,
-            du_dt,
-            2.0,
+            kind, m, cf["m1"], cf["K"], c3, 0.0, 2 if lib else 1, 2.0 * du_dt
         )
-    # a breather here
-    fam = orbit.energy.family  # type: ignore[union-attr]
     with ctx:
         c3 = 3 / cf["nu"] ** 2
+    repeats = 1 if orbit.family == "breather-R" else 2
     return HillProblem(
-        "breather-" + fam,
+        orbit.family,
         m,
-        m1,
-        K,
+        cf["m1"],
+        cf["K"],
         c3,
         cf["shape"],
-        1 if fam == "R" else 2,
-        float(cf["nu"]),
-        1.0 / 6.0,
+        repeats,
+        1 / 6 * float(cf["nu"]),  # du/dt = nu
     )
 
 
@@ -209,12 +207,11 @@ def _coefficient(kind, sp, cp, m, c3, shape, sign):
         return 1.0 - c3 * cp * cp
     if kind == "pendulum-rot":
         return m - c3 * cp * cp
+    w2 = shape * cp * cp  # w^2 = A^2 sn^2 (LG) or v^2 = D^2 sn^2 (LD); sn = cos(psi)
     if kind == "breather-LG":
-        w2 = shape * cp * cp
         return c3 * (1.0 - w2) / (1.0 + w2)
     if kind == "breather-LD":
-        v2 = shape * cp * cp
-        return c3 * (v2 - 1.0) / (v2 + 1.0)
+        return c3 * (w2 - 1.0) / (w2 + 1.0)
     ct = sign * sp  # cos(theta)
     return c3 * ((1.0 + ct) - shape * (1.0 - ct)) / ((1.0 + ct) + shape * (1.0 - ct))
 
@@ -249,34 +246,25 @@ class HillSolution:
     delta_exact: object = None
 
 
+def _equations(kind, x, pars, lib):
+    """d/du of ``x = (psi, y1, z1, y2, z2)`` with the functions of ``lib`` (math, mpmath
+    or heyoka): the one statement of the reduced problem for every integrator."""
+    m, m1, c3, shape, sign = pars
+    sp, cp = lib.sin(x[0]), lib.cos(x[0])
+    q = _coefficient(kind, sp, cp, m, c3, shape, sign)
+    return [-lib.sqrt(m1 + m * sp * sp), x[2], -q * x[1], x[4], -q * x[3]]
+
+
 def _segment_scipy(prob, sign, rtol=None):
     from scipy.integrate import solve_ivp
 
-    m, m1, c3, shape, kind = (
-        float(prob.m),
-        float(prob.m1),
-        float(prob.c3),
-        float(prob.shape),
-        prob.kind,
-    )
-
-    def rhs(u, x):
-        sp, cp = math.sin(x[0]), math.cos(x[0])
-        q = _coefficient(kind, sp, cp, m, c3, shape, sign)
-        return [-math.sqrt(m1 + m * sp * sp), x[2], -q * x[1], x[4], -q * x[3]]
-
+    pars = [float(v) for v in (prob.m, prob.m1, prob.c3, prob.shape)] + [sign]
     # rtol=None is the verified default 1e-13; a looser rtol (work-precision
     # studies) scales the absolute tolerances by the same factor.
     scale = 1.0 if rtol is None else rtol / 1e-13
-    atol = [
-        scale * max(1e-300, 1e-17 * math.sqrt(m1)),
-        scale * 1e-16,
-        scale * 1e-16,
-        scale * 1e-16,
-        scale * 1e-16,
-    ]
+    atol = [scale * max(1e-300, 1e-17 * math.sqrt(pars[1]))] + [scale * 1e-16] * 4
     sol = solve_ivp(
-        rhs,
+        lambda u, x: _equations(prob.kind, x, pars, math),
         (0.0, float(prob.K)),
         [math.pi / 2, 1.0, 0.0, 0.0, 1.0],
         method="DOP853",
@@ -286,7 +274,7 @@ def _segment_scipy(prob, sign, rtol=None):
     if not sol.success:
         raise RuntimeError(f"transverse integration failed: {sol.message}")
     x = sol.y[:, -1]
-    return np.array([[x[1], x[3]], [x[2], x[4]]]), abs(x[0]), len(sol.t) - 1
+    return [[x[1], x[3]], [x[2], x[4]]], abs(x[0]), len(sol.t) - 1
 
 
 #: Per-thread cache of compiled integrators: an integrator holds mutable state (time, state,
@@ -294,47 +282,7 @@ def _segment_scipy(prob, sign, rtol=None):
 #: compiled code itself, so a new thread rebuilds its integrators in milliseconds.
 _THREAD_LOCAL = threading.local()
 
-
-def _heyoka_integrator(kind, precision, tol=None):
-    cache = _THREAD_LOCAL.__dict__.setdefault("integrators", {})
-    key = (kind, precision, tol)
-    if key not in cache:
-        cache[key] = _build_heyoka_integrator(kind, precision, tol)
-    return cache[key]
-
-
-def _build_heyoka_integrator(kind, precision, tol=None):
-    from .precision import load_heyoka
-
-    hy = load_heyoka()
-
-    from .precision import Tier
-
-    psi, y1, z1, y2, z2 = hy.make_vars("psi", "y1", "z1", "y2", "z2")
-    m, m1, c3, shape, sign = (hy.par[i] for i in range(5))
-    sp, cp = hy.sin(psi), hy.cos(psi)
-    q = _coefficient(kind, sp, cp, m, c3, shape, sign)
-    sys = [
-        (psi, -hy.sqrt(m1 + m * sp * sp)),
-        (y1, z1),
-        (z1, -q * y1),
-        (y2, z2),
-        (z2, -q * y2),
-    ]
-    t = Tier(precision)
-    # tol=None: heyoka's default, the machine epsilon of the precision (verified tiers).
-    kw = {} if tol is None else {"tol": t.to_hy(float(tol))}
-    return hy.taylor_adaptive(
-        sys,
-        t.hy_array([0] * 5),
-        pars=t.hy_array([0] * _NPARS[kind]),
-        compact_mode=t.extended,
-        **t.hy_kwargs,
-        **kw,
-    )
-
-
-#: heyoka parameters used by each kind: (m, m1[, c3, shape[, sign]]).
+#: heyoka parameters used by each kind: (m, m1, c3[, shape[, sign]]).
 _NPARS = {
     "pendulum-lib": 3,
     "pendulum-rot": 3,
@@ -344,50 +292,51 @@ _NPARS = {
 }
 
 
-def _segment_heyoka(prob, sign, precision, tol=None):
-    from .precision import Tier, load_heyoka
+def _heyoka_integrator(kind, t, tol=None):
+    """The heyoka integrator of ``kind`` in the tier ``t`` (``tol=None``: heyoka's
+    default, the machine epsilon of the tier), built once per thread."""
+    cache = _THREAD_LOCAL.__dict__.setdefault("integrators", {})
+    key = (kind, t.name, tol)
+    if key not in cache:
+        hy = load_heyoka()
+        x = hy.make_vars("psi", "y1", "z1", "y2", "z2")
+        rhs = _equations(kind, x, [hy.par[i] for i in range(5)], hy)
+        kw = {} if tol is None else {"tol": t.to_hy(float(tol))}
+        cache[key] = hy.taylor_adaptive(
+            list(zip(x, rhs)),
+            t.hy_array([0] * 5),
+            pars=t.hy_array([0] * _NPARS[kind]),
+            compact_mode=t.extended,
+            **t.hy_kwargs,
+            **kw,
+        )
+    return cache[key]
 
+
+def _segment_heyoka(prob, sign, t, tol=None):
     hy = load_heyoka()
-    import mpmath as mp
-
-    ta = _heyoka_integrator(prob.kind, precision, tol)
-    conv = Tier(precision).to_hy  # every digit of the mpmath parameters
-    with mp.workdps(120):
+    ta = _heyoka_integrator(prob.kind, t, tol)
+    with mp.workdps(120):  # every digit of the mpmath parameters
         pars = [prob.m, prob.m1, prob.c3, prob.shape, sign][: _NPARS[prob.kind]]
-        pars = [conv(v) for v in pars]
-        x0 = [conv(mp.pi / 2), conv(1), conv(0), conv(0), conv(1)]
-        K = conv(prob.K)
-    ta.time = conv(0)
-    ta.state[:] = np.array(x0, dtype=ta.state.dtype)
-    ta.pars[:] = np.array(pars, dtype=ta.pars.dtype)
+        ta.pars[:] = t.hy_array(pars)
+        ta.state[:] = t.hy_array([mp.pi / 2, 1, 0, 0, 1])
+        K = t.to_hy(prob.K)
+    ta.time = t.to_hy(0)
     res = ta.propagate_until(K)
     if res[0] != hy.taylor_outcome.time_limit:
         raise RuntimeError(f"transverse integration stopped early: {res[0]}")
     x = ta.state.copy()
-    return (
-        np.array(
-            [[x[1], x[3]], [x[2], x[4]]],
-            dtype=object if precision != "float64" else float,
-        ),
-        abs(float(x[0])),
-        int(res[3]),
-    )
+    return [[x[1], x[3]], [x[2], x[4]]], abs(float(x[0])), int(res[3])
 
 
 def _segment_mpmath(prob, sign, dps):
-    import mpmath as mp
-
     with mp.workdps(dps):
-        m, m1, c3, shape = (mp.mpf(v) for v in (prob.m, prob.m1, prob.c3, prob.shape))
-
-        def F(u, x):
-            sp, cp = mp.sin(x[0]), mp.cos(x[0])
-            q = _coefficient(prob.kind, sp, cp, m, c3, shape, sign)
-            return [-mp.sqrt(m1 + m * sp * sp), x[2], -q * x[1], x[4], -q * x[3]]
-
-        f = mp.odefun(F, 0, [mp.pi / 2, 1, 0, 0, 1])
+        pars = [mp.mpf(v) for v in (prob.m, prob.m1, prob.c3, prob.shape)] + [sign]
+        f = mp.odefun(
+            lambda u, x: _equations(prob.kind, x, pars, mp), 0, [mp.pi / 2, 1, 0, 0, 1]
+        )
         x = f(mp.mpf(prob.K))
-        return mp.matrix([[x[1], x[3]], [x[2], x[4]]]), abs(float(x[0])), 0
+        return [[x[1], x[3]], [x[2], x[4]]], abs(float(x[0])), 0
 
 
 def _half_map(P1, P2):
@@ -422,14 +371,9 @@ def _coefficient_map(Ph):
 
 def _compose_mp(P1, P2, dps):
     """Coefficient map and Delta in mpmath at ``dps`` digits from entries of any type (via ``str``)."""
-    import mpmath as mp
 
     def conv(P):
-        return (
-            None
-            if P is None
-            else [[mp.mpf(str(P[i][j])) for j in range(2)] for i in range(2)]
-        )
+        return None if P is None else [[mp.mpf(str(v)) for v in row] for row in P]
 
     with mp.workdps(dps):
         C = _coefficient_map(_half_map(conv(P1), conv(P2)))
@@ -437,80 +381,90 @@ def _compose_mp(P1, P2, dps):
 
 
 def solve_hill(
-    prob: HillProblem, backend: str, precision: str, tol: float | None = None
+    prob: HillProblem, digits: int | Tier | None = None, tol: float | None = None
 ) -> HillSolution:
     """Integrate the reduced transverse problem and return the coefficient-period map.
 
-    ``tol`` (optional) loosens or tightens the integrator: scipy's ``rtol``
-    (default 1e-13, absolute tolerances scaled alike) or heyoka's ``tol``
-    (default: the machine epsilon of ``precision``). The defaults are the
-    verified tiers; other values serve work-precision studies
-    (``benchmarks/bench_precision.py``). Ignored by the mpmath backend.
+    Parameters
+    ----------
+    prob : HillProblem
+        From :func:`hill_problem` (with the same ``digits``, or more).
+    digits : int or Tier, optional
+        The integrator and tier of :func:`precision_tier`: heyoka in the tier of
+        ``digits``; without heyoka scipy (float64) or mpmath's Taylor integrator.
+    tol : float, optional
+        Loosens or tightens the integrator: scipy's ``rtol`` (default 1e-13, absolute
+        tolerances scaled alike) or heyoka's ``tol`` (default: the machine epsilon of
+        the tier). The defaults are the verified tiers; other values serve
+        work-precision studies (``benchmarks/bench_precision.py``). Ignored by mpmath.
 
-    The segment maps are composed with exact adjugates (``_half_map``,
-    ``_coefficient_map``) in the working precision. When the float64
-    ``Delta`` overflows (breathers at ``|E - 4.5| < ~e^-350``: ``Delta ~ |E - 4.5|^-2``)
-    the float64 entries are composed again in mpmath, so ``delta_exact`` and
-    ``delta_str`` still carry the value (``delta`` and ``coefficient_map`` are
-    then ``inf``).
+    Returns
+    -------
+    HillSolution
+        The segment maps are composed with exact adjugates (``_half_map``,
+        ``_coefficient_map``) in the working precision. When the float64 ``Delta``
+        overflows (breathers at ``|E - 4.5| < ~e^-350``: ``Delta ~ |E - 4.5|^-2``) the
+        float64 entries are composed again in mpmath, so ``delta_exact`` and
+        ``delta_str`` still carry the value (``delta`` and ``coefficient_map`` are then
+        ``inf``).
+
+    Examples
+    --------
+    >>> import rotorlib
+    >>> sol = solve_hill(hill_problem(rotorlib.pendulum(E=3.9)))
+    >>> round(sol.delta, 10), sol.precision, sol.psi_end < 1e-13
+    (-0.1396851546, 'float64', True)
     """
-    if precision == "real128":
-        _check_real128_range(prob)
-    import mpmath as mp
-
-    two = prob.kind == "breather-R"
-    if backend == "scipy":
-
-        def seg(sign):
-            return _segment_scipy(prob, sign, tol)
-    elif backend == "heyoka":
-
-        def seg(sign):
-            return _segment_heyoka(prob, sign, precision, tol)
-    else:
-        dps = int(precision[6:])
-
-        def seg(sign):
-            P, r, n = _segment_mpmath(prob, sign, dps)
-            return [[P[0, 0], P[0, 1]], [P[1, 0], P[1, 1]]], r, n
-
-    P1, r1, n1 = seg(1.0)
-    P2, r2, n2 = seg(-1.0) if two else (None, 0.0, 0)
-    if precision == "float64":
-
-        def fl(P):
-            if P is None:
-                return None
-            return [[float(P[i][j]) for j in range(2)] for i in range(2)]
-
-        C = _coefficient_map(_half_map(fl(P1), fl(P2)))
-        dexact = 2.0 * C[0][0]
-        dstr = repr(dexact)
-        if not math.isfinite(dexact):
-            C, dexact = _compose_mp(fl(P1), fl(P2), 20)
-            dstr = mp.nstr(dexact, 16)
-    else:
-        if precision == "real128":
-            dps = 36
-        elif precision.startswith("mp") and not precision.startswith("mpmath"):
-            dps = int(int(precision[2:]) / 3.33) + 2
-        C, dexact = _compose_mp(P1, P2, dps + 5)
-        dstr = mp.nstr(dexact, dps - 2 if backend == "heyoka" else dps - 5)
-    Cf = np.array([[float(C[i][j]) for j in range(2)] for i in range(2)])
-    return HillSolution(
-        Cf, float(dexact), dstr, max(r1, r2), backend, precision, n1 + n2, dexact
-    )
+    integrator, t = _integrator(digits)
+    return _solve_hill(prob, integrator, t, tol)
 
 
-#: Smallest m1 the real128 tier accepts (real128 normals reach 3.4e-4932; psi decays to ~sqrt(m1)).
-REAL128_MIN_M1 = "1e-4800"
-
-
-def _check_real128_range(prob):
-    import mpmath as mp
-
-    if mp.mpf(prob.m1) < mp.mpf(REAL128_MIN_M1):
+def _solve_hill(
+    prob: HillProblem, integrator: str, t: Tier, tol: float | None = None
+) -> HillSolution:
+    """:func:`solve_hill` with the integrator forced (``heyoka``, ``scipy`` or ``mpmath``;
+    the latter in a tier of :func:`_mpmath_tier`): the test and benchmark hook."""
+    if t.name == "real128" and mp.mpf(prob.m1) < mp.mpf(REAL128_MIN_M1):
         raise ValueError(
             f"m1 = {mp.nstr(mp.mpf(prob.m1), 3)} is below the real128 range (m1 >= {REAL128_MIN_M1}, "
             "|E - sep| > ~1e-4800, log > -11050): use digits > 31 (multiprecision)"
         )
+    if integrator == "scipy":
+        if t.extended:
+            raise ValueError(f"scipy integrates in float64 only; {t.name} needs heyoka")
+        segment = functools.partial(_segment_scipy, prob, rtol=tol)
+    elif integrator == "heyoka":
+        dps = 36 if t.name == "real128" else int(t.bits / 3.33) + 2
+        segment = functools.partial(_segment_heyoka, prob, t=t, tol=tol)
+    elif integrator == "mpmath":
+        dps = mp.libmp.prec_to_dps(t.bits)
+        segment = functools.partial(_segment_mpmath, prob, dps=dps)
+    else:
+        raise ValueError(
+            f"integrator must be heyoka, scipy or mpmath, got {integrator!r}"
+        )
+    P1, r1, n1 = segment(1.0)
+    P2, r2, n2 = segment(-1.0) if prob.kind == "breather-R" else (None, 0.0, 0)
+    if t.extended:
+        C, dexact = _compose_mp(P1, P2, dps + 5)
+        dstr = mp.nstr(dexact, dps - 2 if integrator == "heyoka" else dps - 5)
+    else:
+        C = _coefficient_map(_half_map(_to_float(P1), _to_float(P2)))
+        dexact = 2.0 * C[0][0]
+        dstr = repr(dexact)
+        if not math.isfinite(dexact):
+            C, dexact = _compose_mp(_to_float(P1), _to_float(P2), 20)
+            dstr = mp.nstr(dexact, 16)
+    Cf = np.array(_to_float(C))
+    return HillSolution(
+        Cf, float(dexact), dstr, max(r1, r2), integrator, t.name, n1 + n2, dexact
+    )
+
+
+def _to_float(P):
+    """A 2x2 nested list (or ``None``) of any number type as floats."""
+    return None if P is None else [[float(v) for v in row] for row in P]
+
+
+#: Smallest m1 the real128 tier accepts (real128 normals reach 3.4e-4932; psi decays to ~sqrt(m1)).
+REAL128_MIN_M1 = "1e-4800"

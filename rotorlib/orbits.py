@@ -26,8 +26,8 @@ All periods are ``4 K(m)/nu``. Base points: G for LG and R, D for LD.
 Precision: states are float64 closed forms; with :mod:`rotorlib.elliptic`
 they keep ~1e-15 relative accuracy for any distance to the separatrix down to
 ``|E - sep| = 1.8e-307`` (the energy residual is checked in
-``tests/test_orbits.py``). ``closed_form(dps)`` gives the parameters, K, the
-period and its derivative in mpmath at ``dps`` digits from the decimal input,
+``tests/test_orbits.py``). ``closed_form(digits)`` gives the parameters, K, the
+period and its derivative in mpmath at ``digits`` digits from the decimal input,
 at any depth; the float64 ``K``, ``period`` and ``dperiod_dE`` use it beyond
 the float64 range of ``eps``.
 """
@@ -36,13 +36,16 @@ from __future__ import annotations
 
 import contextlib
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
+import mpmath as mp
 import numpy as np
 
 from .elliptic import dK_dm, ellipk_m1, jacobi_am, jacobi_sncndn, mp_dK_dm, mp_ellipk_m1
 from .energy import BreatherEnergy, PendulumEnergy, breather_energy, pendulum_energy
+from .precision import Tier
 
 __all__ = [
     "PendulumOrbit",
@@ -57,22 +60,75 @@ SQRT3 = math.sqrt(3.0)
 _DEEP_DPS = 30
 
 
-def _arith(dps):
-    """``(sqrt, K(m1), dK/dm(m, m1), context)`` for float64 (``dps=None``) or mpmath at ``dps`` digits.
-
-    The closed forms below are written once with these and exact binary
-    constants, so the float64 and the extended-precision parameters come from
-    the same formulas.
-    """
-    if dps is None:
-        return math.sqrt, ellipk_m1, dK_dm, contextlib.nullcontext()
-    import mpmath as mp
-
-    return mp.sqrt, mp_ellipk_m1, mp_dK_dm, mp.workdps(dps)
+def _working_dps(digits: int | Tier | None) -> int | None:
+    """mpmath working digits of the closed forms: ``digits`` itself, a Tier's ``dps``,
+    ``None`` for float64."""
+    if isinstance(digits, Tier):
+        return digits.dps if digits.extended else None
+    return None if digits is None else int(digits)
 
 
 class _ClosedForm:
-    """Shared float64 views: K, period and d(period)/dE at any depth."""
+    """The closed form written once, for float64 and mpmath, and its float64 views."""
+
+    energy: PendulumEnergy | BreatherEnergy
+    # each orbit's formulas (float64 or mpmath: ``sqrt`` is math's or mpmath's)
+    _parameters: Callable[[int | None, Any], dict]
+    _period: Callable[[dict, Any], Any]
+    _dperiod_dE: Callable[[dict, Any, Any], Any]
+
+    def closed_form(
+        self, digits: int | Tier | None = None, derivative: bool = False
+    ) -> dict:
+        """E, eps, the parameters (m, m1, ...), K, period (and with ``derivative``
+        d(period)/dE) of the closed form.
+
+        Parameters
+        ----------
+        digits : int or Tier, optional
+            ``None``: float64 (~1e-16 relative at any ``|E - sep| >= 1.8e-307``,
+            refused below with ``ValueError``). An integer: mpmath numbers correct to
+            ``digits`` digits (the working precision), built from the decimal input at
+            any depth; a :class:`~rotorlib.precision.Tier`: its working digits.
+        derivative : bool
+            Also return ``dperiod_dE``.
+
+        Notes
+        -----
+        Pendulum: period ``4K/sqrt3`` (libration, ``m = E/4``) or ``2 kappa K/sqrt3``
+        (rotation, ``m = kappa^2 = 4/E``); ``dK/dm`` by chain rule. Breather:
+        ``tau = 4K(m)/nu``, ``dtau/dE = 4 (K'(m) m'(E) nu - K nu'(E)) / nu^2`` with
+        ``m(E)``, ``nu(E)`` from the module docstring (it diverges at 4.5 like the
+        period's log). ``K`` and ``dK/dm`` come from :mod:`rotorlib.elliptic` in
+        float64, from ``mp_ellipk_m1``/``mp_dK_dm`` in mpmath: the float64 and the
+        extended-precision values follow the same formulas.
+
+        Examples
+        --------
+        >>> import mpmath
+        >>> from rotorlib import pendulum
+        >>> cf = pendulum(E=3.9).closed_form(30, derivative=True)
+        >>> mpmath.nstr(cf["period"], 25), round(float(cf["dperiod_dE"]), 6)
+        ('7.493684782180075798697786', 11.289633)
+        """
+        dps = _working_dps(digits)
+        if dps is None:
+            self.energy.require_float64()
+            sqrt, ellipk, dkdm, ctx = (
+                math.sqrt,
+                ellipk_m1,
+                dK_dm,
+                contextlib.nullcontext(),
+            )
+        else:
+            sqrt, ellipk, dkdm, ctx = mp.sqrt, mp_ellipk_m1, mp_dK_dm, mp.workdps(dps)
+        with ctx:
+            p = self._parameters(dps, sqrt)
+            p["K"] = ellipk(p["m1"])
+            p["period"] = self._period(p, sqrt)
+            if derivative:
+                p["dperiod_dE"] = self._dperiod_dE(p, dkdm(p["m"], p["m1"]), sqrt)
+        return p
 
     def _view(self, key, derivative=False):
         # inside the float64 range: the float64 closed form; beyond it (eps underflows)
@@ -80,6 +136,11 @@ class _ClosedForm:
         if self.energy.in_float64_range:
             return self.closed_form(derivative=derivative)[key]
         return float(self.closed_form(_DEEP_DPS, derivative=derivative)[key])
+
+    @property
+    def E(self) -> float:
+        """The energy in float64 (see ``energy`` for its distance to the separatrix)."""
+        return self.energy.E
 
     @property
     def K(self) -> float:
@@ -112,56 +173,22 @@ class PendulumOrbit(_ClosedForm):
     def family(self) -> str:
         return "pendulum"
 
-    @property
-    def E(self) -> float:
-        return self.energy.E
-
-    def closed_form(self, dps: int | None = None, derivative: bool = False) -> dict:
-        """E, eps, m, m1, K, period (and with ``derivative`` d(period)/dE) of the closed form.
-
-        Parameters
-        ----------
-        dps : int, optional
-            ``None``: float64 (~1e-16 relative at any ``|E - 4| >= 1.8e-307``,
-            refused below with ``ValueError``). Otherwise mpmath numbers correct
-            to ``dps`` digits, built from the decimal input at any depth.
-        derivative : bool
-            Also return ``dperiod_dE``.
-
-        Notes
-        -----
-        Period ``4K/sqrt3`` (libration, ``m = E/4``) or ``2 kappa K/sqrt3``
-        (rotation, ``m = kappa^2 = 4/E``); ``dK/dm`` by chain rule.
-        """
+    def _parameters(self, dps, sqrt):
         en = self.energy
-        sqrt, ellipk, dkdm, ctx = _arith(dps)
         if dps is None:
-            en.require_float64()
-            E, eps, m, m1 = en.E, en.eps, en.m, en.m1
-        else:
-            v = en.mp_values(dps)
-            E, eps, m, m1 = v["E"], v["eps"], v["m"], v["m1"]
-        with ctx:
-            K = ellipk(m1)
-            kappa = sqrt(m)
-            out = dict(
-                E=E,
-                eps=eps,
-                m=m,
-                m1=m1,
-                K=K,
-                period=4 * K / sqrt(3)
-                if en.phase == "lib"
-                else 2 * kappa * K / sqrt(3),
-            )
-            if derivative:
-                dk = dkdm(m, m1)
-                out["dperiod_dE"] = (
-                    dk / sqrt(3)
-                    if en.phase == "lib"  # m = E/4
-                    else 2 / sqrt(3) * (dk * kappa + K / (2 * kappa)) * (-m / E)
-                )  # m = 4/E
-            return out
+            return dict(E=en.E, eps=en.eps, m=en.m, m1=en.m1)
+        return en.mp_values(dps)
+
+    def _period(self, p, sqrt):
+        if self.energy.phase == "lib":
+            return 4 * p["K"] / sqrt(3)
+        return 2 * sqrt(p["m"]) * p["K"] / sqrt(3)  # 2 kappa K / sqrt3
+
+    def _dperiod_dE(self, p, dk, sqrt):
+        if self.energy.phase == "lib":  # m = E/4
+            return dk / sqrt(3)
+        kappa = sqrt(p["m"])  # m = 4/E
+        return 2 / sqrt(3) * (dk * kappa + p["K"] / (2 * kappa)) * (-p["m"] / p["E"])
 
     @property
     def state0(self) -> np.ndarray:
@@ -176,19 +203,18 @@ class PendulumOrbit(_ClosedForm):
         t = np.asarray(t, dtype=float)
         en = self.energy
         en.require_float64()
+        k = math.sqrt(en.m)  # k (libration) or kappa (rotation)
         if en.phase == "lib":
-            k = math.sqrt(en.m)
             s, c, d = jacobi_sncndn(SQRT3 * t, en.m, en.m1)
             a2 = 2.0 * np.arctan2(
                 k * s, d
             )  # cos(a2/2) = dn: exact at the turning point
             p2 = 4.0 / SQRT3 * k * c
         else:
-            kappa = math.sqrt(en.m)
-            u = SQRT3 * t / kappa
+            u = SQRT3 * t / k
             _, _, d = jacobi_sncndn(u, en.m, en.m1)
             a2 = 2.0 * jacobi_am(u, en.m, en.m1)
-            p2 = 4.0 / (SQRT3 * kappa) * d
+            p2 = 4.0 / (SQRT3 * k) * d
         z = np.zeros_like(a2)
         return np.stack([z, a2, z, p2], axis=-1)
 
@@ -225,7 +251,7 @@ def pendulum(
 
 
 def _breather_params(family, E, eps, sqrt) -> dict:
-    """m, m1, nu, shape and A (LG), D (LD) or lam (R) from ``E`` and ``eps = |E - 4.5|``.
+    """m, m1, nu and shape (A^2 for LG, D^2 for LD, lam^2 for R) from ``E`` and ``eps = |E - 4.5|``.
 
     Written without cancellation (module docstring identities
     ``1 - S = 2(E - 4)/(1 + S)``, ``3 - S = 2E/(3 + S)``, ``Q^2 - (6 - E)^2 = 8 eps``),
@@ -235,21 +261,20 @@ def _breather_params(family, E, eps, sqrt) -> dict:
     if family in ("LG", "LD"):
         S = sqrt(2 * eps)
         den = (1 + S) * (3 + S)
-        p = dict(m=4 * E * (E - 4) / (den * den), m1=8 * S / den, nu=sqrt(den / 2) / 2)
-        if family == "LG":
-            p["shape"] = 2 * E / den  # A^2 = (3 - S)/(1 + S)
-            p["A"] = sqrt(p["shape"])
-        else:
-            p["shape"] = 2 * (E - 4) / den  # D^2 = (1 - S)/(3 + S)
-            p["D"] = sqrt(p["shape"])
-        return p
+        # A^2 = (3 - S)/(1 + S) = 2E/den (LG), D^2 = (1 - S)/(3 + S) = 2(E - 4)/den (LD)
+        shape = 2 * (E if family == "LG" else E - 4) / den
+        return dict(
+            m=4 * E * (E - 4) / (den * den),
+            m1=8 * S / den,
+            nu=sqrt(den / 2) / 2,
+            shape=shape,
+        )
     Q = sqrt(E * (E - 4))
     if E < 6:
         m, m1 = (Q - E + 6) / (2 * Q), 4 * eps / (Q * (Q + 6 - E))
     else:
         m, m1 = 4 * eps / (Q * (Q + E - 6)), (Q + E - 6) / (2 * Q)
-    shape = sqrt(E / (E - 4))  # lam^2
-    return dict(m=m, m1=m1, nu=sqrt(Q), shape=shape, lam=sqrt(shape))
+    return dict(m=m, m1=m1, nu=sqrt(Q), shape=sqrt(E / (E - 4)))  # shape = lam^2
 
 
 @dataclass(frozen=True)
@@ -264,68 +289,40 @@ class BreatherOrbit(_ClosedForm):
     energy: BreatherEnergy
 
     @property
-    def E(self) -> float:
-        return self.energy.E
-
-    @property
     def family(self) -> str:
         return "breather-" + self.energy.family
 
     @property
     def params(self) -> dict:
-        """Closed-form parameters in float64: m, m1, nu, shape and A (LG), D (LD) or lam (R)."""
+        """Closed-form parameters in float64: m, m1, nu and shape (A^2, D^2 or lam^2)."""
         en = self.energy
         en.require_float64()
         return _breather_params(en.family, en.E, en.eps, math.sqrt)
 
-    def closed_form(self, dps: int | None = None, derivative: bool = False) -> dict:
-        """:attr:`params` plus E, eps, K, period (and with ``derivative`` d(period)/dE), float64 or mpmath.
-
-        Parameters
-        ----------
-        dps : int, optional
-            ``None``: float64 (~1e-16 relative for ``|E - 4.5| >= 1.8e-307``,
-            refused below). Otherwise mpmath numbers correct to ``dps`` digits
-            from the decimal input, at any depth.
-        derivative : bool
-            Also return ``dperiod_dE``.
-
-        Notes
-        -----
-        ``tau = 4K(m)/nu``; ``dtau/dE = 4 (K'(m) m'(E) nu - K nu'(E)) / nu^2``
-        with ``m(E)``, ``nu(E)`` from the module docstring (it diverges at 4.5
-        like the period's log).
-        """
+    def _parameters(self, dps, sqrt):
         en = self.energy
-        sqrt, ellipk, dkdm, ctx = _arith(dps)
-        if dps is None:
-            en.require_float64()
-            E, eps = en.E, en.eps
+        E, eps = (en.E, en.eps) if dps is None else en.mp_E_eps(dps + 5)
+        return dict(_breather_params(en.family, E, eps, sqrt), E=E, eps=eps)
+
+    def _period(self, p, sqrt):
+        return 4 * p["K"] / p["nu"]
+
+    def _dperiod_dE(self, p, dk, sqrt):
+        m, nu, E, eps = p["m"], p["nu"], p["E"], p["eps"]
+        if self.energy.family in ("LG", "LD"):
+            S = sqrt(2 * eps)
+            D = (1 + S) * (3 + S)
+            dS = -1 / S  # S = sqrt(9 - 2E)
+            dD = 2 * S + 4
+            dN = 2 * S - 4  # N = (1 - S)(3 - S) = m D
+            dm = (dN * D - m * D * dD) / (D * D) * dS
+            dnu = dD / (8 * sqrt(D / 2)) * dS  # nu = sqrt(D/2)/2
         else:
-            v = en.mp_values(dps + 5)
-            E, eps = v["E"], v["eps"]
-        with ctx:
-            p = _breather_params(en.family, E, eps, sqrt)
-            m, nu = p["m"], p["nu"]
-            K = ellipk(p["m1"])
-            p.update(E=E, eps=eps, K=K, period=4 * K / nu)
-            if not derivative:
-                return p
-            if en.family in ("LG", "LD"):
-                S = sqrt(2 * eps)
-                D = (1 + S) * (3 + S)
-                dS = -1 / S  # S = sqrt(9 - 2E)
-                dD = 2 * S + 4
-                dN = 2 * S - 4  # N = (1 - S)(3 - S) = m D
-                dm = (dN * D - m * D * dD) / (D * D) * dS
-                dnu = dD / (8 * sqrt(D / 2)) * dS  # nu = sqrt(D/2)/2
-            else:
-                Q = sqrt(E * (E - 4))
-                dQ = (E - 2) / Q
-                dm = (-Q - (6 - E) * dQ) / (2 * Q * Q)  # m = 1/2 + (6 - E)/(2Q)
-                dnu = dQ / (2 * sqrt(Q))  # nu = sqrt(Q)
-            p["dperiod_dE"] = 4 * (dkdm(m, p["m1"]) * dm * nu - K * dnu) / (nu * nu)
-            return p
+            Q = sqrt(E * (E - 4))
+            dQ = (E - 2) / Q
+            dm = (-Q - (6 - E) * dQ) / (2 * Q * Q)  # m = 1/2 + (6 - E)/(2Q)
+            dnu = dQ / (2 * sqrt(Q))  # nu = sqrt(Q)
+        return 4 * (dk * dm * nu - p["K"] * dnu) / (nu * nu)
 
     def phi(self, t: Any) -> tuple[np.ndarray, np.ndarray]:
         """phi(t) and phi'(t) of the breather."""
@@ -333,16 +330,13 @@ class BreatherOrbit(_ClosedForm):
         p = self.params
         u = p["nu"] * t
         fam = self.energy.family
-        s, c, d = jacobi_sncndn(u, p["m"], p["m1"])
-        if fam == "LG":
-            w = p["A"] * s
-            return 2.0 * np.arctan(w), 2.0 * p["A"] * p["nu"] * c * d / (1.0 + w * w)
-        if fam == "LD":
-            v = p["D"] * s
-            return np.pi - 2.0 * np.arctan(v), -2.0 * p["D"] * p["nu"] * c * d / (
-                1.0 + v * v
-            )
-        lam, K = p["lam"], self.K
+        if fam != "R":  # w = tan(phi/2) = A sn (LG); cot(phi/2) = D sn (LD)
+            a = np.sqrt(p["shape"])  # A or D
+            s, c, d = jacobi_sncndn(u, p["m"], p["m1"])
+            w = a * s
+            f, df = 2.0 * np.arctan(w), 2.0 * a * p["nu"] * c * d / (1.0 + w * w)
+            return (f, df) if fam == "LG" else (np.pi - f, -df)
+        lam, K = np.sqrt(p["shape"]), self.K
         j = np.round(u / (4.0 * K))
         r = u - 4.0 * K * j  # theta = am(r) in [-pi, pi]
         far = np.abs(r) > K

@@ -13,6 +13,7 @@ tier is read as its shortest decimal representation (``4.55`` means 455/100).
 
 from __future__ import annotations
 
+import contextlib
 import math
 import os
 from collections.abc import Iterable
@@ -25,7 +26,7 @@ import mpmath as mp
 import numpy as np
 
 __all__ = ["Tier", "tier", "FLOAT64", "REAL128", "load_heyoka", "HEYOKA_CACHE_MB"]
-__all__ += ["DIGITS_RANGE", "check_digits", "json_number"]
+__all__ += ["DIGITS_RANGE", "check_digits", "json_number", "requested_digits"]
 
 #: The significant digits every function (``digits=``) and command (``--digits``) accepts.
 DIGITS_RANGE = (1, 1000)
@@ -92,10 +93,8 @@ def json_number(key: str, value: Any, text: str | None = None, note: str = "") -
     """
     v = None if value is None else float(value)
     if text:  # the number is the float64 rounding of every digit, when they are given
-        try:
+        with contextlib.suppress(InvalidOperation):  # "4 + 5.07e-435": the value stays
             v = float(Decimal(str(text)))
-        except InvalidOperation:  # e.g. "4 + 5.07e-435": the value stays
-            pass
     out: dict = {key: v if v is not None and math.isfinite(v) else None}
     if text is not None and text != "" and not _same_decimal(str(text), v):
         out[key + "_str"] = str(text)
@@ -132,16 +131,12 @@ def load_heyoka() -> Any:
     """
     import heyoka as hy
 
-    raw = os.environ.get("ROTORLIB_HEYOKA_CACHE_MB")
-    try:
-        mb = HEYOKA_CACHE_MB if raw is None else int(raw)
-    except ValueError:
-        mb = -1
-    if mb < 0:
+    raw = os.environ.get("ROTORLIB_HEYOKA_CACHE_MB", str(HEYOKA_CACHE_MB))
+    if not raw.strip().isdecimal():
         raise ValueError(
             f"ROTORLIB_HEYOKA_CACHE_MB must be a non-negative integer (MiB), got {raw!r}"
         )
-    hy.llvm_state.set_diskcache_limit(mb * 2**20)
+    hy.llvm_state.set_diskcache_limit(int(raw) * 2**20)
     return hy
 
 
@@ -166,11 +161,10 @@ class Tier:
         extended (a number of the tier)."""
         return 4e-15 if not self.extended else self.num(self.eps) * 8
 
-    def __post_init__(self):
-        ok = self.name in ("float64", "real128") or (
+    def __post_init__(self) -> None:
+        if self.name not in ("float64", "real128") and not (
             self.name.startswith("mp") and self.name[2:].isdigit()
-        )
-        if not ok:
+        ):
             raise ValueError(
                 f"precision must be float64, real128 or mp<bits>, got {self.name!r}"
             )
@@ -305,3 +299,20 @@ def tier(digits: int | Tier | None = None, extra: float = 0) -> Tier:
     if d <= 31:
         return REAL128
     return Tier(f"mp{int(math.ceil((d + 8) * 3.33))}")
+
+
+def requested_digits(digits: int | Tier | None) -> int | None:
+    """The significant digits an extended tier delivers for ``digits``; ``None`` for float64.
+
+    An integer above 15 is itself; a :class:`Tier` beyond float64 delivers ``dps - 9``
+    digits; ``None``, an integer up to 15 and :data:`FLOAT64` give ``None``.
+
+    Examples
+    --------
+    >>> requested_digits(30), requested_digits(10), requested_digits(REAL128)
+    (30, None, 31)
+    """
+    t = tier(digits)
+    if not t.extended:
+        return None
+    return t.dps - 9 if isinstance(digits, Tier) else int(digits)  # type: ignore[arg-type]

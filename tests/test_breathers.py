@@ -90,7 +90,7 @@ def test_daughter_closes_under_scipy(E):
     assert abs(3 * o.state0[0] - o.state0[1]) > 0.5
     assert 1.9 < o.period / rotorlib.breather(E, "R").period < 2.4
     # independent monodromy (scipy DOP853 variational equations) agrees on the trace
-    v = rotorlib.variational_monodromy(o.state0, o.period, method="scipy")
+    v = rotorlib.variational_monodromy(o.state0, o.period)
     assert abs(v.trace - o.trace) < 1e-6 * max(1.0, abs(o.trace))
     stable = 0.0 < o.trace < 4.0
     assert stable == (E > 8.2755)

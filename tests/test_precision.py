@@ -14,8 +14,8 @@ import pytest
 
 import rotorlib as rl
 from rotorlib.floquet import _monodromy
-from rotorlib.hill import hill_problem, precision_tier, solve_hill
-from rotorlib.precision import Tier, tier
+from rotorlib.hill import _solve_hill, hill_problem, precision_tier, solve_hill
+from rotorlib.precision import FLOAT64, Tier, tier
 
 HEYOKA = rl.heyoka_available()
 needs_heyoka = pytest.mark.skipif(not HEYOKA, reason="heyoka not installed")
@@ -63,13 +63,13 @@ def test_precision_tier_map(digits, expected):
         assert be == "heyoka"
     else:
         assert be == ("scipy" if expected == "float64" else "mpmath")
+        assert prec == tier(digits).name or be == "mpmath"
 
 
 def test_precision_tier_bits_cover_digits():
     for d in (32, 40, 60, 100):
         _, prec = precision_tier(d)
-        if prec.startswith("mp") and not prec.startswith("mpmath"):
-            assert int(prec[2:]) * math.log10(2) >= d + 5
+        assert int(prec[2:]) * math.log10(2) >= d + 5
 
 
 @pytest.mark.parametrize("digits", [0, 1001, 2.5, "30"])
@@ -79,9 +79,11 @@ def test_precision_tier_refuses(digits):
 
 
 def test_integrator_choice_is_private_and_labelled():
-    """Forcing an integrator is a private test hook; mpmath labels its working digits."""
+    """Forcing an integrator is a private test hook; mpmath's working precision is
+    labelled as the tier mp<bits> of its arithmetic (20 digits: 70 bits)."""
     o = rl.pendulum(E=1.0)
-    assert _monodromy(o, None, "mpmath").precision == "mpmath20"
+    M = _monodromy(o, None, "mpmath")
+    assert M.precision == "mp70" and Tier(M.precision).bits == 70
     with pytest.raises(ValueError, match="scipy integrates in float64 only"):
         _monodromy(o, 20, "scipy")
 
@@ -115,8 +117,12 @@ def test_variational_reports_precision():
 
 
 def test_hill_solution_reports_precision():
-    sol = solve_hill(hill_problem(rl.pendulum(E=3.0)), "scipy", "float64")
+    sol = _solve_hill(hill_problem(rl.pendulum(E=3.0)), "scipy", FLOAT64)
     assert (sol.backend, sol.precision) == ("scipy", "float64") and sol.steps > 0
+    sol = solve_hill(hill_problem(rl.pendulum(E=3.0)))
+    assert (sol.backend, sol.precision) == ("heyoka" if HEYOKA else "scipy", "float64")
+    with pytest.raises(TypeError):  # one precision argument: digits
+        solve_hill(hill_problem(rl.pendulum(E=3.0)), backend="scipy")
 
 
 def _cli(*args):
@@ -171,7 +177,7 @@ def test_mpmath_tier_agrees_with_heyoka_mp():
     """mpmath's Taylor integrator (independent of heyoka) against heyoka multiprecision."""
     o = rl.pendulum(log_abs_dE=-10.0, phase="rot")
     a = _monodromy(o, 16, "mpmath")
-    assert a.precision == "mpmath21" and a.backend == "mpmath"
+    assert a.precision == "mp73" and a.backend == "mpmath"  # 21 digits
     b = rl.monodromy(o, digits=40)
     assert agreeing_digits(a.trace_str, b.trace_str) >= 15
 
@@ -215,8 +221,8 @@ def test_looser_tol_is_less_accurate_and_cheaper(backend):
     o = rl.pendulum(log_abs_dE=-21.5, phase="rot")
     prob = hill_problem(o)
     ref = rl.monodromy(o, digits=30).trace if HEYOKA else rl.monodromy(o).trace
-    loose = solve_hill(prob, backend, "float64", tol=1e-6)
-    tight = solve_hill(prob, backend, "float64")
+    loose = _solve_hill(prob, backend, FLOAT64, tol=1e-6)
+    tight = _solve_hill(prob, backend, FLOAT64)
     err = lambda s: abs(2.0 + s.delta - ref)  # noqa: E731  (rotation: tr M = 2 + Delta)
     assert err(tight) < 1e-12 < err(loose) < 1e-4
     if backend == "scipy":
