@@ -19,12 +19,12 @@ result has ``label``, ``E``, ``period``, ``trace``, ``multipliers``, ``stability
 from __future__ import annotations
 
 import math
-import re
 from typing import Any
 
 import mpmath as mp
 import numpy as np
 
+from .bifurcations import is_breather_label, parse_label
 from .periodic import PeriodicOrbit
 from .precision import Tier, check_digits
 
@@ -38,9 +38,24 @@ LABELS = {
     "choreography": ("CG", "CT", "CZ1", "CZ2", "CR1"),
 }
 
-_BREATHER_DAUGHTER = re.compile(r"^PD\^?b$", re.IGNORECASE)
-_CHOREO = re.compile(r"^C(G|T|Z1|Z2|R1)$", re.IGNORECASE)
-_NEWBORN = re.compile(r"^\s*(IS|PD)\s*\^?\s*(l|r|ℓ)", re.IGNORECASE)
+
+def _kind(label: str) -> tuple[str, str]:
+    """``(kind, label)``: the kind in :data:`LABELS` that ``label`` names (``unknown``:
+    none) and its spelling for that kind's module (a newborn label as given: the module
+    reads it with :func:`~rotorlib.bifurcations.parse_label`, as :func:`transition` does)."""
+    lab = str(label).strip()
+    if lab.lower() in ("pendulum", "p"):
+        return "closed form", "pendulum"
+    for kind in ("closed form", "choreography"):
+        if lab.upper() in LABELS[kind]:
+            return kind, lab.upper()
+    if is_breather_label(lab):
+        return "breather daughter", "PD^b"
+    try:
+        parse_label(lab)
+    except ValueError:
+        return "unknown", lab
+    return "newborn", lab
 
 
 def _digits(digits: int | Tier | None) -> int | None:
@@ -154,25 +169,23 @@ def orbit(
     'unstable'
     """
     d = _digits(digits)
-    lab = str(label).strip()
-    if lab.lower() in ("pendulum", "p"):
-        return _closed_form("pendulum", E, d)
-    if lab.upper() in ("R", "LG", "LD"):
-        return _closed_form(lab.upper(), E, d)
-    if _BREATHER_DAUGHTER.match(lab):
-        from .breather_bifurcation import breather_daughter
-
-        return breather_daughter(E, digits=d)
-    if _CHOREO.match(lab):
+    kind, lab = _kind(label)
+    if kind == "choreography":
         from .choreo_family import choreography_orbit
 
-        return choreography_orbit(lab.upper(), E, digits=d, branch=branch)
+        return choreography_orbit(lab, E, digits=d, branch=branch)
     if branch:
         raise ValueError(
             f"branch={branch!r}: only the choreographies CZ1, CZ2, CR1 have more than "
             "one member at an energy"
         )
-    if _NEWBORN.match(lab):
+    if kind == "closed form":
+        return _closed_form(lab, E, d)
+    if kind == "breather daughter":
+        from .breather_bifurcation import breather_daughter
+
+        return breather_daughter(E, digits=d)
+    if kind == "newborn":
         from .newborn import newborn_orbit
 
         return newborn_orbit(lab, E, digits=d)
@@ -201,17 +214,17 @@ def family(
     lo, hi = (float(v) for v in E_range)
     if not lo < hi:
         raise ValueError(f"E_range must be (lo, hi) with lo < hi, got {E_range!r}")
-    lab = str(label).strip()
+    kind, lab = _kind(label)
     d = _digits(digits)
-    if _CHOREO.match(lab):
+    if kind == "choreography":
         from . import choreo_family
 
-        if lab.upper() in ("CG", "CT"):
-            return choreo_family.family(lab.upper(), (lo, hi), digits=d)
+        if lab in ("CG", "CT"):
+            return choreo_family.family(lab, (lo, hi), digits=d)
         from .choreo_z3 import z3_family
 
-        return z3_family(lab.upper(), (lo, hi), digits=d)
-    if _NEWBORN.match(lab):
+        return z3_family(lab, (lo, hi), digits=d)
+    if kind == "newborn":
         from .newborn import family as _family
 
         return _family(lab, (lo, hi), digits=digits)

@@ -55,8 +55,8 @@ from scipy import optimize
 from .bifurcations import Transition, locate_root, refine_root
 from .continuation import Branch, ContinuationOptions, Natural, continuation, switch
 from .energy import as_float
-from .flow import Section, flow, sample, to_section
 from .floquet import monodromy, trace_monodromy
+from .flow import Section, flow, sample, to_section
 from .orbits import breather
 from .periodic import PeriodicOrbit, orbit_from_state
 from .precision import FLOAT64, Tier, tier
@@ -303,8 +303,7 @@ def daughter_orbit(
 
 def _finish(x0, T, E, tq, xq, t, method, extra=None, digits=None):
     o = orbit_from_state("PD^b", x0, T, t, DAUGHTER.lattice, E, shown=digits)
-    traj = _beta_traj(x0, float(T), 401)
-    b2max = float(np.max(np.abs(traj[:, 1])))
+    b2max = float(np.max(np.abs(daughter_trajectory(o, 401)[:, 1])))
     ex = dict(
         o.extra,
         method=method,
@@ -316,11 +315,6 @@ def _finish(x0, T, E, tq, xq, t, method, extra=None, digits=None):
         **(extra or {}),
     )
     return replace(o, alpha1_max=b2max / 4, alpha2_max=b2max / 4, extra=ex)
-
-
-def _beta_traj(x0, T, n):
-    st, _ = sample([float(v) for v in x0], T, n)
-    return alpha_to_beta(st)
 
 
 @dataclass(frozen=True)
@@ -499,7 +493,7 @@ def breather_daughter(E: Any, digits: int | None = None) -> PeriodicOrbit:
 
 def daughter_trajectory(orbit: PeriodicOrbit, n: int = 801) -> np.ndarray:
     """States ``[b1, b2, q1, q2]`` at ``n`` equally spaced times over one period of a daughter."""
-    return _beta_traj(orbit.state0, orbit.period, int(n))
+    return alpha_to_beta(sample(orbit.state0, orbit.period, int(n))[0])
 
 
 def half_map_trace(orbit: PeriodicOrbit) -> float:

@@ -26,18 +26,18 @@ from .precision import Tier, tier
 from .shooting import NoConvergence, ShootingProblem, Shot, residual, solve
 
 __all__ = ["Member", "SpecialPoint", "Branch", "Natural", "PALC", "ContinuationOptions"]
-__all__ += ["continuation", "member", "switch", "switch_branch", "FamilyEnd"]
+__all__ += ["continuation", "member", "switch", "FamilyEnd"]
 __all__ += ["illinois"]
 
 NAN = float("nan")
 
 
 class FamilyEnd(ValueError):
-    """Natural continuation stopped: ``label, members, E_reached, E_asked`` (nan: u)."""
+    """Natural continuation stopped: ``label, members, E_asked`` (nan: u)."""
 
     def __init__(self, label: str, members: Any, E_asked: float, par: str):
         self.label, self.members, self.E_asked = label, members, E_asked
-        self.E_reached = E = float(members[-1].E)
+        E = float(members[-1].E)
         ask = f"; asked for E = {E_asked!r}" if E_asked == E_asked else ""
         super().__init__(
             f"{label}: the family was not found beyond E = {E!r} (a fold "
@@ -54,7 +54,7 @@ class Natural:
     (a fork is even in ``u``), ``sqrt|E - origin|`` for ``'E'`` (a fork has
     ``u ~ sqrt|E - E_n|``; ``E`` itself without ``origin``). ``origin`` (with
     ``origin_other``) is a virtual member at the bifurcation used by the first predictions.
-    A failed step is halved in ``s`` (at most ``halvings`` times).
+    A failed step is halved in ``s`` (at most 12 times).
     """
 
     parameter: str
@@ -62,7 +62,6 @@ class Natural:
     order: int = 1
     origin: Any = None
     origin_other: Any = None
-    halvings: int = 12
 
 
 @dataclass(frozen=True)
@@ -189,38 +188,6 @@ def switch(
         return replace(member(problem, u, root.x, t), r=root.residual), root.iterations
 
 
-def switch_branch(
-    branch: Branch,
-    point: SpecialPoint,
-    daughter: ShootingProblem,
-    amplitude: Any,
-    algorithm: Natural | PALC | None = None,
-    options: ContinuationOptions | None = None,
-) -> Branch:
-    """Branch switching at a bifurcation ``point`` (``IS`` or ``PD``) of ``branch`` onto the
-    family of ``daughter``: the parent (``u = u*`` there) is divided out of the daughter's
-    residual, the first member is found at ``u* + amplitude`` with the energy adjusted from
-    the bifurcation's, on whichever side it exists, and the family is continued from it
-    (default :class:`PALC`). ``daughter`` shares the parent's start set; a PD daughter
-    closes after twice the parent's symmetric time (``factor``)."""
-    t, p = branch.tier, point.member
-    with t.context():
-        d = replace(daughter, trivial=p.u, K_ref=branch.problem.K_ref)
-        scale = abs(p.E - 4) if abs(p.E - 4) > 0 else t.num(1)
-        last = None
-        for dE in (scale * t.num("1e-3"), -scale * t.num("1e-3")):
-            try:
-                first, _ = switch(d, p.u + t.num(amplitude), p.E, dE, t)
-                break
-            except (NoConvergence, SectionNotReached) as exc:
-                last = exc
-        else:
-            raise NoConvergence(
-                daughter.label, {"E": p.E}, why=f"no daughter near u* ({last})"
-            )
-        return continuation(d, algorithm or PALC(E_ref=float(p.E)), options, [first], t)
-
-
 # --------------------------------------------------------------------------- natural
 
 
@@ -242,7 +209,7 @@ def _extrapolate(xs, ys, x, order, t: Tier):
         return out
 
 
-def _natural(problem, alg: Natural, opts, start, t: Tier, on_member=None):
+def _natural(problem, alg: Natural, opts, start, t: Tier, on_member):
     par = alg.parameter
     if par not in ("u", "E"):
         raise ValueError(f"Natural: parameter must be 'u' or 'E', got {par!r}")
@@ -282,7 +249,7 @@ def _natural(problem, alg: Natural, opts, start, t: Tier, on_member=None):
                 ):
                     raise NoConvergence(problem.label, {par: v}, None, "t1 jumped")
             except (NoConvergence, SectionNotReached):
-                if halvings >= alg.halvings:
+                if halvings >= 12:
                     raise FamilyEnd(
                         problem.label, members, float(v) if par == "E" else NAN, par
                     ) from None
@@ -304,9 +271,9 @@ def _natural(problem, alg: Natural, opts, start, t: Tier, on_member=None):
             ys.append(new.w if par == "u" else new.u)
             targets.pop(0)
             steps += 1
-            why = on_member(members) if on_member is not None else ""
-            if why or _crossed(opts, members):
-                return members, why or "event"
+            why = on_member(members)
+            if why:
+                return members, why
     return members, "values"
 
 

@@ -10,8 +10,8 @@ from typing import Any
 import mpmath as mp
 import numpy as np
 
-from .flow import extrema, monodromy_matrix
 from .floquet import multipliers_from_trace
+from .flow import extrema, monodromy_matrix
 from .precision import FLOAT64, Tier, json_number, tier
 from .shooting import ShootingProblem, residual
 

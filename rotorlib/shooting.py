@@ -208,8 +208,6 @@ class Shot:
         Initial state and state at ``t1``.
     grad : tuple or None
         ``(dr/du, dr/dw)`` (with ``derivative=True``).
-    dt1 : tuple or None
-        ``(dt1/du, dt1/dw)``.
     """
 
     r: Any
@@ -217,7 +215,6 @@ class Shot:
     x0: list
     x1: list
     grad: tuple | None = None
-    dt1: tuple | None = None
 
 
 def _cond(section: Section, x, t: Tier):
@@ -242,7 +239,7 @@ def residual(
 
     With ``derivative``, the variational equations give ``dx1/dx0 = (I - f s^T/(s.f)) Phi``
     (``Phi`` at fixed time, ``s`` the section's normal, ``f`` the vector field at the
-    event), hence ``dr/du``, ``dr/dw`` and ``dt1/du``, ``dt1/dw``.
+    event), hence ``dr/du`` and ``dr/dw``.
     """
     t = tier(digits)
     with t.context():
@@ -267,23 +264,22 @@ def residual(
         r = g / d
         if not derivative:
             return Shot(r, t1, x0, x1)
-        grad, dt = _gradient(problem, u, w, out[2], x1, t)
+        grad = _gradient(problem, u, w, x0, out[2], x1, t)
         c = [ci * dg for ci in problem.condition.c]
         dr = [sum(ci * gi for ci, gi in zip(c, col)) / d for col in grad]
         if problem.trivial is not None:
             dr[0] -= r / d
-        return Shot(r, t1, x0, x1, tuple(dr), tuple(dt))
+        return Shot(r, t1, x0, x1, tuple(dr))
 
 
-def _gradient(problem, u, w, Phi, x1, t: Tier):
-    """``(dx1/du, dx1/dw)`` and ``(dt1/du, dt1/dw)``: the start set differentiated (in closed
+def _gradient(problem, u, w, x0, Phi, x1, t: Tier):
+    """``(dx1/du, dx1/dw)``: the start set differentiated (in closed
     form for a :class:`StartSet`, by central differences of its ``at`` otherwise), the flow
     by its fundamental matrix, the event time by implicit differentiation of the section."""
     from .flow import _rhs
 
     st = problem.start
     if isinstance(st, StartSet):
-        x0 = problem.state(u, w, t)
         K = (x0[2] * x0[2] / 4 + 3 * x0[3] * x0[3] / 4) - u * u * _kin(st.c)
         dp_dK = (
             [bi / (2 * t.m.sqrt(K * _kin(st.b))) for bi in st.b] if K > 0 else [0, 0]
@@ -314,13 +310,12 @@ def _gradient(problem, u, w, Phi, x1, t: Tier):
     f = _rhs(x1)
     s = problem.section.c
     sf = sum(si * fi for si, fi in zip(s, f))
-    out, dts = [], []
+    out = []
     for v in cols:
         y = [sum(Phi[i][j] * v[j] for j in range(4)) for i in range(4)]
-        dt = -sum(si * yi for si, yi in zip(s, y)) / sf
+        dt = -sum(si * yi for si, yi in zip(s, y)) / sf  # the event time moves
         out.append([yi + fi * dt for yi, fi in zip(y, f)])
-        dts.append(dt)
-    return out, dts
+    return out
 
 
 @dataclass(frozen=True)
@@ -360,6 +355,17 @@ class NoConvergence(ValueError):
 # --------------------------------------------------------------------------- PALC
 
 
+def _reachable(f, x, good, shrink):
+    """``(x, f(x))`` with ``x`` moved back towards ``good`` (the step divided by ``shrink``,
+    at most 30 times) while ``f`` raises SectionNotReached or ValueError."""
+    for _ in range(30):
+        try:
+            return x, f(x)
+        except (SectionNotReached, ValueError):
+            x = good + (x - good) / shrink
+    raise SectionNotReached(0.0, 0)
+
+
 def secant(
     f: Callable[[Any], Any],
     x0: Any,
@@ -376,29 +382,14 @@ def secant(
     round-off floor of ``f``); returns the iterate with the smallest ``|f|`` then.
     """
     fx0 = f(x0)
-    for _ in range(30):
-        try:
-            fx1 = f(x1)
-            break
-        except (SectionNotReached, ValueError):
-            x1 = x0 + (x1 - x0) / 8
-    else:
-        raise SectionNotReached(0.0, 0)
+    x1, fx1 = _reachable(f, x1, x0, 8)
     best = (abs(fx1), x1) if abs(fx1) < abs(fx0) else (abs(fx0), x0)
     last = None
     it = 0
     for it in range(maxiter):
         if fx1 == fx0:
             break
-        x2 = x1 - fx1 * (x1 - x0) / (fx1 - fx0)
-        for _ in range(30):
-            try:
-                fx2 = f(x2)
-                break
-            except (SectionNotReached, ValueError):
-                x2 = x1 + (x2 - x1) / 2
-        else:
-            raise SectionNotReached(0.0, 0)
+        x2, fx2 = _reachable(f, x1 - fx1 * (x1 - x0) / (fx1 - fx0), x1, 2)
         dx = abs(x2 - x1)
         x0, fx0, x1, fx1 = x1, fx1, x2, fx2
         if abs(fx1) < best[0]:
@@ -451,28 +442,20 @@ def solve(
         tol = tol if tol is not None else t.step_tol
         r_max = r_max if r_max is not None else t.r_max
         x0 = t.num(x0)
-        if u is not None:
-            u = t.num(u)
+        key, held = next(
+            (k, t.num(v)) for k, v in zip("uwE", (u, w, E)) if v is not None
+        )
 
-            def f(ww):
-                return residual(problem, u, ww, t).r
-        elif w is not None:
-            w = t.num(w)
-
-            def f(uu):
-                return residual(problem, uu, w, t).r
-        else:
-            E = t.num(E)
-
-            def f(uu):
-                return residual(problem, uu, problem.w_at(uu, E, t), t).r
+        def f(x):  # the residual as a function of the other unknown
+            if key == "u":
+                return residual(problem, held, x, t).r
+            return residual(
+                problem, x, held if key == "w" else problem.w_at(x, held, t), t
+            ).r
 
         if x1 is None:
             x1 = x0 * (1 + (1e-4 if not t.extended else t.num("1e-9")))
         root = secant(f, x0, t.num(x1), tol, floor)
         if not root.residual < r_max:
-            fixed = (
-                {"u": u} if u is not None else {"w": w} if w is not None else {"E": E}
-            )
-            raise NoConvergence(problem.label, fixed, root)
+            raise NoConvergence(problem.label, {key: held}, root)
         return root
