@@ -74,9 +74,7 @@ def _closed_form(label: str, E: Any, digits: int | None) -> PeriodicOrbit:
     m = monodromy(orb, digits=digits)
     en = orb.energy
     d = digits if digits and digits > 15 else 15
-    E_str = en.decimal_E(d) if hasattr(en, "decimal_E") else repr(float(orb.E))
-    state0 = np.asarray(orb.state0, dtype=float)
-    period_str = m.period_str or repr(float(m.period))
+    E_str, period_str = en.decimal_E(d), m.period_str
     state0_str: tuple[str, ...] = ()
     if d > 15:  # the base point in closed form: G (pendulum, LG, R) or D (LD)
         with mp.workdps(d + 10):
@@ -87,21 +85,18 @@ def _closed_form(label: str, E: Any, digits: int | None) -> PeriodicOrbit:
             }.get(label, (0, 0, mp.sqrt(Em), mp.sqrt(Em)))
             state0_str = tuple(mp.nstr(mp.mpf(v), d) if v else "0.0" for v in x)
         d = min(d, len(period_str.lstrip("-0.").replace(".", "").split("e")[0]))
-    try:
-        ts = np.linspace(0.0, float(m.period), 2001)
-        xs = orb.state(ts)
+    try:  # a rotating pendulum's a2 covers the circle: its excursion is pi
+        xs = orb.state(np.linspace(0.0, float(m.period), 2001))
         a1m = float(np.max(np.abs(xs[:, 0])))
         a2m = float(np.max(np.abs(xs[:, 1] - xs[0, 1])))
-        if label == "pendulum" and en.phase == "rot":
-            a2m = math.pi
+        a2m = math.pi if label == "pendulum" and en.phase == "rot" else a2m
     except ValueError:  # beyond the float64 range of the closed form
         a1m = a2m = math.nan
-    log_abs = getattr(en, "log_abs_dE", math.nan)
     return PeriodicOrbit(
         label,
         float(orb.E),
         float(m.period),
-        state0,
+        np.asarray(orb.state0, dtype=float),
         m.in_alpha_state_order(),
         float(m.trace),
         float(m.residual),
@@ -109,7 +104,7 @@ def _closed_form(label: str, E: Any, digits: int | None) -> PeriodicOrbit:
         m.precision,
         a1m,
         a2m,
-        float(log_abs) if label == "pendulum" else math.nan,
+        float(en.log_abs_dE) if label == "pendulum" else math.nan,
         {"stability": m.stability, "family": m.family},
         digits=d,
         E_str=E_str,
@@ -273,8 +268,5 @@ def census(
     from .atlas import census as _census
     from .parallel import executor_for
 
-    d = _digits(digits)
-    if workers is None and scheduler is None:
-        return _census(E, t_max, digits=d)
-    with executor_for(workers, scheduler) as ex:
-        return _census(E, t_max, digits=d, executor=ex)
+    with executor_for(workers, scheduler) as ex:  # None: serial
+        return _census(E, t_max, digits=_digits(digits), executor=ex)

@@ -478,12 +478,15 @@ def _make(
     kind: str,
     phase: str,
     n: int,
-    x: float,
+    x: Any,
     c: float,
-    x_str: str | None = None,
     digits: int | None = None,
 ) -> Transition:
-    x_str = x_str or f"{float(x):.17g}"
+    """The transition at the root ``x`` of ``Delta = c`` (float64, or an mpf of ``digits``
+    digits)."""
+    x_str = (
+        f"{float(x):.17g}" if digits is None else mp.nstr(x, digits, strip_zeros=False)
+    )
     en = dataclasses.replace(
         pendulum_energy(log_abs_dE=float(x), phase=phase), given=("log_abs_dE", x_str)
     )
@@ -498,16 +501,16 @@ def _make(
         up = (dtr_dE > 0) == (kind == "IS")
         sense = "stable->unstable" if up else "unstable->stable"
     if digits is None:
-        shown, per_s, p2_s = 15, repr(orb.period), repr(float(orb.state0[3]))
+        per_s, p2_s = repr(orb.period), repr(float(orb.state0[3]))
     else:
-        shown, dps = digits, digits + 10
+        dps = digits + 10
         with mp.workdps(dps):
             per_s = mp.nstr(orb.closed_form(dps)["period"], digits, strip_zeros=False)
             E = en.mp_E_eps(dps)[0]
             p2_s = mp.nstr(mp.sqrt(4 * E / 3), digits, strip_zeros=False)
     return Transition.at_base_point(
         f"{kind}^{_PHASE_LETTER[phase]}_{n}", kind, "pendulum", en, (orb.period, per_s), ("0.0", p2_s),
-        sense, float(dtr_dE), digits, en.decimal_E(shown), phase=phase, n=n,
+        sense, float(dtr_dE), digits, en.decimal_E(digits or 15), phase=phase, n=n,
         log_abs_dE=float(x), log_abs_dE_str=x_str, delta_target=c,
         dtrace_dx=float(dtr_dx),
     )  # fmt: skip
@@ -661,9 +664,6 @@ def transition(label: str, *, digits: int | Tier | None = None) -> Transition:
             f"{', '.join(BREATHER_LABELS)} ('PDb')"
         ) from None
     _, _, c, x = _roots(phase, (kind,), n)[n - 1]
-    if d is None:
-        return _make(kind, phase, n, x, c)
-    xm, _ = refine_mp(x, phase, c, digits=d)
-    with mp.workdps(d + 10):
-        xs = mp.nstr(xm, d, strip_zeros=False)
-    return _make(kind, phase, n, float(xm), c, x_str=xs, digits=d)
+    if d is not None:  # the float64 root re-located in the tier of d digits
+        x, _ = refine_mp(x, phase, c, digits=d)
+    return _make(kind, phase, n, x, c, d)

@@ -130,14 +130,11 @@ def breather_transitions(
     """
     if family not in ("R", "LG", "LD"):
         raise ValueError(f"breather family must be R, LG or LD; got {family!r}")
-    if family != "R":
-        grid = (
-            np.linspace(0.05, 4.45, 45)
-            if family == "LG"
-            else np.linspace(4.01, 4.49, 25)
-        )
-    else:
-        grid = _SCAN[_SCAN <= E_max]
+    grid = {
+        "LG": np.linspace(0.05, 4.45, 45),
+        "LD": np.linspace(4.01, 4.49, 25),
+        "R": _SCAN[_SCAN <= E_max],
+    }[family]
     tr = np.array([breather_trace(E, family) for E in grid])
     out = []
     for level, kind in ((0.0, "PD"), (4.0, "IS")):
@@ -147,8 +144,9 @@ def breather_transitions(
             def g(E: float, level: float = level) -> float:
                 return breather_trace(E, family) - level
 
-            a, b = grid[i], grid[i + 1]
-            E = locate_root(g, a, b, g(a), g(b), 1e-15)
+            E = locate_root(
+                g, grid[i], grid[i + 1], tr[i] - level, tr[i + 1] - level, 1e-15
+            )
             out.append(_make_transition(float(E), kind, level, family, digits))
     return sorted(out, key=lambda t: t.E)
 
@@ -162,8 +160,11 @@ def _make_transition(
     d = None if digits is None or digits <= 15 else int(digits)
     if d is None:
         orbit = breather(E, family)
-        E_str, per_str = repr(E), repr(orbit.period)
-        p_str = repr(float(orbit.state0[3]))
+        E_str, per_str, p_str = (
+            repr(E),
+            repr(orbit.period),
+            repr(float(orbit.state0[3])),
+        )
     else:
         dps = d + 10
 
@@ -174,8 +175,9 @@ def _make_transition(
         with mp.workdps(dps):
             E_ext = refine_root(trace_at, E, d)
             per = breather(mp.nstr(E_ext, dps), family).closed_form(dps)["period"]
-            E_str, per_str = mp.nstr(E_ext, d - 5), mp.nstr(per, d - 5)
-            p_str = mp.nstr(mp.sqrt(E_ext), d - 5)
+            E_str, per_str, p_str = (
+                mp.nstr(v, d - 5) for v in (E_ext, per, mp.sqrt(E_ext))
+            )
         orbit = breather(E_str, family)
     return Transition.at_base_point(
         "PD^b" if kind == "PD" else "IS^b",
@@ -385,13 +387,14 @@ def daughter_family(
     s = deltas[sel] ** 2
     pE, pT = np.polyfit(s, Es[sel], 2), np.polyfit(s, trs[sel], 2)
     parent = _trace_slope(E_PD)
-    E_unst, which = float("nan"), "none"
-    for p in b.special_points:  # the first exit from the window, E falling
-        if p.located and float(b.members[p.index].u) > 0.05 and math.isnan(E_unst):
-            E_unst, which = (
-                float(p.member.E),
-                "tr M = 4" if p.kind == "IS" else "tr M = 0",
-            )
+    leave = next(  # the first exit from the stable window, E falling
+        (
+            p
+            for p in b.special_points
+            if p.located and float(b.members[p.index].u) > 0.05
+        ),
+        None,
+    )
     return DaughterFamily(
         b.problem,
         b.tier,
@@ -403,8 +406,8 @@ def daughter_family(
         E_PD,
         float((pT[-2] / pE[-2]) / parent),
         float(parent),
-        E_unst,
-        which,
+        math.nan if leave is None else float(leave.member.E),
+        "none" if leave is None else f"tr M = {4 if leave.kind == 'IS' else 0}",
         {"E_fit": pE, "trace_fit": pT, "E_at_birth": pE[-1], "trace_at_birth": pT[-1]},
     )
 

@@ -23,7 +23,7 @@ from typing import Any
 from .branch import Branch, Member, SpecialPoint
 from .flow import SectionNotReached, monodromy_matrix
 from .precision import Tier, tier
-from .shooting import NoConvergence, ShootingProblem, Shot, residual, solve
+from .shooting import NoConvergence, ShootingProblem, residual, solve
 
 __all__ = ["Member", "SpecialPoint", "Branch", "Natural", "PALC", "ContinuationOptions"]
 __all__ += ["continuation", "member", "switch", "FamilyEnd"]
@@ -71,8 +71,8 @@ class PALC:
     ``ds`` is the first step, ``ds_max``/``ds_min`` its bounds, in the plane
     ``((u - u_k) / |u_k|, (w - w_k) / |E_k - E_ref|)`` rescaled at every member ``k``
     (floors ``u_floor``, ``w_floor``); ``direction`` is the sign of ``du`` of the first
-    step. The predictor is the polynomial of degree ``order`` through the last members
-    (parametrised by chord length; the tangent at the first steps). ``scales = (su, sw)``
+    step. The predictor is the quadratic through the last three members (in ``u^2`` when
+    the step holds ``u``; along the tangent at the first step). ``scales = (su, sw)``
     fixes the scales instead: a step moves ``u`` by at most ``ds su`` and ``w`` by at most
     ``2 ds sw`` (for a family that crosses a narrow window of energy with large changes of
     ``u``).
@@ -85,7 +85,6 @@ class PALC:
     u_floor: float = 1e-12
     w_floor: float = 1e-12
     direction: int = 1
-    order: int = 2
     scales: tuple[float, float] | None = None
 
 
@@ -140,15 +139,12 @@ def member(
     w: Any,
     digits: int | Tier | None = None,
     traces: bool = False,
-    shot: Shot | None = None,
 ) -> Member:
     """The :class:`Member` at ``(u, w)`` (``tr M`` over the full period with ``traces``)."""
     t = tier(digits)
     with t.context():
-        s = shot or residual(problem, u, w, t)
-        tr = NAN
-        if traces:
-            tr = monodromy_matrix(s.x0, problem.factor * s.t1, t)[2]
+        s = residual(problem, u, w, t)
+        tr = monodromy_matrix(s.x0, problem.factor * s.t1, t)[2] if traces else NAN
         r = abs(float(s.r))
         d = min(t.dps - 8, int(-math.log10(r))) if r > 0 else t.dps - 8
         return Member(
@@ -213,12 +209,11 @@ def _natural(problem, alg: Natural, opts, start, t: Tier, on_member):
     par = alg.parameter
     if par not in ("u", "E"):
         raise ValueError(f"Natural: parameter must be 'u' or 'E', got {par!r}")
-    m = t.m
 
     def s_of(v):  # the predictor's coordinate
         if par == "u":
             return v * v
-        return v if alg.origin is None else m.sqrt(abs(v - alg.origin))
+        return v if alg.origin is None else t.m.sqrt(abs(v - alg.origin))
 
     members = list(start)
     with t.context():
@@ -228,21 +223,16 @@ def _natural(problem, alg: Natural, opts, start, t: Tier, on_member):
             xs.insert(0, s_of(t.num(alg.origin)) if par == "u" else t.num(0))
             ys.insert(0, t.num(alg.origin_other))
         targets = [t.num(v) for v in alg.values]
-        halvings, steps = 0, 0
+        halvings = 0
         while targets:
-            if steps >= opts.max_steps:
+            if len(members) - len(start) >= opts.max_steps:
                 return members, "steps"
             v = targets[0]
             guess = _extrapolate(xs, ys, s_of(v), alg.order, t)
             try:
-                if par == "u":
-                    root = solve(problem, guess, u=v, digits=t, r_max=opts.r_max)
-                    new = member(problem, v, root.x, t, opts.traces)
-                else:
-                    root = solve(problem, guess, E=v, digits=t, r_max=opts.r_max)
-                    new = member(
-                        problem, root.x, problem.w_at(root.x, v, t), t, opts.traces
-                    )
+                x = solve(problem, guess, digits=t, r_max=opts.r_max, **{par: v}).x
+                u, w = (v, x) if par == "u" else (x, problem.w_at(x, v, t))
+                new = member(problem, u, w, t, opts.traces)
                 if (
                     opts.jump is not None
                     and abs(new.t1 / members[-1].t1 - 1) > opts.jump
@@ -270,7 +260,6 @@ def _natural(problem, alg: Natural, opts, start, t: Tier, on_member):
             xs.append(s_of(v))
             ys.append(new.w if par == "u" else new.u)
             targets.pop(0)
-            steps += 1
             why = on_member(members)
             if why:
                 return members, why
@@ -279,8 +268,6 @@ def _natural(problem, alg: Natural, opts, start, t: Tier, on_member):
 
 def _crossed(opts, members):
     """Whether ``tr M`` of the last two members crosses a level of ``opts.stop_on``."""
-    if len(members) < 2:
-        return False
     a, b = members[-2].trace, members[-1].trace
     levels = {"IS": 4, "PD": 0}
     return any((a - levels[k]) * (b - levels[k]) < 0 for k in opts.stop_on)
@@ -314,19 +301,26 @@ class _Local:
         """The member with coordinate ``k`` (``0``: ``u``, ``1``: ``w``) at ``value``, the
         other solved by the secant from ``guess`` (first step ``1e-4`` of the predicted
         ``change``). Raises NoConvergence or SectionNotReached."""
-        t = self.t
+        t, floor = self.t, (self.sw, self.su)[k]  # the scale of the other coordinate
         tol = 1e-13 if not t.extended else t.num(t.eps) * 8
         x1 = guess + max(
             abs(change) * t.num("1e-4"),
             abs(guess) * t.num(t.eps) ** t.num(0.5),
-            (self.sw if k == 0 else self.su) * tol,
+            floor * tol,
         )
-        kw = dict(digits=t, tol=tol, r_max=self.opts.r_max)
-        if k == 0:
-            root = solve(self.p, guess, x1, u=value, floor=self.sw, **kw)
-            return member(self.p, value, root.x, t, self.opts.traces)
-        root = solve(self.p, guess, x1, w=value, floor=self.su, **kw)
-        return member(self.p, root.x, value, t, self.opts.traces)
+        fixed = {"uw"[k]: value}
+        x = solve(
+            self.p,
+            guess,
+            x1,
+            digits=t,
+            tol=tol,
+            floor=floor,
+            r_max=self.opts.r_max,
+            **fixed,
+        ).x
+        u, w = (value, x) if k == 0 else (x, value)
+        return member(self.p, u, w, t, self.opts.traces)
 
 
 def _held(d):
@@ -352,8 +346,7 @@ def _palc(problem, alg: PALC, opts, start, t: Tier, on_member):
             ref = members[-1]
             loc = _Local(problem, t, alg, ref, opts)
             if len(members) >= 2:
-                back = loc.X(members[-2])
-                d = (-back[0], -back[1])
+                d = tuple(-x for x in loc.X(members[-2]))
             else:
                 try:
                     d = loc.tangent()
@@ -363,48 +356,33 @@ def _palc(problem, alg: PALC, opts, start, t: Tier, on_member):
                 if (d[0] > 0) != (alg.direction > 0):
                     d = (-d[0], -d[1])
             k = _held(d)
-            sign = 1 if d[k] > 0 else -1
+            j, sign = 1 - k, (1 if d[k] > 0 else -1)  # j: the coordinate solved for
+            at, sc = (ref.u, ref.w), (loc.su, loc.sw)  # the reference and the scales
             new = None
             while ds >= alg.ds_min:
-                if k == 0:
-                    value = ref.u + sign * ds * loc.su
-                else:
-                    value = ref.w + sign * ds * loc.sw
+                value = at[k] + sign * ds * sc[k]
                 if len(members) >= 2:
-                    guess = _predict(members, k, value, alg.order, t)
-                else:
-                    other = (
-                        (d[1] / d[0]) * (value - ref.u) / loc.su * loc.sw
-                        if k == 0
-                        else (d[0] / d[1]) * (value - ref.w) / loc.sw * loc.su
-                    )
-                    guess = (ref.w if k == 0 else ref.u) + other
-                change = guess - (ref.w if k == 0 else ref.u)
+                    guess = _predict(members, k, value, 2, t)
+                else:  # along the tangent
+                    guess = at[j] + (d[j] / d[k]) * (value - at[k]) / sc[k] * sc[j]
+                change = guess - at[j]
                 try:
                     mb = loc.correct(k, value, guess, change)
                 except (SectionNotReached, ValueError):
-                    mb = None
-                if mb is not None:
-                    # a correction far beyond the predicted change may be another family (they lie
-                    # close in (u, w) near E = 4), unless t1 moved continuously
-                    got, dt1 = (
-                        mb.w if k == 0 else mb.u,
-                        abs(mb.t1 - ref.t1) / abs(ref.t1),
-                    )
-                    far = (
-                        abs(got - guess) > abs(change) / 5 + abs(got) * 1e-10
-                        and dt1 > 0.01
-                    )
-                    jump = opts.jump is not None and dt1 > opts.jump
-                    if alg.scales is not None:  # fixed scales bound both coordinates
-                        sc = loc.sw if k == 0 else loc.su
-                        jump = (
-                            jump
-                            or abs(got - (ref.w if k == 0 else ref.u)) > 2 * ds * sc
-                        )
-                    if not far and not jump:
-                        new = mb
-                        break
+                    ds = ds / 2
+                    continue
+                # a correction far beyond the predicted change may be another family (they
+                # lie close in (u, w) near E = 4), unless t1 moved continuously
+                got, dt1 = (mb.u, mb.w)[j], abs(mb.t1 - ref.t1) / abs(ref.t1)
+                far = (
+                    abs(got - guess) > abs(change) / 5 + abs(got) * 1e-10 and dt1 > 0.01
+                )
+                jump = opts.jump is not None and dt1 > opts.jump
+                if alg.scales is not None:  # fixed scales bound both coordinates
+                    jump = jump or abs(got - at[j]) > 2 * ds * sc[j]
+                if not far and not jump:
+                    new = mb
+                    break
                 ds = ds / 2
             if new is None:
                 stop = "stuck"
@@ -429,15 +407,11 @@ def _between(problem, t, alg, members, i, j, opts):
     loc = _Local(problem, t, alg, a, opts)
     Xb = loc.X(b)
     k = _held(Xb)
-    known = list(members[max(0, i - 1) : j + 2])  # interpolation through the neighbours
+    known = members[max(0, i - 1) : j + 2]  # i, j and their neighbours
 
     def at(v):
         value = a.u + v * loc.su if k == 0 else a.w + v * loc.sw
-        if len(known) >= 2:
-            guess = _predict(known, k, value, len(known) - 1, t)
-        else:
-            f = v / Xb[k]
-            guess = a.w + f * (b.w - a.w) if k == 0 else a.u + f * (b.u - a.u)
+        guess = _predict(known, k, value, len(known) - 1, t)
         return loc.correct(k, value, guess, (b.w - a.w) if k == 0 else (b.u - a.u))
 
     return at, Xb[k]
@@ -583,12 +557,10 @@ def continuation(
             return "period"
         return "event" if _crossed(opts, members) else ""
 
-    if isinstance(algorithm, Natural):
-        members, stop = _natural(problem, algorithm, opts, start, t, on_member)
-    elif isinstance(algorithm, PALC):
-        members, stop = _palc(problem, algorithm, opts, start, t, on_member)
-    else:
+    run = {Natural: _natural, PALC: _palc}.get(type(algorithm))
+    if run is None:
         raise ValueError(f"algorithm must be Natural or PALC, got {algorithm!r}")
+    members, stop = run(problem, algorithm, opts, start, t, on_member)
     special = _events(problem, t, members, opts, algorithm)
     return Branch(
         problem,

@@ -174,8 +174,7 @@ def _set_levels(ta, t: Tier, sections):
     with t.context():
         for k, s in enumerate(sections):
             if s.period is None:
-                if s.level or 2 * k < len(ta.pars):
-                    ta.pars[2 * k] = t.to_hy(t.pi * s.level)
+                ta.pars[2 * k] = t.to_hy(t.pi * s.level)
             else:
                 ta.pars[2 * k] = t.to_hy(t.pi * s.level / s.period)
                 ta.pars[2 * k + 1] = t.to_hy(1 / t.num(s.period))

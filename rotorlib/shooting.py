@@ -75,20 +75,14 @@ class StartSet:
             )
 
     def _q(self, u, t: Tier):
-        pi = t.pi
         return [
-            self.q0[0] * pi + u * self.a[0]
-            if self.q0[0] or t.extended
-            else u * self.a[0],
-            self.q0[1] * pi + u * self.a[1]
-            if self.q0[1] or t.extended
-            else u * self.a[1],
+            q0 * t.pi + u * a if q0 or t.extended else u * a  # exact zeros in float64
+            for q0, a in zip(self.q0, self.a)
         ]
 
     def _v(self, q, t: Tier):
         if t.extended:
-            m = t.m
-            return 3 - m.cos(2 * q[0]) - m.cos(q[1] - q[0]) - m.cos(q[0] + q[1])
+            return 3 - t.m.cos(2 * q[0]) - t.m.cos(q[1] - q[0]) - t.m.cos(q[0] + q[1])
         from .system import potential_alpha
 
         return float(potential_alpha(q[0], q[1]))
@@ -116,11 +110,8 @@ class StartSet:
                     f"{self.name}: u = {float(u)!r} is outside the energy shell"
                 )
             s = t.m.sqrt(K / _kin(self.b))
-            q = self._q(u, t)
-            zero = t.num(0)
-            return q + [
-                u * self.c[0] + s * self.b[0] if self.b[0] or self.c[0] else zero,
-                u * self.c[1] + s * self.b[1] if self.b[1] or self.c[1] else zero,
+            return self._q(u, t) + [
+                u * c + s * b if b or c else t.num(0) for c, b in zip(self.c, self.b)
             ]
 
 
