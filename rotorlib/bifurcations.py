@@ -70,6 +70,7 @@ __all__ = [
     "refine_mp",
     "refine_root",
     "locate_root",
+    "level_crossings",
     "BREATHER_LABELS",
     "SQRT3_PI",
     "CLASSES",
@@ -377,6 +378,33 @@ def locate_root(
     return illinois(f, lambda v: a + v, b - a, fa, fb, xtol / abs(b - a), maxiter)
 
 
+def level_crossings(
+    f: Callable[[Any], Any], xs: Any, fs: Any, level: float, xtol: float = 1e-15
+) -> list[tuple[int, Any]]:
+    """``[(i, x)]``: the roots ``x`` of ``f = level`` between ``xs[i]`` and ``xs[i + 1]``,
+    wherever the tabulated ``fs = f(xs)`` crosses ``level`` (a grid value on the level is
+    one crossing, a tangency none), each located by :func:`locate_root` to ``xtol``. The
+    one scan of ``tr M`` (or ``Delta``) of pendula and breathers.
+
+    Examples
+    --------
+    >>> xs = [0.0, 1.0, 2.0, 3.0, 4.0, 5.0]
+    >>> fs = [math.cos(x) for x in xs]
+    >>> [(i, round(float(x), 12)) for i, x in level_crossings(math.cos, xs, fs, 0.0)]
+    [(1, 1.570796326795), (4, 4.712388980385)]
+    """
+    g = np.asarray(fs) - level
+    out = []
+    for i in np.nonzero(np.sign(g[:-1]) * np.sign(g[1:]) <= 0)[0]:
+        if g[i] == 0.0 and i > 0 and (g[i - 1] * g[i + 1] > 0):
+            continue  # grid point at a tangency; not a crossing
+        if g[i + 1] == 0.0 and i + 1 < len(g) - 1:
+            continue  # counted in the next interval
+        x = locate_root(lambda v: f(v) - level, xs[i], xs[i + 1], g[i], g[i + 1], xtol)
+        out.append((int(i), x))
+    return out
+
+
 def refine_root(
     f: Callable[[Any], Any],
     x0: Any,
@@ -451,26 +479,16 @@ def _roots(phase, kinds, n_max, executor=None, progress=False):
     ds = _deltas(phase, xs, executor, progress, f"scan {phase}")
     roots = []
     for kind in kinds:
-        found = []
-        for c in _TARGETS[(kind, phase)]:
-            g = ds - c
-            idx = np.nonzero(np.sign(g[:-1]) * np.sign(g[1:]) <= 0)[0]
-            for i in idx:
-                if g[i] == 0.0 and i > 0 and (g[i - 1] * g[i + 1] > 0):
-                    continue  # grid point at a tangency; not a crossing
-                if g[i + 1] == 0.0 and i + 1 < len(g) - 1:
-                    continue  # counted in the next interval
-                found.append((c, i))
+        found = sorted(
+            (i, c, x)
+            for c in _TARGETS[(kind, phase)]
+            for i, x in level_crossings(lambda v: delta(v, phase), xs, ds, c)
+        )
         if len(found) < n_max:
             raise RuntimeError(
                 f"found only {len(found)} {kind} roots in {phase} down to x = {x_lo}"
             )
-        for n, (c, i) in enumerate(sorted(found, key=lambda r: r[1])[:n_max], start=1):
-            x = locate_root(
-                lambda v, c=c: delta(v, phase) - c,
-                xs[i], xs[i + 1], ds[i] - c, ds[i + 1] - c, 1e-15,
-            )  # fmt: skip
-            roots.append((kind, n, c, x))
+        roots += [(kind, n, c, x) for n, (_, c, x) in enumerate(found[:n_max], 1)]
     return roots
 
 

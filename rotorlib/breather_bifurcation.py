@@ -52,7 +52,7 @@ import mpmath as mp
 import numpy as np
 from scipy import optimize
 
-from .bifurcations import Transition, locate_root, refine_root
+from .bifurcations import Transition, level_crossings, refine_root
 from .continuation import Branch, ContinuationOptions, Natural, continuation, switch
 from .energy import as_float
 from .floquet import monodromy, trace_monodromy
@@ -136,18 +136,13 @@ def breather_transitions(
         "R": _SCAN[_SCAN <= E_max],
     }[family]
     tr = np.array([breather_trace(E, family) for E in grid])
-    out = []
-    for level, kind in ((0.0, "PD"), (4.0, "IS")):
-        s = np.sign(tr - level)
-        for i in np.nonzero(s[:-1] * s[1:] < 0)[0]:
-
-            def g(E: float, level: float = level) -> float:
-                return breather_trace(E, family) - level
-
-            E = locate_root(
-                g, grid[i], grid[i + 1], tr[i] - level, tr[i + 1] - level, 1e-15
-            )
-            out.append(_make_transition(float(E), kind, level, family, digits))
+    out = [
+        _make_transition(float(E), kind, level, family, digits)
+        for level, kind in ((0.0, "PD"), (4.0, "IS"))
+        for _, E in level_crossings(
+            lambda v: breather_trace(v, family), grid, tr, level
+        )
+    ]
     return sorted(out, key=lambda t: t.E)
 
 

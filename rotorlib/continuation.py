@@ -557,7 +557,8 @@ def continuation(
             return "period"
         return "event" if _crossed(opts, members) else ""
 
-    run = {Natural: _natural, PALC: _palc}.get(type(algorithm))
+    runs: dict[type, Callable[..., Any]] = {Natural: _natural, PALC: _palc}
+    run = runs.get(type(algorithm))
     if run is None:
         raise ValueError(f"algorithm must be Natural or PALC, got {algorithm!r}")
     members, stop = run(problem, algorithm, opts, start, t, on_member)
