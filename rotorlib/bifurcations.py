@@ -208,14 +208,19 @@ class Transition(OrbitResult):
         energy: PendulumEnergy | BreatherEnergy,
         period: tuple[float, str],
         momenta: tuple[str, str],
-        transition: str,
+        transition: str | None,
         slope: float,
         digits: int | None,
         E_str: str,
         **pendulum_only: Any,
     ) -> Transition:
         """The transition of the orbit through G with momenta ``(p1, p2)`` (decimal
-        strings) and ``period = (value, string)``; ``digits`` None: float64."""
+        strings) and ``period = (value, string)``; ``digits`` None: float64.
+        ``transition`` None: from the sign of ``slope`` (``tr M`` rising through 4
+        destabilises, rising through 0 stabilises)."""
+        if transition is None:
+            up = (slope > 0) == (kind == "IS")
+            transition = "stable->unstable" if up else "unstable->stable"
         state0_str = ("0.0", "0.0", *momenta)
         level = 4.0 if kind == "IS" else 0.0
         return cls(
@@ -244,7 +249,6 @@ class Transition(OrbitResult):
     def to_dict(self) -> dict[str, Any]:
         """The JSON ``bifurcations --json`` prints (:func:`~rotorlib.precision.json_number`:
         float64 values as numbers, more digits in ``*_str`` strings)."""
-        ext = self.digits > 15
         rec: dict[str, Any] = {
             "label": self.label,
             "kind": self.kind,
@@ -265,7 +269,7 @@ class Transition(OrbitResult):
             "digits": self.digits,
             "precision": self.precision,
         }
-        if ext:
+        if self.digits > 15:
             rec["state0_str"] = list(self.state0_str)
         return rec
 
@@ -513,11 +517,9 @@ def _make(
     dtr_dx = 2 * c * d if phase == "lib" else d
     # x = log|E-4|: dx/dE = 1/(E-4) (rot), -1/(4-E) (lib)
     dtr_dE = dtr_dx * ((1.0 / en.eps) if phase == "rot" else (-1.0 / en.eps))
-    if kind == "PD" and phase == "lib":
+    sense = None  # from the slope
+    if kind == "PD" and phase == "lib":  # a double zero of tr M
         sense, dtr_dE, dtr_dx = "stable->stable", 0.0, 0.0
-    else:  # tr M rising through 4 (IS) destabilises, rising through 0 (PD) stabilises
-        up = (dtr_dE > 0) == (kind == "IS")
-        sense = "stable->unstable" if up else "unstable->stable"
     if digits is None:
         per_s, p2_s = repr(orb.period), repr(float(orb.state0[3]))
     else:

@@ -163,10 +163,6 @@ class SpecialPoint:
         }
 
 
-def _bound(v: float) -> float | None:
-    return float(v) if math.isfinite(float(v)) else None
-
-
 @dataclass(frozen=True)
 class Branch:
     """A family followed by :func:`~rotorlib.continuation.continuation`: the one family
@@ -269,7 +265,9 @@ class Branch:
         and ``special_points`` (each with its ``kind``)."""
         return {
             "label": self.label,
-            "E_range": [_bound(v) for v in self.E_range],
+            "E_range": [
+                float(v) if math.isfinite(float(v)) else None for v in self.E_range
+            ],
             "stop": self.stop,
             "reason": self.reason,
             "members": [m.to_dict() for m in self.members],

@@ -150,8 +150,6 @@ def _make_transition(
     E: float, kind: str, level: float, family: str, digits: int | None
 ) -> Transition:
     slope = _trace_slope(E, family)
-    up = (slope > 0) == (kind == "IS")  # tr M rising through 4 or falling through 0
-    direction = "stable->unstable" if up else "unstable->stable"
     d = None if digits is None or digits <= 15 else int(digits)
     if d is None:
         orbit = breather(E, family)
@@ -181,7 +179,7 @@ def _make_transition(
         orbit.energy,
         (orbit.period, per_str),
         (p_str, p_str),
-        direction,
+        None,
         slope,
         None if d is None else d - 5,
         E_str,

@@ -279,13 +279,16 @@ class _Local:
     (floors ``u_floor``, ``w_floor``), and the local-parametrization corrector."""
 
     def __init__(self, problem, t, alg, ref: Member, opts):
-        self.p, self.t, self.alg, self.ref, self.opts = problem, t, alg, ref, opts
+        self.p, self.t, self.ref, self.opts = problem, t, ref, opts
         with t.context():
-            if alg.scales is not None:
-                self.su, self.sw = (t.num(v) for v in alg.scales)
-                return
-            self.su = max(abs(ref.u), t.num(alg.u_floor))
-            self.sw = max(abs(ref.E - t.num(alg.E_ref)), t.num(alg.w_floor))
+            self.su, self.sw = (
+                (t.num(v) for v in alg.scales)
+                if alg.scales is not None
+                else (
+                    max(abs(ref.u), t.num(alg.u_floor)),
+                    max(abs(ref.E - t.num(alg.E_ref)), t.num(alg.w_floor)),
+                )
+            )
 
     def X(self, m: Member):
         return ((m.u - self.ref.u) / self.su, (m.w - self.ref.w) / self.sw)
@@ -458,19 +461,21 @@ def _events(problem, t, branch_members, opts, alg):
     pal = alg if isinstance(alg, PALC) else PALC()
     out = []
     with t.context():
-        checks = [("E", lambda m, e=t.num(e): m.E - e) for e in opts.energies]
+        tol = 1e-14 if not t.extended else t.num(t.eps) * 4
+        tol_tr = tol if not t.extended else t.num(t.eps) ** t.num(0.5)  # ~d - log10|M|
+        checks = [("E", lambda m, e=t.num(e): m.E - e, tol) for e in opts.energies]
         if opts.traces:
-            checks += [("IS", lambda m: m.trace - 4), ("PD", lambda m: m.trace)]
+            checks += [
+                ("IS", lambda m: m.trace - 4, tol_tr),
+                ("PD", lambda m: m.trace, tol_tr),
+            ]
         for k in range(1, len(branch_members)):
             a, b = branch_members[k - 1], branch_members[k]
-            for kind, g in checks:
+            for kind, g, tol in checks:
                 if not g(a) * g(b) < 0:
                     continue
                 try:
                     at, vb = _between(problem, t, pal, branch_members, k - 1, k, opts)
-                    tol = 1e-14 if not t.extended else t.num(t.eps) * 4
-                    if t.extended and kind != "E":  # tr M has ~d - log10|M| digits
-                        tol = t.num(t.eps) ** t.num(0.5)
                     out.append(
                         SpecialPoint(kind, illinois(g, at, vb, g(a), g(b), tol), k - 1)
                     )

@@ -184,8 +184,9 @@ def _start(ta, t: Tier, x0, variational):
     if ta.with_events:
         ta.reset_cooldowns()
     ta.time = t.to_hy(0.0)
-    x = list(x0) + (list(np.eye(4).ravel()) if variational else [])
-    ta.state[:] = t.hy_array(x)
+    ta.state[:] = t.hy_array(
+        list(x0) + (list(np.eye(4).ravel()) if variational else [])
+    )
 
 
 def _out(ta, t: Tier, variational):

@@ -236,7 +236,7 @@ def residual(
     with t.context():
         u, w = t.num(u), t.num(w)
         x0 = problem.state(u, w, t)
-        out = to_section(
+        t1, x1, *Phi = to_section(  # Phi: [the fundamental matrix] with derivative
             x0,
             problem.section,
             t,
@@ -245,7 +245,6 @@ def residual(
             derivative,
             problem.abort,
         )
-        t1, x1 = out[0], out[1]
         g, dg = _cond(problem.condition, x1, t)
         d = 1 if problem.trivial is None else u - t.num(problem.trivial)
         if problem.trivial is not None and d == 0:
@@ -255,7 +254,7 @@ def residual(
         r = g / d
         if not derivative:
             return Shot(r, t1, x0, x1)
-        grad = _gradient(problem, u, w, x0, out[2], x1, t)
+        grad = _gradient(problem, u, w, x0, Phi[0], x1, t)
         c = [ci * dg for ci in problem.condition.c]
         dr = [sum(ci * gi for ci, gi in zip(c, col)) / d for col in grad]
         if problem.trivial is not None:
