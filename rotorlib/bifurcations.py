@@ -238,8 +238,9 @@ class Transition(OrbitResult):
             return self.label
         if self.kind == "PD" and self.phase == "lib":
             return "PD^l"  # a single class
-        parity = "odd" if self.n % 2 else "even"
-        return f"{self.kind}^{_PHASE_LETTER[self.phase]}_{parity}"
+        return (
+            f"{self.kind}^{_PHASE_LETTER[self.phase]}_{'odd' if self.n % 2 else 'even'}"
+        )
 
     @property
     def dtrace_dE(self) -> float:
@@ -304,12 +305,10 @@ def parse_label(text: Any) -> tuple[str, str, int]:
         raise ValueError(
             f"not a transition label: {text!r} (expected e.g. 'IS^l_3', 'PD^r_2', 'ISl3')"
         )
-    kind = mt.group(1).upper()
-    phase = "rot" if mt.group(2).lower() == "r" else "lib"
     n = int(mt.group(4) or mt.group(5))
     if n < 1:
         raise ValueError(f"transition index must be >= 1, got {n} in {text!r}")
-    return kind, phase, n
+    return mt.group(1).upper(), ("rot" if mt.group(2).lower() == "r" else "lib"), n
 
 
 # --------------------------------------------------------------------------- Delta(x)
@@ -404,8 +403,14 @@ def level_crossings(
             continue  # grid point at a tangency; not a crossing
         if g[i + 1] == 0.0 and i + 1 < len(g) - 1:
             continue  # counted in the next interval
-        x = locate_root(lambda v: f(v) - level, xs[i], xs[i + 1], g[i], g[i + 1], xtol)
-        out.append((int(i), x))
+        out.append(
+            (
+                int(i),
+                locate_root(
+                    lambda v: f(v) - level, xs[i], xs[i + 1], g[i], g[i + 1], xtol
+                ),
+            )
+        )
     return out
 
 
@@ -453,14 +458,15 @@ def _slope(x, phase, h=1e-4):
 def _deltas(phase, xs, executor, progress, desc):
     """``Delta`` on the grid ``xs`` (float64), in chunks through :func:`pmap`."""
     chunks = np.array_split(xs, max(1, min(16, len(xs) // 200)))
-    parts = pmap(
-        _scan_chunk,
-        [(phase, c) for c in chunks],
-        executor=executor,
-        progress=progress,
-        desc=desc,
+    return np.concatenate(
+        pmap(
+            _scan_chunk,
+            [(phase, c) for c in chunks],
+            executor=executor,
+            progress=progress,
+            desc=desc,
+        )
     )
-    return np.concatenate(parts)
 
 
 def _roots(phase, kinds, n_max, executor=None, progress=False):

@@ -22,8 +22,6 @@ from .shooting import ShootingProblem
 
 __all__ = ["Member", "SpecialPoint", "Branch"]
 
-NAN = float("nan")
-
 
 @dataclass(frozen=True)
 class Member(OrbitResult):
@@ -70,7 +68,7 @@ class Member(OrbitResult):
     E: Any
     t1: Any
     r: Any
-    trace: Any = NAN
+    trace: Any = math.nan
     x1: tuple[Any, ...] = ()
     label: str = ""
     factor: int = 1

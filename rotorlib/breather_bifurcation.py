@@ -136,14 +136,16 @@ def breather_transitions(
         "R": _SCAN[_SCAN <= E_max],
     }[family]
     tr = np.array([breather_trace(E, family) for E in grid])
-    out = [
-        _make_transition(float(E), kind, level, family, digits)
-        for level, kind in ((0.0, "PD"), (4.0, "IS"))
-        for _, E in level_crossings(
-            lambda v: breather_trace(v, family), grid, tr, level
-        )
-    ]
-    return sorted(out, key=lambda t: t.E)
+    return sorted(
+        (
+            _make_transition(float(E), kind, level, family, digits)
+            for level, kind in ((0.0, "PD"), (4.0, "IS"))
+            for _, E in level_crossings(
+                lambda v: breather_trace(v, family), grid, tr, level
+            )
+        ),
+        key=lambda t: t.E,
+    )
 
 
 def _make_transition(
@@ -247,8 +249,8 @@ def pd_eigenstructure(E: float | None = None, tol: float = 1e-8) -> PDEigenstruc
             null[np.argmax(np.abs(null), axis=0), range(null.shape[1])]
         )
         vecs[lam], mult[lam], svals[lam] = null, null.shape[1], s
-    ev = np.linalg.eigvals(A)
-    return PDEigenstructure(np.sort_complex(ev), vecs, mult, svals, A, M.basis)
+    ev = np.sort_complex(np.linalg.eigvals(A))
+    return PDEigenstructure(ev, vecs, mult, svals, A, M.basis)
 
 
 # ----------------------------------------------------------------------------------------------
@@ -375,10 +377,9 @@ def daughter_family(
     b = continuation(
         DAUGHTER, alg, ContinuationOptions(traces=True, folds=False), [first]
     )
-    Es, trs = b.E, b.trace
-    sel = deltas <= delta_fit
-    s = deltas[sel] ** 2
-    pE, pT = np.polyfit(s, Es[sel], 2), np.polyfit(s, trs[sel], 2)
+    sel = deltas <= delta_fit  # the quadratic fits in delta^2 near the birth
+    pE = np.polyfit(deltas[sel] ** 2, b.E[sel], 2)
+    pT = np.polyfit(deltas[sel] ** 2, b.trace[sel], 2)
     parent = _trace_slope(E_PD)
     leave = next(  # the first exit from the stable window, E falling
         (
@@ -469,16 +470,13 @@ def breather_daughter(E: Any, digits: int | None = None) -> PeriodicOrbit:
             f"{fam.E_PD:.12f} (computed for {DAUGHTER_E_MIN} <= E < "
             f"{fam.E_PD:.12f}); got E = {E!r}"
         )
-    i = int(np.searchsorted(-fam.E, -Ef))  # fam.E[i - 1] > E >= fam.E[i]
-    if i >= len(fam.E):
-        raise ValueError(
-            f"E = {E!r} is below the computed branch (E >= {fam.E[-1]:.6f})"
-        )
+    # fam.E[i - 1] > E >= fam.E[i] (the branch falls to E ~ 5.29 < DAUGHTER_E_MIN)
+    i = int(np.searchsorted(-fam.E, -Ef))
     lo, hi = (1e-3 if i == 0 else fam.delta[i - 1]), fam.delta[i]
     Eh = fam.E[i - 1] if i else fam.E_PD
     guess = lo + (hi - lo) * (Eh - Ef) / (Eh - fam.E[i])
     d = solve(DAUGHTER, guess, guess * (1 + 1e-6), E=Ef, tol=1e-15).x
-    t = FLOAT64 if digits is None or digits <= 15 else tier(int(digits))
+    t = tier(digits)
     if t.extended:
         with t.context():
             d = solve(

@@ -25,11 +25,19 @@ from .flow import SectionNotReached, monodromy_matrix
 from .precision import Tier, tier
 from .shooting import NoConvergence, ShootingProblem, residual, solve
 
-__all__ = ["Member", "SpecialPoint", "Branch", "Natural", "PALC", "ContinuationOptions"]
-__all__ += ["continuation", "member", "switch", "FamilyEnd"]
-__all__ += ["illinois"]
-
-NAN = float("nan")
+__all__ = [
+    "Member",
+    "SpecialPoint",
+    "Branch",
+    "Natural",
+    "PALC",
+    "ContinuationOptions",
+    "continuation",
+    "member",
+    "switch",
+    "FamilyEnd",
+    "illinois",
+]
 
 
 class FamilyEnd(ValueError):
@@ -144,7 +152,7 @@ def member(
     t = tier(digits)
     with t.context():
         s = residual(problem, u, w, t)
-        tr = monodromy_matrix(s.x0, problem.factor * s.t1, t)[2] if traces else NAN
+        tr = monodromy_matrix(s.x0, problem.factor * s.t1, t)[2] if traces else math.nan
         r = abs(float(s.r))
         d = min(t.dps - 8, int(-math.log10(r))) if r > 0 else t.dps - 8
         return Member(
@@ -192,15 +200,12 @@ def _extrapolate(xs, ys, x, order, t: Tier):
     pts = list(zip(xs, ys))[-(order + 1) :]
     while len(pts) > 1 and len({p[0] for p in pts}) < len(pts):
         pts = pts[1:]
-    if len(pts) == 1:
-        return pts[0][1]
     with t.context():
         out = 0
         for i, (xi, yi) in enumerate(pts):
             term = yi
-            for j, (xj, _) in enumerate(pts):
-                if j != i:
-                    term = term * (x - xj) / (xi - xj)
+            for xj, _ in pts[:i] + pts[i + 1 :]:
+                term = term * (x - xj) / (xi - xj)
             out = out + term
         return out
 
@@ -241,7 +246,10 @@ def _natural(problem, alg: Natural, opts, start, t: Tier, on_member):
             except (NoConvergence, SectionNotReached):
                 if halvings >= 12:
                     raise FamilyEnd(
-                        problem.label, members, float(v) if par == "E" else NAN, par
+                        problem.label,
+                        members,
+                        float(v) if par == "E" else math.nan,
+                        par,
                     ) from None
                 halvings += 1
                 prev = members[-1].u if par == "u" else members[-1].E
@@ -311,7 +319,6 @@ class _Local:
             abs(guess) * t.num(t.eps) ** t.num(0.5),
             floor * tol,
         )
-        fixed = {"uw"[k]: value}
         x = solve(
             self.p,
             guess,
@@ -320,7 +327,7 @@ class _Local:
             tol=tol,
             floor=floor,
             r_max=self.opts.r_max,
-            **fixed,
+            **{"uw"[k]: value},  # the held coordinate
         ).x
         u, w = (value, x) if k == 0 else (x, value)
         return member(self.p, u, w, t, self.opts.traces)
@@ -567,12 +574,11 @@ def continuation(
     if run is None:
         raise ValueError(f"algorithm must be Natural or PALC, got {algorithm!r}")
     members, stop = run(problem, algorithm, opts, start, t, on_member)
-    special = _events(problem, t, members, opts, algorithm)
     return Branch(
         problem,
         t,
         tuple(members),
-        tuple(special),
+        tuple(_events(problem, t, members, opts, algorithm)),
         stop,
         _reason(stop, members, opts),
         tuple(opts.E_range),

@@ -339,8 +339,8 @@ def sample(
     ta, _ = _integrator(t, None, False)
     _start(ta, t, x0, False)
     grid = np.linspace(0.0, float(period), n)
-    out = ta.propagate_grid(t.hy_array(grid) if t.extended else grid)
-    return np.array(out[-1], dtype=float).reshape(n, 4), grid
+    states = ta.propagate_grid(t.hy_array(grid) if t.extended else grid)[-1]
+    return np.array(states, dtype=float).reshape(n, 4), grid
 
 
 def extrema(
@@ -352,8 +352,6 @@ def extrema(
     For a rotating ``a2`` (no turning point) the excursion is ``max |a2 - 2 pi k|``
     (nearest multiple) on 4001 samples. Returns floats.
     """
-    import math
-
     hits = crossings(x0, (Section((0, 0, 1, 0)), Section((0, 0, 0, 1))), period, digits)
     a1m = max([abs(float(x0[0]))] + [abs(float(x[0])) for k, _, x in hits if k == 0])
     a2s = [abs(float(x[1])) for k, _, x in hits if k == 1]
@@ -361,5 +359,5 @@ def extrema(
         return a1m, max(a2s)
     st, _ = sample(x0, period, 4001)
     return a1m, float(
-        np.max(np.abs(st[:, 1] - 2 * math.pi * np.round(st[:, 1] / (2 * math.pi))))
+        np.max(np.abs(st[:, 1] - 2 * np.pi * np.round(st[:, 1] / (2 * np.pi))))
     )

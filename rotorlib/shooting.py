@@ -27,7 +27,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, replace
 from typing import Any
 
-from .flow import Section, SectionNotReached, to_section
+from .flow import Section, SectionNotReached, _rhs, to_section
 from .precision import Tier, tier
 
 __all__ = [
@@ -254,8 +254,8 @@ def residual(
         r = g / d
         if not derivative:
             return Shot(r, t1, x0, x1)
-        grad = _gradient(problem, u, w, x0, Phi[0], x1, t)
         c = [ci * dg for ci in problem.condition.c]
+        grad = _gradient(problem, u, w, x0, Phi[0], x1, t)  # (dx1/du, dx1/dw)
         dr = [sum(ci * gi for ci, gi in zip(c, col)) / d for col in grad]
         if problem.trivial is not None:
             dr[0] -= r / d
@@ -266,8 +266,6 @@ def _gradient(problem, u, w, x0, Phi, x1, t: Tier):
     """``(dx1/du, dx1/dw)``: the start set differentiated (in closed
     form for a :class:`StartSet`, by central differences of its ``at`` otherwise), the flow
     by its fundamental matrix, the event time by implicit differentiation of the section."""
-    from .flow import _rhs
-
     st = problem.start
     if isinstance(st, StartSet):
         K = (x0[2] * x0[2] / 4 + 3 * x0[3] * x0[3] / 4) - u * u * _kin(st.c)
