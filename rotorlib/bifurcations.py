@@ -445,8 +445,9 @@ def refine_root(
             w *= 100
             if w > reach:
                 raise RuntimeError(f"root refinement found no root near {x0}")
-        tol = mp.mpf(10) ** (-(digits + 1)) * scale
-        return locate_root(f, a, b, fa, fb, tol, maxiter)
+        return locate_root(
+            f, a, b, fa, fb, mp.mpf(10) ** (-(digits + 1)) * scale, maxiter
+        )
 
 
 def _slope(x, phase, h=1e-4):

@@ -246,8 +246,7 @@ class Branch:
     @property
     def fold(self) -> Member | None:
         """The first located fold (a :class:`Member`), or ``None``."""
-        pts = [p for p in self.points("fold") if p.located]
-        return pts[0].member if pts else None
+        return next((p.member for p in self.points("fold") if p.located), None)
 
     @property
     def E_max(self) -> float:
