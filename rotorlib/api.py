@@ -19,12 +19,12 @@ result has ``label``, ``E``, ``period``, ``trace``, ``multipliers``, ``stability
 from __future__ import annotations
 
 import math
-import re
 from typing import Any
 
 import mpmath as mp
 import numpy as np
 
+from .bifurcations import is_breather_label, parse_label
 from .periodic import PeriodicOrbit
 from .precision import Tier, check_digits
 
@@ -38,9 +38,24 @@ LABELS = {
     "choreography": ("CG", "CT", "CZ1", "CZ2", "CR1"),
 }
 
-_BREATHER_DAUGHTER = re.compile(r"^PD\^?b$", re.IGNORECASE)
-_CHOREO = re.compile(r"^C(G|T|Z1|Z2|R1)$", re.IGNORECASE)
-_NEWBORN = re.compile(r"^\s*(IS|PD)\s*\^?\s*(l|r|ℓ)", re.IGNORECASE)
+
+def _kind(label: str) -> tuple[str, str]:
+    """``(kind, label)``: the kind in :data:`LABELS` that ``label`` names (``unknown``:
+    none) and its spelling for that kind's module (a newborn label as given: the module
+    reads it with :func:`~rotorlib.bifurcations.parse_label`, as :func:`transition` does)."""
+    lab = str(label).strip()
+    if lab.lower() in ("pendulum", "p"):
+        return "closed form", "pendulum"
+    for kind in ("closed form", "choreography"):
+        if lab.upper() in LABELS[kind]:
+            return kind, lab.upper()
+    if is_breather_label(lab):
+        return "breather daughter", "PD^b"
+    try:
+        parse_label(lab)
+    except ValueError:
+        return "unknown", lab
+    return "newborn", lab
 
 
 def _digits(digits: int | Tier | None) -> int | None:
@@ -59,9 +74,7 @@ def _closed_form(label: str, E: Any, digits: int | None) -> PeriodicOrbit:
     m = monodromy(orb, digits=digits)
     en = orb.energy
     d = digits if digits and digits > 15 else 15
-    E_str = en.decimal_E(d) if hasattr(en, "decimal_E") else repr(float(orb.E))
-    state0 = np.asarray(orb.state0, dtype=float)
-    period_str = m.period_str or repr(float(m.period))
+    E_str, period_str = en.decimal_E(d), m.period_str
     state0_str: tuple[str, ...] = ()
     if d > 15:  # the base point in closed form: G (pendulum, LG, R) or D (LD)
         with mp.workdps(d + 10):
@@ -72,21 +85,18 @@ def _closed_form(label: str, E: Any, digits: int | None) -> PeriodicOrbit:
             }.get(label, (0, 0, mp.sqrt(Em), mp.sqrt(Em)))
             state0_str = tuple(mp.nstr(mp.mpf(v), d) if v else "0.0" for v in x)
         d = min(d, len(period_str.lstrip("-0.").replace(".", "").split("e")[0]))
-    try:
-        ts = np.linspace(0.0, float(m.period), 2001)
-        xs = orb.state(ts)
+    try:  # a rotating pendulum's a2 covers the circle: its excursion is pi
+        xs = orb.state(np.linspace(0.0, float(m.period), 2001))
         a1m = float(np.max(np.abs(xs[:, 0])))
         a2m = float(np.max(np.abs(xs[:, 1] - xs[0, 1])))
-        if label == "pendulum" and en.phase == "rot":
-            a2m = math.pi
+        a2m = math.pi if label == "pendulum" and en.phase == "rot" else a2m
     except ValueError:  # beyond the float64 range of the closed form
         a1m = a2m = math.nan
-    log_abs = getattr(en, "log_abs_dE", math.nan)
     return PeriodicOrbit(
         label,
         float(orb.E),
         float(m.period),
-        state0,
+        np.asarray(orb.state0, dtype=float),
         m.in_alpha_state_order(),
         float(m.trace),
         float(m.residual),
@@ -94,7 +104,7 @@ def _closed_form(label: str, E: Any, digits: int | None) -> PeriodicOrbit:
         m.precision,
         a1m,
         a2m,
-        float(log_abs) if label == "pendulum" else math.nan,
+        float(en.log_abs_dE) if label == "pendulum" else math.nan,
         {"stability": m.stability, "family": m.family},
         digits=d,
         E_str=E_str,
@@ -154,25 +164,23 @@ def orbit(
     'unstable'
     """
     d = _digits(digits)
-    lab = str(label).strip()
-    if lab.lower() in ("pendulum", "p"):
-        return _closed_form("pendulum", E, d)
-    if lab.upper() in ("R", "LG", "LD"):
-        return _closed_form(lab.upper(), E, d)
-    if _BREATHER_DAUGHTER.match(lab):
-        from .breather_bifurcation import breather_daughter
-
-        return breather_daughter(E, digits=d)
-    if _CHOREO.match(lab):
+    kind, lab = _kind(label)
+    if kind == "choreography":
         from .choreo_family import choreography_orbit
 
-        return choreography_orbit(lab.upper(), E, digits=d, branch=branch)
+        return choreography_orbit(lab, E, digits=d, branch=branch)
     if branch:
         raise ValueError(
             f"branch={branch!r}: only the choreographies CZ1, CZ2, CR1 have more than "
             "one member at an energy"
         )
-    if _NEWBORN.match(lab):
+    if kind == "closed form":
+        return _closed_form(lab, E, d)
+    if kind == "breather daughter":
+        from .breather_bifurcation import breather_daughter
+
+        return breather_daughter(E, digits=d)
+    if kind == "newborn":
         from .newborn import newborn_orbit
 
         return newborn_orbit(lab, E, digits=d)
@@ -201,17 +209,17 @@ def family(
     lo, hi = (float(v) for v in E_range)
     if not lo < hi:
         raise ValueError(f"E_range must be (lo, hi) with lo < hi, got {E_range!r}")
-    lab = str(label).strip()
+    kind, lab = _kind(label)
     d = _digits(digits)
-    if _CHOREO.match(lab):
+    if kind == "choreography":
         from . import choreo_family
 
-        if lab.upper() in ("CG", "CT"):
-            return choreo_family.family(lab.upper(), (lo, hi), digits=d)
+        if lab in ("CG", "CT"):
+            return choreo_family.family(lab, (lo, hi), digits=d)
         from .choreo_z3 import z3_family
 
-        return z3_family(lab.upper(), (lo, hi), digits=d)
-    if _NEWBORN.match(lab):
+        return z3_family(lab, (lo, hi), digits=d)
+    if kind == "newborn":
         from .newborn import family as _family
 
         return _family(lab, (lo, hi), digits=digits)
@@ -260,8 +268,5 @@ def census(
     from .atlas import census as _census
     from .parallel import executor_for
 
-    d = _digits(digits)
-    if workers is None and scheduler is None:
-        return _census(E, t_max, digits=d)
-    with executor_for(workers, scheduler) as ex:
-        return _census(E, t_max, digits=d, executor=ex)
+    with executor_for(workers, scheduler) as ex:  # None: serial
+        return _census(E, t_max, digits=_digits(digits), executor=ex)

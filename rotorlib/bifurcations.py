@@ -60,6 +60,7 @@ from .precision import Tier, json_number, tier
 __all__ = [
     "Transition",
     "parse_label",
+    "is_breather_label",
     "transition",
     "transitions",
     "delta",
@@ -69,10 +70,10 @@ __all__ = [
     "refine_mp",
     "refine_root",
     "locate_root",
+    "level_crossings",
     "BREATHER_LABELS",
     "SQRT3_PI",
     "CLASSES",
-    "transition_class",
     "X_MIN",
 ]
 
@@ -85,6 +86,14 @@ X_MIN = -700.0
 #: and -2 < Delta for 0 < E <= 0.1) and E = 4 + e^8 ~ 2985 (rot; Delta -> 2 from below as E -> inf).
 X_START = {"lib": math.log(3.9), "rot": 8.0}
 _GRID_STEP = 0.05
+#: ``(x of the first root, asymptotic spacing of the roots)`` of each (kind, phase): in
+#: libration one PD per sqrt3 pi and two IS; in rotation two of each per 2 sqrt3 pi.
+_FIRST = {
+    ("IS", "lib"): (-4.67, SQRT3_PI / 2),
+    ("PD", "lib"): (-2.43, SQRT3_PI),
+    ("IS", "rot"): (-4.67, SQRT3_PI),
+    ("PD", "rot"): (1.0, SQRT3_PI),
+}
 _KINDS = ("IS", "PD")
 _PHASE_LETTER = {"lib": "l", "rot": "r"}
 
@@ -199,14 +208,19 @@ class Transition(OrbitResult):
         energy: PendulumEnergy | BreatherEnergy,
         period: tuple[float, str],
         momenta: tuple[str, str],
-        transition: str,
+        transition: str | None,
         slope: float,
         digits: int | None,
         E_str: str,
         **pendulum_only: Any,
     ) -> Transition:
         """The transition of the orbit through G with momenta ``(p1, p2)`` (decimal
-        strings) and ``period = (value, string)``; ``digits`` None: float64."""
+        strings) and ``period = (value, string)``; ``digits`` None: float64.
+        ``transition`` None: from the sign of ``slope`` (``tr M`` rising through 4
+        destabilises, rising through 0 stabilises)."""
+        if transition is None:
+            up = (slope > 0) == (kind == "IS")
+            transition = "stable->unstable" if up else "unstable->stable"
         state0_str = ("0.0", "0.0", *momenta)
         level = 4.0 if kind == "IS" else 0.0
         return cls(
@@ -222,7 +236,11 @@ class Transition(OrbitResult):
         (a breather transition: its label)."""
         if self.family != "pendulum":
             return self.label
-        return transition_class(self.kind, self.phase, self.n)
+        if self.kind == "PD" and self.phase == "lib":
+            return "PD^l"  # a single class
+        return (
+            f"{self.kind}^{_PHASE_LETTER[self.phase]}_{'odd' if self.n % 2 else 'even'}"
+        )
 
     @property
     def dtrace_dE(self) -> float:
@@ -232,7 +250,6 @@ class Transition(OrbitResult):
     def to_dict(self) -> dict[str, Any]:
         """The JSON ``bifurcations --json`` prints (:func:`~rotorlib.precision.json_number`:
         float64 values as numbers, more digits in ``*_str`` strings)."""
-        ext = self.digits > 15
         rec: dict[str, Any] = {
             "label": self.label,
             "kind": self.kind,
@@ -253,16 +270,9 @@ class Transition(OrbitResult):
             "digits": self.digits,
             "precision": self.precision,
         }
-        if ext:
+        if self.digits > 15:
             rec["state0_str"] = list(self.state0_str)
         return rec
-
-
-def transition_class(kind: str, phase: str, n: int) -> str:
-    """Name of the §5 class of a transition (``PD^l`` is a single class)."""
-    if kind == "PD" and phase == "lib":
-        return "PD^l"
-    return f"{kind}^{_PHASE_LETTER[phase]}_{'odd' if n % 2 else 'even'}"
 
 
 _LABEL_RE = re.compile(
@@ -295,16 +305,10 @@ def parse_label(text: Any) -> tuple[str, str, int]:
         raise ValueError(
             f"not a transition label: {text!r} (expected e.g. 'IS^l_3', 'PD^r_2', 'ISl3')"
         )
-    kind = mt.group(1).upper()
-    phase = "rot" if mt.group(2).lower() == "r" else "lib"
     n = int(mt.group(4) or mt.group(5))
     if n < 1:
         raise ValueError(f"transition index must be >= 1, got {n} in {text!r}")
-    return kind, phase, n
-
-
-def _label(kind, phase, n):
-    return f"{kind}^{_PHASE_LETTER[phase]}_{n}"
+    return mt.group(1).upper(), ("rot" if mt.group(2).lower() == "r" else "lib"), n
 
 
 # --------------------------------------------------------------------------- Delta(x)
@@ -377,6 +381,39 @@ def locate_root(
     return illinois(f, lambda v: a + v, b - a, fa, fb, xtol / abs(b - a), maxiter)
 
 
+def level_crossings(
+    f: Callable[[Any], Any], xs: Any, fs: Any, level: float, xtol: float = 1e-15
+) -> list[tuple[int, Any]]:
+    """``[(i, x)]``: the roots ``x`` of ``f = level`` between ``xs[i]`` and ``xs[i + 1]``,
+    wherever the tabulated ``fs = f(xs)`` crosses ``level`` (a grid value on the level is
+    one crossing, a tangency none), each located by :func:`locate_root` to ``xtol``. The
+    one scan of ``tr M`` (or ``Delta``) of pendula and breathers.
+
+    Examples
+    --------
+    >>> xs = [0.0, 1.0, 2.0, 3.0, 4.0, 5.0]
+    >>> fs = [math.cos(x) for x in xs]
+    >>> [(i, round(float(x), 12)) for i, x in level_crossings(math.cos, xs, fs, 0.0)]
+    [(1, 1.570796326795), (4, 4.712388980385)]
+    """
+    g = np.asarray(fs) - level
+    out = []
+    for i in np.nonzero(np.sign(g[:-1]) * np.sign(g[1:]) <= 0)[0]:
+        if g[i] == 0.0 and i > 0 and (g[i - 1] * g[i + 1] > 0):
+            continue  # grid point at a tangency; not a crossing
+        if g[i + 1] == 0.0 and i + 1 < len(g) - 1:
+            continue  # counted in the next interval
+        out.append(
+            (
+                int(i),
+                locate_root(
+                    lambda v: f(v) - level, xs[i], xs[i + 1], g[i], g[i + 1], xtol
+                ),
+            )
+        )
+    return out
+
+
 def refine_root(
     f: Callable[[Any], Any],
     x0: Any,
@@ -408,8 +445,9 @@ def refine_root(
             w *= 100
             if w > reach:
                 raise RuntimeError(f"root refinement found no root near {x0}")
-        tol = mp.mpf(10) ** (-(digits + 1)) * scale
-        return locate_root(f, a, b, fa, fb, tol, maxiter)
+        return locate_root(
+            f, a, b, fa, fb, mp.mpf(10) ** (-(digits + 1)) * scale, maxiter
+        )
 
 
 def _slope(x, phase, h=1e-4):
@@ -418,39 +456,31 @@ def _slope(x, phase, h=1e-4):
     return (d[0] - 8 * d[1] + 8 * d[2] - d[3]) / (12 * h)
 
 
-def _depth(phase, kinds, n_max):
-    """Deepest x needed for n_max roots of each kind (from the asymptotic spacing, plus margin)."""
-    # lib: PD every sqrt3 pi; IS two per sqrt3 pi. rot: IS and PD two per 2 sqrt3 pi.
-    deepest = 0.0
-    for kind in kinds:
-        if phase == "lib":
-            per = SQRT3_PI if kind == "PD" else SQRT3_PI / 2
-            first = -2.43 if kind == "PD" else -4.67
-        else:
-            per = SQRT3_PI
-            first = 1.0 if kind == "PD" else -4.67
-        deepest = min(deepest, first - (n_max + 1) * per - 2.0)
-    return deepest
-
-
 def _deltas(phase, xs, executor, progress, desc):
     """``Delta`` on the grid ``xs`` (float64), in chunks through :func:`pmap`."""
-    if not len(xs):
-        return np.zeros(0)
     chunks = np.array_split(xs, max(1, min(16, len(xs) // 200)))
-    parts = pmap(
-        _scan_chunk,
-        [(phase, c) for c in chunks],
-        executor=executor,
-        progress=progress,
-        desc=desc,
+    return np.concatenate(
+        pmap(
+            _scan_chunk,
+            [(phase, c) for c in chunks],
+            executor=executor,
+            progress=progress,
+            desc=desc,
+        )
     )
-    return np.concatenate(parts)
 
 
-def _find(phase, kinds, n_max, executor=None, progress=False):
-    """Roots (x, target, kind) in one phase with n <= n_max for each kind."""
-    x_lo = _depth(phase, kinds, n_max)
+def _roots(phase, kinds, n_max, executor=None, progress=False):
+    """``[(kind, n, target, x)]``: the float64 roots ``x`` of ``Delta = target`` in one
+    phase with ``n <= n_max`` for each kind, in the order of ``kinds``, then ``n``."""
+    # the deepest x needed, from the first root and the asymptotic spacing, plus margin
+    x_lo = min(
+        0.0,
+        *(
+            x1 - (n_max + 1) * per - 2.0
+            for x1, per in (_FIRST[k, phase] for k in kinds)
+        ),
+    )
     if x_lo < X_MIN:
         raise ValueError(
             f"n_max = {n_max} needs log|E-4| down to about {x_lo:.0f} in {phase}, beyond the "
@@ -460,35 +490,32 @@ def _find(phase, kinds, n_max, executor=None, progress=False):
     ds = _deltas(phase, xs, executor, progress, f"scan {phase}")
     roots = []
     for kind in kinds:
-        found = []
-        for c in _TARGETS[(kind, phase)]:
-            g = ds - c
-            idx = np.nonzero(np.sign(g[:-1]) * np.sign(g[1:]) <= 0)[0]
-            for i in idx:
-                if g[i] == 0.0 and i > 0 and (g[i - 1] * g[i + 1] > 0):
-                    continue  # grid point at a tangency; not a crossing
-                if g[i + 1] == 0.0 and i + 1 < len(g) - 1:
-                    continue  # counted in the next interval
-                found.append((kind, c, xs[i], xs[i + 1], ds[i], ds[i + 1]))
-        found.sort(key=lambda r: -r[2])
-        roots.extend(found[:n_max])
+        found = sorted(
+            (i, c, x)
+            for c in _TARGETS[(kind, phase)]
+            for i, x in level_crossings(lambda v: delta(v, phase), xs, ds, c)
+        )
         if len(found) < n_max:
             raise RuntimeError(
                 f"found only {len(found)} {kind} roots in {phase} down to x = {x_lo}"
             )
-    return roots, xs, ds
+        roots += [(kind, n, c, x) for n, (_, c, x) in enumerate(found[:n_max], 1)]
+    return roots
 
 
 def _make(
     kind: str,
     phase: str,
     n: int,
-    x: float,
+    x: Any,
     c: float,
-    x_str: str | None = None,
     digits: int | None = None,
 ) -> Transition:
-    x_str = x_str or f"{float(x):.17g}"
+    """The transition at the root ``x`` of ``Delta = c`` (float64, or an mpf of ``digits``
+    digits)."""
+    x_str = (
+        f"{float(x):.17g}" if digits is None else mp.nstr(x, digits, strip_zeros=False)
+    )
     en = dataclasses.replace(
         pendulum_energy(log_abs_dE=float(x), phase=phase), given=("log_abs_dE", x_str)
     )
@@ -497,22 +524,20 @@ def _make(
     dtr_dx = 2 * c * d if phase == "lib" else d
     # x = log|E-4|: dx/dE = 1/(E-4) (rot), -1/(4-E) (lib)
     dtr_dE = dtr_dx * ((1.0 / en.eps) if phase == "rot" else (-1.0 / en.eps))
-    if kind == "PD" and phase == "lib":
+    sense = None  # from the slope
+    if kind == "PD" and phase == "lib":  # a double zero of tr M
         sense, dtr_dE, dtr_dx = "stable->stable", 0.0, 0.0
-    else:  # tr M rising through 4 (IS) destabilises, rising through 0 (PD) stabilises
-        up = (dtr_dE > 0) == (kind == "IS")
-        sense = "stable->unstable" if up else "unstable->stable"
     if digits is None:
-        shown, per_s, p2_s = 15, repr(orb.period), repr(float(orb.state0[3]))
+        per_s, p2_s = repr(orb.period), repr(float(orb.state0[3]))
     else:
-        shown, dps = digits, digits + 10
+        dps = digits + 10
         with mp.workdps(dps):
             per_s = mp.nstr(orb.closed_form(dps)["period"], digits, strip_zeros=False)
             E = en.mp_E_eps(dps)[0]
             p2_s = mp.nstr(mp.sqrt(4 * E / 3), digits, strip_zeros=False)
     return Transition.at_base_point(
-        _label(kind, phase, n), kind, "pendulum", en, (orb.period, per_s), ("0.0", p2_s),
-        sense, float(dtr_dE), digits, en.decimal_E(shown), phase=phase, n=n,
+        f"{kind}^{_PHASE_LETTER[phase]}_{n}", kind, "pendulum", en, (orb.period, per_s), ("0.0", p2_s),
+        sense, float(dtr_dE), digits, en.decimal_E(digits or 15), phase=phase, n=n,
         log_abs_dE=float(x), log_abs_dE_str=x_str, delta_target=c,
         dtrace_dx=float(dtr_dx),
     )  # fmt: skip
@@ -545,7 +570,9 @@ def transitions(
         ``log|E-4|`` ~2e-13 absolute, period ~3e-13 absolute. ~1 s for
         ``n_max = 20``, both phases.
     """
-    phases = _check_phase(phase)
+    phases = {"lib": ("lib",), "rot": ("rot",), "both": ("lib", "rot")}.get(phase)
+    if phases is None:
+        raise ValueError(f"phase must be 'lib', 'rot' or 'both', got {phase!r}")
     if isinstance(kinds, str):
         kinds = (kinds,)
     kinds = tuple(k.upper() if isinstance(k, str) else k for k in kinds)
@@ -555,16 +582,13 @@ def transitions(
         )
     if isinstance(n_max, bool) or not isinstance(n_max, (int, np.integer)) or n_max < 1:
         raise ValueError(f"n_max must be an integer >= 1, got {n_max!r}")
-    out = []
-    for ph in phases:
-        roots, _, _ = _find(
+    return [
+        _make(kind, ph, n, x, c)
+        for ph in phases
+        for kind, n, c, x in _roots(
             ph, tuple(k for k in _KINDS if k in kinds), int(n_max), executor, progress
         )
-        for kind in _KINDS:
-            rk = [r for r in roots if r[0] == kind]
-            for n, (_, c, a, b, fa, fb) in enumerate(rk, start=1):
-                out.append(_make(kind, ph, n, _root64(ph, c, a, b, fa, fb), c))
-    return out
+    ]
 
 
 def trace_curve(
@@ -582,19 +606,6 @@ def trace_curve(
     ds = _deltas(phase, xs, executor, progress, f"tr M {phase}")
     per = np.array([pendulum(log_abs_dE=float(x), phase=phase).period for x in xs])
     return trace_of_delta(ds, phase), per
-
-
-def _check_phase(phase):
-    if phase == "both":
-        return ("lib", "rot")
-    if phase in ("lib", "rot"):
-        return (phase,)
-    raise ValueError(f"phase must be 'lib', 'rot' or 'both', got {phase!r}")
-
-
-def _root64(phase: str, c: float, a: float, b: float, fa: float, fb: float) -> float:
-    """The float64 root of ``Delta = c`` between grid points ``a`` and ``b`` (~1e-13)."""
-    return locate_root(lambda x: delta(x, phase) - c, a, b, fa - c, fb - c, 1e-15)
 
 
 def refine_mp(
@@ -622,6 +633,18 @@ def refine_mp(
 #: The breather transitions that exist (:func:`rotorlib.breather_bifurcation.breather_transitions`).
 BREATHER_LABELS = ("PD^b",)
 _BREATHER_RE = re.compile(r"^\s*(PD)\s*\^?\s*(\{\s*b\s*\}|b)\s*$", re.IGNORECASE)
+
+
+def is_breather_label(text: Any) -> bool:
+    """Whether ``text`` names the breather's transition (``PD^b``, ``PDb``, ``PD^{b}``), the
+    label of its daughter family too.
+
+    Examples
+    --------
+    >>> is_breather_label("PDb"), is_breather_label("PD^b_1")
+    (True, False)
+    """
+    return isinstance(text, str) and bool(_BREATHER_RE.match(text))
 
 
 def transition(label: str, *, digits: int | Tier | None = None) -> Transition:
@@ -655,7 +678,7 @@ def transition(label: str, *, digits: int | Tier | None = None) -> Transition:
     """
     t = tier(digits)  # a Tier delivers the digits its working digits keep, less 9
     d = None if not t.extended else (digits if isinstance(digits, int) else t.dps - 9)
-    if isinstance(label, str) and _BREATHER_RE.match(label):
+    if is_breather_label(label):
         from .breather_bifurcation import pd_transition
 
         return pd_transition(digits=d)
@@ -667,12 +690,7 @@ def transition(label: str, *, digits: int | Tier | None = None) -> Transition:
             f"(n >= 1; ASCII 'ISl3', 'PDr2' too) and the breather's "
             f"{', '.join(BREATHER_LABELS)} ('PDb')"
         ) from None
-    roots, _, _ = _find(phase, (kind,), n)
-    _, c, a, b, fa, fb = roots[n - 1]
-    x = _root64(phase, c, a, b, fa, fb)
-    if d is None:
-        return _make(kind, phase, n, x, c)
-    xm, _ = refine_mp(x, phase, c, digits=d)
-    with mp.workdps(d + 10):
-        xs = mp.nstr(xm, d, strip_zeros=False)
-    return _make(kind, phase, n, float(xm), c, x_str=xs, digits=d)
+    _, _, c, x = _roots(phase, (kind,), n)[n - 1]
+    if d is not None:  # the float64 root re-located in the tier of d digits
+        x, _ = refine_mp(x, phase, c, digits=d)
+    return _make(kind, phase, n, x, c, d)

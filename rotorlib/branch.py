@@ -22,8 +22,6 @@ from .shooting import ShootingProblem
 
 __all__ = ["Member", "SpecialPoint", "Branch"]
 
-NAN = float("nan")
-
 
 @dataclass(frozen=True)
 class Member(OrbitResult):
@@ -70,7 +68,7 @@ class Member(OrbitResult):
     E: Any
     t1: Any
     r: Any
-    trace: Any = NAN
+    trace: Any = math.nan
     x1: tuple[Any, ...] = ()
     label: str = ""
     factor: int = 1
@@ -163,10 +161,6 @@ class SpecialPoint:
         }
 
 
-def _bound(v: float) -> float | None:
-    return float(v) if math.isfinite(float(v)) else None
-
-
 @dataclass(frozen=True)
 class Branch:
     """A family followed by :func:`~rotorlib.continuation.continuation`: the one family
@@ -252,8 +246,7 @@ class Branch:
     @property
     def fold(self) -> Member | None:
         """The first located fold (a :class:`Member`), or ``None``."""
-        pts = [p for p in self.points("fold") if p.located]
-        return pts[0].member if pts else None
+        return next((p.member for p in self.points("fold") if p.located), None)
 
     @property
     def E_max(self) -> float:
@@ -269,7 +262,9 @@ class Branch:
         and ``special_points`` (each with its ``kind``)."""
         return {
             "label": self.label,
-            "E_range": [_bound(v) for v in self.E_range],
+            "E_range": [
+                float(v) if math.isfinite(float(v)) else None for v in self.E_range
+            ],
             "stop": self.stop,
             "reason": self.reason,
             "members": [m.to_dict() for m in self.members],

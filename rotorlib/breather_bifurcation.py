@@ -52,7 +52,7 @@ import mpmath as mp
 import numpy as np
 from scipy import optimize
 
-from .bifurcations import Transition, locate_root, refine_root
+from .bifurcations import Transition, level_crossings, refine_root
 from .continuation import Branch, ContinuationOptions, Natural, continuation, switch
 from .energy import as_float
 from .floquet import monodromy, trace_monodromy
@@ -130,40 +130,36 @@ def breather_transitions(
     """
     if family not in ("R", "LG", "LD"):
         raise ValueError(f"breather family must be R, LG or LD; got {family!r}")
-    if family != "R":
-        grid = (
-            np.linspace(0.05, 4.45, 45)
-            if family == "LG"
-            else np.linspace(4.01, 4.49, 25)
-        )
-    else:
-        grid = _SCAN[_SCAN <= E_max]
+    grid = {
+        "LG": np.linspace(0.05, 4.45, 45),
+        "LD": np.linspace(4.01, 4.49, 25),
+        "R": _SCAN[_SCAN <= E_max],
+    }[family]
     tr = np.array([breather_trace(E, family) for E in grid])
-    out = []
-    for level, kind in ((0.0, "PD"), (4.0, "IS")):
-        s = np.sign(tr - level)
-        for i in np.nonzero(s[:-1] * s[1:] < 0)[0]:
-
-            def g(E: float, level: float = level) -> float:
-                return breather_trace(E, family) - level
-
-            a, b = grid[i], grid[i + 1]
-            E = locate_root(g, a, b, g(a), g(b), 1e-15)
-            out.append(_make_transition(float(E), kind, level, family, digits))
-    return sorted(out, key=lambda t: t.E)
+    return sorted(
+        (
+            _make_transition(float(E), kind, level, family, digits)
+            for level, kind in ((0.0, "PD"), (4.0, "IS"))
+            for _, E in level_crossings(
+                lambda v: breather_trace(v, family), grid, tr, level
+            )
+        ),
+        key=lambda t: t.E,
+    )
 
 
 def _make_transition(
     E: float, kind: str, level: float, family: str, digits: int | None
 ) -> Transition:
     slope = _trace_slope(E, family)
-    up = (slope > 0) == (kind == "IS")  # tr M rising through 4 or falling through 0
-    direction = "stable->unstable" if up else "unstable->stable"
     d = None if digits is None or digits <= 15 else int(digits)
     if d is None:
         orbit = breather(E, family)
-        E_str, per_str = repr(E), repr(orbit.period)
-        p_str = repr(float(orbit.state0[3]))
+        E_str, per_str, p_str = (
+            repr(E),
+            repr(orbit.period),
+            repr(float(orbit.state0[3])),
+        )
     else:
         dps = d + 10
 
@@ -174,8 +170,9 @@ def _make_transition(
         with mp.workdps(dps):
             E_ext = refine_root(trace_at, E, d)
             per = breather(mp.nstr(E_ext, dps), family).closed_form(dps)["period"]
-            E_str, per_str = mp.nstr(E_ext, d - 5), mp.nstr(per, d - 5)
-            p_str = mp.nstr(mp.sqrt(E_ext), d - 5)
+            E_str, per_str, p_str = (
+                mp.nstr(v, d - 5) for v in (E_ext, per, mp.sqrt(E_ext))
+            )
         orbit = breather(E_str, family)
     return Transition.at_base_point(
         "PD^b" if kind == "PD" else "IS^b",
@@ -184,7 +181,7 @@ def _make_transition(
         orbit.energy,
         (orbit.period, per_str),
         (p_str, p_str),
-        direction,
+        None,
         slope,
         None if d is None else d - 5,
         E_str,
@@ -252,8 +249,8 @@ def pd_eigenstructure(E: float | None = None, tol: float = 1e-8) -> PDEigenstruc
             null[np.argmax(np.abs(null), axis=0), range(null.shape[1])]
         )
         vecs[lam], mult[lam], svals[lam] = null, null.shape[1], s
-    ev = np.linalg.eigvals(A)
-    return PDEigenstructure(np.sort_complex(ev), vecs, mult, svals, A, M.basis)
+    ev = np.sort_complex(np.linalg.eigvals(A))
+    return PDEigenstructure(ev, vecs, mult, svals, A, M.basis)
 
 
 # ----------------------------------------------------------------------------------------------
@@ -303,8 +300,7 @@ def daughter_orbit(
 
 def _finish(x0, T, E, tq, xq, t, method, extra=None, digits=None):
     o = orbit_from_state("PD^b", x0, T, t, DAUGHTER.lattice, E, shown=digits)
-    traj = _beta_traj(x0, float(T), 401)
-    b2max = float(np.max(np.abs(traj[:, 1])))
+    b2max = float(np.max(np.abs(daughter_trajectory(o, 401)[:, 1])))
     ex = dict(
         o.extra,
         method=method,
@@ -316,11 +312,6 @@ def _finish(x0, T, E, tq, xq, t, method, extra=None, digits=None):
         **(extra or {}),
     )
     return replace(o, alpha1_max=b2max / 4, alpha2_max=b2max / 4, extra=ex)
-
-
-def _beta_traj(x0, T, n):
-    st, _ = sample([float(v) for v in x0], T, n)
-    return alpha_to_beta(st)
 
 
 @dataclass(frozen=True)
@@ -386,18 +377,18 @@ def daughter_family(
     b = continuation(
         DAUGHTER, alg, ContinuationOptions(traces=True, folds=False), [first]
     )
-    Es, trs = b.E, b.trace
-    sel = deltas <= delta_fit
-    s = deltas[sel] ** 2
-    pE, pT = np.polyfit(s, Es[sel], 2), np.polyfit(s, trs[sel], 2)
+    sel = deltas <= delta_fit  # the quadratic fits in delta^2 near the birth
+    pE = np.polyfit(deltas[sel] ** 2, b.E[sel], 2)
+    pT = np.polyfit(deltas[sel] ** 2, b.trace[sel], 2)
     parent = _trace_slope(E_PD)
-    E_unst, which = float("nan"), "none"
-    for p in b.special_points:  # the first exit from the window, E falling
-        if p.located and float(b.members[p.index].u) > 0.05 and math.isnan(E_unst):
-            E_unst, which = (
-                float(p.member.E),
-                "tr M = 4" if p.kind == "IS" else "tr M = 0",
-            )
+    leave = next(  # the first exit from the stable window, E falling
+        (
+            p
+            for p in b.special_points
+            if p.located and float(b.members[p.index].u) > 0.05
+        ),
+        None,
+    )
     return DaughterFamily(
         b.problem,
         b.tier,
@@ -409,8 +400,8 @@ def daughter_family(
         E_PD,
         float((pT[-2] / pE[-2]) / parent),
         float(parent),
-        E_unst,
-        which,
+        math.nan if leave is None else float(leave.member.E),
+        "none" if leave is None else f"tr M = {4 if leave.kind == 'IS' else 0}",
         {"E_fit": pE, "trace_fit": pT, "E_at_birth": pE[-1], "trace_at_birth": pT[-1]},
     )
 
@@ -479,16 +470,13 @@ def breather_daughter(E: Any, digits: int | None = None) -> PeriodicOrbit:
             f"{fam.E_PD:.12f} (computed for {DAUGHTER_E_MIN} <= E < "
             f"{fam.E_PD:.12f}); got E = {E!r}"
         )
-    i = int(np.searchsorted(-fam.E, -Ef))  # fam.E[i - 1] > E >= fam.E[i]
-    if i >= len(fam.E):
-        raise ValueError(
-            f"E = {E!r} is below the computed branch (E >= {fam.E[-1]:.6f})"
-        )
+    # fam.E[i - 1] > E >= fam.E[i] (the branch falls to E ~ 5.29 < DAUGHTER_E_MIN)
+    i = int(np.searchsorted(-fam.E, -Ef))
     lo, hi = (1e-3 if i == 0 else fam.delta[i - 1]), fam.delta[i]
     Eh = fam.E[i - 1] if i else fam.E_PD
     guess = lo + (hi - lo) * (Eh - Ef) / (Eh - fam.E[i])
     d = solve(DAUGHTER, guess, guess * (1 + 1e-6), E=Ef, tol=1e-15).x
-    t = FLOAT64 if digits is None or digits <= 15 else tier(int(digits))
+    t = tier(digits)
     if t.extended:
         with t.context():
             d = solve(
@@ -499,7 +487,7 @@ def breather_daughter(E: Any, digits: int | None = None) -> PeriodicOrbit:
 
 def daughter_trajectory(orbit: PeriodicOrbit, n: int = 801) -> np.ndarray:
     """States ``[b1, b2, q1, q2]`` at ``n`` equally spaced times over one period of a daughter."""
-    return _beta_traj(orbit.state0, orbit.period, int(n))
+    return alpha_to_beta(sample(orbit.state0, orbit.period, int(n))[0])
 
 
 def half_map_trace(orbit: PeriodicOrbit) -> float:

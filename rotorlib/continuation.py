@@ -23,21 +23,29 @@ from typing import Any
 from .branch import Branch, Member, SpecialPoint
 from .flow import SectionNotReached, monodromy_matrix
 from .precision import Tier, tier
-from .shooting import NoConvergence, ShootingProblem, Shot, residual, solve
+from .shooting import NoConvergence, ShootingProblem, residual, solve
 
-__all__ = ["Member", "SpecialPoint", "Branch", "Natural", "PALC", "ContinuationOptions"]
-__all__ += ["continuation", "member", "switch", "switch_branch", "FamilyEnd"]
-__all__ += ["illinois"]
-
-NAN = float("nan")
+__all__ = [
+    "Member",
+    "SpecialPoint",
+    "Branch",
+    "Natural",
+    "PALC",
+    "ContinuationOptions",
+    "continuation",
+    "member",
+    "switch",
+    "FamilyEnd",
+    "illinois",
+]
 
 
 class FamilyEnd(ValueError):
-    """Natural continuation stopped: ``label, members, E_reached, E_asked`` (nan: u)."""
+    """Natural continuation stopped: ``label, members, E_asked`` (nan: u)."""
 
     def __init__(self, label: str, members: Any, E_asked: float, par: str):
         self.label, self.members, self.E_asked = label, members, E_asked
-        self.E_reached = E = float(members[-1].E)
+        E = float(members[-1].E)
         ask = f"; asked for E = {E_asked!r}" if E_asked == E_asked else ""
         super().__init__(
             f"{label}: the family was not found beyond E = {E!r} (a fold "
@@ -54,7 +62,7 @@ class Natural:
     (a fork is even in ``u``), ``sqrt|E - origin|`` for ``'E'`` (a fork has
     ``u ~ sqrt|E - E_n|``; ``E`` itself without ``origin``). ``origin`` (with
     ``origin_other``) is a virtual member at the bifurcation used by the first predictions.
-    A failed step is halved in ``s`` (at most ``halvings`` times).
+    A failed step is halved in ``s`` (at most 12 times).
     """
 
     parameter: str
@@ -62,7 +70,6 @@ class Natural:
     order: int = 1
     origin: Any = None
     origin_other: Any = None
-    halvings: int = 12
 
 
 @dataclass(frozen=True)
@@ -72,8 +79,8 @@ class PALC:
     ``ds`` is the first step, ``ds_max``/``ds_min`` its bounds, in the plane
     ``((u - u_k) / |u_k|, (w - w_k) / |E_k - E_ref|)`` rescaled at every member ``k``
     (floors ``u_floor``, ``w_floor``); ``direction`` is the sign of ``du`` of the first
-    step. The predictor is the polynomial of degree ``order`` through the last members
-    (parametrised by chord length; the tangent at the first steps). ``scales = (su, sw)``
+    step. The predictor is the quadratic through the last three members (in ``u^2`` when
+    the step holds ``u``; along the tangent at the first step). ``scales = (su, sw)``
     fixes the scales instead: a step moves ``u`` by at most ``ds su`` and ``w`` by at most
     ``2 ds sw`` (for a family that crosses a narrow window of energy with large changes of
     ``u``).
@@ -86,7 +93,6 @@ class PALC:
     u_floor: float = 1e-12
     w_floor: float = 1e-12
     direction: int = 1
-    order: int = 2
     scales: tuple[float, float] | None = None
 
 
@@ -141,15 +147,12 @@ def member(
     w: Any,
     digits: int | Tier | None = None,
     traces: bool = False,
-    shot: Shot | None = None,
 ) -> Member:
     """The :class:`Member` at ``(u, w)`` (``tr M`` over the full period with ``traces``)."""
     t = tier(digits)
     with t.context():
-        s = shot or residual(problem, u, w, t)
-        tr = NAN
-        if traces:
-            tr = monodromy_matrix(s.x0, problem.factor * s.t1, t)[2]
+        s = residual(problem, u, w, t)
+        tr = monodromy_matrix(s.x0, problem.factor * s.t1, t)[2] if traces else math.nan
         r = abs(float(s.r))
         d = min(t.dps - 8, int(-math.log10(r))) if r > 0 else t.dps - 8
         return Member(
@@ -189,38 +192,6 @@ def switch(
         return replace(member(problem, u, root.x, t), r=root.residual), root.iterations
 
 
-def switch_branch(
-    branch: Branch,
-    point: SpecialPoint,
-    daughter: ShootingProblem,
-    amplitude: Any,
-    algorithm: Natural | PALC | None = None,
-    options: ContinuationOptions | None = None,
-) -> Branch:
-    """Branch switching at a bifurcation ``point`` (``IS`` or ``PD``) of ``branch`` onto the
-    family of ``daughter``: the parent (``u = u*`` there) is divided out of the daughter's
-    residual, the first member is found at ``u* + amplitude`` with the energy adjusted from
-    the bifurcation's, on whichever side it exists, and the family is continued from it
-    (default :class:`PALC`). ``daughter`` shares the parent's start set; a PD daughter
-    closes after twice the parent's symmetric time (``factor``)."""
-    t, p = branch.tier, point.member
-    with t.context():
-        d = replace(daughter, trivial=p.u, K_ref=branch.problem.K_ref)
-        scale = abs(p.E - 4) if abs(p.E - 4) > 0 else t.num(1)
-        last = None
-        for dE in (scale * t.num("1e-3"), -scale * t.num("1e-3")):
-            try:
-                first, _ = switch(d, p.u + t.num(amplitude), p.E, dE, t)
-                break
-            except (NoConvergence, SectionNotReached) as exc:
-                last = exc
-        else:
-            raise NoConvergence(
-                daughter.label, {"E": p.E}, why=f"no daughter near u* ({last})"
-            )
-        return continuation(d, algorithm or PALC(E_ref=float(p.E)), options, [first], t)
-
-
 # --------------------------------------------------------------------------- natural
 
 
@@ -229,29 +200,25 @@ def _extrapolate(xs, ys, x, order, t: Tier):
     pts = list(zip(xs, ys))[-(order + 1) :]
     while len(pts) > 1 and len({p[0] for p in pts}) < len(pts):
         pts = pts[1:]
-    if len(pts) == 1:
-        return pts[0][1]
     with t.context():
         out = 0
         for i, (xi, yi) in enumerate(pts):
             term = yi
-            for j, (xj, _) in enumerate(pts):
-                if j != i:
-                    term = term * (x - xj) / (xi - xj)
+            for xj, _ in pts[:i] + pts[i + 1 :]:
+                term = term * (x - xj) / (xi - xj)
             out = out + term
         return out
 
 
-def _natural(problem, alg: Natural, opts, start, t: Tier, on_member=None):
+def _natural(problem, alg: Natural, opts, start, t: Tier, on_member):
     par = alg.parameter
     if par not in ("u", "E"):
         raise ValueError(f"Natural: parameter must be 'u' or 'E', got {par!r}")
-    m = t.m
 
     def s_of(v):  # the predictor's coordinate
         if par == "u":
             return v * v
-        return v if alg.origin is None else m.sqrt(abs(v - alg.origin))
+        return v if alg.origin is None else t.m.sqrt(abs(v - alg.origin))
 
     members = list(start)
     with t.context():
@@ -261,30 +228,28 @@ def _natural(problem, alg: Natural, opts, start, t: Tier, on_member=None):
             xs.insert(0, s_of(t.num(alg.origin)) if par == "u" else t.num(0))
             ys.insert(0, t.num(alg.origin_other))
         targets = [t.num(v) for v in alg.values]
-        halvings, steps = 0, 0
+        halvings = 0
         while targets:
-            if steps >= opts.max_steps:
+            if len(members) - len(start) >= opts.max_steps:
                 return members, "steps"
             v = targets[0]
             guess = _extrapolate(xs, ys, s_of(v), alg.order, t)
             try:
-                if par == "u":
-                    root = solve(problem, guess, u=v, digits=t, r_max=opts.r_max)
-                    new = member(problem, v, root.x, t, opts.traces)
-                else:
-                    root = solve(problem, guess, E=v, digits=t, r_max=opts.r_max)
-                    new = member(
-                        problem, root.x, problem.w_at(root.x, v, t), t, opts.traces
-                    )
+                x = solve(problem, guess, digits=t, r_max=opts.r_max, **{par: v}).x
+                u, w = (v, x) if par == "u" else (x, problem.w_at(x, v, t))
+                new = member(problem, u, w, t, opts.traces)
                 if (
                     opts.jump is not None
                     and abs(new.t1 / members[-1].t1 - 1) > opts.jump
                 ):
                     raise NoConvergence(problem.label, {par: v}, None, "t1 jumped")
             except (NoConvergence, SectionNotReached):
-                if halvings >= alg.halvings:
+                if halvings >= 12:
                     raise FamilyEnd(
-                        problem.label, members, float(v) if par == "E" else NAN, par
+                        problem.label,
+                        members,
+                        float(v) if par == "E" else math.nan,
+                        par,
                     ) from None
                 halvings += 1
                 prev = members[-1].u if par == "u" else members[-1].E
@@ -303,17 +268,14 @@ def _natural(problem, alg: Natural, opts, start, t: Tier, on_member=None):
             xs.append(s_of(v))
             ys.append(new.w if par == "u" else new.u)
             targets.pop(0)
-            steps += 1
-            why = on_member(members) if on_member is not None else ""
-            if why or _crossed(opts, members):
-                return members, why or "event"
+            why = on_member(members)
+            if why:
+                return members, why
     return members, "values"
 
 
 def _crossed(opts, members):
     """Whether ``tr M`` of the last two members crosses a level of ``opts.stop_on``."""
-    if len(members) < 2:
-        return False
     a, b = members[-2].trace, members[-1].trace
     levels = {"IS": 4, "PD": 0}
     return any((a - levels[k]) * (b - levels[k]) < 0 for k in opts.stop_on)
@@ -325,13 +287,16 @@ class _Local:
     (floors ``u_floor``, ``w_floor``), and the local-parametrization corrector."""
 
     def __init__(self, problem, t, alg, ref: Member, opts):
-        self.p, self.t, self.alg, self.ref, self.opts = problem, t, alg, ref, opts
+        self.p, self.t, self.ref, self.opts = problem, t, ref, opts
         with t.context():
-            if alg.scales is not None:
-                self.su, self.sw = (t.num(v) for v in alg.scales)
-                return
-            self.su = max(abs(ref.u), t.num(alg.u_floor))
-            self.sw = max(abs(ref.E - t.num(alg.E_ref)), t.num(alg.w_floor))
+            self.su, self.sw = (
+                (t.num(v) for v in alg.scales)
+                if alg.scales is not None
+                else (
+                    max(abs(ref.u), t.num(alg.u_floor)),
+                    max(abs(ref.E - t.num(alg.E_ref)), t.num(alg.w_floor)),
+                )
+            )
 
     def X(self, m: Member):
         return ((m.u - self.ref.u) / self.su, (m.w - self.ref.w) / self.sw)
@@ -347,19 +312,25 @@ class _Local:
         """The member with coordinate ``k`` (``0``: ``u``, ``1``: ``w``) at ``value``, the
         other solved by the secant from ``guess`` (first step ``1e-4`` of the predicted
         ``change``). Raises NoConvergence or SectionNotReached."""
-        t = self.t
+        t, floor = self.t, (self.sw, self.su)[k]  # the scale of the other coordinate
         tol = 1e-13 if not t.extended else t.num(t.eps) * 8
         x1 = guess + max(
             abs(change) * t.num("1e-4"),
             abs(guess) * t.num(t.eps) ** t.num(0.5),
-            (self.sw if k == 0 else self.su) * tol,
+            floor * tol,
         )
-        kw = dict(digits=t, tol=tol, r_max=self.opts.r_max)
-        if k == 0:
-            root = solve(self.p, guess, x1, u=value, floor=self.sw, **kw)
-            return member(self.p, value, root.x, t, self.opts.traces)
-        root = solve(self.p, guess, x1, w=value, floor=self.su, **kw)
-        return member(self.p, root.x, value, t, self.opts.traces)
+        x = solve(
+            self.p,
+            guess,
+            x1,
+            digits=t,
+            tol=tol,
+            floor=floor,
+            r_max=self.opts.r_max,
+            **{"uw"[k]: value},  # the held coordinate
+        ).x
+        u, w = (value, x) if k == 0 else (x, value)
+        return member(self.p, u, w, t, self.opts.traces)
 
 
 def _held(d):
@@ -385,8 +356,7 @@ def _palc(problem, alg: PALC, opts, start, t: Tier, on_member):
             ref = members[-1]
             loc = _Local(problem, t, alg, ref, opts)
             if len(members) >= 2:
-                back = loc.X(members[-2])
-                d = (-back[0], -back[1])
+                d = tuple(-x for x in loc.X(members[-2]))
             else:
                 try:
                     d = loc.tangent()
@@ -396,48 +366,33 @@ def _palc(problem, alg: PALC, opts, start, t: Tier, on_member):
                 if (d[0] > 0) != (alg.direction > 0):
                     d = (-d[0], -d[1])
             k = _held(d)
-            sign = 1 if d[k] > 0 else -1
+            j, sign = 1 - k, (1 if d[k] > 0 else -1)  # j: the coordinate solved for
+            at, sc = (ref.u, ref.w), (loc.su, loc.sw)  # the reference and the scales
             new = None
             while ds >= alg.ds_min:
-                if k == 0:
-                    value = ref.u + sign * ds * loc.su
-                else:
-                    value = ref.w + sign * ds * loc.sw
+                value = at[k] + sign * ds * sc[k]
                 if len(members) >= 2:
-                    guess = _predict(members, k, value, alg.order, t)
-                else:
-                    other = (
-                        (d[1] / d[0]) * (value - ref.u) / loc.su * loc.sw
-                        if k == 0
-                        else (d[0] / d[1]) * (value - ref.w) / loc.sw * loc.su
-                    )
-                    guess = (ref.w if k == 0 else ref.u) + other
-                change = guess - (ref.w if k == 0 else ref.u)
+                    guess = _predict(members, k, value, 2, t)
+                else:  # along the tangent
+                    guess = at[j] + (d[j] / d[k]) * (value - at[k]) / sc[k] * sc[j]
+                change = guess - at[j]
                 try:
                     mb = loc.correct(k, value, guess, change)
                 except (SectionNotReached, ValueError):
-                    mb = None
-                if mb is not None:
-                    # a correction far beyond the predicted change may be another family (they lie
-                    # close in (u, w) near E = 4), unless t1 moved continuously
-                    got, dt1 = (
-                        mb.w if k == 0 else mb.u,
-                        abs(mb.t1 - ref.t1) / abs(ref.t1),
-                    )
-                    far = (
-                        abs(got - guess) > abs(change) / 5 + abs(got) * 1e-10
-                        and dt1 > 0.01
-                    )
-                    jump = opts.jump is not None and dt1 > opts.jump
-                    if alg.scales is not None:  # fixed scales bound both coordinates
-                        sc = loc.sw if k == 0 else loc.su
-                        jump = (
-                            jump
-                            or abs(got - (ref.w if k == 0 else ref.u)) > 2 * ds * sc
-                        )
-                    if not far and not jump:
-                        new = mb
-                        break
+                    ds = ds / 2
+                    continue
+                # a correction far beyond the predicted change may be another family (they
+                # lie close in (u, w) near E = 4), unless t1 moved continuously
+                got, dt1 = (mb.u, mb.w)[j], abs(mb.t1 - ref.t1) / abs(ref.t1)
+                far = (
+                    abs(got - guess) > abs(change) / 5 + abs(got) * 1e-10 and dt1 > 0.01
+                )
+                jump = opts.jump is not None and dt1 > opts.jump
+                if alg.scales is not None:  # fixed scales bound both coordinates
+                    jump = jump or abs(got - at[j]) > 2 * ds * sc[j]
+                if not far and not jump:
+                    new = mb
+                    break
                 ds = ds / 2
             if new is None:
                 stop = "stuck"
@@ -462,15 +417,11 @@ def _between(problem, t, alg, members, i, j, opts):
     loc = _Local(problem, t, alg, a, opts)
     Xb = loc.X(b)
     k = _held(Xb)
-    known = list(members[max(0, i - 1) : j + 2])  # interpolation through the neighbours
+    known = members[max(0, i - 1) : j + 2]  # i, j and their neighbours
 
     def at(v):
         value = a.u + v * loc.su if k == 0 else a.w + v * loc.sw
-        if len(known) >= 2:
-            guess = _predict(known, k, value, len(known) - 1, t)
-        else:
-            f = v / Xb[k]
-            guess = a.w + f * (b.w - a.w) if k == 0 else a.u + f * (b.u - a.u)
+        guess = _predict(known, k, value, len(known) - 1, t)
         return loc.correct(k, value, guess, (b.w - a.w) if k == 0 else (b.u - a.u))
 
     return at, Xb[k]
@@ -517,19 +468,21 @@ def _events(problem, t, branch_members, opts, alg):
     pal = alg if isinstance(alg, PALC) else PALC()
     out = []
     with t.context():
-        checks = [("E", lambda m, e=t.num(e): m.E - e) for e in opts.energies]
+        tol = 1e-14 if not t.extended else t.num(t.eps) * 4
+        tol_tr = tol if not t.extended else t.num(t.eps) ** t.num(0.5)  # ~d - log10|M|
+        checks = [("E", lambda m, e=t.num(e): m.E - e, tol) for e in opts.energies]
         if opts.traces:
-            checks += [("IS", lambda m: m.trace - 4), ("PD", lambda m: m.trace)]
+            checks += [
+                ("IS", lambda m: m.trace - 4, tol_tr),
+                ("PD", lambda m: m.trace, tol_tr),
+            ]
         for k in range(1, len(branch_members)):
             a, b = branch_members[k - 1], branch_members[k]
-            for kind, g in checks:
+            for kind, g, tol in checks:
                 if not g(a) * g(b) < 0:
                     continue
                 try:
                     at, vb = _between(problem, t, pal, branch_members, k - 1, k, opts)
-                    tol = 1e-14 if not t.extended else t.num(t.eps) * 4
-                    if t.extended and kind != "E":  # tr M has ~d - log10|M| digits
-                        tol = t.num(t.eps) ** t.num(0.5)
                     out.append(
                         SpecialPoint(kind, illinois(g, at, vb, g(a), g(b), tol), k - 1)
                     )
@@ -616,18 +569,16 @@ def continuation(
             return "period"
         return "event" if _crossed(opts, members) else ""
 
-    if isinstance(algorithm, Natural):
-        members, stop = _natural(problem, algorithm, opts, start, t, on_member)
-    elif isinstance(algorithm, PALC):
-        members, stop = _palc(problem, algorithm, opts, start, t, on_member)
-    else:
+    runs: dict[type, Callable[..., Any]] = {Natural: _natural, PALC: _palc}
+    run = runs.get(type(algorithm))
+    if run is None:
         raise ValueError(f"algorithm must be Natural or PALC, got {algorithm!r}")
-    special = _events(problem, t, members, opts, algorithm)
+    members, stop = run(problem, algorithm, opts, start, t, on_member)
     return Branch(
         problem,
         t,
         tuple(members),
-        tuple(special),
+        tuple(_events(problem, t, members, opts, algorithm)),
         stop,
         _reason(stop, members, opts),
         tuple(opts.E_range),

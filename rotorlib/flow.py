@@ -132,15 +132,11 @@ def _event_expr(hy, section, k):
 def _build(t: Tier, sections, variational, terminal):
     """A heyoka integrator with terminal events (one per section) or, with
     ``terminal=False``, non-terminal events recording every crossing in ``ta.found``."""
-    from .precision import load_heyoka
-
     hy = load_heyoka()
-
     sys = equations_of_motion(hy)
     if variational:
         sys = hy.var_ode_sys(sys, hy.var_args.vars, order=1)
-    kw = dict(t.hy_kwargs)
-    ev_kw = {k: v for k, v in kw.items() if k == "fp_type"}
+    ev_kw = {k: v for k, v in t.hy_kwargs.items() if k == "fp_type"}
     found = []
     events = []
     for k, section in enumerate(sections or ()):
@@ -154,11 +150,9 @@ def _build(t: Tier, sections, variational, terminal):
                 found.append((k, time, ta.d_output[:4].copy()))
 
             events.append(hy.nt_event(expr, cb, direction=d, **ev_kw))
-    ev = {"t_events" if terminal else "nt_events": events}
-    n = 20 if variational else 4
     ta = hy.taylor_adaptive(
         sys,
-        t.hy_array([0.0] * (4 if variational else n)),
+        t.hy_array([0.0] * 4),
         pars=t.hy_array(
             [0.0]
             * max(
@@ -170,8 +164,8 @@ def _build(t: Tier, sections, variational, terminal):
             )
         ),
         compact_mode=variational or t.extended,
-        **ev,
-        **kw,
+        **{"t_events" if terminal else "nt_events": events},
+        **t.hy_kwargs,
     )
     return ta, found
 
@@ -180,8 +174,7 @@ def _set_levels(ta, t: Tier, sections):
     with t.context():
         for k, s in enumerate(sections):
             if s.period is None:
-                if s.level or 2 * k < len(ta.pars):
-                    ta.pars[2 * k] = t.to_hy(t.pi * s.level)
+                ta.pars[2 * k] = t.to_hy(t.pi * s.level)
             else:
                 ta.pars[2 * k] = t.to_hy(t.pi * s.level / s.period)
                 ta.pars[2 * k + 1] = t.to_hy(1 / t.num(s.period))
@@ -191,8 +184,9 @@ def _start(ta, t: Tier, x0, variational):
     if ta.with_events:
         ta.reset_cooldowns()
     ta.time = t.to_hy(0.0)
-    x = list(x0) + (list(np.eye(4).ravel()) if variational else [])
-    ta.state[:] = t.hy_array(x)
+    ta.state[:] = t.hy_array(
+        list(x0) + (list(np.eye(4).ravel()) if variational else [])
+    )
 
 
 def _out(ta, t: Tier, variational):
@@ -236,21 +230,16 @@ def to_section(
     ``a2`` turning back before it reaches the section of a rotation). The tier is
     :func:`~rotorlib.precision.tier` of ``digits``.
     """
-    hy, t = load_heyoka(), tier(digits)
-
+    t = tier(digits)
     secs = (section,) if abort is None else (section, abort)
     ta, _ = _integrator(t, secs, variational)
     _start(ta, t, x0, variational)
     _set_levels(ta, t, secs)
     found, tmax = 0, t.to_hy(t_max)
     while True:
-        res = ta.propagate_until(tmax)
-        code = (
-            int(res[0])
-            if res[0] not in (hy.taylor_outcome.time_limit, hy.taylor_outcome.success)
-            else -(10**6)
-        )
-        if code < -1000 or code == -2:
+        # -1: the terminal event of the section; anything else (the abort event, -2,
+        # or heyoka's success, time limit and error outcomes): not reached
+        if int(ta.propagate_until(tmax)[0]) != -1:
             raise SectionNotReached(t_max, found)
         if abs(float(ta.time)) < 1e-9 or not _right_way(
             section, [t.from_hy(v) for v in ta.state[:4]], t
@@ -258,7 +247,10 @@ def to_section(
             continue  # a start point on the section is not a crossing
         found += 1
         if found == crossing:
-            return (t.from_hy(ta.time), *_pack(_out(ta, t, variational), variational))
+            out = _out(ta, t, variational)
+            return (
+                (t.from_hy(ta.time), *out) if variational else (t.from_hy(ta.time), out)
+            )
 
 
 def _right_way(section, x, t):
@@ -294,10 +286,6 @@ def crossings(
     ]  # a start point on a section: no crossing
     found.clear()
     return [c for c in out if _right_way(sections[c[0]], c[2], t)]
-
-
-def _pack(out, variational):
-    return out if variational else (out,)
 
 
 def flow(
@@ -351,8 +339,8 @@ def sample(
     ta, _ = _integrator(t, None, False)
     _start(ta, t, x0, False)
     grid = np.linspace(0.0, float(period), n)
-    out = ta.propagate_grid(t.hy_array(grid) if t.extended else grid)
-    return np.array(out[-1], dtype=float).reshape(n, 4), grid
+    states = ta.propagate_grid(t.hy_array(grid) if t.extended else grid)[-1]
+    return np.array(states, dtype=float).reshape(n, 4), grid
 
 
 def extrema(
@@ -364,8 +352,6 @@ def extrema(
     For a rotating ``a2`` (no turning point) the excursion is ``max |a2 - 2 pi k|``
     (nearest multiple) on 4001 samples. Returns floats.
     """
-    import math
-
     hits = crossings(x0, (Section((0, 0, 1, 0)), Section((0, 0, 0, 1))), period, digits)
     a1m = max([abs(float(x0[0]))] + [abs(float(x[0])) for k, _, x in hits if k == 0])
     a2s = [abs(float(x[1])) for k, _, x in hits if k == 1]
@@ -373,5 +359,5 @@ def extrema(
         return a1m, max(a2s)
     st, _ = sample(x0, period, 4001)
     return a1m, float(
-        np.max(np.abs(st[:, 1] - 2 * math.pi * np.round(st[:, 1] / (2 * math.pi))))
+        np.max(np.abs(st[:, 1] - 2 * np.pi * np.round(st[:, 1] / (2 * np.pi))))
     )

@@ -205,15 +205,15 @@ def orbit_from_state(
     label: str,
     x0: Sequence[Any],
     period: Any,
-    digits: int | Tier | None = None,
-    lattice: tuple[float, float] = (0.0, 0.0),
-    E: Any = None,
+    digits: int | Tier | None,
+    lattice: tuple[float, float],
+    E: Any,
     extra: dict[str, Any] | None = None,
     *,
     shown: int | None = None,
 ) -> PeriodicOrbit:
-    """A :class:`PeriodicOrbit` from its initial state and period, integrated in the tier
-    of ``digits`` (:func:`~rotorlib.precision.tier`): the monodromy from the 4x4
+    """A :class:`PeriodicOrbit` from its initial state, period and energy, integrated in
+    the tier of ``digits`` (:func:`~rotorlib.precision.tier`): the monodromy from the 4x4
     variational equations over one period, the closure against the lattice vector
     ``lattice`` (units of pi); extended tiers give the state, period, trace and energy as
     strings of ``shown`` significant digits (default: the tier's, less 8)."""
@@ -226,18 +226,7 @@ def orbit_from_state(
         M, xT, tr = monodromy_matrix(x0, T, t)
         lat = [lattice[0] * t.pi, lattice[1] * t.pi, 0, 0]
         closure = max(abs(float(a - b - c)) for a, b, c in zip(xT, x0, lat))
-        if E is not None:
-            E = t.num(E)
-        else:
-            E = (
-                x0[2] ** 2 / 4
-                + 3 * x0[3] ** 2 / 4
-                + 3
-                - t.m.cos(2 * x0[0])
-                - t.m.cos(x0[1] - x0[0])
-                - t.m.cos(x0[0] + x0[1])
-            )
-        eps = abs(E - 4)
+        E = t.num(E)
         xf = np.array([float(v) for v in x0])
         a1m, a2m = extrema(xf, float(T), FLOAT64)
         d = shown or t.dps - 8
@@ -264,7 +253,7 @@ def orbit_from_state(
             t.name,
             a1m,
             a2m,
-            float(mp.log(eps)) if eps else math.nan,
+            float(mp.log(abs(E - 4))) if E != 4 else math.nan,
             dict(extra or {}),
             **strs,
         )
@@ -284,8 +273,6 @@ def periodic_orbit(
     t = tier(digits)
     with t.context():
         s = residual(problem, u, w, t)
-        ex = {"u": float(u), "t1": float(s.t1)}
-        ex.update(extra or {})
         return orbit_from_state(
             label or problem.label,
             s.x0,
@@ -293,6 +280,6 @@ def periodic_orbit(
             t,
             problem.lattice,
             problem.energy(u, w, t),
-            ex,
+            {"u": float(u), "t1": float(s.t1), **(extra or {})},
             shown=shown,
         )

@@ -27,7 +27,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, replace
 from typing import Any
 
-from .flow import Section, SectionNotReached, to_section
+from .flow import Section, SectionNotReached, _rhs, to_section
 from .precision import Tier, tier
 
 __all__ = [
@@ -75,20 +75,14 @@ class StartSet:
             )
 
     def _q(self, u, t: Tier):
-        pi = t.pi
         return [
-            self.q0[0] * pi + u * self.a[0]
-            if self.q0[0] or t.extended
-            else u * self.a[0],
-            self.q0[1] * pi + u * self.a[1]
-            if self.q0[1] or t.extended
-            else u * self.a[1],
+            q0 * t.pi + u * a if q0 or t.extended else u * a  # exact zeros in float64
+            for q0, a in zip(self.q0, self.a)
         ]
 
     def _v(self, q, t: Tier):
         if t.extended:
-            m = t.m
-            return 3 - m.cos(2 * q[0]) - m.cos(q[1] - q[0]) - m.cos(q[0] + q[1])
+            return 3 - t.m.cos(2 * q[0]) - t.m.cos(q[1] - q[0]) - t.m.cos(q[0] + q[1])
         from .system import potential_alpha
 
         return float(potential_alpha(q[0], q[1]))
@@ -116,11 +110,8 @@ class StartSet:
                     f"{self.name}: u = {float(u)!r} is outside the energy shell"
                 )
             s = t.m.sqrt(K / _kin(self.b))
-            q = self._q(u, t)
-            zero = t.num(0)
-            return q + [
-                u * self.c[0] + s * self.b[0] if self.b[0] or self.c[0] else zero,
-                u * self.c[1] + s * self.b[1] if self.b[1] or self.c[1] else zero,
+            return self._q(u, t) + [
+                u * c + s * b if b or c else t.num(0) for c, b in zip(self.c, self.b)
             ]
 
 
@@ -208,8 +199,6 @@ class Shot:
         Initial state and state at ``t1``.
     grad : tuple or None
         ``(dr/du, dr/dw)`` (with ``derivative=True``).
-    dt1 : tuple or None
-        ``(dt1/du, dt1/dw)``.
     """
 
     r: Any
@@ -217,7 +206,6 @@ class Shot:
     x0: list
     x1: list
     grad: tuple | None = None
-    dt1: tuple | None = None
 
 
 def _cond(section: Section, x, t: Tier):
@@ -242,13 +230,13 @@ def residual(
 
     With ``derivative``, the variational equations give ``dx1/dx0 = (I - f s^T/(s.f)) Phi``
     (``Phi`` at fixed time, ``s`` the section's normal, ``f`` the vector field at the
-    event), hence ``dr/du``, ``dr/dw`` and ``dt1/du``, ``dt1/dw``.
+    event), hence ``dr/du`` and ``dr/dw``.
     """
     t = tier(digits)
     with t.context():
         u, w = t.num(u), t.num(w)
         x0 = problem.state(u, w, t)
-        out = to_section(
+        t1, x1, *Phi = to_section(  # Phi: [the fundamental matrix] with derivative
             x0,
             problem.section,
             t,
@@ -257,7 +245,6 @@ def residual(
             derivative,
             problem.abort,
         )
-        t1, x1 = out[0], out[1]
         g, dg = _cond(problem.condition, x1, t)
         d = 1 if problem.trivial is None else u - t.num(problem.trivial)
         if problem.trivial is not None and d == 0:
@@ -267,23 +254,20 @@ def residual(
         r = g / d
         if not derivative:
             return Shot(r, t1, x0, x1)
-        grad, dt = _gradient(problem, u, w, out[2], x1, t)
         c = [ci * dg for ci in problem.condition.c]
+        grad = _gradient(problem, u, w, x0, Phi[0], x1, t)  # (dx1/du, dx1/dw)
         dr = [sum(ci * gi for ci, gi in zip(c, col)) / d for col in grad]
         if problem.trivial is not None:
             dr[0] -= r / d
-        return Shot(r, t1, x0, x1, tuple(dr), tuple(dt))
+        return Shot(r, t1, x0, x1, tuple(dr))
 
 
-def _gradient(problem, u, w, Phi, x1, t: Tier):
-    """``(dx1/du, dx1/dw)`` and ``(dt1/du, dt1/dw)``: the start set differentiated (in closed
+def _gradient(problem, u, w, x0, Phi, x1, t: Tier):
+    """``(dx1/du, dx1/dw)``: the start set differentiated (in closed
     form for a :class:`StartSet`, by central differences of its ``at`` otherwise), the flow
     by its fundamental matrix, the event time by implicit differentiation of the section."""
-    from .flow import _rhs
-
     st = problem.start
     if isinstance(st, StartSet):
-        x0 = problem.state(u, w, t)
         K = (x0[2] * x0[2] / 4 + 3 * x0[3] * x0[3] / 4) - u * u * _kin(st.c)
         dp_dK = (
             [bi / (2 * t.m.sqrt(K * _kin(st.b))) for bi in st.b] if K > 0 else [0, 0]
@@ -314,13 +298,12 @@ def _gradient(problem, u, w, Phi, x1, t: Tier):
     f = _rhs(x1)
     s = problem.section.c
     sf = sum(si * fi for si, fi in zip(s, f))
-    out, dts = [], []
+    out = []
     for v in cols:
         y = [sum(Phi[i][j] * v[j] for j in range(4)) for i in range(4)]
-        dt = -sum(si * yi for si, yi in zip(s, y)) / sf
+        dt = -sum(si * yi for si, yi in zip(s, y)) / sf  # the event time moves
         out.append([yi + fi * dt for yi, fi in zip(y, f)])
-        dts.append(dt)
-    return out, dts
+    return out
 
 
 @dataclass(frozen=True)
@@ -360,6 +343,17 @@ class NoConvergence(ValueError):
 # --------------------------------------------------------------------------- PALC
 
 
+def _reachable(f, x, good, shrink):
+    """``(x, f(x))`` with ``x`` moved back towards ``good`` (the step divided by ``shrink``,
+    at most 30 times) while ``f`` raises SectionNotReached or ValueError."""
+    for _ in range(30):
+        try:
+            return x, f(x)
+        except (SectionNotReached, ValueError):
+            x = good + (x - good) / shrink
+    raise SectionNotReached(0.0, 0)
+
+
 def secant(
     f: Callable[[Any], Any],
     x0: Any,
@@ -376,29 +370,14 @@ def secant(
     round-off floor of ``f``); returns the iterate with the smallest ``|f|`` then.
     """
     fx0 = f(x0)
-    for _ in range(30):
-        try:
-            fx1 = f(x1)
-            break
-        except (SectionNotReached, ValueError):
-            x1 = x0 + (x1 - x0) / 8
-    else:
-        raise SectionNotReached(0.0, 0)
+    x1, fx1 = _reachable(f, x1, x0, 8)
     best = (abs(fx1), x1) if abs(fx1) < abs(fx0) else (abs(fx0), x0)
     last = None
     it = 0
     for it in range(maxiter):
         if fx1 == fx0:
             break
-        x2 = x1 - fx1 * (x1 - x0) / (fx1 - fx0)
-        for _ in range(30):
-            try:
-                fx2 = f(x2)
-                break
-            except (SectionNotReached, ValueError):
-                x2 = x1 + (x2 - x1) / 2
-        else:
-            raise SectionNotReached(0.0, 0)
+        x2, fx2 = _reachable(f, x1 - fx1 * (x1 - x0) / (fx1 - fx0), x1, 2)
         dx = abs(x2 - x1)
         x0, fx0, x1, fx1 = x1, fx1, x2, fx2
         if abs(fx1) < best[0]:
@@ -451,28 +430,20 @@ def solve(
         tol = tol if tol is not None else t.step_tol
         r_max = r_max if r_max is not None else t.r_max
         x0 = t.num(x0)
-        if u is not None:
-            u = t.num(u)
+        key, held = next(
+            (k, t.num(v)) for k, v in zip("uwE", (u, w, E)) if v is not None
+        )
 
-            def f(ww):
-                return residual(problem, u, ww, t).r
-        elif w is not None:
-            w = t.num(w)
-
-            def f(uu):
-                return residual(problem, uu, w, t).r
-        else:
-            E = t.num(E)
-
-            def f(uu):
-                return residual(problem, uu, problem.w_at(uu, E, t), t).r
+        def f(x):  # the residual as a function of the other unknown
+            if key == "u":
+                return residual(problem, held, x, t).r
+            return residual(
+                problem, x, held if key == "w" else problem.w_at(x, held, t), t
+            ).r
 
         if x1 is None:
             x1 = x0 * (1 + (1e-4 if not t.extended else t.num("1e-9")))
         root = secant(f, x0, t.num(x1), tol, floor)
         if not root.residual < r_max:
-            fixed = (
-                {"u": u} if u is not None else {"w": w} if w is not None else {"E": E}
-            )
-            raise NoConvergence(problem.label, fixed, root)
+            raise NoConvergence(problem.label, {key: held}, root)
         return root

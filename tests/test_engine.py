@@ -5,7 +5,6 @@ import contextlib
 import io
 import json
 import math
-from dataclasses import replace
 
 import mpmath as mp
 import numpy as np
@@ -13,15 +12,7 @@ import pytest
 from scipy.integrate import solve_ivp
 
 import rotorlib
-from rotorlib import breather_bifurcation as br
 from rotorlib import newborn as nb
-from rotorlib.continuation import (
-    ContinuationOptions,
-    Natural,
-    continuation,
-    member,
-    switch_branch,
-)
 from rotorlib.flow import Section, SectionNotReached, crossings, to_section
 from rotorlib.precision import REAL128, Tier, tier
 from rotorlib.shooting import NoConvergence, residual, secant, solve
@@ -80,10 +71,6 @@ def test_residual_gradient_against_finite_differences():
                 residual(prob, u + du, w + dw).r - residual(prob, u - du, w - dw).r
             ) / (2 * (du or dw))
             assert abs(s.grad[k] / fd - 1) < 1e-5, (k, s.grad[k], fd)
-            fdt = (
-                residual(prob, u + du, w + dw).t1 - residual(prob, u - du, w - dw).t1
-            ) / (2 * (du or dw))
-            assert abs(s.dt1[k] / fdt - 1) < 1e-5
 
 
 def test_secant_and_solve_errors():
@@ -129,45 +116,6 @@ def test_trace_events_against_the_textbook_monodromy():
     level = 4.0 if p.kind == "IS" else 0.0
     assert abs(v.trace - level) < 1e-6 and v.closure < 1e-8
     assert abs(float(p.member.E) - 4.0181836) < 1e-7  # chapter 08's exit
-
-
-def test_branch_switching_from_engine_parents():
-    """Parents continued by the engine itself; at their IS / PD point the switch lands on the
-    daughter found by the Lamé analysis (IS^l_1) and by the breather chapter (PD^b)."""
-    spec = nb.family_spec("IS^l_1")
-    pend = replace(spec.problem, trivial=None, label="pendulum")
-    Es = np.linspace(3.97, 3.995, 6)
-    opts = ContinuationOptions(traces=True)
-    b = continuation(
-        pend,
-        Natural("E", tuple(Es[1:]), origin=3.0, origin_other=0.0),
-        opts,
-        [member(pend, 0.0, Es[0], traces=True)],
-    )
-    pt = [p for p in b.special_points if p.kind == "IS"][0]
-    assert abs(float(pt.member.E) - spec.E_birth) < 1e-10
-    d = switch_branch(
-        b, pt, spec.problem, 1e-3, options=ContinuationOptions(E_range=(3.98, 3.999))
-    )
-    m = d.members[3]
-    assert (
-        abs(nb.newborn_orbit("IS^l_1", float(m.E), digits=15).extra["u"] - float(m.u))
-        < 1e-10
-    )
-    R = replace(br.DAUGHTER, trivial=None, label="R", factor=2, lattice=(1.0, 3.0))
-    Es = np.linspace(8.9, 9.05, 6)
-    bR = continuation(
-        R,
-        Natural("E", tuple(Es[1:]), origin=8.0, origin_other=0.0),
-        opts,
-        [member(R, 0.0, Es[0], traces=True)],
-    )
-    pt = [p for p in bR.special_points if p.kind == "PD"][0]
-    assert abs(float(pt.member.E) - br.pd_transition().E) < 1e-11
-    dd = switch_branch(
-        bR, pt, br.DAUGHTER, 0.02, options=ContinuationOptions(max_steps=2)
-    )
-    assert abs(float(dd.members[0].E) - 8.968925367) < 1e-9  # daughter_family at 0.02
 
 
 def test_same_member_in_every_tier():
