@@ -435,7 +435,7 @@ def _at_u(
         w = solve(p, t.num(E_guess), u=t.num(u), digits=t).x
         s = residual(p, u, w, t)
         trp, trm = _reduced_trace(s.x0, p.factor * s.t1, t, order, power)
-        return _choreo_member(member(p, u, w, t, shot=s), trm, trp)
+        return _choreo_member(member(p, u, w, t), trm, trp)
 
 
 def _locate(g, ua, ub, Ea, t: Tier, tol=1e-13, p=None, order=6, power=1):
