@@ -199,8 +199,10 @@ def _scan_jobs(si, E, t_half, grid, depth, parts, window=None) -> list:
     lo, hi = window or start_sets(E)[si].span(E)
     us = [lo, *(np.linspace(lo, hi, grid + 1)[:-1] + (hi - lo) / (2 * grid)), hi]
     n = -(-(len(us) - 1) // parts)
-    args = (E, t_half, (hi - lo) / grid, depth)
-    return [(si, us[i : i + n + 1], *args) for i in range(0, len(us) - 1, n)]
+    return [
+        (si, us[i : i + n + 1], E, t_half, (hi - lo) / grid, depth)
+        for i in range(0, len(us) - 1, n)
+    ]
 
 
 def _bisect(si, E, t_half, a, ra, b, rb, width, depth) -> list:
@@ -211,8 +213,9 @@ def _bisect(si, E, t_half, a, ra, b, rb, width, depth) -> list:
         return [(b, rb)]
     m = 0.5 * (a + b)
     rm = _scan_one(si, m, E, t_half)
-    head = _bisect(si, E, t_half, a, ra, m, rm, width, depth - 1)
-    return head + _bisect(si, E, t_half, m, rm, b, rb, width, depth - 1)
+    return _bisect(si, E, t_half, a, ra, m, rm, width, depth - 1) + _bisect(
+        si, E, t_half, m, rm, b, rb, width, depth - 1
+    )
 
 
 def _segments(args) -> tuple[bool, list]:
@@ -226,8 +229,9 @@ def _segments(args) -> tuple[bool, list]:
     for a, b, ra, rb in zip(us, us[1:], rows, rows[1:]):
         if b - a > 1.5 * (width / 2):
             split = split or _needs_split(ra, rb, t_half)
-            pts = _bisect(si, E, t_half, a, ra, b, rb, width, depth)
-            out.append((a, None, b, None, _roots(si, E, t_half, [(a, ra), *pts])))
+            out.append(
+                (a, None, b, None, _roots(si, E, t_half, a, ra, b, rb, width, depth))
+            )
         else:
             out.append((a, ra, b, rb, None))
     return split, out
@@ -241,22 +245,24 @@ def _gather(job, results) -> list:
     out = []
     for a, ra, b, rb, roots in (seg for _, segs in results for seg in segs):
         if roots is None:
-            pts = _bisect(si, E, t_half, a, ra, b, rb, width / 2, (depth - 1) * split)
-            roots = _roots(si, E, t_half, [(a, ra), *pts])
+            d = (depth - 1) * split  # no bisection unless another interval was bisected
+            roots = _roots(si, E, t_half, a, ra, b, rb, width / 2, d)
         out += roots
     return out
 
 
-def _roots(si, E, t_half, pts) -> list:
-    """The sign changes of the residual between the neighbours ``pts = [(u, row)]`` at the
-    same crossing of the same fixed set (:func:`_pairs`; other fixed sets may change their
-    crossings in between), refined (:func:`_refine_bracket`)."""
+def _roots(si, E, t_half, a, ra, b, rb, width, depth) -> list:
+    """The roots between the start points ``a`` and ``b`` (rows ``ra``, ``rb``): the
+    interval bisected (:func:`_bisect`), the sign changes of the residual between
+    neighbours at the same crossing of the same fixed set (:func:`_pairs`; other fixed sets
+    may change their crossings in between) refined (:func:`_refine_bracket`)."""
+    pts = [(a, ra), *_bisect(si, E, t_half, a, ra, b, rb, width, depth)]
     roots = [
-        _refine_bracket(si, j, k, E, t_half, float(ua), float(ub))
-        for (ua, a), (ub, b) in zip(pts, pts[1:])
-        if a is not None and b is not None
-        for j, k, ra, rb in _pairs(a, b, t_half)
-        if ra * rb < 0
+        _refine_bracket(si, j, k, E, t_half, float(u0), float(u1))
+        for (u0, row0), (u1, row1) in zip(pts, pts[1:])
+        if row0 is not None and row1 is not None
+        for j, k, r0, r1 in _pairs(row0, row1, t_half)
+        if r0 * r1 < 0
     ]
     return [r for r in roots if r is not None]
 
@@ -285,9 +291,9 @@ def _closure_at(x0, times):
     ts = sorted(set(times))
     ta, _ = _integrator(FLOAT64, None, False)
     _start(ta, FLOAT64, x0, False)
-    out = ta.propagate_grid(np.array([0.0] + ts))[-1]
+    states = ta.propagate_grid(np.array([0.0] + ts))[-1][1:]
     res = {
-        t: lattice_reduce([a - b for a, b in zip(x, x0)]) for t, x in zip(ts, out[1:])
+        t: lattice_reduce([a - b for a, b in zip(x, x0)]) for t, x in zip(ts, states)
     }
     return [max(map(abs, res[t])) for t in times]
 
@@ -393,14 +399,13 @@ def finish_orbit(args: tuple) -> tuple:
     si, j, k, E, t_half, u, x0, T, digits = args
     if digits is None:
         M, _, tr = monodromy_matrix(x0, T)
-        clo = _closure_at(x0, [T])[0]
         return (
             tuple(map(repr, x0)),
             repr(T),
             repr(tr),
             float(tr),
             float(T),
-            clo,
+            _closure_at(x0, [T])[0],
             M,
             None,
         )
@@ -412,17 +417,15 @@ def finish_orbit(args: tuple) -> tuple:
         n = Fraction(T / (2 * float(sh.t1))).limit_denominator(24)  # T = 2 t1 n/m
         Tm = 2 * sh.t1 * n.numerator / n.denominator
         M, xT, tr = monodromy_matrix(sh.x0, Tm, t)
-        d = lattice_reduce([a - b for a, b in zip(xT, sh.x0)], digits)
-        xs, clo = tuple(t.text(v, digits) for v in sh.x0), max(abs(float(v)) for v in d)
-        Mf = [[float(v) for v in row] for row in M]
+        d = lattice_reduce([a - b for a, b in zip(xT, sh.x0)], digits)  # closure
         return (
-            xs,
+            tuple(t.text(v, digits) for v in sh.x0),
             t.text(Tm, digits),
             t.text(tr, digits - 5),
             float(tr),
             float(Tm),
-            clo,
-            Mf,
+            max(abs(float(v)) for v in d),
+            [[float(v) for v in row] for row in M],
             digits,
         )
 
@@ -650,14 +653,13 @@ def census(
             groups[-1].append(f)
         else:
             groups.append([f])
-    chunk = len(groups) // len(jobs) + 1  # as many tasks as in the first round
     done = pmap(
         distinct_orbits,
         [(g, E, t_half, digits) for g in groups],
         executor=executor,
         progress=progress,
         desc="orbits",
-        chunksize=chunk,
+        chunksize=len(groups) // len(jobs) + 1,  # as many tasks as in the first round
     )
     orbits = []
     D = 15 if digits is None else int(digits)
