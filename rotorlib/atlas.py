@@ -118,7 +118,7 @@ def budget_seconds(E_values: Iterable[float], t_max: float, grid: int = 300) -> 
 
 
 def _check(E_values, t_max, grid):
-    for E in E_values:  # floats (as_float)
+    for E in E_values:  # floats (as_float); outside the domain: also E <= 0 and nan
         if not E_DOMAIN[0] <= E <= E_DOMAIN[1]:
             raise ValueError(
                 f"E = {E!r} is outside the atlas's domain {E_DOMAIN[0]} <= E <= "
@@ -245,8 +245,8 @@ def _gather(job, results) -> list:
     out = []
     for a, ra, b, rb, roots in (seg for _, segs in results for seg in segs):
         if roots is None:
-            d = (depth - 1) * split  # no bisection unless another interval was bisected
-            roots = _roots(si, E, t_half, a, ra, b, rb, width / 2, d)
+            # an end: bisected only if another interval was at the first level
+            roots = _roots(si, E, t_half, a, ra, b, rb, width / 2, (depth - 1) * split)
         out += roots
     return out
 
@@ -350,8 +350,9 @@ def orbit_samples(x0: ArrayLike, T: float) -> np.ndarray:
 
 def distance_to_orbit(states: np.ndarray, y0: ArrayLike) -> float:
     """The phase-space distance (configuration modulo the lattice) from the nearest image of
-    ``y0`` under the group to the orbit sampled at ``states`` (:func:`orbit_samples`): every local minimum of the distance to the
-    samples below 0.05 refined by Newton on the time along the orbit (short integrations)."""
+    ``y0`` under the group to the orbit sampled at ``states`` (:func:`orbit_samples`):
+    every local minimum of the distance to the samples below 0.05 refined by Newton on the
+    time along the orbit (short integrations)."""
     from .flow import _integrator, _start
     from .system import rhs_alpha
 
@@ -492,7 +493,7 @@ def _known_family(args):
     lab, E = args
     spec = nb.family_spec(lab)
     try:
-        E_max = max(E, nb.family_range(spec)[1]) + 0.05
+        E_max = max(E, nb.family_range(spec)[1]) + 0.05  # beyond E and the range
         b = nb.follow(lab, E_max=E_max, energies=(E,), max_steps=600)
     except (ValueError, SectionNotReached):
         return None
