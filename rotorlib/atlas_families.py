@@ -406,15 +406,16 @@ def cascade(
     for _ in range(generations):
         # the daughter lies ~sqrt(dE) from the parent (the last family): scan near it only
         dE = scale / 20
-        width = min(0.05, 10 * math.sqrt(dE))
-        stable = [
-            d
-            for d in daughters(fams[-1], point, dE=dE, width=width, executor=executor)
-            if d.stable
-        ]
-        if not stable:
+        born = daughters(
+            fams[-1],
+            point,
+            dE=dE,
+            width=min(0.05, 10 * math.sqrt(dE)),
+            executor=executor,
+        )
+        d = next((o for o in born if o.stable), None)  # the first stable daughter
+        if d is None:
             raise ValueError(f"no stable daughter born at E = {Eb:.12f}")
-        d = stable[0]
         periods.append(d.period)
         side = 1.0 if d.E > Eb else -1.0
         lo, hi = sorted((Eb, Eb + side * 1.5 * scale))
