@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import contextlib
 import functools
+import itertools
 import math
 from collections.abc import Iterable
 from concurrent.futures import Executor
@@ -34,6 +35,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from .choreo import atlas_name
+from .energy import as_float
 from .flow import SectionNotReached, crossings, monodromy_matrix, sample
 from .parallel import pmap
 from .periodic import PeriodicOrbit
@@ -54,7 +56,7 @@ __all__ = [
     "finish_orbit",
     "atlas_orbit",
     "distinct_orbits",
-    "SampledOrbit",
+    "orbit_samples",
     "distance_to_orbit",
 ]
 
@@ -116,9 +118,7 @@ def budget_seconds(E_values: Iterable[float], t_max: float, grid: int = 300) -> 
 
 
 def _check(E_values, t_max, grid):
-    for E in E_values:
-        if not (isinstance(E, (int, float)) and math.isfinite(E) and E > 0):
-            raise ValueError(f"E must be a finite energy > 0, got {E!r}")
+    for E in E_values:  # floats (as_float); outside the domain: also E <= 0 and nan
         if not E_DOMAIN[0] <= E <= E_DOMAIN[1]:
             raise ValueError(
                 f"E = {E!r} is outside the atlas's domain {E_DOMAIN[0]} <= E <= "
@@ -139,9 +139,8 @@ def _check(E_values, t_max, grid):
         )
 
 
-def _scan_one(args):
+def _scan_one(si, u, E, t_half):
     """Crossings of every fixed set from one start point: ``[(target, k, t, residual)]``."""
-    si, u, E, t_half = args
     try:
         x0 = start_sets(E)[si].at(u, E)
     except ValueError:
@@ -156,33 +155,25 @@ def _scan_one(args):
     return out
 
 
+def _pairs(a: list, b: list, t_half: float) -> list:
+    """``[(j, k, ra, rb)]``: the crossings of the rows ``a``, ``b`` of two start points
+    (:func:`_scan_one`) that correspond: the ``k``-th crossing of a fixed set ``j`` crossed
+    as often from both, at times within ``0.05 t_half``, with its residual on each side."""
+    na, nb = ({j: k for j, k, _, _ in r} for r in (a, b))
+    db = {(j, k): (tt, r) for j, k, tt, r in b}
+    return [
+        (j, k, ra, db[j, k][1])
+        for j, k, ta, ra in a
+        if na[j] == nb.get(j) and abs(ta - db[j, k][0]) < 0.05 * t_half
+    ]
+
+
 def _needs_split(a, b, t_half):
+    """Whether the crossings change between two start points (a crossing appears or
+    vanishes, or moves by ``0.05 t_half`` or more): the pairing by index breaks."""
     if a is None or b is None:
         return a is not b
-    if {j: k for j, k, _, _ in a} != {j: k for j, k, _, _ in b}:
-        return True  # a crossing appeared or vanished: the pairing by index breaks
-    db = {(j, k): (tt, r) for j, k, tt, r in b}
-    return any(
-        abs(ta - db[(j, k)][0]) > 0.05 * t_half for j, k, ta, _ in a if (j, k) in db
-    )
-
-
-def _brackets(us: list, rows: list, t_half: float) -> list[tuple[int, int, int]]:
-    """Sign changes of the residual between neighbouring start points at the same crossing of
-    the same fixed set, where that fixed set's crossings correspond on both sides (same
-    number, times close); other fixed sets may change their crossings in between."""
-    out = []
-    for i, (a, b) in enumerate(zip(rows, rows[1:])):
-        if a is not None and b is not None:
-            sa, sb = {j: k for j, k, _, _ in a}, {j: k for j, k, _, _ in b}
-            db = {(j, k): (tt, r) for j, k, tt, r in b}
-            out += [
-                (i, j, k)
-                for j, k, ta, ra in a
-                if sa.get(j) == sb.get(j) and (j, k) in db and ra * db[j, k][1] < 0
-                if abs(ta - db[j, k][0]) < 0.05 * t_half
-            ]
-    return out
+    return len(_pairs(a, b, t_half)) < max(len(a), len(b))
 
 
 def symmetric_roots(
@@ -208,8 +199,10 @@ def _scan_jobs(si, E, t_half, grid, depth, parts, window=None) -> list:
     lo, hi = window or start_sets(E)[si].span(E)
     us = [lo, *(np.linspace(lo, hi, grid + 1)[:-1] + (hi - lo) / (2 * grid)), hi]
     n = -(-(len(us) - 1) // parts)
-    args = (E, t_half, (hi - lo) / grid, depth)
-    return [(si, us[i : i + n + 1], *args) for i in range(0, len(us) - 1, n)]
+    return [
+        (si, us[i : i + n + 1], E, t_half, (hi - lo) / grid, depth)
+        for i in range(0, len(us) - 1, n)
+    ]
 
 
 def _bisect(si, E, t_half, a, ra, b, rb, width, depth) -> list:
@@ -219,9 +212,10 @@ def _bisect(si, E, t_half, a, ra, b, rb, width, depth) -> list:
     if depth < 1 or b - a <= 1.5 * width or not _needs_split(ra, rb, t_half):
         return [(b, rb)]
     m = 0.5 * (a + b)
-    rm = _scan_one((si, m, E, t_half))
-    head = _bisect(si, E, t_half, a, ra, m, rm, width, depth - 1)
-    return head + _bisect(si, E, t_half, m, rm, b, rb, width, depth - 1)
+    rm = _scan_one(si, m, E, t_half)
+    return _bisect(si, E, t_half, a, ra, m, rm, width, depth - 1) + _bisect(
+        si, E, t_half, m, rm, b, rb, width, depth - 1
+    )
 
 
 def _segments(args) -> tuple[bool, list]:
@@ -230,13 +224,14 @@ def _segments(args) -> tuple[bool, list]:
     end of the span (half a cell, left to :func:`_gather`): ``(split, [(a, ra, b, rb,
     roots)])``, ``roots`` None and the rows ``ra``, ``rb`` kept for an end only."""
     si, us, E, t_half, width, depth = args
-    rows = [_scan_one((si, u, E, t_half)) for u in us]
+    rows = [_scan_one(si, u, E, t_half) for u in us]
     split, out = False, []  # type: bool, list
     for a, b, ra, rb in zip(us, us[1:], rows, rows[1:]):
         if b - a > 1.5 * (width / 2):
             split = split or _needs_split(ra, rb, t_half)
-            pts = _bisect(si, E, t_half, a, ra, b, rb, width, depth)
-            out.append((a, None, b, None, _roots(si, E, t_half, [(a, ra), *pts])))
+            out.append(
+                (a, None, b, None, _roots(si, E, t_half, a, ra, b, rb, width, depth))
+            )
         else:
             out.append((a, ra, b, rb, None))
     return split, out
@@ -250,28 +245,43 @@ def _gather(job, results) -> list:
     out = []
     for a, ra, b, rb, roots in (seg for _, segs in results for seg in segs):
         if roots is None:
-            pts = _bisect(si, E, t_half, a, ra, b, rb, width / 2, (depth - 1) * split)
-            roots = _roots(si, E, t_half, [(a, ra), *pts])
+            # an end: bisected only if another interval was at the first level
+            roots = _roots(si, E, t_half, a, ra, b, rb, width / 2, (depth - 1) * split)
         out += roots
     return out
 
 
-def _roots(si, E, t_half, pts) -> list:
-    """The sign changes between the neighbours ``pts = [(u, row)]`` (:func:`_brackets`),
-    refined (:func:`_refine_bracket`)."""
-    us, rows = [u for u, _ in pts], [r for _, r in pts]
-    args = [
-        (si, j, k, E, t_half, float(us[i]), float(us[i + 1]))
-        for i, j, k in _brackets(us, rows, t_half)
+def _roots(si, E, t_half, a, ra, b, rb, width, depth) -> list:
+    """The roots between the start points ``a`` and ``b`` (rows ``ra``, ``rb``): the
+    interval bisected (:func:`_bisect`), the sign changes of the residual between
+    neighbours at the same crossing of the same fixed set (:func:`_pairs`; other fixed sets
+    may change their crossings in between) refined (:func:`_refine_bracket`)."""
+    pts = [(a, ra), *_bisect(si, E, t_half, a, ra, b, rb, width, depth)]
+    roots = [
+        _refine_bracket(si, j, k, E, t_half, float(u0), float(u1))
+        for (u0, row0), (u1, row1) in zip(pts, pts[1:])
+        if row0 is not None and row1 is not None
+        for j, k, r0, r1 in _pairs(row0, row1, t_half)
+        if r0 * r1 < 0
     ]
-    return [r for r in map(_refine_bracket, args) if r is not None]
+    return [r for r in roots if r is not None]
 
 
 def _problem(si, j, k, E, t_half):
     start, tg = start_sets(E)[si], targets()[j]
-    name, end = f"{start.name} -> {tg.name} ({k})", 2 * t_half + 1
-    args = (tg.section, tg.condition, k, 2, (0.0, 0.0), None, None, end)
-    return ShootingProblem(name, start, *args)
+    name = f"{start.name} -> {tg.name} ({k})"
+    return ShootingProblem(
+        name,
+        start,
+        tg.section,
+        tg.condition,
+        k,
+        2,
+        (0.0, 0.0),
+        None,
+        None,
+        2 * t_half + 1,
+    )
 
 
 def _closure_at(x0, times):
@@ -281,9 +291,9 @@ def _closure_at(x0, times):
     ts = sorted(set(times))
     ta, _ = _integrator(FLOAT64, None, False)
     _start(ta, FLOAT64, x0, False)
-    out = ta.propagate_grid(np.array([0.0] + ts))[-1]
+    states = ta.propagate_grid(np.array([0.0] + ts))[-1][1:]
     res = {
-        t: lattice_reduce([a - b for a, b in zip(x, x0)]) for t, x in zip(ts, out[1:])
+        t: lattice_reduce([a - b for a, b in zip(x, x0)]) for t, x in zip(ts, states)
     }
     return [max(map(abs, res[t])) for t in times]
 
@@ -332,20 +342,17 @@ def _action(x0, T, E):
 SAME_ORBIT = 1e-6
 
 
-class SampledOrbit:
-    """An orbit sampled densely (``states`` at times ``ts``), for :func:`distance_to_orbit`."""
-
-    states: np.ndarray
-    ts: np.ndarray
-
-    def __init__(self, x0: ArrayLike, T: float, n: int = 4000) -> None:
-        self.states, self.ts = sample(np.asarray(x0, dtype=float), T, n)
+def orbit_samples(x0: ArrayLike, T: float) -> np.ndarray:
+    """The states of the orbit from ``x0`` of period ``T`` at 4000 times, for
+    :func:`distance_to_orbit`."""
+    return sample(np.asarray(x0, dtype=float), T, 4000)[0]
 
 
-def distance_to_orbit(c: SampledOrbit, y0: ArrayLike) -> float:
+def distance_to_orbit(states: np.ndarray, y0: ArrayLike) -> float:
     """The phase-space distance (configuration modulo the lattice) from the nearest image of
-    ``y0`` under the group to the orbit ``c``: every local minimum of the distance to the
-    samples below 0.05 refined by Newton on the time along the orbit (short integrations)."""
+    ``y0`` under the group to the orbit sampled at ``states`` (:func:`orbit_samples`):
+    every local minimum of the distance to the samples below 0.05 refined by Newton on the
+    time along the orbit (short integrations)."""
     from .flow import _integrator, _start
     from .system import rhs_alpha
 
@@ -355,10 +362,10 @@ def distance_to_orbit(c: SampledOrbit, y0: ArrayLike) -> float:
     ta, _ = _integrator(FLOAT64, None, False)
     best = math.inf
     for y in _group_images() @ np.asarray(y0, float):
-        dist = np.max(np.abs(lattice_reduce(c.states - y)), axis=1)
+        dist = np.max(np.abs(lattice_reduce(states - y)), axis=1)
         best = min(best, float(dist.min()))
         near = (dist < 0.05) & (dist <= np.roll(dist, 1)) & (dist <= np.roll(dist, -1))
-        for x in c.states[near]:  # each local minimum below 0.05
+        for x in states[near]:  # each local minimum below 0.05
             for _ in range(4):
                 v = np.asarray(rhs_alpha(0.0, x), float)
                 _start(ta, FLOAT64, list(x), False)
@@ -368,11 +375,10 @@ def distance_to_orbit(c: SampledOrbit, y0: ArrayLike) -> float:
     return best
 
 
-def _refine_bracket(args: tuple) -> tuple | None:
+def _refine_bracket(si, j, k, E, t_half, ua, ub) -> tuple | None:
     """One bracket: the root in ``u`` (Brent), its verification and invariants, or ``None``."""
     from scipy.optimize import brentq
 
-    si, j, k, E, t_half, ua, ub = args
     prob = _problem(si, j, k, E, t_half)
 
     try:
@@ -394,14 +400,13 @@ def finish_orbit(args: tuple) -> tuple:
     si, j, k, E, t_half, u, x0, T, digits = args
     if digits is None:
         M, _, tr = monodromy_matrix(x0, T)
-        clo = _closure_at(x0, [T])[0]
         return (
             tuple(map(repr, x0)),
             repr(T),
             repr(tr),
             float(tr),
             float(T),
-            clo,
+            _closure_at(x0, [T])[0],
             M,
             None,
         )
@@ -413,17 +418,15 @@ def finish_orbit(args: tuple) -> tuple:
         n = Fraction(T / (2 * float(sh.t1))).limit_denominator(24)  # T = 2 t1 n/m
         Tm = 2 * sh.t1 * n.numerator / n.denominator
         M, xT, tr = monodromy_matrix(sh.x0, Tm, t)
-        d = lattice_reduce([a - b for a, b in zip(xT, sh.x0)], digits)
-        xs, clo = tuple(t.text(v, digits) for v in sh.x0), max(abs(float(v)) for v in d)
-        Mf = [[float(v) for v in row] for row in M]
+        d = lattice_reduce([a - b for a, b in zip(xT, sh.x0)], digits)  # closure
         return (
-            xs,
+            tuple(t.text(v, digits) for v in sh.x0),
             t.text(Tm, digits),
             t.text(tr, digits - 5),
             float(tr),
             float(Tm),
-            clo,
-            Mf,
+            max(abs(float(v)) for v in d),
+            [[float(v) for v in row] for row in M],
             digits,
         )
 
@@ -490,7 +493,7 @@ def _known_family(args):
     lab, E = args
     spec = nb.family_spec(lab)
     try:
-        E_max = max(E, nb.family_range(spec)[1]) + 0.05
+        E_max = max(E, nb.family_range(spec)[1]) + 0.05  # beyond E and the range
         b = nb.follow(lab, E_range=(None, E_max), energies=(E,), max_steps=600)
     except (ValueError, SectionNotReached):
         return None
@@ -524,19 +527,23 @@ def _known(E, t_max, followed) -> list:
             closed.append((f"breather {fam}", breather(E, fam)))
     if DAUGHTER_E_MIN <= E < 8.968:
         closed.append(("PD^b", breather_daughter(E)))
-    known = [
+    return [
         (lab, o.period, _action(list(o.state0), o.period, E))
         for lab, o in closed
         if o.period <= t_max * 1.001
-    ]
-    return known + [f for f in followed if f is not None and f[1] <= t_max * 1.001]
+    ] + [f for f in followed if f is not None and f[1] <= t_max * 1.001]
 
 
 def _name(T, S, known):
-    for label, Tk, Sk in known:
-        if abs(T - Tk) < 1e-6 * Tk and abs(S - Sk) < 1e-6 * Sk:
-            return label
-    return "new"
+    """The label of the known family with the period ``T`` and action ``S``, or ``new``."""
+    return next(
+        (
+            lab
+            for lab, Tk, Sk in known
+            if abs(T - Tk) < 1e-6 * Tk and abs(S - Sk) < 1e-6 * Sk
+        ),
+        "new",
+    )
 
 
 def _run(job):
@@ -551,7 +558,7 @@ def distinct_orbits(args: tuple) -> list:
     ``[(root, finish)]``."""
     group, E, t_half, digits = args
     unique: list = []
-    curve = functools.cache(lambda i: SampledOrbit(unique[i][4], unique[i][5]))
+    curve = functools.cache(lambda i: orbit_samples(unique[i][4], unique[i][5]))
     for f in group:
         T, S = f[5], f[6]
         if not any(
@@ -622,22 +629,23 @@ def census(
     >>> o.extra["fixed_sets"], round(o.period, 4), round(o.trace, 3)
     (('Fix T(12)', 'Fix T(12)'), 3.0612, 0.358)
     """
-    E, t_max = float(E), float(t_max)
+    E, t_max = as_float(E, "E"), as_float(t_max, "T_max")
     _check([E], t_max, grid)
     t_half = t_max / 2 * 1.02
     classes = range(len(start_sets(E)))
     parts = max(4, round(budget_seconds([E], t_max, grid) / 0.25 / len(classes)))
     scans = [_scan_jobs(si, E, t_half, grid, depth, parts) for si in classes]
     follow = _known_tasks(E) if known is None and name else []
-    jobs = [(_known_family, a) for a in follow]
-    jobs += [(_segments, a) for s in scans for a in s]
+    jobs = [(_known_family, a) for a in follow] + [
+        (_segments, a) for s in scans for a in s
+    ]
     res = pmap(_run, jobs, executor=executor, progress=progress, desc=f"census E={E:g}")
     if known is None:
         known = _known(E, t_max, res[: len(follow)]) if name else []
-    found, i = [], len(follow)
-    for s in scans:
-        found += _gather(s[0], res[i : i + len(s)])
-        i += len(s)
+    rest = iter(res[len(follow) :])  # each class's tasks in turn
+    found = [
+        f for s in scans for f in _gather(s[0], list(itertools.islice(rest, len(s))))
+    ]
     groups: list = []  # roots by period; a root is compared with its group only
     for f in sorted(
         (f for f in found if f[5] <= t_max), key=lambda f: (f[5], f[0], f[1], f[2])
@@ -646,14 +654,13 @@ def census(
             groups[-1].append(f)
         else:
             groups.append([f])
-    chunk = len(groups) // len(jobs) + 1  # as many tasks as in the first round
     done = pmap(
         distinct_orbits,
         [(g, E, t_half, digits) for g in groups],
         executor=executor,
         progress=progress,
         desc="orbits",
-        chunksize=chunk,
+        chunksize=len(groups) // len(jobs) + 1,  # as many tasks as in the first round
     )
     orbits = []
     D = 15 if digits is None else int(digits)

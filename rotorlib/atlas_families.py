@@ -31,17 +31,16 @@ from collections.abc import Sequence
 from concurrent.futures import Executor
 from dataclasses import dataclass, replace
 from fractions import Fraction
-from typing import Any
 
 import numpy as np
 
 from .atlas import (
     SAME_ORBIT,
     Atlas,
-    SampledOrbit,
     atlas_orbit,
     distance_to_orbit,
     distinct_orbits,
+    orbit_samples,
     symmetric_roots,
 )
 from .branch import Branch, SpecialPoint
@@ -127,12 +126,14 @@ def _family(args: tuple) -> Branch:
     n = len(back.members)
     # the backward branch reversed: a fold stays at its member, an IS/PD point lies
     # after the member before it
-    pts = [
-        replace(p, index=n - 1 - p.index - (p.kind != "fold"))
-        for p in back.special_points
-    ]
-    pts += [replace(p, index=n - 1 + p.index) for p in fwd.special_points]
-    pts.sort(key=_position)
+    pts = sorted(
+        [
+            replace(p, index=n - 1 - p.index - (p.kind != "fold"))
+            for p in back.special_points
+        ]
+        + [replace(p, index=n - 1 + p.index) for p in fwd.special_points],
+        key=_position,
+    )
     return Branch(
         prob,
         fwd.tier,
@@ -185,8 +186,7 @@ def families(
     Precision: float64 members (residual < 1e-8); folds located to ~1e-15 in ``E``,
     ``IS``/``PD`` to ~1e-14 in the local parameter.
     """
-    given: Any = getattr(orbits, "orbits", orbits)  # a census: its orbits
-    orbits = list(given)
+    orbits = list(orbits.orbits if isinstance(orbits, Atlas) else orbits)
     lo, hi = (float(v) for v in E_range)
     if not (math.isfinite(lo) and math.isfinite(hi) and 0 < lo <= hi):
         raise ValueError(f"E_range must be finite with 0 < lo <= hi, got {E_range!r}")
@@ -213,8 +213,7 @@ def _locate(y, E, tol=1e-7):
     ims = images(y)
     out = []
     for si, s in enumerate(start_sets(E)):
-        lo, hi = s.span(E)
-        us = np.linspace(lo, hi, 1441)
+        us = np.linspace(*s.span(E), 1441)
 
         def dist(u, s=s):
             try:
@@ -242,8 +241,7 @@ def _parent_at(fam: Branch, x, E):
     i = min(max(int(math.floor(x)), 0), len(fam.members) - 2)
     (Ea, Eb), (ua, ub) = fam.E[i : i + 2], fam.u[i : i + 2]
     u0 = ua + (ub - ua) * (E - Ea) / (Eb - Ea) if Eb != Ea else ua
-    root = solve(fam.problem, u0, u0 + 1e-7 * max(1.0, abs(u0)), E=E)
-    return float(root.x)
+    return float(solve(fam.problem, u0, u0 + 1e-7 * max(1.0, abs(u0)), E=E).x)
 
 
 def daughters(
@@ -318,7 +316,7 @@ def daughters(
             continue
         s = residual(fam.problem, u_p, E)
         T_p = float(fam.problem.factor * s.t1)
-        parent, T_d = SampledOrbit(s.x0, T_p), n * T_p
+        parent, T_d = orbit_samples(s.x0, T_p), n * T_p
         # the parent's start on its own start set, and its symmetric point on others
         windows = [
             (k, u_p) for k, st in enumerate(start_sets(E)) if st == fam.problem.start
@@ -408,15 +406,16 @@ def cascade(
     for _ in range(generations):
         # the daughter lies ~sqrt(dE) from the parent (the last family): scan near it only
         dE = scale / 20
-        width = min(0.05, 10 * math.sqrt(dE))
-        stable = [
-            d
-            for d in daughters(fams[-1], point, dE=dE, width=width, executor=executor)
-            if d.stable
-        ]
-        if not stable:
+        born = daughters(
+            fams[-1],
+            point,
+            dE=dE,
+            width=min(0.05, 10 * math.sqrt(dE)),
+            executor=executor,
+        )
+        d = next((o for o in born if o.stable), None)  # the first stable daughter
+        if d is None:
             raise ValueError(f"no stable daughter born at E = {Eb:.12f}")
-        d = stable[0]
         periods.append(d.period)
         side = 1.0 if d.E > Eb else -1.0
         lo, hi = sorted((Eb, Eb + side * 1.5 * scale))

@@ -119,11 +119,9 @@ def pmap(
             return out
         chunks = [items[i : i + chunksize] for i in range(0, len(items), chunksize)]
         futures = [executor.submit(_call_chunk, func, c) for c in chunks]
-        size = {f: len(c) for f, c in zip(futures, chunks)}
         try:
             for f in as_completed(futures):
-                f.result()  # raises the task's exception, if any
-                bar.update(size[f])
+                bar.update(len(f.result()))  # raises the task's exception, if any
         except BaseException:
             for f in futures:
                 f.cancel()

@@ -64,25 +64,38 @@ def run(args: argparse.Namespace) -> int:
     t_max = as_float(args.t_max, "--t-max")
     check_digits(args.digits, "--digits")
     _check(energies, t_max, args.grid)  # refuses before any work is done
-    kw = dict(digits=args.digits, progress=sys.stderr.isatty() and not args.json)
     with executor_for(args.workers, args.scheduler) as ex:
         recs: list = [  # one per orbit, in order of energy and period
             o.to_dict()
             for E in energies
-            for o in census(E, t_max, args.grid, executor=ex, **kw).orbits
+            for o in census(
+                E,
+                t_max,
+                args.grid,
+                executor=ex,
+                progress=sys.stderr.isatty() and not args.json,
+                digits=args.digits,
+            ).orbits
         ]
     if args.json:
         emit(recs if len(recs) != 1 else [recs], True, COLUMNS)
-        return 0
-    rows = [
-        dict(
-            {k: v for k, v in r.items() if k not in ("period_str", "trace_str")},
-            fixed_sets=" / ".join(r["fixed_sets"]),
-            state0=" ".join(r.get("state0_str") or map(repr, r["state0"])),
-            period=f"{r['period']:.10g}",
-            trace=f"{r['trace']:.8g}",
+    else:  # one line per orbit
+        emit(
+            [
+                dict(
+                    {
+                        k: v
+                        for k, v in r.items()
+                        if k not in ("period_str", "trace_str")
+                    },
+                    fixed_sets=" / ".join(r["fixed_sets"]),
+                    state0=" ".join(r.get("state0_str") or map(repr, r["state0"])),
+                    period=f"{r['period']:.10g}",
+                    trace=f"{r['trace']:.8g}",
+                )
+                for r in recs
+            ],
+            False,
+            COLUMNS,
         )
-        for r in recs
-    ]
-    emit(rows, False, COLUMNS)
     return 0

@@ -65,8 +65,10 @@ def _print_branch(b: Branch, lo: float, hi: float) -> None:
     from ..choreo_family import ChoreoMember, ChoreoPoint
 
     d = max(12, min(30, b.members[0].digits)) if b.members else 12
-    ms = [*b.members, *(p.member for p in b.special_points)]
-    reduced = any(isinstance(m, ChoreoMember) for m in ms)
+    reduced = any(  # a choreography: a column of tr DP
+        isinstance(m, ChoreoMember)
+        for m in (*b.members, *(p.member for p in b.special_points))
+    )
     print(f"{b.label}: {len(b.members)} members in {lo:g} <= E <= {hi:g}; {b.reason}")
     print(
         f"{'E':>{d + 4}}  {'period':>{d + 4}}  "
@@ -107,8 +109,7 @@ def run(args: argparse.Namespace) -> int:
 
     check_digits(args.digits, "--digits")
     lo, hi = (as_float(v, "--E-range") for v in args.E_range)
-    choreo = str(args.label).strip().upper() in LABELS["choreography"]
-    if choreo and args.digits is not None and args.digits > 60:
+    if (args.digits or 0) > 60 and args.label.strip().upper() in LABELS["choreography"]:
         raise ValueError(
             f"--digits for a choreography is at most 60, got {args.digits}"
         )
