@@ -12,9 +12,8 @@ from __future__ import annotations
 import argparse
 import sys
 
-from ..cli import add_executor_arguments, emit
+from ..cli import add_digits_argument, add_executor_arguments, emit
 from ..energy import as_float
-from ..precision import check_digits
 
 COLUMNS = [
     "E",
@@ -44,13 +43,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         default=300,
         help="start points per fixed-set class before bisection (default 300)",
     )
-    p.add_argument(
-        "--digits",
-        type=int,
-        default=None,
-        help="re-solve every orbit in the tier that delivers these digits (1..1000) "
-        "(default: float64)",
-    )
+    add_digits_argument(p, "re-solve every orbit in the tier that delivers them")
     p.add_argument("--json", action="store_true", help="print a JSON list of records")
     add_executor_arguments(p)
     p.set_defaults(func=run)
@@ -62,7 +55,6 @@ def run(args: argparse.Namespace) -> int:
 
     energies = [as_float(v, "E") for v in args.E]
     t_max = as_float(args.t_max, "--t-max")
-    check_digits(args.digits, "--digits")
     _check(energies, t_max, args.grid)  # refuses before any work is done
     with executor_for(args.workers, args.scheduler) as ex:
         recs: list = [  # one per orbit, in order of energy and period

@@ -25,6 +25,8 @@ import argparse
 import json
 from typing import TYPE_CHECKING
 
+from ..cli import add_digits_argument
+
 if TYPE_CHECKING:
     from ..branch import Branch
 
@@ -47,12 +49,10 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument(
         "--E-range", nargs=2, required=True, metavar=("A", "B"), help="energies A < B"
     )
-    p.add_argument(
-        "--digits",
-        type=int,
-        default=None,
-        help="> 15: each special point located again in the tier of that many digits "
-        "(E_str, and its agreement with the float64 location)",
+    add_digits_argument(
+        p,
+        "> 15: each special point located again in that tier (E_str, and its "
+        "agreement with the float64 location)",
     )
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.set_defaults(func=run)
@@ -105,9 +105,7 @@ _WHAT = {"IS": "tr M = 4", "PD": "tr M = 0", "fold": "fold of E"}
 def run(args: argparse.Namespace) -> int:
     from ..api import LABELS, family
     from ..energy import as_float
-    from ..precision import check_digits
 
-    check_digits(args.digits, "--digits")
     lo, hi = (as_float(v, "--E-range") for v in args.E_range)
     if (args.digits or 0) > 60 and args.label.strip().upper() in LABELS["choreography"]:
         raise ValueError(
