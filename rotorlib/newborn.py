@@ -63,7 +63,6 @@ from .continuation import (
     member,
     switch,
 )
-from .flow import Section
 from .periodic import PeriodicOrbit, periodic_orbit
 from .precision import FLOAT64, REAL128, Tier, tier
 from .shooting import ShootingProblem, StartSet, solve
@@ -100,11 +99,11 @@ FAMILY_FLOAT64_DEPTH = 1e-5
 
 _START = {"a1": StartSet("a1", a=(1.0, 0.0)), "p1": StartSet("p1", c=(1.0, 0.0))}
 _SECTION = {
-    "turn": Section((0, 0, 0, 1), 0.0, -1),
-    "a2_down": Section((0, 1, 0, 0), 0.0, -1),
-    "a2_up": Section((0, 1, 0, 0), 1.0, 1),
+    "turn": flow.Section((0, 0, 0, 1), 0.0, -1),
+    "a2_down": flow.Section((0, 1, 0, 0), 0.0, -1),
+    "a2_up": flow.Section((0, 1, 0, 0), 1.0, 1),
 }
-_CONDITION = {"a1": Section((1, 0, 0, 0)), "p1": Section((0, 0, 1, 0))}
+_CONDITION = {"a1": flow.Section((1, 0, 0, 0)), "p1": flow.Section((0, 0, 1, 0))}
 _OTHER = {"a1": "p1", "p1": "a1"}
 
 
@@ -158,7 +157,7 @@ class FamilySpec:
         """The family as a shooting problem (energy chart ``E``)."""
         lattice = (0.0, 0.0) if self.phase == "lib" else (0.0, 2.0 * self.factor / 2)
         # a rotation that turns back (p2 = 0) before a2 = pi has failed: the shot ends there
-        abort = Section((0, 0, 0, 1), 0.0, -1) if self.phase == "rot" else None
+        abort = flow.Section((0, 0, 0, 1), 0.0, -1) if self.phase == "rot" else None
         return ShootingProblem(
             self.label,
             _START[self.start],
@@ -294,11 +293,10 @@ def family_range(spec: FamilySpec) -> tuple[float, float]:
 
 
 @functools.cache
-def _birth(spec: FamilySpec, name: str):
+def _birth(spec: FamilySpec, t: Tier):
     """``E_n`` in a tier: float64, or from the 30-digit transition (extended)."""
-    if name == "float64":
+    if not t.extended:
         return spec.E_birth
-    t = Tier(name)
     with t.context():
         eps = mp.exp(mp.mpf(transition(spec.label, digits=30).log_abs_dE_str))
         return 4 - eps if spec.phase == "lib" else 4 + eps
@@ -327,7 +325,7 @@ def birth_member(
     """
     t = tier(digits)
     with t.context():
-        E0 = _birth(spec, t.name)
+        E0 = _birth(spec, t)
         dE = (
             1e-3 * max(spec.depth, 1e-12)
             if not t.extended
@@ -355,12 +353,12 @@ def seed(label: str, digits: int | Tier | None = None) -> tuple[Member, Any]:
 
 @functools.lru_cache(maxsize=64)
 def _seed(label: str, t: Tier) -> tuple[Member, Any]:
-    spec, name = family_spec(label), t.name
+    spec = family_spec(label)
     with t.context():
         u_s = t.num(1e-2 * spec.u_scale * math.sqrt(spec.depth))
         E_s, _ = birth_member(spec, u_s, t)
         m = member(spec.problem, u_s, E_s, t)
-        return m, (E_s - _birth(spec, name)) / (u_s * u_s)
+        return m, (E_s - _birth(spec, t)) / (u_s * u_s)
 
 
 def _path(
@@ -381,7 +379,7 @@ def _path(
                 f"{spec.label} exists only for E {'>' if c > 0 else '<'} E_n = "
                 f"{spec.E_birth!r}"
             )
-        En = _birth(spec, t.name)
+        En = _birth(spec, t)
         s_s, s_t = t.m.sqrt(abs(m0.E - En)), t.m.sqrt(abs(E_target - En))
         if steps is None:
             steps = int(
@@ -394,8 +392,9 @@ def _path(
         alg = Natural(
             "E", tuple(vals) + (E_target,), order=1, origin=En, origin_other=0.0
         )
-        opts = ContinuationOptions(traces=traces)
-        return continuation(spec.problem, alg, opts, [m0], t)
+        return continuation(
+            spec.problem, alg, ContinuationOptions(traces=traces), [m0], t
+        )
 
 
 def _tiers(spec: FamilySpec, digits):
