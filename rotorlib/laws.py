@@ -159,30 +159,25 @@ class SlopeLaw:
 
 
 def fork_fit(
-    E: ArrayLike,
-    trace: ArrayLike,
-    u: ArrayLike,
-    E_birth: float,
-    trace_birth: float = 4.0,
-    degree: int = 2,
+    E: ArrayLike, trace: ArrayLike, u: ArrayLike, E_birth: float
 ) -> tuple[float, float, float, float]:
     """Fit ``E - E_n = c1 s + c2 s^2`` and ``tr M - 4 = d1 s + d2 s^2`` with ``s = u^2``.
 
     Returns ``(slope = d1/c1, c1, d1, residual)``; ``residual`` is the largest
     fit residual relative to the range of the data (both fits). Needs at least
-    ``degree + 1`` members.
+    3 members.
     """
     E = np.asarray(E, float) - float(E_birth)
-    y = np.asarray(trace, float) - float(trace_birth)
+    y = np.asarray(trace, float) - 4.0
     s = np.asarray(u, float) ** 2
-    if len(s) < degree + 1:
-        raise ValueError(f"fork_fit needs at least {degree + 1} members, got {len(s)}")
+    if len(s) < 3:
+        raise ValueError(f"fork_fit needs at least 3 members, got {len(s)}")
     if np.any(s <= 0):
         raise ValueError(
             "amplitudes must be nonzero (the members must lie on the new family)"
         )
-    A = np.column_stack([s**k for k in range(1, degree + 1)])
-    scale = s.max() ** np.arange(1, degree + 1)  # columns of order 1
+    A = np.column_stack([s, s**2])
+    scale = s.max() ** np.arange(1, 3)  # columns of order 1
     cE = np.linalg.lstsq(A / scale, E, rcond=None)[0] / scale
     cT = np.linalg.lstsq(A / scale, y, rcond=None)[0] / scale
     res = max(
@@ -265,10 +260,10 @@ def newborn_slope(
     them); the amplitude is the shooting unknown ``u`` (``a1(0)`` or ``p1(0)``).
     """
     t = transition(label)
-    sign = 1 if t.phase == "rot" else -1
     with mp.workdps(40):
         eps = mp.e ** mp.mpf(t.log_abs_dE_str)
-        Es = [mp.nstr(4 + sign * eps + mp.mpf(r) * eps, 36) for r in rel]
+        E_n = 4 + eps if t.phase == "rot" else 4 - eps
+        Es = [mp.nstr(E_n + mp.mpf(r) * eps, 36) for r in rel]
         dE = [float(mp.mpf(r) * eps) for r in rel]
     orbs = [
         newborn_orbit(
@@ -478,8 +473,9 @@ def a1_max(m: Member) -> float:
     t = Tier(m.precision)
     with t.context():
         hits = flow.crossings(list(m.x0), (flow.Section((0, 0, 1, 0)),), m.t1, t)
-        ends = [abs(m.x0[0]), abs(m.x1[0])]
-        return float(max(ends + [abs(x[0]) for _, _, x in hits]))
+        return float(
+            max([abs(m.x0[0]), abs(m.x1[0])] + [abs(x[0]) for _, _, x in hits])
+        )
 
 
 def a2dot_min(m: Member) -> float:

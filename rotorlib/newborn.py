@@ -257,9 +257,8 @@ class FamilyRangeError(ValueError):
     def __init__(self, spec: FamilySpec, E: Any):
         lo, hi = family_range(spec)
         self.label, self.E_min, self.E_max = spec.label, lo, hi
-        rng = isinstance(E, tuple)
-        self.E = tuple(float(v) for v in E) if rng else float(E)
-        got = f"E_range = {self.E!r}" if rng else f"E = {self.E!r}"
+        self.E = tuple(float(v) for v in E) if isinstance(E, tuple) else float(E)
+        got = f"E_range = {self.E!r}" if isinstance(E, tuple) else f"E = {self.E!r}"
         self.how = FAMILY_REACH[spec.label][1]
         why = {
             "fold": f"at E = {hi!r} the family folds back to lower energies (no member "
@@ -348,12 +347,11 @@ def seed(label: str, digits: int | Tier | None = None) -> tuple[Member, Any]:
     >>> m.label, m.stability, round(c, 4)
     ('IS^l_2', 'unknown', 0.1361)
     """
-    return _seed(family_spec(label).label, tier(digits))
+    return _seed(family_spec(label), tier(digits))
 
 
 @functools.lru_cache(maxsize=64)
-def _seed(label: str, t: Tier) -> tuple[Member, Any]:
-    spec = family_spec(label)
+def _seed(spec: FamilySpec, t: Tier) -> tuple[Member, Any]:
     with t.context():
         u_s = t.num(1e-2 * spec.u_scale * math.sqrt(spec.depth))
         E_s, _ = birth_member(spec, u_s, t)
@@ -385,9 +383,10 @@ def _path(
             steps = int(
                 min(40, max(4, math.ceil(2 * math.log(float(s_t / s_s) + 1.0) + 6)))
             )
-        sign = 1 if c > 0 else -1
+        # values equally spaced in sqrt|E - E_n| from the seed's to the target's
         vals = [
-            En + sign * (s_s + (s_t - s_s) * i / steps) ** 2 for i in range(1, steps)
+            En + (1 if c > 0 else -1) * (s_s + (s_t - s_s) * i / steps) ** 2
+            for i in range(1, steps)
         ]
         alg = Natural(
             "E", tuple(vals) + (E_target,), order=1, origin=En, origin_other=0.0

@@ -135,10 +135,16 @@ def transverse_eigenstructure(t: Transition, rel_tol: float = 1e-8) -> Transvers
         [float(np.max(np.abs((M.matrix - mu * np.eye(4)) @ v))) for v in vecs]
         or [float("nan")]
     )
-    ev = np.concatenate(
-        [np.asarray(multipliers_from_trace(M.trace_transverse)), [1.0, 1.0]]
+    return TransverseEigen(
+        np.concatenate(
+            [np.asarray(multipliers_from_trace(M.trace_transverse)), [1.0, 1.0]]
+        ),
+        mu,
+        s,
+        vecs,
+        np.array([0.0, 0.0, 1.0, 0.0]),
+        res,
     )
-    return TransverseEigen(ev, mu, s, vecs, np.array([0.0, 0.0, 1.0, 0.0]), res)
 
 
 # --------------------------------------------------------------------------- tr M_perp asymptotics
