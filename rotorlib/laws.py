@@ -579,18 +579,18 @@ def rotational_record(m: Member) -> dict[str, Any]:
     }
 
 
-def _member_task(args):
-    label, dE = args
-    try:
-        return rotational_record(rotational_member(label, dE))
-    except NotReached as exc:
-        return str(exc)
-
-
 #: A rotational member as stored (:func:`rotational_record`), or why it does not exist.
 MemberRecord = dict[str, Any] | str
 #: ``(label, dE)``: a family and the decimal string of ``E - 4`` (:func:`dE_str`).
 Key = tuple[str, str]
+
+
+def _member_task(key: Key) -> MemberRecord:
+    """The record of the member ``key = (label, dE)``, or why it does not exist."""
+    try:
+        return rotational_record(rotational_member(*key))
+    except NotReached as exc:
+        return str(exc)
 
 
 @dataclass(frozen=True)
