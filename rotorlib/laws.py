@@ -63,20 +63,45 @@ from . import flow
 from .bifurcations import delta, parse_label, trace_of_delta, transition
 from .branch import Member
 from .continuation import member
-from .flow import monodromy_matrix
 from .newborn import family_spec, follow, linear_orbit, newborn_orbit
 from .parallel import pmap
 from .periodic import PeriodicOrbit
 from .precision import REAL128, Tier
 from .shooting import solve
 
-__all__ = ["SQRT3_PI", "DELTA_L", "SQRT_DELTA_L", "SlopeLaw", "fork_fit"]
-__all__ += ["pendulum_slope", "pendulum_dtrace_dx", "newborn_slope", "slope_law"]
-__all__ += ["expected_ratio", "fan_prediction", "fan_traces", "amplitudes", "ratios"]
-__all__ += ["asymptotic_a1", "asymptotic_a2_deficit", "DualPair", "dual_label"]
-__all__ += ["duality_pairs", "fit_rate", "dual_lame", "NotReached", "a1_max"]
-__all__ += ["rotational_member", "RotationalRatio", "rotational_ratios", "dE_str"]
-__all__ += ["rotational_members", "a2dot_min", "closure", "rotational_record"]
+__all__ = [
+    "SQRT3_PI",
+    "DELTA_L",
+    "SQRT_DELTA_L",
+    "SlopeLaw",
+    "fork_fit",
+    "pendulum_slope",
+    "pendulum_dtrace_dx",
+    "newborn_slope",
+    "slope_law",
+    "expected_ratio",
+    "fan_prediction",
+    "fan_traces",
+    "amplitudes",
+    "ratios",
+    "asymptotic_a1",
+    "asymptotic_a2_deficit",
+    "DualPair",
+    "dual_label",
+    "duality_pairs",
+    "fit_rate",
+    "dual_lame",
+    "NotReached",
+    "a1_max",
+    "rotational_member",
+    "RotationalRatio",
+    "rotational_ratios",
+    "dE_str",
+    "rotational_members",
+    "a2dot_min",
+    "closure",
+    "rotational_record",
+]
 
 #: ``sqrt(3) pi``; ``delta^l = e^{sqrt3 pi}`` (230.76), ``sqrt(delta^l) = e^{sqrt3 pi / 2}`` (15.19).
 SQRT3_PI = math.sqrt(3.0) * math.pi
@@ -134,30 +159,25 @@ class SlopeLaw:
 
 
 def fork_fit(
-    E: ArrayLike,
-    trace: ArrayLike,
-    u: ArrayLike,
-    E_birth: float,
-    trace_birth: float = 4.0,
-    degree: int = 2,
+    E: ArrayLike, trace: ArrayLike, u: ArrayLike, E_birth: float
 ) -> tuple[float, float, float, float]:
     """Fit ``E - E_n = c1 s + c2 s^2`` and ``tr M - 4 = d1 s + d2 s^2`` with ``s = u^2``.
 
     Returns ``(slope = d1/c1, c1, d1, residual)``; ``residual`` is the largest
     fit residual relative to the range of the data (both fits). Needs at least
-    ``degree + 1`` members.
+    3 members.
     """
     E = np.asarray(E, float) - float(E_birth)
-    y = np.asarray(trace, float) - float(trace_birth)
+    y = np.asarray(trace, float) - 4.0
     s = np.asarray(u, float) ** 2
-    if len(s) < degree + 1:
-        raise ValueError(f"fork_fit needs at least {degree + 1} members, got {len(s)}")
+    if len(s) < 3:
+        raise ValueError(f"fork_fit needs at least 3 members, got {len(s)}")
     if np.any(s <= 0):
         raise ValueError(
             "amplitudes must be nonzero (the members must lie on the new family)"
         )
-    A = np.column_stack([s**k for k in range(1, degree + 1)])
-    scale = s.max() ** np.arange(1, degree + 1)  # columns of order 1
+    A = np.column_stack([s, s**2])
+    scale = s.max() ** np.arange(1, 3)  # columns of order 1
     cE = np.linalg.lstsq(A / scale, E, rcond=None)[0] / scale
     cT = np.linalg.lstsq(A / scale, y, rcond=None)[0] / scale
     res = max(
@@ -195,14 +215,20 @@ def pendulum_slope(label: str, h: float = 1e-5) -> float:
     return pendulum_dtrace_dx(label, h) / E_minus_4
 
 
-def slope_law(label: str, E: ArrayLike, trace: ArrayLike, u: ArrayLike) -> SlopeLaw:
-    """:class:`SlopeLaw` from given members ``(E, trace, u)`` of the family born at ``label``."""
-    return _law(label, transition(label).E, E, trace, u, E)
+def slope_law(
+    label: str,
+    E: Sequence[Any] | np.ndarray,
+    trace: Sequence[Any] | np.ndarray,
+    u: Sequence[Any] | np.ndarray,
+    dE: Sequence[float] | None = None,
+) -> SlopeLaw:
+    """:class:`SlopeLaw` from given members ``(E, trace, u)`` of the family born at ``label``.
 
-
-def _law(label, x0, x, trace, u, E) -> SlopeLaw:
-    """The fork fit of ``(x, trace, u)`` about ``x0``, with members at energies ``E``."""
+    ``dE``: their ``E - E_n`` where ``E`` alone would lose its digits (the fit then
+    uses ``dE`` about 0 instead of ``E`` about the float64 ``E_n``).
+    """
     t = transition(label)
+    x, x0 = (E, t.E) if dE is None else (dE, 0.0)
     s_new, c, d, res = fork_fit(x, trace, u, x0)
     s_p = pendulum_slope(label)
     return SlopeLaw(
@@ -234,10 +260,10 @@ def newborn_slope(
     them); the amplitude is the shooting unknown ``u`` (``a1(0)`` or ``p1(0)``).
     """
     t = transition(label)
-    sign = 1 if t.phase == "rot" else -1
     with mp.workdps(40):
         eps = mp.e ** mp.mpf(t.log_abs_dE_str)
-        Es = [mp.nstr(4 + sign * eps + mp.mpf(r) * eps, 36) for r in rel]
+        E_n = 4 + eps if t.phase == "rot" else 4 - eps
+        Es = [mp.nstr(E_n + mp.mpf(r) * eps, 36) for r in rel]
         dE = [float(mp.mpf(r) * eps) for r in rel]
     orbs = [
         newborn_orbit(
@@ -246,7 +272,7 @@ def newborn_slope(
         for E in Es
     ]
     amp = [abs(o.extra["u"]) for o in orbs]
-    return _law(label, 0.0, dE, [o.trace for o in orbs], amp, [o.E for o in orbs])
+    return slope_law(label, [o.E for o in orbs], [o.trace for o in orbs], amp, dE)
 
 
 # --------------------------------------------------------------------------- fans (§7.4)
@@ -447,8 +473,9 @@ def a1_max(m: Member) -> float:
     t = Tier(m.precision)
     with t.context():
         hits = flow.crossings(list(m.x0), (flow.Section((0, 0, 1, 0)),), m.t1, t)
-        ends = [abs(m.x0[0]), abs(m.x1[0])]
-        return float(max(ends + [abs(x[0]) for _, _, x in hits]))
+        return float(
+            max([abs(m.x0[0]), abs(m.x1[0])] + [abs(x[0]) for _, _, x in hits])
+        )
 
 
 def a2dot_min(m: Member) -> float:
@@ -463,7 +490,7 @@ def closure(m: Member) -> float:
     lattice vector), integrated with the variational equations in the member's tier."""
     t, lattice = Tier(m.precision), family_spec(m.label).problem.lattice
     with t.context():
-        xT = monodromy_matrix(list(m.x0), m.period, t)[1]
+        xT = flow.monodromy_matrix(list(m.x0), m.period, t)[1]
         lat = [lattice[0] * t.pi, lattice[1] * t.pi, 0, 0]
         return max(abs(float(a - b - c)) for a, b, c in zip(xT, m.x0, lat))
 
@@ -515,14 +542,17 @@ def rotational_member(label: str, dE: float | str, digits: int | None = None) ->
     if t.extended or (pts[0].located and closure(m) < 1e-8):
         return member(b.problem, m.u, m.w, t, traces=True)
     # too unstable for a float64 period (or not located): re-solved at E in real128
-    t = REAL128
-    with t.context():
-        E = 4 + t.num(dE)
-        u0 = t.num(m.u)
+    with REAL128.context():
+        E, u0 = 4 + REAL128.num(dE), REAL128.num(m.u)
         u = solve(
-            b.problem, u0, u0 * (1 + t.num("1e-12")), E=E, digits=t, r_max=1e-18
+            b.problem,
+            u0,
+            u0 * (1 + REAL128.num("1e-12")),
+            E=E,
+            digits=REAL128,
+            r_max=1e-18,
         ).x
-        return member(b.problem, u, b.problem.w_at(u, E, t), t, traces=True)
+        return member(b.problem, u, b.problem.w_at(u, E, REAL128), REAL128, traces=True)
 
 
 def dE_str(label: str) -> str:
@@ -540,22 +570,27 @@ def rotational_record(m: Member) -> dict[str, Any]:
     :func:`closure`."""
     with Tier(m.precision).context():
         dE = float(m.E - 4)
-    extra = {"a1_max": a1_max(m), "a2dot_min": a2dot_min(m), "closure": closure(m)}
-    return {**m.to_dict(), "dE": dE, **extra}
-
-
-def _member_task(args):
-    label, dE = args
-    try:
-        return rotational_record(rotational_member(label, dE))
-    except NotReached as exc:
-        return str(exc)
+    return {
+        **m.to_dict(),
+        "dE": dE,
+        "a1_max": a1_max(m),
+        "a2dot_min": a2dot_min(m),
+        "closure": closure(m),
+    }
 
 
 #: A rotational member as stored (:func:`rotational_record`), or why it does not exist.
 MemberRecord = dict[str, Any] | str
 #: ``(label, dE)``: a family and the decimal string of ``E - 4`` (:func:`dE_str`).
 Key = tuple[str, str]
+
+
+def _member_task(key: Key) -> MemberRecord:
+    """The record of the member ``key = (label, dE)``, or why it does not exist."""
+    try:
+        return rotational_record(rotational_member(*key))
+    except NotReached as exc:
+        return str(exc)
 
 
 @dataclass(frozen=True)
@@ -605,14 +640,18 @@ def rotational_members(
     :func:`rotorlib.parallel.pmap` (``executor``: any
     :class:`concurrent.futures.Executor`); precision as in :func:`rotational_member`."""
     tasks = list(dict.fromkeys(key for *_, a, b in _pairs(specs) for key in (a, b)))
-    found = pmap(
-        _member_task,
-        tasks,
-        executor=executor,
-        progress=progress,
-        desc="rotational members",
+    return dict(
+        zip(
+            tasks,
+            pmap(
+                _member_task,
+                tasks,
+                executor=executor,
+                progress=progress,
+                desc="rotational members",
+            ),
+        )
     )
-    return dict(zip(tasks, found))
 
 
 def rotational_ratios(
@@ -626,11 +665,10 @@ def rotational_ratios(
     :class:`concurrent.futures.Executor`), or from ``members``, a dict of the same form
     (e.g. members stored by a script and checked). Precision: ratios to ~1e-8 (float64
     members) or ~1e-15 (real128) relative, far below their distance to the limit."""
-    pairs = _pairs(specs)
     res = rotational_members(specs, executor, progress) if members is None else members
     out = []
     with mp.workdps(40):
-        for k, n, num_key, den_key in pairs:
+        for k, n, num_key, den_key in _pairs(specs):
             a, b, c = (mp.mpf(dE_str(f"{k}^r_{m}")) for m in (n - 2, n, n + 2))
             ap, bp = float(mp.sqrt((a - b) / (b - c))), float(mp.sqrt(b / c))
             recs = [res[num_key], res[den_key]]

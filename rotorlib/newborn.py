@@ -63,7 +63,6 @@ from .continuation import (
     member,
     switch,
 )
-from .flow import Section
 from .periodic import PeriodicOrbit, periodic_orbit
 from .precision import FLOAT64, REAL128, Tier, tier
 from .shooting import ShootingProblem, StartSet, solve
@@ -100,11 +99,11 @@ FAMILY_FLOAT64_DEPTH = 1e-5
 
 _START = {"a1": StartSet("a1", a=(1.0, 0.0)), "p1": StartSet("p1", c=(1.0, 0.0))}
 _SECTION = {
-    "turn": Section((0, 0, 0, 1), 0.0, -1),
-    "a2_down": Section((0, 1, 0, 0), 0.0, -1),
-    "a2_up": Section((0, 1, 0, 0), 1.0, 1),
+    "turn": flow.Section((0, 0, 0, 1), 0.0, -1),
+    "a2_down": flow.Section((0, 1, 0, 0), 0.0, -1),
+    "a2_up": flow.Section((0, 1, 0, 0), 1.0, 1),
 }
-_CONDITION = {"a1": Section((1, 0, 0, 0)), "p1": Section((0, 0, 1, 0))}
+_CONDITION = {"a1": flow.Section((1, 0, 0, 0)), "p1": flow.Section((0, 0, 1, 0))}
 _OTHER = {"a1": "p1", "p1": "a1"}
 
 
@@ -158,7 +157,7 @@ class FamilySpec:
         """The family as a shooting problem (energy chart ``E``)."""
         lattice = (0.0, 0.0) if self.phase == "lib" else (0.0, 2.0 * self.factor / 2)
         # a rotation that turns back (p2 = 0) before a2 = pi has failed: the shot ends there
-        abort = Section((0, 0, 0, 1), 0.0, -1) if self.phase == "rot" else None
+        abort = flow.Section((0, 0, 0, 1), 0.0, -1) if self.phase == "rot" else None
         return ShootingProblem(
             self.label,
             _START[self.start],
@@ -258,9 +257,8 @@ class FamilyRangeError(ValueError):
     def __init__(self, spec: FamilySpec, E: Any):
         lo, hi = family_range(spec)
         self.label, self.E_min, self.E_max = spec.label, lo, hi
-        rng = isinstance(E, tuple)
-        self.E = tuple(float(v) for v in E) if rng else float(E)
-        got = f"E_range = {self.E!r}" if rng else f"E = {self.E!r}"
+        self.E = tuple(float(v) for v in E) if isinstance(E, tuple) else float(E)
+        got = f"E_range = {self.E!r}" if isinstance(E, tuple) else f"E = {self.E!r}"
         self.how = FAMILY_REACH[spec.label][1]
         why = {
             "fold": f"at E = {hi!r} the family folds back to lower energies (no member "
@@ -294,11 +292,10 @@ def family_range(spec: FamilySpec) -> tuple[float, float]:
 
 
 @functools.cache
-def _birth(spec: FamilySpec, name: str):
+def _birth(spec: FamilySpec, t: Tier):
     """``E_n`` in a tier: float64, or from the 30-digit transition (extended)."""
-    if name == "float64":
+    if not t.extended:
         return spec.E_birth
-    t = Tier(name)
     with t.context():
         eps = mp.exp(mp.mpf(transition(spec.label, digits=30).log_abs_dE_str))
         return 4 - eps if spec.phase == "lib" else 4 + eps
@@ -327,7 +324,7 @@ def birth_member(
     """
     t = tier(digits)
     with t.context():
-        E0 = _birth(spec, t.name)
+        E0 = _birth(spec, t)
         dE = (
             1e-3 * max(spec.depth, 1e-12)
             if not t.extended
@@ -350,17 +347,16 @@ def seed(label: str, digits: int | Tier | None = None) -> tuple[Member, Any]:
     >>> m.label, m.stability, round(c, 4)
     ('IS^l_2', 'unknown', 0.1361)
     """
-    return _seed(family_spec(label).label, tier(digits))
+    return _seed(family_spec(label), tier(digits))
 
 
 @functools.lru_cache(maxsize=64)
-def _seed(label: str, t: Tier) -> tuple[Member, Any]:
-    spec, name = family_spec(label), t.name
+def _seed(spec: FamilySpec, t: Tier) -> tuple[Member, Any]:
     with t.context():
         u_s = t.num(1e-2 * spec.u_scale * math.sqrt(spec.depth))
         E_s, _ = birth_member(spec, u_s, t)
         m = member(spec.problem, u_s, E_s, t)
-        return m, (E_s - _birth(spec, name)) / (u_s * u_s)
+        return m, (E_s - _birth(spec, t)) / (u_s * u_s)
 
 
 def _path(
@@ -381,21 +377,23 @@ def _path(
                 f"{spec.label} exists only for E {'>' if c > 0 else '<'} E_n = "
                 f"{spec.E_birth!r}"
             )
-        En = _birth(spec, t.name)
+        En = _birth(spec, t)
         s_s, s_t = t.m.sqrt(abs(m0.E - En)), t.m.sqrt(abs(E_target - En))
         if steps is None:
             steps = int(
                 min(40, max(4, math.ceil(2 * math.log(float(s_t / s_s) + 1.0) + 6)))
             )
-        sign = 1 if c > 0 else -1
+        # values equally spaced in sqrt|E - E_n| from the seed's to the target's
         vals = [
-            En + sign * (s_s + (s_t - s_s) * i / steps) ** 2 for i in range(1, steps)
+            En + (1 if c > 0 else -1) * (s_s + (s_t - s_s) * i / steps) ** 2
+            for i in range(1, steps)
         ]
         alg = Natural(
             "E", tuple(vals) + (E_target,), order=1, origin=En, origin_other=0.0
         )
-        opts = ContinuationOptions(traces=traces)
-        return continuation(spec.problem, alg, opts, [m0], t)
+        return continuation(
+            spec.problem, alg, ContinuationOptions(traces=traces), [m0], t
+        )
 
 
 def _tiers(spec: FamilySpec, digits):

@@ -74,24 +74,28 @@ def _branch(
         if chart == "K":
             m0 = member(prob, m0.u, prob.w_at(m0.u, m0.E, t), t)
         start = [m0]
-    alg = PALC(
-        ds=ds,
-        ds_max=ds_max,
-        E_ref=spec.E_birth if chart == "E" else 4.0,
-        u_floor=1e-3 * math.sqrt(spec.depth),
-        w_floor=1e-3 * spec.depth,
+    return continuation(
+        prob,
+        PALC(
+            ds=ds,
+            ds_max=ds_max,
+            E_ref=spec.E_birth if chart == "E" else 4.0,
+            u_floor=1e-3 * math.sqrt(spec.depth),
+            w_floor=1e-3 * spec.depth,
+        ),
+        ContinuationOptions(
+            max_steps=max_steps,
+            E_range=E_range,
+            t_max=t_max,
+            jump=jump,
+            traces=traces,
+            energies=tuple(energies),
+            r_max=_r_max(spec, t, chart),
+            enter=enter,
+        ),
+        start,
+        t,
     )
-    opts = ContinuationOptions(
-        max_steps=max_steps,
-        E_range=E_range,
-        t_max=t_max,
-        jump=jump,
-        traces=traces,
-        energies=tuple(energies),
-        r_max=_r_max(spec, t, chart),
-        enter=enter,
-    )
-    return continuation(prob, alg, opts, start, t)
 
 
 def _r_max(spec: FamilySpec, t: Tier, chart: str) -> float:
@@ -333,5 +337,9 @@ def follow(
     pts = [
         p for p in b.special_points if p.index < len(keep) and lo <= p.member.E <= hi
     ]
-    why = b.reason + " (dropped: the branch ends with its last member inside)"
-    return replace(b, members=keep, special_points=tuple(pts), reason=why)
+    return replace(
+        b,
+        members=keep,
+        special_points=tuple(pts),
+        reason=b.reason + " (dropped: the branch ends with its last member inside)",
+    )

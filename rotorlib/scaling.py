@@ -22,7 +22,7 @@ from typing import Any
 import mpmath as mp
 import numpy as np
 
-from .bifurcations import CLASSES, Transition
+from .bifurcations import CLASSES, Transition, transition_class
 from .floquet import monodromy, multipliers_from_trace
 from .orbits import pendulum
 
@@ -43,21 +43,10 @@ __all__ = [
 
 def class_sequences(trs: Sequence[Transition]) -> dict[str, list[Transition]]:
     """``{class name: [transitions ordered by n]}`` for the seven classes of §5 (empty classes dropped)."""
-    out = {}
-    for name, (kind, phase, parity) in CLASSES.items():
-        seq = sorted(
-            (
-                t
-                for t in trs
-                if t.kind == kind
-                and t.phase == phase
-                and (parity is None or t.n % 2 == parity)
-            ),
-            key=lambda t: t.n,
-        )
-        if seq:
-            out[name] = seq
-    return out
+    out: dict[str, list[Transition]] = {}
+    for t in sorted(trs, key=lambda t: t.n):
+        out.setdefault(transition_class(t.kind, t.phase, t.n), []).append(t)
+    return {name: out[name] for name in CLASSES if name in out}
 
 
 def log_delta_sequence(xs: Sequence[Any]) -> list[Any]:
@@ -135,16 +124,10 @@ def transverse_eigenstructure(t: Transition, rel_tol: float = 1e-8) -> Transvers
     mu = 1.0 if t.kind == "IS" else -1.0
     P, Mpar = M.transverse, M.longitudinal
     assert P is not None and Mpar is not None  # the block route
-    N = P - mu * np.eye(2)
-    U, s, Vt = np.linalg.svd(N)
+    _, s, Vt = np.linalg.svd(P - mu * np.eye(2))
     scale = max(1.0, float(np.max(np.abs(P))))
-    vecs = []
-    for k in range(2):
-        if s[k] <= rel_tol * scale:
-            v = Vt[k] / np.linalg.norm(Vt[k])
-            i = int(np.argmax(np.abs(v)))
-            v = v * np.sign(v[i])
-            vecs.append(np.array([v[0], v[1], 0.0, 0.0]))
+    unit = [v / np.linalg.norm(v) for v in Vt[s <= rel_tol * scale]]  # null vectors
+    vecs = [np.array([*v * np.sign(v[np.argmax(np.abs(v))]), 0.0, 0.0]) for v in unit]
     if len(vecs) == 2:  # the whole plane: use the coordinate basis
         vecs = [np.array([1.0, 0, 0, 0]), np.array([0, 1.0, 0, 0])]
     assert np.max(np.abs((Mpar - np.eye(2)) @ np.array([1.0, 0.0]))) == 0.0
@@ -152,10 +135,16 @@ def transverse_eigenstructure(t: Transition, rel_tol: float = 1e-8) -> Transvers
         [float(np.max(np.abs((M.matrix - mu * np.eye(4)) @ v))) for v in vecs]
         or [float("nan")]
     )
-    ev = np.concatenate(
-        [np.asarray(multipliers_from_trace(M.trace_transverse)), [1.0, 1.0]]
+    return TransverseEigen(
+        np.concatenate(
+            [np.asarray(multipliers_from_trace(M.trace_transverse)), [1.0, 1.0]]
+        ),
+        mu,
+        s,
+        vecs,
+        np.array([0.0, 0.0, 1.0, 0.0]),
+        res,
     )
-    return TransverseEigen(ev, mu, s, vecs, np.array([0.0, 0.0, 1.0, 0.0]), res)
 
 
 # --------------------------------------------------------------------------- tr M_perp asymptotics
@@ -225,14 +214,13 @@ def fit_harmonic(
         raise ValueError("tau and y must be finite in the window")
     A = np.column_stack([np.ones_like(t), np.cos(t), np.sin(t)])
     (c0, c1, s1), *_ = np.linalg.lstsq(A, v, rcond=None)
-    res = float(np.max(np.abs(A @ np.array([c0, c1, s1]) - v)))
     return HarmonicFit(
         float(c0),
         float(c1),
         float(s1),
         float(math.hypot(c1, s1)),
         float(math.atan2(-s1, c1)),
-        res,
+        float(np.max(np.abs(A @ np.array([c0, c1, s1]) - v))),
         float(t.min()),
         float(t.max()),
         int(t.size),
