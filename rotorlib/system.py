@@ -393,8 +393,15 @@ def critical_points(grid: int = 16) -> list[CriticalPoint]:
         name = {"minimum": "G", "maximum": "T"}.get(kind) or (
             {(True, True): "D1", (True, False): "D2"}.get(at_pi, "D3")
         )
-        e, h = float(potential_phi(*x)), tuple(float(v) for v in ev)
-        points.append(CriticalPoint(name, (float(x[0]), float(x[1])), e, h, kind))
+        points.append(
+            CriticalPoint(
+                name,
+                (float(x[0]), float(x[1])),
+                float(potential_phi(*x)),
+                tuple(float(v) for v in ev),
+                kind,
+            )
+        )
     maxima = sorted((p for p in points if p.kind == "maximum"), key=lambda p: p.phi[0])
     points = [
         replace(p, name=f"T{maxima.index(p) + 1}") if p in maxima else p for p in points
