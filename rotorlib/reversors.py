@@ -211,8 +211,8 @@ def targets() -> tuple:
             g = np.array(r.g, float)
             e, n, gv = _mirror(g)
             b = _reversed_momentum(g)
-            m_phi = np.array([-b[1], b[0]])  # m . P = 0 on the fixed set
-            m_alpha = _integers(A @ m_phi)  # P_phi = A^T p_alpha
+            # m . P = 0 on the fixed set, m = (-b2, b1); P_phi = A^T p_alpha
+            m_alpha = _integers(A @ np.array([-b[1], b[0]]))
             out.append(
                 FixedSet(
                     f"Fix T{r.name}",
@@ -422,12 +422,16 @@ def _start_sets(regime) -> tuple:
             e, _, _ = _mirror(g)
             b = _integers(np.linalg.inv(A).T @ _reversed_momentum(g))  # A^-T P_phi
             ae = A @ e.astype(float)
-            line = StartSet(
-                f"Fix T{r.name}",
-                a=(float(ae[0]), float(ae[1])),
-                b=(float(b[0]), float(b[1])),
+            out.append(
+                MirrorSet(
+                    f"Fix T{r.name}",
+                    StartSet(
+                        f"Fix T{r.name}",
+                        a=(float(ae[0]), float(ae[1])),
+                        b=(float(b[0]), float(b[1])),
+                    ),
+                )
             )
-            out.append(MirrorSet(f"Fix T{r.name}", line))
     return tuple(out)
 
 

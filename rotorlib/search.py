@@ -134,7 +134,6 @@ def paper_search(
     )
     p2 = float(res.x)
     x0 = _with_p2(spec, u, p2)
-    tstar = periodicity_defect(spec.label, x0)[1]
     edge = 1e-3 * (hi - lo) + 3 * (math.sqrt(np.finfo(float).eps) * abs(p2) + xatol)
     return PaperSearchResult(
         spec.label,
@@ -142,7 +141,7 @@ def paper_search(
         p2,
         float(energy_alpha(np.array(x0))),
         int(res.nfev),  # evaluations of d
-        tstar,
+        periodicity_defect(spec.label, x0)[1],  # t*
         bool(min(p2 - lo, hi - p2) < edge),
     )
 
@@ -224,23 +223,22 @@ def compare_searches(
     t1 = time.perf_counter()
     E_s, it = birth_member(spec, u, tol=tol)
     t2 = time.perf_counter()
-    d_p = periodicity_defect(label, _with_p2(spec, u, ps.p2), REAL128)[0]
-    d_s = periodicity_defect(label, spec.problem.state(u, float(E_s)), REAL128)[0]
-    span = float(residual(spec.problem, u, float(E_s)).t1)
     return SearchComparison(
-        spec.label,
-        u,
-        float(E_ref),
-        ps,
-        _error(ps.E, E_ref),
-        d_p,
-        ps.t_star,
-        _error(E_s, E_ref),
-        d_s,
-        it + 2,
-        span,
-        t1 - t0,
-        t2 - t1,
+        label=spec.label,
+        u=u,
+        E_ref=float(E_ref),
+        paper=ps,
+        paper_error=_error(ps.E, E_ref),
+        paper_defect=periodicity_defect(label, _with_p2(spec, u, ps.p2), REAL128)[0],
+        paper_span=ps.t_star,
+        shooting_error=_error(E_s, E_ref),
+        shooting_defect=periodicity_defect(
+            label, spec.problem.state(u, float(E_s)), REAL128
+        )[0],
+        shooting_evaluations=it + 2,
+        shooting_span=float(residual(spec.problem, u, float(E_s)).t1),
+        paper_seconds=t1 - t0,
+        shooting_seconds=t2 - t1,
     )
 
 
@@ -324,9 +322,15 @@ def defect_landscape(
     delta = np.logspace(-17, -3, 57) if delta is None else np.asarray(delta, float)
     p2s = float(spec.problem.state(u, E_ref, REAL128)[3])
     x0s = [_with_p2(spec, u, p2s * (1 + dl)) for dl in delta]
-    dd = [periodicity_defect(label, x0)[0] for x0 in x0s]
-    rr = [abs(residual(spec.problem, u, float(energy_alpha(x0))).r) for x0 in x0s]
-    return DefectLandscape(spec.label, u, delta, np.array(dd), np.array(rr))
+    return DefectLandscape(
+        spec.label,
+        u,
+        delta,
+        defect=np.array([periodicity_defect(label, x0)[0] for x0 in x0s]),
+        residual=np.array(
+            [abs(residual(spec.problem, u, float(energy_alpha(x0))).r) for x0 in x0s]
+        ),
+    )
 
 
 def residual_scan(label: str, E: float, n: int = 2001) -> tuple[np.ndarray, np.ndarray]:

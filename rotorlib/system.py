@@ -235,9 +235,13 @@ def lattice_reduce(
 
 def _lin(state: ArrayLike, Q: np.ndarray, Pm: np.ndarray) -> np.ndarray:
     s = np.asarray(state, dtype=float)
-    q = np.einsum("ij,...j->...i", Q, s[..., :2])
-    p = np.einsum("ij,...j->...i", Pm, s[..., 2:])
-    return np.concatenate([q, p], axis=-1)
+    return np.concatenate(
+        [
+            np.einsum("ij,...j->...i", Q, s[..., :2]),  # the angles
+            np.einsum("ij,...j->...i", Pm, s[..., 2:]),  # the momenta
+        ],
+        axis=-1,
+    )
 
 
 def phi_to_alpha(state: ArrayLike) -> np.ndarray:
@@ -311,8 +315,10 @@ def phi_to_theta(
     """Inverse of :func:`theta_to_phi`: returns ``(theta, theta_dot)``."""
     s = np.asarray(state, dtype=float)
     phi_dot = s[..., 2:] @ _K_INV  # (2 P1 - P2, 2 P2 - P1)
-    theta = np.asarray(phi0)[..., None] + s[..., :2] @ _C.T
-    return theta, np.asarray(phi0_dot)[..., None] + phi_dot @ _C.T
+    return (
+        np.asarray(phi0)[..., None] + s[..., :2] @ _C.T,
+        np.asarray(phi0_dot)[..., None] + phi_dot @ _C.T,
+    )
 
 
 @dataclass(frozen=True)
