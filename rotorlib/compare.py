@@ -173,8 +173,7 @@ class Claim:
 
 
 def _decimals(text: str) -> int:
-    s = text.strip().lower()
-    mant, _, ex = s.partition("e")
+    mant, _, ex = text.strip().lower().partition("e")
     d = len(mant.split(".")[1]) if "." in mant else 0
     return d - int(ex or 0)
 
