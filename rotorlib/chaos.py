@@ -60,7 +60,6 @@ __all__ = [
     "ChaoticFraction",
     "chaotic_fraction",
     "section_initial_conditions",
-    "section_points",
     "Island",
     "island",
     "BAND",
@@ -158,7 +157,7 @@ def _section_one(args):
     return np.array(hits[:n_hits]).reshape(-1, 4)
 
 
-def section_points(
+def _crossings(
     state: ArrayLike, t_max: float, n_hits: int = 100_000
 ) -> tuple[np.ndarray, np.ndarray]:
     """The crossings of the section ``phi1 = 0 (mod 2 pi)``, ``phi1' > 0`` by the trajectory
@@ -166,12 +165,7 @@ def section_points(
     up to a multiple of 50): ``(phi2 mod 2 pi, P2)`` arrays. Float64 Taylor integration,
     tolerance 1e-12.
     """
-    x = np.asarray(state, float)
-    if x.shape != (4,) or not np.all(np.isfinite(x)):
-        raise ValueError(f"state must be 4 finite numbers, got {state!r}")
-    if not (math.isfinite(t_max) and t_max > 0):
-        raise ValueError(f"t_max must be finite and > 0, got {t_max!r}")
-    h = _section_one((x, int(n_hits), float(t_max)))
+    h = _section_one((np.asarray(state, float), int(n_hits), float(t_max)))
     return np.mod(h[:, 1], 2 * np.pi), h[:, 3]
 
 
@@ -219,10 +213,12 @@ def poincare_section(
         Passed to :func:`rotorlib.parallel.pmap` (one task per initial condition).
     """
     E = _check_E(E)
-    ics = section_initial_conditions(E, n_phi, n_p, seed)
     res = pmap(
         _section_one,
-        [(x, int(n_hits), float(t_max)) for x in ics],
+        [
+            (x, int(n_hits), float(t_max))
+            for x in section_initial_conditions(E, n_phi, n_p, seed)
+        ],
         executor=executor,
         progress=progress,
         desc=f"section E={E:g}",
@@ -339,11 +335,16 @@ def ftle(
     states = np.atleast_2d(np.asarray(states, float))
     if T <= 0 or renorm <= 0:
         raise ValueError("T and renorm must be > 0")
-    chunks = [
-        (states[i : i + chunk], float(T), float(renorm), seed + i)
-        for i in range(0, len(states), chunk)
-    ]
-    res = pmap(_ftle_chunk, chunks, executor=executor, progress=progress, desc="FTLE")
+    res = pmap(
+        _ftle_chunk,
+        [
+            (states[i : i + chunk], float(T), float(renorm), seed + i)
+            for i in range(0, len(states), chunk)
+        ],
+        executor=executor,
+        progress=progress,
+        desc="FTLE",
+    )
     return np.concatenate(res) if res else np.empty(0)
 
 
@@ -554,8 +555,13 @@ def band_families(
             raise ValueError(
                 f"{lab}: band_families follows rotational families (IS^r_n, PD^r_n)"
             )
-    tasks = [(lab, float(dE_stop), digits, t_grow, tuple(energies)) for lab in labels]
-    return pmap(_band_one, tasks, executor=executor, progress=progress, desc="families")
+    return pmap(
+        _band_one,
+        [(lab, float(dE_stop), digits, t_grow, tuple(energies)) for lab in labels],
+        executor=executor,
+        progress=progress,
+        desc="families",
+    )
 
 
 @dataclass(frozen=True)
@@ -596,6 +602,8 @@ def island(
     """
     if not (math.isfinite(delta) and 0 < delta < 0.5):
         raise ValueError(f"delta must be in (0, 0.5), got {delta!r}")
+    if not (math.isfinite(t_max) and t_max > 0):
+        raise ValueError(f"t_max must be finite and > 0, got {t_max!r}")
     E = orbit.E
 
     def speed2(f2: float, P2: float) -> float:  # (phi1')^2 on the section
@@ -603,7 +611,7 @@ def island(
 
     crossings = []  # (phi1'^2, phi2, P2, the image's crossings in one turn)
     for y in images(orbit.state0):
-        ph, P = section_points(np.array(alpha_to_phi(y), float), orbit.period)
+        ph, P = _crossings(alpha_to_phi(y), orbit.period)
         back = np.flatnonzero(
             np.hypot((ph - ph[:1] + np.pi) % (2 * np.pi) - np.pi, P - P[:1]) < 1e-6
         )
@@ -621,9 +629,10 @@ def island(
         raise ValueError(
             "the test point falls outside the section; use a smaller delta"
         )
-    qh, qP = section_points([0.0, g, 0.5 * (math.sqrt(w) + P2), P2], t_max, n_hits)
-    d = [
+    qh, qP = _crossings([0.0, g, 0.5 * (math.sqrt(w) + P2), P2], t_max, n_hits)
+    # the distance of each test crossing from the nearest crossing of the orbit
+    spread = max(
         np.min(np.hypot((a - ph + np.pi) % (2 * np.pi) - np.pi, b - P))
         for a, b in zip(qh, qP)
-    ]
-    return Island(orbit, ph, P, qh, qP, float(delta), float(max(d)) / delta)
+    )
+    return Island(orbit, ph, P, qh, qP, float(delta), float(spread) / delta)

@@ -16,10 +16,10 @@ Their fixed sets ``Fix R = {x : R x = x}`` on the energy shell are one-parameter
 * ``T g`` for a reflection ``g``: ``phi`` on the mirror (a closed geodesic of the torus) and
   ``p`` in the ``-1`` eigenspace of ``g^-T``.
 
-:func:`fixed_sets` lists them (in the pendulum variables of the engine,
-``a1 = phi1/2``, ``a2 = phi1/2 + phi2``). Up to the group the start sets reduce to five
-classes (brake, G, D, mirror of a transposition, mirror of a negated transposition):
-:func:`start_sets`; every fixed set is a target (:func:`targets`).
+:func:`targets` lists them (in the pendulum variables of the engine,
+``a1 = phi1/2``, ``a2 = phi1/2 + phi2``): every fixed set is a target. Up to the group
+the start sets reduce to five classes (brake, G, D, mirror of a transposition, mirror of a
+negated transposition): :func:`start_sets`.
 """
 
 from __future__ import annotations
@@ -41,7 +41,6 @@ __all__ = [
     "Reversor",
     "reversors",
     "FixedSet",
-    "fixed_sets",
     "start_sets",
     "targets",
     "CircleSet",
@@ -184,8 +183,9 @@ def _mirror(g):
 
 
 @functools.cache
-def fixed_sets() -> tuple:
-    """Every fixed-set component of the eight reversors (:class:`FixedSet`), as targets."""
+def targets() -> tuple:
+    """Every fixed-set component of the eight reversors (:class:`FixedSet`): every symmetric
+    orbit meets two of them half a period apart."""
     out = []
     for r in reversors():
         if r.kind == "time reversal":
@@ -211,8 +211,8 @@ def fixed_sets() -> tuple:
             g = np.array(r.g, float)
             e, n, gv = _mirror(g)
             b = _reversed_momentum(g)
-            m_phi = np.array([-b[1], b[0]])  # m . P = 0 on the fixed set
-            m_alpha = _integers(A @ m_phi)  # P_phi = A^T p_alpha
+            # m . P = 0 on the fixed set, m = (-b2, b1); P_phi = A^T p_alpha
+            m_alpha = _integers(A @ np.array([-b[1], b[0]]))
             out.append(
                 FixedSet(
                     f"Fix T{r.name}",
@@ -224,20 +224,25 @@ def fixed_sets() -> tuple:
     return tuple(out)
 
 
-def targets() -> tuple:
-    """All fixed sets: every symmetric orbit meets two of them half a period apart."""
-    return fixed_sets()
-
-
 # --------------------------------------------------------------------------- start sets
 
 
 @dataclass(frozen=True)
-class CircleSet:
+class _Curve:
+    """A one-parameter start set named ``name``: :meth:`at` gives the state at parameter
+    ``u`` on the shell ``E``, for ``u`` in :meth:`span` (a closed curve: ``0 <= u < 2 pi``)."""
+
+    name: str
+
+    def span(self, E: Any) -> Any:
+        return (0.0, 2 * math.pi)
+
+
+@dataclass(frozen=True)
+class CircleSet(_Curve):
     """``Fix T(-1)`` at a point: ``q = q0`` and ``p = sqrt(K) (sin u c + cos u b)`` with ``c``,
     ``b`` of unit kinetic energy, ``-pi/2 < u < pi/2`` (the other half is the image under -1)."""
 
-    name: str
     q0: tuple
 
     def bound(self, u: Any, digits: int | Tier | None = None) -> Any:
@@ -265,13 +270,12 @@ class CircleSet:
 
 
 @dataclass(frozen=True)
-class BrakeSet:
+class BrakeSet(_Curve):
     """``Fix T``: ``p = 0`` on the equipotential ``V = E`` around ``centre`` (``phi``, units of
     pi: G for ``E < 4``, the maximum T1 for ``4 < E < 4.5``), parametrised by the polar angle
     ``u`` in the ``phi`` plane; the radius is solved from ``V = E`` (Brent in float64, then
     Newton in the tier)."""
 
-    name: str
     centre: tuple
 
     def _radius(self, u, E, t):
@@ -310,9 +314,6 @@ class BrakeSet:
             f2 = self.centre[1] * t.pi + r * t.m.sin(t.num(u))
             return [f1 / 2, f1 / 2 + f2, t.num(0), t.num(0)]
 
-    def span(self, E: Any) -> Any:
-        return (0.0, 2 * math.pi)
-
 
 @functools.lru_cache(maxsize=256)
 def _arcs(line: StartSet, E: float):
@@ -344,7 +345,7 @@ def _arcs(line: StartSet, E: float):
 
 
 @dataclass(frozen=True)
-class MirrorSet:
+class MirrorSet(_Curve):
     """``Fix T g`` for a reflection: ``phi`` on the mirror, ``p`` along the ``-1`` eigenvector of
     ``g^-T``, over one closed geodesic of the torus, ``0 <= u < 2 pi``.
 
@@ -359,7 +360,6 @@ class MirrorSet:
     float64 starts there are smooth in ``u`` to ~1e-16, not ~1e-9).
     """
 
-    name: str
     line: StartSet
 
     def at(self, u: Any, E: Any, digits: int | Tier | None = None) -> Any:
@@ -397,9 +397,6 @@ class MirrorSet:
         )
         return sum(2 * m.sin(c + s * k / 2) * m.sin(s * k / 2) for c, k in terms if k)
 
-    def span(self, E: Any) -> Any:
-        return (0.0, 2 * math.pi)
-
 
 def start_sets(E: Any) -> tuple:
     """One start set per class of fixed sets under the group (every symmetric orbit meets one
@@ -425,12 +422,16 @@ def _start_sets(regime) -> tuple:
             e, _, _ = _mirror(g)
             b = _integers(np.linalg.inv(A).T @ _reversed_momentum(g))  # A^-T P_phi
             ae = A @ e.astype(float)
-            line = StartSet(
-                f"Fix T{r.name}",
-                a=(float(ae[0]), float(ae[1])),
-                b=(float(b[0]), float(b[1])),
+            out.append(
+                MirrorSet(
+                    f"Fix T{r.name}",
+                    StartSet(
+                        f"Fix T{r.name}",
+                        a=(float(ae[0]), float(ae[1])),
+                        b=(float(b[0]), float(b[1])),
+                    ),
+                )
             )
-            out.append(MirrorSet(f"Fix T{r.name}", line))
     return tuple(out)
 
 
@@ -450,6 +451,7 @@ def images(state: Any) -> np.ndarray:
     reversal (the same orbit seen by relabelled rotors, or run backwards): shape ``(24, 4)``,
     the identity first."""
     maps = _group_images()
-    first = [i for i, m in enumerate(maps) if np.allclose(m, np.eye(4))]
-    rest = [i for i in range(len(maps)) if i not in first]
-    return maps[first + rest] @ np.asarray(state, float)
+    identity_first = np.argsort(
+        [not np.allclose(m, np.eye(4)) for m in maps], kind="stable"
+    )
+    return maps[identity_first] @ np.asarray(state, float)

@@ -113,10 +113,10 @@ def glue(key: str, value: Any, digits: int | None = None, *, atol: float = 0.0) 
 
 
 def _has_float(x) -> bool:
+    """Whether ``x`` (or an entry of a list, tuple or dict) is a number :func:`rounded`
+    would round: not a bool, int, str or None."""
     if isinstance(x, dict):
-        return any(_has_float(v) for v in x.values())
+        x = list(x.values())
     if isinstance(x, list | tuple):
         return any(_has_float(v) for v in x)
-    if isinstance(x, bool | int | str) or x is None:
-        return False
-    return True
+    return not (isinstance(x, bool | int | str) or x is None)

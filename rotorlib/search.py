@@ -134,7 +134,6 @@ def paper_search(
     )
     p2 = float(res.x)
     x0 = _with_p2(spec, u, p2)
-    tstar = periodicity_defect(spec.label, x0)[1]
     edge = 1e-3 * (hi - lo) + 3 * (math.sqrt(np.finfo(float).eps) * abs(p2) + xatol)
     return PaperSearchResult(
         spec.label,
@@ -142,7 +141,7 @@ def paper_search(
         p2,
         float(energy_alpha(np.array(x0))),
         int(res.nfev),  # evaluations of d
-        tstar,
+        periodicity_defect(spec.label, x0)[1],  # t*
         bool(min(p2 - lo, hi - p2) < edge),
     )
 
@@ -192,6 +191,14 @@ def _guess_E(spec: FamilySpec, u: float) -> float:
     return spec.E_birth + float(seed(spec.label)[1]) * u * u
 
 
+def _reference(label: str, u: float | None) -> tuple[FamilySpec, float, Any]:
+    """``(spec, u, E_ref)``: the family, the amplitude (default :func:`default_amplitude`)
+    and the real128 root of the symmetric residual there, the searches' reference."""
+    spec = family_spec(label)
+    u = default_amplitude(label) if u is None else float(u)
+    return spec, u, birth_member(spec, u, REAL128)[0]
+
+
 def _error(E: float, E_ref: Any) -> float:
     """``|E - E_ref|`` against the real128 root ``E_ref`` (a tier number, hence ``Any``),
     in 40 digits (the float64 ``E`` exactly)."""
@@ -205,37 +212,33 @@ def compare_searches(
     """:func:`paper_search` (bracket centred on the fork law, half-width ``c u^2 / 2``) and
     :func:`~rotorlib.newborn.birth_member` (secant from ``E_n``) at the same ``u``, scored
     against real128. Float64 families only (``|E_n - 4| > 3e-8``)."""
-    spec = family_spec(label)
-    if spec.depth < Tier.separatrix_depth:
+    if family_spec(label).depth < Tier.separatrix_depth:
         raise ValueError(
-            f"{spec.label}: compare_searches is float64 only "
+            f"{family_spec(label).label}: compare_searches is float64 only "
             f"(|E_n - 4| > {Tier.separatrix_depth})"
         )
-    u = default_amplitude(label) if u is None else float(u)
-    E_ref = birth_member(spec, u, REAL128)[0]
-    Eg = _guess_E(spec, u)
+    spec, u, E_ref = _reference(label, u)
     t0 = time.perf_counter()
-    ps = paper_search(label, u, Eg, width=0.5 * abs(Eg - spec.E_birth), xatol=xatol)
+    ps = paper_search(label, u, _guess_E(spec, u), xatol=xatol)
     t1 = time.perf_counter()
     E_s, it = birth_member(spec, u, tol=tol)
     t2 = time.perf_counter()
-    d_p = periodicity_defect(label, _with_p2(spec, u, ps.p2), REAL128)[0]
-    d_s = periodicity_defect(label, spec.problem.state(u, float(E_s)), REAL128)[0]
-    span = float(residual(spec.problem, u, float(E_s)).t1)
     return SearchComparison(
-        spec.label,
-        u,
-        float(E_ref),
-        ps,
-        _error(ps.E, E_ref),
-        d_p,
-        ps.t_star,
-        _error(E_s, E_ref),
-        d_s,
-        it + 2,
-        span,
-        t1 - t0,
-        t2 - t1,
+        label=spec.label,
+        u=u,
+        E_ref=float(E_ref),
+        paper=ps,
+        paper_error=_error(ps.E, E_ref),
+        paper_defect=periodicity_defect(label, _with_p2(spec, u, ps.p2), REAL128)[0],
+        paper_span=ps.t_star,
+        shooting_error=_error(E_s, E_ref),
+        shooting_defect=periodicity_defect(
+            label, spec.problem.state(u, float(E_s)), REAL128
+        )[0],
+        shooting_evaluations=it + 2,
+        shooting_span=float(residual(spec.problem, u, float(E_s)).t1),
+        paper_seconds=t1 - t0,
+        shooting_seconds=t2 - t1,
     )
 
 
@@ -266,8 +269,7 @@ def work_precision(
 ) -> WorkPrecision:
     """Both searches at a sequence of tolerances (default ``xatol = 1e-2 ... 1e-16``,
     ``tol = 1e-2 ... 1e-15``), scored against real128 (:class:`WorkPrecision`)."""
-    spec = family_spec(label)
-    u = default_amplitude(label) if u is None else float(u)
+    spec, u, E_ref = _reference(label, u)
     tp = np.array(
         tolerances_paper
         if tolerances_paper is not None
@@ -280,12 +282,8 @@ def work_precision(
     )
     if np.any(tp <= 0) or np.any(ts <= 0):
         raise ValueError("tolerances must be > 0")
-    E_ref = birth_member(spec, u, REAL128)[0]
     Eg, tau = _guess_E(spec, u), spec.period_birth
-    paper = [
-        paper_search(label, u, Eg, width=0.5 * abs(Eg - spec.E_birth), xatol=float(xa))
-        for xa in tp
-    ]
+    paper = [paper_search(label, u, Eg, xatol=float(xa)) for xa in tp]
     shots = [birth_member(spec, u, tol=float(tl)) for tl in ts]  # (E, iterations)
     spans = [float(residual(spec.problem, u, float(E)).t1) for E, _ in shots]
     return WorkPrecision(
@@ -320,15 +318,19 @@ def defect_landscape(
     """:class:`DefectLandscape` for offsets ``delta`` (default ``10^-17 ... 10^-3``): both are
     linear in ``delta`` (``d`` a norm of three components vanishing together, ``r`` a simple
     root) down to their round-off floors."""
-    spec = family_spec(label)
-    u = default_amplitude(label) if u is None else float(u)
+    spec, u, E_ref = _reference(label, u)
     delta = np.logspace(-17, -3, 57) if delta is None else np.asarray(delta, float)
-    E_ref = birth_member(spec, u, REAL128)[0]
     p2s = float(spec.problem.state(u, E_ref, REAL128)[3])
     x0s = [_with_p2(spec, u, p2s * (1 + dl)) for dl in delta]
-    dd = [periodicity_defect(label, x0)[0] for x0 in x0s]
-    rr = [abs(residual(spec.problem, u, float(energy_alpha(x0))).r) for x0 in x0s]
-    return DefectLandscape(spec.label, u, delta, np.array(dd), np.array(rr))
+    return DefectLandscape(
+        spec.label,
+        u,
+        delta,
+        defect=np.array([periodicity_defect(label, x0)[0] for x0 in x0s]),
+        residual=np.array(
+            [abs(residual(spec.problem, u, float(energy_alpha(x0))).r) for x0 in x0s]
+        ),
+    )
 
 
 def residual_scan(label: str, E: float, n: int = 2001) -> tuple[np.ndarray, np.ndarray]:

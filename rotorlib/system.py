@@ -235,9 +235,13 @@ def lattice_reduce(
 
 def _lin(state: ArrayLike, Q: np.ndarray, Pm: np.ndarray) -> np.ndarray:
     s = np.asarray(state, dtype=float)
-    q = np.einsum("ij,...j->...i", Q, s[..., :2])
-    p = np.einsum("ij,...j->...i", Pm, s[..., 2:])
-    return np.concatenate([q, p], axis=-1)
+    return np.concatenate(
+        [
+            np.einsum("ij,...j->...i", Q, s[..., :2]),  # the angles
+            np.einsum("ij,...j->...i", Pm, s[..., 2:]),  # the momenta
+        ],
+        axis=-1,
+    )
 
 
 def phi_to_alpha(state: ArrayLike) -> np.ndarray:
@@ -311,8 +315,10 @@ def phi_to_theta(
     """Inverse of :func:`theta_to_phi`: returns ``(theta, theta_dot)``."""
     s = np.asarray(state, dtype=float)
     phi_dot = s[..., 2:] @ _K_INV  # (2 P1 - P2, 2 P2 - P1)
-    theta = np.asarray(phi0)[..., None] + s[..., :2] @ _C.T
-    return theta, np.asarray(phi0_dot)[..., None] + phi_dot @ _C.T
+    return (
+        np.asarray(phi0)[..., None] + s[..., :2] @ _C.T,
+        np.asarray(phi0_dot)[..., None] + phi_dot @ _C.T,
+    )
 
 
 @dataclass(frozen=True)
@@ -393,8 +399,15 @@ def critical_points(grid: int = 16) -> list[CriticalPoint]:
         name = {"minimum": "G", "maximum": "T"}.get(kind) or (
             {(True, True): "D1", (True, False): "D2"}.get(at_pi, "D3")
         )
-        e, h = float(potential_phi(*x)), tuple(float(v) for v in ev)
-        points.append(CriticalPoint(name, (float(x[0]), float(x[1])), e, h, kind))
+        points.append(
+            CriticalPoint(
+                name,
+                (float(x[0]), float(x[1])),
+                float(potential_phi(*x)),
+                tuple(float(v) for v in ev),
+                kind,
+            )
+        )
     maxima = sorted((p for p in points if p.kind == "maximum"), key=lambda p: p.phi[0])
     points = [
         replace(p, name=f"T{maxima.index(p) + 1}") if p in maxima else p for p in points

@@ -49,8 +49,12 @@ def run(args: argparse.Namespace) -> int:
     if args.family == "breather":
         from ..breather_bifurcation import breather_transitions
 
-        records = [t.to_dict() for t in breather_transitions(digits=args.digits)]
-        emit(records, args.json, ["kind", "E", "period", "transition"], one=False)
+        emit(
+            [t.to_dict() for t in breather_transitions(digits=args.digits)],
+            args.json,
+            ["kind", "E", "period", "transition"],
+            one=False,
+        )
         return 0
     from ..bifurcations import transition, transitions
 
@@ -66,7 +70,10 @@ def run(args: argparse.Namespace) -> int:
     trs = transitions(phase=args.phase, n_max=args.n_max, kinds=kinds)
     if args.digits is not None and args.digits > 15:
         trs = [transition(t.label, digits=args.digits) for t in trs]
-    columns = ["label", "log_abs_dE", "E", "period", "transition", "precision"]
-    # JSON: a list, even for one record
-    emit([t.to_dict() for t in trs], args.json, columns, one=False)
+    emit(
+        [t.to_dict() for t in trs],
+        args.json,
+        ["label", "log_abs_dE", "E", "period", "transition", "precision"],
+        one=False,  # JSON: a list, even for one record
+    )
     return 0

@@ -82,19 +82,22 @@ def _record(M, digits: int | None) -> dict[str, Any]:
     numbers are float64 values, the digits beyond them in ``*_str`` decimal strings)."""
     ext = M.precision != "float64"
     en = M.energy
-    overflow = not ext and M.trace_str != repr(M.trace)
     given_log = en.given[1] if en.given[0] == "log_abs_dE" else None
-    family = (
-        {"family": "pendulum"}
-        if M.family == "pendulum"
-        else {"family": "breather", "breather_family": en.family}
-    )
     return {
-        **family,
+        **(
+            {"family": "pendulum"}
+            if M.family == "pendulum"
+            else {"family": "breather", "breather_family": en.family}
+        ),
         "phase": en.phase,
         **json_number("E", en.E, en.E_text(max(17, digits or 0))),
         **json_number("log_abs_dE", en.log_abs_dE, given_log),  # to E = 4 or 4.5
-        **json_number("trace", M.trace, M.trace_str if ext or overflow else None),
+        # trace_str also where float64 overflows
+        **json_number(
+            "trace",
+            M.trace,
+            M.trace_str if ext or M.trace_str != repr(M.trace) else None,
+        ),
         **json_number(
             "trace_transverse", M.trace_transverse, note="beyond float64: see trace_str"
         ),
