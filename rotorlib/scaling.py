@@ -22,7 +22,7 @@ from typing import Any
 import mpmath as mp
 import numpy as np
 
-from .bifurcations import CLASSES, Transition, transition_class
+from .bifurcations import CLASSES, Transition
 from .floquet import monodromy, multipliers_from_trace
 from .orbits import pendulum
 
@@ -45,7 +45,7 @@ def class_sequences(trs: Sequence[Transition]) -> dict[str, list[Transition]]:
     """``{class name: [transitions ordered by n]}`` for the seven classes of §5 (empty classes dropped)."""
     out: dict[str, list[Transition]] = {}
     for t in sorted(trs, key=lambda t: t.n):
-        out.setdefault(transition_class(t.kind, t.phase, t.n), []).append(t)
+        out.setdefault(t.cls, []).append(t)
     return {name: out[name] for name in CLASSES if name in out}
 
 
