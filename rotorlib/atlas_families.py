@@ -14,7 +14,7 @@ Both neighbourhoods are scanned (the census scan, ``atlas.symmetric_roots``, on 
 the start set, the target point mapped onto its class's start set by the symmetry group)
 for symmetric orbits of the daughter's period, refined and verified as in the census. The
 daughters are atlas orbits: :func:`families` follows them in turn. A family is a
-:class:`rotorlib.branch.Branch`; :func:`stable_windows` reads its stable energies.
+:class:`rotorlib.branch.Branch`; :attr:`~rotorlib.branch.Branch.stable_windows` reads its stable energies.
 
 Precision: float64 (members to residual < 1e-8, folds to ~1e-15 in ``E``, IS/PD to ~1e-14
 in the local parameter; daughters verified like census orbits, closure < 1e-9 |tr M|).
@@ -25,7 +25,6 @@ the same two members is not seen either.
 
 from __future__ import annotations
 
-import itertools
 import math
 from collections.abc import Sequence
 from concurrent.futures import Executor
@@ -52,7 +51,7 @@ from .reversors import images, start_sets
 from .shooting import NoConvergence, residual, solve
 from .system import lattice_reduce
 
-__all__ = ["families", "stable_windows", "daughters", "Cascade", "cascade"]
+__all__ = ["families", "daughters", "Cascade", "cascade"]
 
 
 def _position(p: SpecialPoint) -> float:
@@ -64,38 +63,6 @@ def _position(p: SpecialPoint) -> float:
 def _marks(branch: Branch) -> list[tuple[str, float, float]]:
     """``(kind, E, position)`` of each special point (:func:`_position`)."""
     return [(p.kind, float(p.member.E), _position(p)) for p in branch.special_points]
-
-
-def stable_windows(branch: Branch) -> list[tuple[float, float]]:
-    """The energies where a family (:func:`families`) is linearly stable.
-
-    ``[(E_a, E_b)]``: each run of consecutive linearly stable members (``0 < tr M < 4``),
-    bounded by the located points on either side of it and the folds within it (or by its
-    end members where none was located); and each stretch between two members, both
-    unstable, where ``tr M`` crosses both 4 and 0 (bounded by those two points). The ends
-    have the precision of the located points (:func:`families`), or of the members' ``E``.
-
-    Examples
-    --------
-    >>> from rotorlib.newborn import family
-    >>> windows = stable_windows(family("IS^l_1", (3.9, 4.1)))
-    >>> [(round(lo, 6), round(hi, 6)) for lo, hi in windows]
-    [(3.99059, 4.035708)]
-    """
-    st = [0 < t < 4 for t in branch.trace]
-    E, marks, out = branch.E, _marks(branch), []
-    i = 0
-    for stable, run in itertools.groupby(st):
-        j = i + len(list(run))  # members i .. j - 1
-        if stable:  # the run, the points beside it and the folds within it
-            ends = [*E[i:j], *(e for _, e, x in marks if i - 1 < x < j)]
-            out.append((float(min(ends)), float(max(ends))))
-        i = j
-    for i in range(len(st) - 1):  # tr M crossing 4 and 0 between two unstable members
-        inside = [(k, e) for k, e, x in marks if i < x < i + 1 and k in ("IS", "PD")]
-        if not (st[i] or st[i + 1]) and {k for k, _ in inside} == {"IS", "PD"}:
-            out.append((min(e for _, e in inside), max(e for _, e in inside)))
-    return sorted(out)
 
 
 def _family(args: tuple) -> Branch:
@@ -400,7 +367,7 @@ def cascade(
     if not (isinstance(generations, int) and 1 <= generations <= 6):
         raise ValueError(f"generations must be an integer in 1..6, got {generations!r}")
     Eb = float(fam.special_points[point].member.E)
-    near = [w for w in stable_windows(fam) if w[0] - 1e-12 <= Eb <= w[1] + 1e-12]
+    near = [w for w in fam.stable_windows if w[0] - 1e-12 <= Eb <= w[1] + 1e-12]
     scale = max(w[1] - w[0] for w in near) if near else 1e-3
     fams, births, periods = [fam], [Eb], []
     for _ in range(generations):

@@ -10,6 +10,7 @@ A :class:`Member` follows the result protocol of :class:`~rotorlib.periodic.Orbi
 
 from __future__ import annotations
 
+import itertools
 import math
 from dataclasses import dataclass
 from typing import Any
@@ -252,6 +253,45 @@ class Branch:
     def E_max(self) -> float:
         """The largest energy on the branch (a located fold where there is one)."""
         return max([float(p.member.E) for p in self.points("fold")] + list(self.E))
+
+    @property
+    def stable_windows(self) -> list[tuple[float, float]]:
+        """The energies where the family is linearly stable.
+
+        ``[(E_a, E_b)]``: each run of consecutive linearly stable members
+        (``0 < tr M < 4``), bounded by the located points on either side of it and the
+        folds within it (or by its end members where none was located); and each
+        stretch between two members, both unstable, where ``tr M`` crosses both 4 and 0
+        (bounded by those two points). The ends have the precision of the located
+        points, or of the members' ``E``.
+
+        Examples
+        --------
+        >>> from rotorlib.newborn import family
+        >>> windows = family("IS^l_1", (3.9, 4.1)).stable_windows
+        >>> [(round(lo, 6), round(hi, 6)) for lo, hi in windows]
+        [(3.99059, 4.035708)]
+        """
+        st = [0 < t < 4 for t in self.trace]
+        # (kind, E, position): a fold at its member, IS/PD half-way to the next
+        marks = [
+            (p.kind, float(p.member.E), p.index + (0.0 if p.kind == "fold" else 0.5))
+            for p in self.special_points
+        ]
+        E, out, i = self.E, [], 0
+        for stable, run in itertools.groupby(st):
+            j = i + len(list(run))  # members i .. j - 1
+            if stable:  # the run, the points beside it and the folds within it
+                ends = [*E[i:j], *(e for _, e, x in marks if i - 1 < x < j)]
+                out.append((float(min(ends)), float(max(ends))))
+            i = j
+        for i in range(len(st) - 1):  # tr M crossing 4 and 0 between unstable members
+            inside = [
+                (k, e) for k, e, x in marks if i < x < i + 1 and k in ("IS", "PD")
+            ]
+            if not (st[i] or st[i + 1]) and {k for k, _ in inside} == {"IS", "PD"}:
+                out.append((min(e for _, e in inside), max(e for _, e in inside)))
+        return sorted(out)
 
     def state(self, m: Member) -> list[Any]:
         """The initial state of a member (tier numbers)."""

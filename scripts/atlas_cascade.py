@@ -40,7 +40,7 @@ def start(executor=None):
     o, fam, win = next(
         (o, f, w)
         for o, f in zip(a.orbits, fams)
-        for w in af.stable_windows(f)
+        for w in f.stable_windows
         if w[0] < E_WINDOW < w[1]
     )
     (i_IS,) = [

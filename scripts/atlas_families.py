@@ -45,7 +45,7 @@ def main(argv=None) -> int:
             "fixed_sets": list(o.extra["fixed_sets"]),
             "state0_str": list(o.state0_str),
             "points": [[p.kind, float(p.member.E)] for p in f.special_points],
-            "stable_windows": [list(w) for w in af.stable_windows(f)],
+            "stable_windows": [list(w) for w in f.stable_windows],
             "stops": f.stop.split(" / "),
             "members": len(f.members),
         }

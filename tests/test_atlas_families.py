@@ -47,7 +47,7 @@ def test_saddle_centre_family(family, orbit):
     assert len(folds) == 1 and len(IS) == 2
     # tr M = 4 at the fold (located independently: Brent on E, Illinois on tr M - 4)
     assert min(abs(E - folds[0]) for E in IS) < 1e-9
-    ((lo, hi),) = af.stable_windows(family)
+    ((lo, hi),) = family.stable_windows
     assert hi == pytest.approx(folds[0], abs=1e-9) and lo == pytest.approx(min(IS))
     assert np.all(np.isfinite(family.u)) and family.problem.factor > 0
 
@@ -120,7 +120,7 @@ def test_stable_windows_of_a_synthetic_branch():
         members,
         tuple(SpecialPoint(k, m(E, 4.0), i) for k, E, i in points),
     )
-    assert af.stable_windows(b) == [(1.5, 3.5), (4.2, 4.6)]
+    assert b.stable_windows == [(1.5, 3.5), (4.2, 4.6)]
     # without located points a run is bounded by its members; no stable member: none
-    assert af.stable_windows(Branch(None, FLOAT64, members)) == [(2.0, 3.0)]
-    assert af.stable_windows(Branch(None, FLOAT64, members[3:])) == []
+    assert Branch(None, FLOAT64, members).stable_windows == [(2.0, 3.0)]
+    assert Branch(None, FLOAT64, members[3:]).stable_windows == []
