@@ -91,7 +91,7 @@ def _integrator(digits: int | Tier | None) -> tuple[str, Tier]:
 
 
 def precision_tier(digits: int | Tier | None = None) -> tuple[str, str]:
-    """The integrator and the tier that :func:`rotorlib.monodromy` uses for ``digits``
+    """The integrator and the tier that :func:`rotorlib.floquet.monodromy` uses for ``digits``
     on this machine.
 
     Returns
@@ -101,7 +101,7 @@ def precision_tier(digits: int | Tier | None = None) -> tuple[str, str]:
         (``float64``, ``real128``, ``mp<bits>``); without heyoka ``scipy`` in float64
         and ``mpmath`` beyond, at ``digits + 5`` working digits: the tier ``mp<bits>``
         of that arithmetic. Either name is one :class:`~rotorlib.precision.Tier` accepts,
-        and the one :attr:`rotorlib.floquet.Monodromy.precision` records.
+        and the one ``Monodromy.precision`` records.
 
     Examples
     --------
@@ -157,7 +157,7 @@ def hill_problem(
         ``None`` (or the float64 tier): float64 parameters (refused with ``ValueError``
         when ``|E - sep| < 1.8e-307``, below the float64 range). An integer: mpmath
         parameters correct to ``digits + 15`` digits, built from the decimal input of
-        the energy at any depth (:meth:`~rotorlib.orbits.PendulumOrbit.closed_form`);
+        the energy at any depth (``PendulumOrbit.closed_form``);
         no float64 rounding of ``E`` enters. An extended tier: as the digits it
         delivers (:func:`~rotorlib.precision.requested_digits`).
 

@@ -234,7 +234,7 @@ def pendulum(
     """The pendulum orbit at ``E`` or at ``log|E-4|`` in a phase (see
     :func:`rotorlib.energy.pendulum_energy`): the closed form, float64 to ~1e-16
     relative at any ``|E - 4| >= 1.8e-307``, mpmath at any depth
-    (:meth:`PendulumOrbit.closed_form`).
+    (``PendulumOrbit.closed_form``).
 
     Examples
     --------

@@ -305,7 +305,7 @@ def requested_digits(digits: int | Tier | None) -> int | None:
     """The significant digits an extended tier delivers for ``digits``; ``None`` for float64.
 
     An integer above 15 is itself; a :class:`Tier` beyond float64 delivers ``dps - 9``
-    digits; ``None``, an integer up to 15 and :data:`FLOAT64` give ``None``.
+    digits; ``None``, an integer up to 15 and ``FLOAT64`` give ``None``.
 
     Examples
     --------
