@@ -112,8 +112,9 @@ def energy_alpha(state: ArrayLike) -> Real:
     >>> from rotorlib.system import alpha_to_beta, alpha_to_phi, energy_alpha, energy_beta
     >>> from rotorlib.system import energy_phi
     >>> x = [0.3, 1.1, -0.2, 0.7]
-    >>> [round(float(f(y)), 12) for f, y in
-    ...  ((energy_alpha, x), (energy_phi, alpha_to_phi(x)), (energy_beta, alpha_to_beta(x)))]
+    >>> pairs = [(energy_alpha, x), (energy_phi, alpha_to_phi(x))]
+    >>> pairs.append((energy_beta, alpha_to_beta(x)))
+    >>> [round(float(f(y)), 12) for f, y in pairs]
     [1.685490532843, 1.685490532843, 1.685490532843]
     """
     a1, a2, p1, p2 = np.moveaxis(np.asarray(state, dtype=float), -1, 0)
