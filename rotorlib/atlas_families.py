@@ -42,7 +42,7 @@ from .atlas import (
     orbit_samples,
     symmetric_roots,
 )
-from .branch import Branch, SpecialPoint
+from .branch import Branch
 from .continuation import PALC, ContinuationOptions, continuation, member
 from .flow import SectionNotReached
 from .parallel import pmap
@@ -52,17 +52,6 @@ from .shooting import NoConvergence, residual, solve
 from .system import lattice_reduce
 
 __all__ = ["families", "daughters", "Cascade", "cascade"]
-
-
-def _position(p: SpecialPoint) -> float:
-    """Where a special point lies among the members of its branch: a fold at its member,
-    an IS or PD point half-way from its member to the next."""
-    return p.index + (0.0 if p.kind == "fold" else 0.5)
-
-
-def _marks(branch: Branch) -> list[tuple[str, float, float]]:
-    """``(kind, E, position)`` of each special point (:func:`_position`)."""
-    return [(p.kind, float(p.member.E), _position(p)) for p in branch.special_points]
 
 
 def _family(args: tuple) -> Branch:
@@ -99,7 +88,7 @@ def _family(args: tuple) -> Branch:
             for p in back.special_points
         ]
         + [replace(p, index=n - 1 + p.index) for p in fwd.special_points],
-        key=_position,
+        key=lambda p: p.position,
     )
     return Branch(
         prob,
@@ -252,7 +241,7 @@ def daughters(
     tuple of PeriodicOrbit
         Sorted by ``E``, then period; label ``new``, family ``"<parent family>/<kind>"``.
     """
-    marks = _marks(fam)
+    marks = [(p.kind, float(p.member.E), p.position) for p in fam.special_points]
     if not (0 <= point < len(marks)) or marks[point][0] not in ("IS", "PD"):
         raise ValueError(
             f"point must index an IS or PD point of the family, got {point!r}"
@@ -387,9 +376,10 @@ def cascade(
         side = 1.0 if d.E > Eb else -1.0
         lo, hi = sorted((Eb, Eb + side * 1.5 * scale))
         (h,) = families([d], (lo, hi), step=scale / 100, du=0.01, executor=None)
+        marks = [(p.kind, float(p.member.E)) for p in h.special_points]
         pds = [
             (abs(E - Eb), i, E)
-            for i, (k, E, _) in enumerate(_marks(h))
+            for i, (k, E) in enumerate(marks)
             if k == "PD" and abs(E - Eb) > scale / 200
         ]
         if not pds:

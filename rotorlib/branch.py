@@ -152,6 +152,12 @@ class SpecialPoint:
     index: int
     located: bool = True
 
+    @property
+    def position(self) -> float:
+        """Where the point lies among the members: a fold at its member (``index``),
+        an IS, PD or E point half-way from its member to the next."""
+        return self.index + (0.0 if self.kind == "fold" else 0.5)
+
     def to_dict(self) -> dict[str, Any]:
         """``kind``, ``index``, ``located`` and the member's JSON."""
         return {
@@ -273,11 +279,7 @@ class Branch:
         [(3.99059, 4.035708)]
         """
         st = [0 < t < 4 for t in self.trace]
-        # (kind, E, position): a fold at its member, IS/PD half-way to the next
-        marks = [
-            (p.kind, float(p.member.E), p.index + (0.0 if p.kind == "fold" else 0.5))
-            for p in self.special_points
-        ]
+        marks = [(p.kind, float(p.member.E), p.position) for p in self.special_points]
         E, out, i = self.E, [], 0
         for stable, run in itertools.groupby(st):
             j = i + len(list(run))  # members i .. j - 1
