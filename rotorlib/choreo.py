@@ -245,7 +245,7 @@ def cg_problem() -> ShootingProblem:
 def reduced_trace(
     state0: Sequence[float] | np.ndarray,
     period: float,
-    digits: int | None = None,
+    digits: int | Tier | None = None,
     order: int = 6,
     power: int = 1,
 ) -> tuple:

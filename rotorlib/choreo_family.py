@@ -32,7 +32,7 @@ from typing import Any
 import numpy as np
 
 from .branch import Branch, Member, SpecialPoint
-from .choreo import _reduced_trace, cg_problem, choreography_of
+from .choreo import cg_problem, choreography_of, reduced_trace
 from .continuation import (
     PALC,
     ContinuationOptions,
@@ -325,7 +325,7 @@ def cg_orbit(
             cg_problem(), u, w, t, label=lab, shown=digits if t.extended else None
         )
         s = residual(cg_problem(), u, w, t)
-        trp, _ = _reduced_trace(s.x0, 12 * s.t1, t)
+        trp, _ = reduced_trace(s.x0, 12 * s.t1, t)
     c = choreography_of(o.state0, o.period)
     extra = dict(o.extra)
     extra.update(
@@ -433,9 +433,9 @@ def _at_u(
     p = p or cg_problem()
     with t.context():
         w = solve(p, t.num(E_guess), u=t.num(u), digits=t).x
-        s = residual(p, u, w, t)
-        trp, trm = _reduced_trace(s.x0, p.factor * s.t1, t, order, power)
-        return _choreo_member(member(p, u, w, t), trm, trp)
+        m = member(p, u, w, t)
+        trp, trm = reduced_trace(m.x0, p.factor * m.t1, t, order, power)
+        return _choreo_member(m, trm, trp)
 
 
 def _locate(g, ua, ub, Ea, t: Tier, tol=1e-13, p=None, order=6, power=1):
@@ -458,7 +458,7 @@ def _members() -> tuple[ChoreoMember, ...]:
     b = follow()
     out = []
     for m in b.members:
-        trp, trm = _reduced_trace(b.state(m), 12 * m.t1, FLOAT64)
+        trp, trm = reduced_trace(b.state(m), 12 * m.t1, FLOAT64)
         out.append(_choreo_member(m, trm, trp))
     return tuple(out)
 
