@@ -42,14 +42,16 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from functools import cache
+from typing import Any
 
 import numpy as np
 
 from .flow import Section, flow
+from .periodic import PeriodicOrbit, periodic_orbit, stability_of
 from .precision import Tier, tier
-from .shooting import ShootingProblem, StartSet
+from .shooting import ShootingProblem, StartSet, residual
 
 __all__ = [
     "C_PHI",
@@ -60,6 +62,7 @@ __all__ = [
     "cg_problem",
     "lindstedt_period",
     "reduced_trace",
+    "reduced_orbit",
     "rotor_angles",
     "atlas_name",
     "T0",
@@ -289,6 +292,50 @@ def _reduced_trace(state0, period, t: Tier, order: int = 6, power: int = 1) -> t
                 for i in range(4)
             ]
         return trp, sum(m[i][i] for i in range(4))
+
+
+def reduced_orbit(
+    p: ShootingProblem,
+    u: Any,
+    w: Any,
+    t: Tier,
+    label: str,
+    digits: int | None,
+    order: int = 6,
+    power: int = 1,
+) -> PeriodicOrbit:
+    """The :class:`~rotorlib.periodic.PeriodicOrbit` of the choreography problem ``p`` at
+    ``(u, w)`` in the tier ``t``, with ``extra`` holding ``trace_reduced`` (``tr DP`` of
+    the reduced map of ``order`` and ``power``, :func:`rotorlib.choreo.reduced_trace`),
+    ``stable``, ``stability`` (of ``tr DP``), ``choreography`` and, in an extended tier,
+    ``trace_reduced_str`` to ``digits - 8`` digits. Shared by :func:`rotorlib.choreo_family.cg_orbit` and
+    :func:`rotorlib.choreo_z3.z3_orbits`.
+
+    Examples
+    --------
+    >>> from rotorlib.choreo import cg_problem
+    >>> from rotorlib.choreo_family import cg_orbit
+    >>> from rotorlib.precision import FLOAT64
+    >>> o = cg_orbit(3)
+    >>> r = reduced_orbit(cg_problem(), o.extra["u"], 3.0, FLOAT64, "CG", None)
+    >>> r.extra["stability"], abs(r.period - o.period) < 1e-12
+    ('stable', True)
+    """
+    with t.context():
+        o = periodic_orbit(p, u, w, t, label, shown=digits if t.extended else None)
+        s = residual(p, u, w, t)
+        trp = reduced_trace(s.x0, p.factor * s.t1, t, order, power)[0]
+    c = choreography_of(o.state0, o.period)
+    extra = dict(o.extra)
+    extra.update(
+        trace_reduced=float(trp),
+        stable=bool(0 < float(trp) < 4),
+        stability=stability_of(float(trp), o.digits),
+        choreography=c.to_dict() if c else None,
+    )
+    if t.extended and digits is not None:
+        extra["trace_reduced_str"] = t.text(trp, int(digits) - 8)
+    return replace(o, extra=extra)
 
 
 def rotor_angles(

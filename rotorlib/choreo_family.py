@@ -32,7 +32,7 @@ from typing import Any
 import numpy as np
 
 from .branch import Branch, Member, SpecialPoint
-from .choreo import cg_problem, choreography_of, reduced_trace
+from .choreo import cg_problem, reduced_orbit, reduced_trace
 from .continuation import (
     PALC,
     ContinuationOptions,
@@ -42,9 +42,9 @@ from .continuation import (
     illinois,
     member,
 )
-from .periodic import PeriodicOrbit, periodic_orbit, stability_of
+from .periodic import PeriodicOrbit, stability_of
 from .precision import FLOAT64, Tier, json_number, tier
-from .shooting import ShootingProblem, residual, solve
+from .shooting import ShootingProblem, solve
 
 __all__ = [
     "LABELS",
@@ -321,22 +321,7 @@ def cg_orbit(
     with t.context():
         u = _solve_u(lab, E, t)
         w = t.num(E) if not t.extended else t.num(str(E))
-        o = periodic_orbit(
-            cg_problem(), u, w, t, label=lab, shown=digits if t.extended else None
-        )
-        s = residual(cg_problem(), u, w, t)
-        trp, _ = reduced_trace(s.x0, 12 * s.t1, t)
-    c = choreography_of(o.state0, o.period)
-    extra = dict(o.extra)
-    extra.update(
-        trace_reduced=float(trp),
-        stable=bool(0 < float(trp) < 4),
-        stability=stability_of(float(trp), o.digits),
-        choreography=c.to_dict() if c else None,
-    )
-    if t.extended and digits is not None:
-        extra["trace_reduced_str"] = t.text(trp, int(digits) - 8)
-    return replace(o, extra=extra)
+    return reduced_orbit(cg_problem(), u, w, t, lab, digits)
 
 
 @dataclass(frozen=True)

@@ -41,7 +41,7 @@ from dataclasses import replace
 from functools import cache
 
 from .branch import Branch
-from .choreo import Choreography, choreography_of, reduced_trace
+from .choreo import Choreography, choreography_of, reduced_orbit, reduced_trace
 from .choreo_family import (
     ChoreoMember,
     ChoreoPoint,
@@ -54,7 +54,7 @@ from .choreo_family import (
     special_points,
 )
 from .continuation import PALC, ContinuationOptions, continuation, member
-from .periodic import PeriodicOrbit, periodic_orbit, stability_of
+from .periodic import PeriodicOrbit
 from .precision import FLOAT64, Tier, tier
 from .reversors import start_sets, targets
 from .shooting import ShootingProblem, residual, solve
@@ -379,25 +379,12 @@ def _orbits(lab, E, digits):
         if any(abs(T - T2) < 1e-8 * T for T2, _ in found):
             continue  # the same orbit on the other symmetric half
         found.append((T, u))
-    out = []
-    for T, u in sorted(found, key=lambda v: v[0]):
-        with t.context():
-            w = t.num(str(E)) if t.extended else Ef
-            o = periodic_orbit(p, u, w, t, lab, shown=digits if t.extended else None)
-            s = residual(p, u, w, t)
-            trp = reduced_trace(s.x0, 6 * s.t1, digits, order=3, power=k)[0]
-        extra = dict(o.extra)
-        c = choreography_of(o.state0, o.period)
-        extra.update(
-            trace_reduced=float(trp),
-            stable=bool(0 < float(trp) < 4),
-            stability=stability_of(float(trp), o.digits),
-            choreography=c.to_dict() if c else None,
-        )
-        if t.extended:
-            extra["trace_reduced_str"] = t.text(trp, int(digits) - 8)
-        out.append(replace(o, extra=extra))
-    return tuple(out)
+    with t.context():
+        w = t.num(str(E)) if t.extended else Ef
+    return tuple(
+        reduced_orbit(p, u, w, t, lab, digits, order=3, power=k)
+        for _, u in sorted(found, key=lambda v: v[0])
+    )
 
 
 def z3_orbits(label: str, E: float | str, digits: int | None = None) -> tuple:
