@@ -26,7 +26,7 @@ import mpmath as mp
 
 import rotorlib as rl
 from rotorlib.flow import monodromy_matrix
-from rotorlib.hill import _mpmath_tier, _solve_hill, hill_problem
+from rotorlib.hill import hill_problem, solve_hill
 from rotorlib.precision import FLOAT64, Tier
 
 #: Digits of the reference computation (heyoka multiprecision, ~260 bits).
@@ -69,8 +69,9 @@ def _tm(orbit, **kw):
 def _hill(orbit, backend, precision, tol=None, digits=None):
     """Hill reduction, returning the trace and the integrator steps."""
     prob = hill_problem(orbit, digits)
-    t = _mpmath_tier(int(precision[6:])) if backend == "mpmath" else Tier(precision)
-    sol = _solve_hill(prob, backend, t, tol=tol)
+    # mpmath works at digits + 5 working digits: "mpmath21" is digits 16
+    d = int(precision[6:]) - 5 if backend == "mpmath" else Tier(precision)
+    sol = solve_hill(prob, d, tol, integrator=backend)
     with mp.workdps(80):
         d = mp.mpf(sol.delta_exact) if precision != "float64" else mp.mpf(sol.delta)
         t = d * d if prob.repeats == 2 else 2 + d
@@ -224,11 +225,10 @@ IS_L7 = dict(label="IS^l_7", phase="lib", bracket=(-21.1, -20.9), paper=-21.0012
 
 
 def _delta_float(x, phase, backend, tol=None):
-    return _solve_hill(
+    return solve_hill(
         hill_problem(rl.pendulum(log_abs_dE=x, phase=phase)),
-        backend,
-        FLOAT64,
         tol=tol,
+        integrator=backend,
     ).delta
 
 

@@ -25,6 +25,7 @@ import mpmath as mp
 import numpy as np
 
 from .bifurcations import is_breather_label, parse_label
+from .branch import energy_range
 from .periodic import PeriodicOrbit
 from .precision import Tier, check_digits
 
@@ -206,9 +207,7 @@ def family(
     >>> bool(all(3.9 <= E <= 4.1 for E in b.E)), [p.kind for p in b.special_points]
     (True, ['IS'])
     """
-    lo, hi = (float(v) for v in E_range)
-    if not lo < hi:
-        raise ValueError(f"E_range must be (lo, hi) with lo < hi, got {E_range!r}")
+    lo, hi = energy_range(E_range)
     kind, lab = _kind(label)
     d = _digits(digits)
     if kind == "choreography":

@@ -26,7 +26,7 @@ import contextlib
 import functools
 import itertools
 import math
-from collections.abc import Iterable
+from collections.abc import Iterable, Sequence
 from concurrent.futures import Executor
 from dataclasses import dataclass
 from fractions import Fraction
@@ -40,7 +40,7 @@ from .flow import SectionNotReached, crossings, monodromy_matrix, sample
 from .parallel import pmap
 from .periodic import PeriodicOrbit
 from .precision import FLOAT64, tier
-from .reversors import _group_images, start_sets, targets
+from .reversors import images, start_sets, targets
 from .shooting import ShootingProblem, residual, solve
 from .system import lattice_reduce
 
@@ -48,6 +48,7 @@ __all__ = [
     "Atlas",
     "census",
     "budget_seconds",
+    "check_census",
     "BUDGET",
     "E_DOMAIN",
     "BUDGET_MODEL",
@@ -117,7 +118,21 @@ def budget_seconds(E_values: Iterable[float], t_max: float, grid: int = 300) -> 
     )
 
 
-def _check(E_values, t_max, grid):
+def check_census(E_values: Sequence[float], t_max: float, grid: int = 300) -> None:
+    """Refuse a census request before any work is done: every energy in
+    :data:`E_DOMAIN`, ``t_max > 0`` finite, ``grid`` an integer ``>= 20``, and the
+    predicted cost (:func:`budget_seconds`) within :data:`BUDGET`. Raises ValueError
+    saying which.
+
+    Examples
+    --------
+    >>> from rotorlib.atlas import check_census
+    >>> check_census([4.3], 7.0)
+    >>> check_census([0.05], 7.0)  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    ValueError: E = 0.05 is outside the atlas's domain 0.1 <= E <= 100.0 (nearly ...
+    """
     for E in E_values:  # floats (as_float); outside the domain: also E <= 0 and nan
         if not E_DOMAIN[0] <= E <= E_DOMAIN[1]:
             raise ValueError(
@@ -286,12 +301,10 @@ def _problem(si, j, k, E, t_half):
 
 def _closure_at(x0, times):
     """``max |x(t) - x(0)|`` modulo the lattice at each of ``times`` (one integration)."""
-    from .flow import _integrator, _start
+    from .flow import states_at
 
     ts = sorted(set(times))
-    ta, _ = _integrator(FLOAT64, None, False)
-    _start(ta, FLOAT64, x0, False)
-    states = ta.propagate_grid(np.array([0.0] + ts))[-1][1:]
+    states = states_at(x0, [0.0] + ts)[1:]
     res = {
         t: lattice_reduce([a - b for a, b in zip(x, x0)]) for t, x in zip(ts, states)
     }
@@ -353,24 +366,21 @@ def distance_to_orbit(states: np.ndarray, y0: ArrayLike) -> float:
     ``y0`` under the group to the orbit sampled at ``states`` (:func:`orbit_samples`):
     every local minimum of the distance to the samples below 0.05 refined by Newton on the
     time along the orbit (short integrations)."""
-    from .flow import _integrator, _start
+    from .flow import flow
     from .system import rhs_alpha
 
     def gap(y, x):
         return lattice_reduce(np.array(y) - x)
 
-    ta, _ = _integrator(FLOAT64, None, False)
     best = math.inf
-    for y in _group_images() @ np.asarray(y0, float):
+    for y in images(y0):
         dist = np.max(np.abs(lattice_reduce(states - y)), axis=1)
         best = min(best, float(dist.min()))
         near = (dist < 0.05) & (dist <= np.roll(dist, 1)) & (dist <= np.roll(dist, -1))
         for x in states[near]:  # each local minimum below 0.05
             for _ in range(4):
                 v = np.asarray(rhs_alpha(0.0, x), float)
-                _start(ta, FLOAT64, list(x), False)
-                ta.propagate_for(float(gap(y, x) @ v / (v @ v)))
-                x = np.array(ta.state, float)
+                x = np.array(flow(list(x), float(gap(y, x) @ v / (v @ v))), float)
             best = min(best, float(np.max(np.abs(gap(y, x)))))
     return best
 
@@ -630,7 +640,7 @@ def census(
     (('Fix T(12)', 'Fix T(12)'), 3.0612, 0.358)
     """
     E, t_max = as_float(E, "E"), as_float(t_max, "T_max")
-    _check([E], t_max, grid)
+    check_census([E], t_max, grid)
     t_half = t_max / 2 * 1.02
     classes = range(len(start_sets(E)))
     parts = max(4, round(budget_seconds([E], t_max, grid) / 0.25 / len(classes)))

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import itertools
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -21,7 +22,7 @@ from .periodic import OrbitResult
 from .precision import Tier, json_number
 from .shooting import ShootingProblem
 
-__all__ = ["Member", "SpecialPoint", "Branch"]
+__all__ = ["Member", "SpecialPoint", "Branch", "energy_range"]
 
 
 @dataclass(frozen=True)
@@ -312,3 +313,25 @@ class Branch:
             "members": [m.to_dict() for m in self.members],
             "special_points": [p.to_dict() for p in self.special_points],
         }
+
+
+def energy_range(E_range: Sequence[Any]) -> tuple[float, float]:
+    """``E_range = (lo, hi)`` as floats, checked: two finite energies with ``lo < hi``
+    (the range of every family, :func:`rotorlib.family`). Raises ValueError otherwise.
+
+    Examples
+    --------
+    >>> from rotorlib.branch import energy_range
+    >>> energy_range(("5", 5.4))
+    (5.0, 5.4)
+    >>> energy_range((5.4, 5.0))  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    ValueError: E_range must be two finite energies (lo, hi) with lo < hi, got (5.4, 5.0)
+    """
+    lo, hi = (float(v) for v in E_range)
+    if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi):
+        raise ValueError(
+            f"E_range must be two finite energies (lo, hi) with lo < hi, got {E_range!r}"
+        )
+    return lo, hi

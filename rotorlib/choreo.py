@@ -48,10 +48,11 @@ from typing import Any
 
 import numpy as np
 
+from .branch import Branch, Member, SpecialPoint
 from .flow import Section, flow
 from .periodic import PeriodicOrbit, periodic_orbit, stability_of
-from .precision import Tier, tier
-from .shooting import ShootingProblem, StartSet, residual
+from .precision import FLOAT64, Tier, tier
+from .shooting import ShootingProblem, StartSet, residual, solve
 
 __all__ = [
     "C_PHI",
@@ -63,6 +64,8 @@ __all__ = [
     "lindstedt_period",
     "reduced_trace",
     "reduced_orbit",
+    "amplitude_at_energy",
+    "choreo_branch",
     "rotor_angles",
     "atlas_name",
     "T0",
@@ -411,3 +414,65 @@ def atlas_name(
         if any(abs(o.period - T) < 1e-7 * T for o in z3_orbits(lab, E)):
             return lab, c.to_dict()
     return "choreography", c.to_dict()
+
+
+def amplitude_at_energy(
+    p: ShootingProblem, a: float, b: float, Ea: float, Eb: float, E: float
+) -> float:
+    """The amplitude ``u`` in ``(a, b)`` where the member of the problem ``p`` has energy
+    ``E`` (``E(u)`` monotone there, ``E(a) = Ea``, ``E(b) = Eb``), float64: the Illinois
+    method on ``E(u) - E`` to ``2e-16 E``, each ``u`` solved for its energy by the engine
+    (robust beside a fold, where a secant at fixed ``E`` is not).
+
+    Examples
+    --------
+    >>> from rotorlib.choreo import amplitude_at_energy, cg_problem
+    >>> from rotorlib.choreo_family import follow
+    >>> a, b = follow().members[10:12]
+    >>> u = amplitude_at_energy(cg_problem(), a.u, b.u, a.E, b.E, (a.E + b.E) / 2)
+    >>> bool(min(a.u, b.u) < u < max(a.u, b.u))
+    True
+    """
+    ga, gb = Ea - E, Eb - E
+    c, last = a, None
+    for _ in range(200):
+        c = (a * gb - b * ga) / (gb - ga)
+        gc = float(solve(p, E, u=c).x) - E
+        if gc == 0 or abs(gc) < 2e-16 * E or (last is not None and c == last):
+            break
+        last = c
+        if (gc > 0) == (gb > 0):
+            b, gb, ga = c, gc, ga / 2
+        else:
+            a, ga, gb = c, gc, gb / 2
+    return c
+
+
+def choreo_branch(
+    problem: ShootingProblem,
+    members: Sequence[Member],
+    points: Sequence[SpecialPoint],
+    E_range: tuple[float, float],
+    stop: str,
+    reason: str,
+) -> Branch:
+    """The :class:`~rotorlib.branch.Branch` of a choreography family: the ``members`` (in
+    order along the family) with ``E`` in ``E_range`` and the ``points`` there, each
+    ``index`` (counted in ``members``) counted again among those kept (-1: before the
+    first); ``stop`` names the two ends, ``reason`` says where the family exists."""
+    lo, hi = E_range
+    keep = [i for i, m in enumerate(members) if lo <= float(m.E) <= hi]
+    pts = [
+        replace(p, index=sum(k <= p.index for k in keep) - 1)
+        for p in points
+        if lo <= float(p.member.E) <= hi
+    ]
+    return Branch(
+        problem,
+        FLOAT64,
+        tuple(members[i] for i in keep),
+        tuple(sorted(pts, key=lambda p: p.member.E)),
+        stop,
+        reason,
+        (lo, hi),
+    )

@@ -24,15 +24,21 @@ re-solved in the tier.
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 from functools import cache
 from typing import Any
 
 import numpy as np
 
-from .branch import Branch, Member, SpecialPoint
-from .choreo import cg_problem, reduced_orbit, reduced_trace
+from .branch import Branch, Member, SpecialPoint, energy_range
+from .choreo import (
+    amplitude_at_energy,
+    cg_problem,
+    choreo_branch,
+    reduced_orbit,
+    reduced_trace,
+)
 from .continuation import (
     PALC,
     ContinuationOptions,
@@ -44,6 +50,7 @@ from .continuation import (
 )
 from .periodic import PeriodicOrbit, stability_of
 from .precision import FLOAT64, Tier, json_number, tier
+from .rounding import difference
 from .shooting import ShootingProblem, solve
 
 __all__ = [
@@ -56,6 +63,7 @@ __all__ = [
     "choreography_orbit",
     "ChoreoMember",
     "ChoreoPoint",
+    "locate_member",
     "special_points",
     "family",
 ]
@@ -70,11 +78,6 @@ _E_START = 0.02  # the first members (u ~ -0.06)
 #: A bracket of the fold's amplitude (checked: tr DP - 4 changes sign).
 _U_FOLD = (-1.46, -1.50)
 _T_MAX = 90.0  # the continuation stops at T = 90 (E - 4.5 ~ 1e-7)
-
-
-def _gap(x: float) -> str:
-    """A difference of two locations in words: one digit, or a bound below 1e-15."""
-    return f"{x:.0e}" if x >= 1e-15 else "< 1e-15"
 
 
 def _label(label: str) -> str:
@@ -117,7 +120,7 @@ def _fold(digits: int | None = None) -> ChoreoMember:
     t = tier(digits) if digits is not None and digits > 15 else FLOAT64
     with t.context():
         tol = 1e-14 if not t.extended else t.num(t.eps) ** t.num(0.75)
-        return _locate(
+        return locate_member(
             lambda m: m.trace_reduced - 4,
             t.num(_U_FOLD[0]),
             t.num(_U_FOLD[1]),
@@ -235,7 +238,7 @@ def _solve_u(lab, E, t: Tier):
         E1 = solve(p, Efold, u=uf + side * h).x
         m1 = member(p, uf + side * h, E1)
         if Ef >= E1:  # between the fold and uf +- h: E(u) monotone
-            u = _u_at_E(p, uf + side * h, uf, E1, Efold, Ef)
+            u = amplitude_at_energy(p, uf + side * h, uf, E1, Efold, Ef)
         elif lab == "CG":
             d = np.geomspace(Efold - E1, Efold - Ef, 14)[1:]
             vals = tuple(Efold - d)
@@ -262,7 +265,9 @@ def _solve_u(lab, E, t: Tier):
                     f"{Es[-1] - 4.5:.1e}, T <= {float(12 * ms[-1].t1):.0f})"
                 )
             a_, b_ = ms[k], ms[k + 1]
-            u = _u_at_E(p, float(a_.u), float(b_.u), float(a_.E), float(b_.E), Ef)
+            u = amplitude_at_energy(
+                p, float(a_.u), float(b_.u), float(a_.E), float(b_.E), Ef
+            )
     if not t.extended:
         return u
     with t.context():
@@ -270,25 +275,6 @@ def _solve_u(lab, E, t: Tier):
         return solve(
             p, u, u * (1 + t.num("1e-12")), E=str(E), digits=t, r_max=t.eps**0.6
         ).x
-
-
-def _u_at_E(p, a, b, Ea, Eb, E):
-    """The ``u`` in ``(a, b)`` where the member has energy ``E`` (``E(u)`` monotone there,
-    ``E(a) = Ea``, ``E(b) = Eb``): Illinois on ``E(u) - E``, each ``u`` solved for ``E``
-    by the engine (robust beside the fold, where a secant at fixed ``E`` is not)."""
-    ga, gb = Ea - E, Eb - E
-    c, last = a, None
-    for _ in range(200):
-        c = (a * gb - b * ga) / (gb - ga)
-        gc = float(solve(p, E, u=c).x) - E
-        if gc == 0 or abs(gc) < 2e-16 * E or (last is not None and c == last):
-            break
-        last = c
-        if (gc > 0) == (gb > 0):
-            b, gb, ga = c, gc, ga / 2
-        else:
-            a, ga, gb = c, gc, gb / 2
-    return c
 
 
 def _natural_last(p, alg, m0):
@@ -346,13 +332,19 @@ class ChoreoMember(Member):
         """:func:`~rotorlib.periodic.stability_of` applied to ``tr DP``."""
         return stability_of(float(self.trace_reduced), self.digits)
 
+    @classmethod
+    def from_member(
+        cls, m: Member, trace: Any, trace_reduced: Any, **changes: Any
+    ) -> ChoreoMember:
+        """The branch member ``m`` with its ``trace`` (``tr M``) and ``trace_reduced``
+        (``tr DP``), and any other field in ``changes``."""
+        return cls(
+            **{**vars(m), "trace": trace, "trace_reduced": trace_reduced, **changes}
+        )
+
     def to_dict(self) -> dict[str, Any]:
         """:meth:`Member.to_dict <rotorlib.branch.Member.to_dict>` and ``trace_reduced``."""
         return {**super().to_dict(), "trace_reduced": float(self.trace_reduced)}
-
-
-def _choreo_member(m: Member, trm: Any, trp: Any, **kw: Any) -> ChoreoMember:
-    return ChoreoMember(**{**vars(m), "trace": trm, "trace_reduced": trp, **kw})
 
 
 @dataclass(frozen=True)
@@ -420,12 +412,37 @@ def _at_u(
         w = solve(p, t.num(E_guess), u=t.num(u), digits=t).x
         m = member(p, u, w, t)
         trp, trm = reduced_trace(m.x0, p.factor * m.t1, t, order, power)
-        return _choreo_member(m, trm, trp)
+        return ChoreoMember.from_member(m, trm, trp)
 
 
-def _locate(g, ua, ub, Ea, t: Tier, tol=1e-13, p=None, order=6, power=1):
-    """The member with ``u`` in ``(ua, ub)`` where ``g(member) = 0``, by the engine's
-    Illinois method (:func:`rotorlib.continuation.illinois`)."""
+def locate_member(
+    g: Callable[..., Any],
+    ua: Any,
+    ub: Any,
+    Ea: Any,
+    digits: int | Tier | None = None,
+    tol: Any = 1e-13,
+    p: ShootingProblem | None = None,
+    order: int = 6,
+    power: int = 1,
+) -> ChoreoMember:
+    """The member with amplitude ``u`` in ``(ua, ub)`` where ``g(member) = 0`` (``g``
+    changes sign there), by the engine's Illinois method
+    (:func:`rotorlib.continuation.illinois`) to ``|du| < tol``, in the tier of ``digits``.
+
+    The members are those of the family born at G (``p`` None) or of the problem ``p``,
+    with ``tr DP`` of the reduced map over ``1/order`` of the period, raised to ``power``
+    (:func:`rotorlib.choreo.reduced_trace`); ``Ea`` is the energy near ``ua`` (the first
+    guess of the corrector).
+
+    Examples
+    --------
+    >>> from rotorlib.choreo_family import locate_member
+    >>> m = locate_member(lambda m: m.trace_reduced - 4, -1.46, -1.50, 5.3)  # the fold
+    >>> round(float(m.E), 9)
+    5.315323913
+    """
+    t = tier(digits)
     E_last = [Ea]
 
     def at(v):
@@ -444,7 +461,7 @@ def _members() -> tuple[ChoreoMember, ...]:
     out = []
     for m in b.members:
         trp, trm = reduced_trace(b.state(m), 12 * m.t1, FLOAT64)
-        out.append(_choreo_member(m, trm, trp))
+        out.append(ChoreoMember.from_member(m, trm, trp))
     return tuple(out)
 
 
@@ -478,7 +495,7 @@ def _special_float() -> tuple[ChoreoPoint, ...]:
         for lev, kind, text in _LEVELS:
             if not (a.trace_reduced - lev) * (b.trace_reduced - lev) < 0:
                 continue
-            m = _locate(
+            m = locate_member(
                 lambda m, lev=lev: m.trace_reduced - lev,
                 float(a.u),
                 float(b.u),
@@ -536,8 +553,8 @@ def _refine(p: ChoreoPoint, digits: int) -> ChoreoPoint:
         engine_fold = follow().fold
         assert engine_fold is not None  # CG's branch always passes its fold
         check = (
-            f"root of tr DP = 4 in float64 and {t.name} agree to {_gap(agree)}; the "
-            f"engine's maximum of E along the branch is {_gap(abs(engine_fold.E - E0))}"
+            f"root of tr DP = 4 in float64 and {t.name} agree to {difference(agree)}; the "
+            f"engine's maximum of E along the branch is {difference(abs(engine_fold.E - E0))}"
             " away"
         )
     else:
@@ -550,7 +567,7 @@ def _refine(p: ChoreoPoint, digits: int) -> ChoreoPoint:
             )
             h = t.num(1e-7 * max(1.0, abs(u0)))
             tol = t.num(t.eps) ** t.num(0.75)
-            m = _locate(
+            m = locate_member(
                 lambda m: m.trace_reduced - levt,
                 t.num(u0) - h,
                 t.num(u0) + h,
@@ -559,47 +576,8 @@ def _refine(p: ChoreoPoint, digits: int) -> ChoreoPoint:
                 tol,
             )
         agree = abs(float(m.E) - E0)
-        check = (
-            f"root of tr DP = {lev:.6g} in float64 and {t.name} agree to {_gap(agree)}"
-        )
+        check = f"root of tr DP = {lev:.6g} in float64 and {t.name} agree to {difference(agree)}"
     return replace(p, refined=replace(m, digits=d), agreement=agree, check=check)
-
-
-def _branch_of(
-    problem: ShootingProblem,
-    members: Sequence[ChoreoMember],
-    points: Sequence[ChoreoPoint],
-    E_range: tuple[float, float],
-    stop: str,
-    reason: str,
-) -> Branch:
-    """The :class:`~rotorlib.branch.Branch` of a choreography family: the ``members`` (in
-    order along the family) with ``E`` in ``E_range`` and the ``points`` there, each
-    ``index`` (counted in ``members``) counted again among those kept (-1: before the
-    first)."""
-    lo, hi = E_range
-    keep = [i for i, m in enumerate(members) if lo <= float(m.E) <= hi]
-    pts = [
-        replace(p, index=sum(k <= p.index for k in keep) - 1)
-        for p in points
-        if lo <= float(p.member.E) <= hi
-    ]
-    return Branch(
-        problem,
-        FLOAT64,
-        tuple(members[i] for i in keep),
-        tuple(sorted(pts, key=lambda p: p.member.E)),
-        stop,
-        reason,
-        (lo, hi),
-    )
-
-
-def _check_range(E_range: Sequence[float]) -> tuple[float, float]:
-    lo, hi = (float(v) for v in E_range)
-    if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi):
-        raise ValueError(f"--E-range must be two finite energies A < B, got {E_range}")
-    return lo, hi
 
 
 def family(label: str, E_range: Sequence[float], digits: int | None = None) -> Branch:
@@ -619,7 +597,7 @@ def family(label: str, E_range: Sequence[float], digits: int | None = None) -> B
     ('CG', 'G / fold', 'fold', 5.315323913)
     """
     lab = _label(label)
-    lo, hi = _check_range(E_range)
+    lo, hi = energy_range(E_range)
     e0, e1 = branch_range(lab)
     if lo > e1 or hi <= e0:
         raise ValueError(
@@ -632,7 +610,7 @@ def family(label: str, E_range: Sequence[float], digits: int | None = None) -> B
     pts = [
         replace(p, index=p.index - off) for p in special_points(lab, (lo, hi), digits)
     ]
-    return _branch_of(
+    return choreo_branch(
         cg_problem() if lab == "CG" else replace(cg_problem(), label="CT"),
         [replace(m, label=lab) for m in ms],
         pts,

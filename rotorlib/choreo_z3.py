@@ -40,23 +40,26 @@ from collections.abc import Sequence
 from dataclasses import replace
 from functools import cache
 
-from .branch import Branch
-from .choreo import Choreography, choreography_of, reduced_orbit, reduced_trace
+from .branch import Branch, energy_range
+from .choreo import (
+    Choreography,
+    amplitude_at_energy,
+    choreo_branch,
+    choreography_of,
+    reduced_orbit,
+    reduced_trace,
+)
 from .choreo_family import (
     ChoreoMember,
     ChoreoPoint,
-    _branch_of,
-    _check_range,
-    _choreo_member,
-    _gap,
-    _locate,
-    _u_at_E,
+    locate_member,
     special_points,
 )
 from .continuation import PALC, ContinuationOptions, continuation, member
 from .periodic import PeriodicOrbit
 from .precision import FLOAT64, Tier, tier
 from .reversors import start_sets, targets
+from .rounding import difference
 from .shooting import ShootingProblem, residual, solve
 
 __all__ = [
@@ -174,7 +177,7 @@ def _branch(lab: str) -> tuple:
     ms = []
     for m in back.members[::-1] + fwd.members[1:]:
         trp, trm = reduced_trace(p.state(m.u, m.w), 6 * m.t1, order=3, power=k)
-        ms.append(_choreo_member(m, float(trm), float(trp)))
+        ms.append(ChoreoMember.from_member(m, float(trm), float(trp)))
     return tuple(ms), (back.stop, fwd.stop)
 
 
@@ -182,7 +185,7 @@ def _root(lab: str, lev: float, ua, ub, Ea: float, t: Tier) -> ChoreoMember:
     k = seed_choreography(lab).power
     tol = 1e-13 if not t.extended else t.num(t.eps) ** t.num(0.75)
     with t.context():
-        return _locate(
+        return locate_member(
             lambda m: m.trace_reduced - lev,
             t.num(ua),
             t.num(ub),
@@ -294,7 +297,7 @@ def z3_points(label: str, digits: int | None = None) -> tuple[ChoreoPoint, ...]:
                     description=kind,
                     branch=lab,
                     check="period, tr DP, tr M: CG's orbit run twice; the family's own "
-                    f"extremum of E differs by {_gap(abs(Ez - float(q.member.E)))}",
+                    f"extremum of E differs by {difference(abs(Ez - float(q.member.E)))}",
                 )
             )
             continue
@@ -306,13 +309,13 @@ def z3_points(label: str, digits: int | None = None) -> tuple[ChoreoPoint, ...]:
             refined = _root(lab, lev, u - h, u + h, E, t)
             refined = replace(refined, digits=max(10, int(digits or 0) - 10))
             agree = abs(float(refined.E) - E)
-            check = f"float64 and {t.name} agree to {_gap(agree)}"
+            check = f"float64 and {t.name} agree to {difference(agree)}"
         if kind == "fold":
             j = i if abs(float(ms[i].u) - u) < abs(float(ms[i + 1].u) - u) else i + 1
             Eb = _extremum(lab, j)
             check += (
                 "; " if check else ""
-            ) + f"extremum of E(u) {_gap(abs(Eb - E))} away"
+            ) + f"extremum of E(u) {difference(abs(Eb - E))} away"
         out.append(ChoreoPoint(kind, m, i, True, kind, lab, refined, agree, check))
     uniq: list[ChoreoPoint] = []
     for q in sorted(out, key=lambda q: q.member.E):
@@ -369,7 +372,7 @@ def _orbits(lab, E, digits):
     for a, b in zip(ms, ms[1:]):
         if not (float(a.E) - Ef) * (float(b.E) - Ef) <= 0 or a.E == b.E:
             continue
-        u = _u_at_E(p, float(a.u), float(b.u), float(a.E), float(b.E), Ef)
+        u = amplitude_at_energy(p, float(a.u), float(b.u), float(a.E), float(b.E), Ef)
         with t.context():
             w = t.num(str(E)) if t.extended else Ef
             if t.extended:
@@ -464,7 +467,7 @@ def z3_family(
     [('PD', 5.706950538), ('fold', 5.7077031647)]
     """
     lab = _label(label)
-    lo, hi = _check_range(E_range)
+    lo, hi = energy_range(E_range)
     ms, stops = _branch(lab)
     e0, e1, why0, why1 = z3_range(lab)
     if hi < e0 or lo > e1:
@@ -472,7 +475,7 @@ def z3_family(
             f"{lab} was followed over {e0:.10f} <= E <= {e1:.10f} (ends: "
             f"{' / '.join(stops)}): the range {lo:g}..{hi:g} misses it"
         )
-    return _branch_of(
+    return choreo_branch(
         z3_problem(lab),
         ms,
         z3_points(lab, digits),

@@ -50,6 +50,7 @@ __all__ = [
     "check",
     "claim",
     "label_tex",
+    "LABEL_IN_TEXT_RE",
     "markdown",
     "records",
     "typeset_labels",
@@ -493,9 +494,10 @@ _LABEL_TEX_RE = re.compile(
     r"^\s*(IS|PD)\s*(?:\^\s*(\{[^{}]*\}|\\ell|[lrℓb])|([lrℓb]))\s*"
     r"(?:_?\s*(\{[^{}]*\}|\d+)|_\s*([A-Za-z]))?\s*$"
 )
-# The same inside running text (ISl1 style only with an index, so that words and code
-# names such as PDw8 or ISkr are left alone; PDb as a whole word).
-_LABEL_IN_TEXT_RE = re.compile(
+#: An orbit label inside running text (``IS^l_2``, ``PD^{r}_{n}``, ``ISl1``: the plain
+#: style only with an index, so that words and code names such as PDw8 or ISkr are left
+#: alone; ``PDb`` as a whole word), as :func:`typeset_labels` finds them.
+LABEL_IN_TEXT_RE = re.compile(
     r"(?<![\w\\^{])(?:"
     r"(?:IS|PD)\^(?:\{[^{}$]*\}|\\ell|[lrℓb])(?:_(?:\{[^{}$]*\}|\d+|[A-Za-z](?![A-Za-z])))?"
     r"|(?:IS|PD)[lr]\d+"
@@ -582,5 +584,5 @@ def typeset_labels(text: str) -> str:
     """
     parts = re.split(r"(\$[^$]*\$|`[^`]*`)", text)
     for i in range(0, len(parts), 2):
-        parts[i] = _LABEL_IN_TEXT_RE.sub(lambda m: label_tex(m.group(0)), parts[i])
+        parts[i] = LABEL_IN_TEXT_RE.sub(lambda m: label_tex(m.group(0)), parts[i])
     return "".join(parts)

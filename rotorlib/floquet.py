@@ -38,14 +38,11 @@ from scipy.linalg import block_diag
 
 from .energy import BreatherEnergy, PendulumEnergy
 from .flow import monodromy_matrix
-from .hill import _mpmath_tier, _solve_hill, hill_problem, precision_tier
+from .hill import hill_problem, precision_tier, solve_hill
 from .orbits import BreatherOrbit, PendulumOrbit, breather, pendulum
 from .precision import Tier, requested_digits, tier
 from .system import (
-    _A,
-    _B,
-    _Ainv,
-    _Binv,
+    beta_to_alpha,
     energy_alpha,
     jacobian_alpha,
     lattice_reduce,
@@ -175,7 +172,7 @@ class Monodromy:
         Ms = P @ self.matrix @ P.T
         if self.family == "pendulum":
             return Ms
-        T = block_diag(_A @ _Binv, _Ainv.T @ _B.T)
+        T = beta_to_alpha(np.eye(4)).T  # the linear map (b, q) -> (a, p)
         return T @ Ms @ np.linalg.inv(T)
 
 
@@ -269,13 +266,9 @@ def _monodromy(
     ``scipy`` or ``mpmath``), whatever is installed: ``digits`` None is float64 (the
     mpmath Taylor integrator at 20 digits), more is heyoka's tier of ``digits`` or
     mpmath at ``digits + 5`` working digits (the test hook of the integrators)."""
-    t = (
-        _mpmath_tier(digits + 5 if digits else 20)
-        if backend == "mpmath"
-        else tier(digits)
-    )
-    prob = hill_problem(orbit, (digits or 20) if t.extended else None)
-    sol = _solve_hill(prob, backend, t, tol)
+    extended = backend == "mpmath" or tier(digits).extended
+    prob = hill_problem(orbit, (digits or 20) if extended else None)
+    sol = solve_hill(prob, digits, tol, integrator=backend)
     C = sol.coefficient_map
     d = np.array([1.0, prob.momentum_scale])
     with np.errstate(over="ignore", invalid="ignore"):  # inf/nan when tr M overflows
@@ -284,13 +277,13 @@ def _monodromy(
     tr_perp = sol.delta * sol.delta - 2.0 if prob.repeats == 2 else sol.delta
     tr_exact = tr_perp + 2.0
     period_str = repr(orbit.period)
-    if t.extended or not math.isfinite(tr_perp):
+    if extended or not math.isfinite(tr_perp):
         shown = max(5, digits or 20)
         with mp.workdps(len(sol.delta_str) + 5):
             dx = mp.mpf(sol.delta_exact)
             tr_exact = dx * dx if prob.repeats == 2 else dx + 2
-            tr_str = mp.nstr(tr_exact, shown if t.extended else 16)
-        if t.extended:
+            tr_str = mp.nstr(tr_exact, shown if extended else 16)
+        if extended:
             period = orbit.closed_form((digits or 20) + 15)["period"]
             period_str = mp.nstr(period, shown)
     else:
@@ -306,12 +299,12 @@ def _monodromy(
         M = block_diag(Mpar, Mperp)
     # stability from the value with every computed digit (the float64 view of 4 - 1e-18 is 4.0)
     stability, note = _stability(
-        tr_exact, 10.0 ** (2 - (digits or 20)) if t.extended else 1e-12, orbit
+        tr_exact, 10.0 ** (2 - (digits or 20)) if extended else 1e-12, orbit
     )
     return Monodromy(
         orbit.family, orbit.E, orbit.period, M, basis, Mperp, Mpar, tr_perp + 2.0,
         tr_perp, tr_str, multipliers_from_trace(tr_perp), bool(0 < tr_exact < 4),
-        t.name, backend, sol.psi_end, orbit.energy, period_str, stability, note,
+        sol.precision, backend, sol.psi_end, orbit.energy, period_str, stability, note,
     )  # fmt: skip
 
 

@@ -26,8 +26,10 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .precision import Tier, load_heyoka, tier
+from .system import rhs_alpha
 
 #: A state ``[a1, a2, p1, p2]``: floats, tier numbers or decimal strings, or an array.
 StateLike = Sequence[Any] | np.ndarray
@@ -87,19 +89,6 @@ def equations_of_motion(hy: Any = None) -> list[tuple[Any, Any]]:
         (p1, -(two * hy.sin(two * a1) - s_m + s_p)),
         (p2, -(s_m + s_p)),
     ]
-
-
-def _rhs(x):
-    """``dx/dt`` as plain arithmetic on tier numbers (for crossing directions and projections)."""
-    from .system import rhs_alpha
-
-    if isinstance(x[0], float):
-        return rhs_alpha(0.0, x)
-    import mpmath as mp
-
-    a1, a2, p1, p2 = x
-    s_m, s_p = mp.sin(a2 - a1), mp.sin(a1 + a2)
-    return [p1 / 2, 3 * p2 / 2, -(2 * mp.sin(2 * a1) - s_m + s_p), -(s_m + s_p)]
 
 
 _LOCAL = threading.local()
@@ -259,7 +248,7 @@ def _right_way(section, x, t):
     if section.period is None or not section.direction:
         return True
     with t.context():
-        return (section.value(_rhs(x)) > 0) == (section.direction > 0)
+        return (section.value(rhs_alpha(0.0, x)) > 0) == (section.direction > 0)
 
 
 def crossings(
@@ -327,6 +316,27 @@ def monodromy_matrix(
     return np.array([[float(v) for v in row] for row in Phi]), x, tr
 
 
+def states_at(
+    x0: StateLike, times: ArrayLike, digits: int | Tier | None = None
+) -> np.ndarray:
+    """The states at ``times`` (increasing, the first 0: the start), shape
+    ``(len(times), 4)``, float64, from one integration in the tier of ``digits``.
+
+    Examples
+    --------
+    >>> from rotorlib.flow import states_at
+    >>> x = states_at([0.0, 0.0, 0.0, 1.0], [0.0, 2.5, 5.0])  # the pendulum
+    >>> x.shape, float(x[0, 3])
+    ((3, 4), 1.0)
+    """
+    t = tier(digits)
+    ta, _ = _integrator(t, None, False)
+    _start(ta, t, x0, False)
+    grid = np.asarray(times, dtype=float)
+    states = ta.propagate_grid(t.hy_array(grid) if t.extended else grid)[-1]
+    return np.array(states, dtype=float).reshape(len(grid), 4)
+
+
 def sample(
     x0: StateLike,
     period: Any,
@@ -334,13 +344,9 @@ def sample(
     digits: int | Tier | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
     """States at ``n`` equally spaced times over ``[0, period]``: ``(states (n, 4), times)``,
-    float64."""
-    t = tier(digits)
-    ta, _ = _integrator(t, None, False)
-    _start(ta, t, x0, False)
+    float64 (:func:`states_at`)."""
     grid = np.linspace(0.0, float(period), n)
-    states = ta.propagate_grid(t.hy_array(grid) if t.extended else grid)[-1]
-    return np.array(states, dtype=float).reshape(n, 4), grid
+    return states_at(x0, grid, digits), grid
 
 
 def extrema(

@@ -51,7 +51,7 @@ from typing import TYPE_CHECKING
 import mpmath as mp
 import numpy as np
 
-from .precision import FLOAT64, Tier, load_heyoka, requested_digits, tier
+from .precision import Tier, load_heyoka, requested_digits, tier
 
 if TYPE_CHECKING:
     from .orbits import BreatherOrbit, PendulumOrbit
@@ -80,14 +80,19 @@ def _mpmath_tier(dps: int) -> Tier:
     return Tier(f"mp{mp.libmp.dps_to_prec(dps)}")
 
 
-def _integrator(digits: int | Tier | None) -> tuple[str, Tier]:
-    """The integrator and the tier of :func:`precision_tier`."""
-    if heyoka_available():
-        return "heyoka", tier(digits)
+def _integrator(
+    digits: int | Tier | None, integrator: str | None = None
+) -> tuple[str, Tier]:
+    """The integrator (``integrator``, else the one :func:`precision_tier` picks) and its
+    tier for ``digits``: mpmath works at ``digits + 5`` digits (20 for float64)."""
     d = requested_digits(digits)
-    if d is None:
-        return "scipy", FLOAT64
-    return "mpmath", _mpmath_tier(d + 5)
+    if integrator is None:
+        integrator = (
+            "heyoka" if heyoka_available() else "scipy" if d is None else "mpmath"
+        )
+    if integrator == "mpmath":
+        return integrator, _mpmath_tier(d + 5 if d else 20)
+    return integrator, tier(digits)
 
 
 def precision_tier(digits: int | Tier | None = None) -> tuple[str, str]:
@@ -381,7 +386,11 @@ def _compose_mp(P1, P2, dps):
 
 
 def solve_hill(
-    prob: HillProblem, digits: int | Tier | None = None, tol: float | None = None
+    prob: HillProblem,
+    digits: int | Tier | None = None,
+    tol: float | None = None,
+    *,
+    integrator: str | None = None,
 ) -> HillSolution:
     """Integrate the reduced transverse problem and return the coefficient-period map.
 
@@ -397,6 +406,11 @@ def solve_hill(
         tolerances scaled alike) or heyoka's ``tol`` (default: the machine epsilon of
         the tier). The defaults are the verified tiers; other values serve
         work-precision studies (``benchmarks/bench_precision.py``). Ignored by mpmath.
+    integrator : {None, 'heyoka', 'scipy', 'mpmath'}, optional
+        Which integrator solves the problem: ``None`` the one :func:`precision_tier`
+        picks; a name forces it, to check one integrator against another (the precision
+        is still ``digits``: scipy integrates in float64 only, mpmath at ``digits + 5``
+        working digits, 20 for float64).
 
     Returns
     -------
@@ -415,15 +429,7 @@ def solve_hill(
     >>> round(sol.delta, 10), sol.precision, sol.psi_end < 1e-13
     (-0.1396851546, 'float64', True)
     """
-    integrator, t = _integrator(digits)
-    return _solve_hill(prob, integrator, t, tol)
-
-
-def _solve_hill(
-    prob: HillProblem, integrator: str, t: Tier, tol: float | None = None
-) -> HillSolution:
-    """:func:`solve_hill` with the integrator forced (``heyoka``, ``scipy`` or ``mpmath``;
-    the latter in a tier of :func:`_mpmath_tier`): the test and benchmark hook."""
+    integrator, t = _integrator(digits, integrator)
     if t.name == "real128" and mp.mpf(prob.m1) < mp.mpf(REAL128_MIN_M1):
         raise ValueError(
             f"m1 = {mp.nstr(mp.mpf(prob.m1), 3)} is below the real128 range (m1 >= {REAL128_MIN_M1}, "

@@ -77,6 +77,7 @@ __all__ = [
     "family_range",
     "birth_member",
     "seed",
+    "branch_from_birth",
     "newborn_orbit",
     "linear_orbit",
     "a1_structure",
@@ -359,16 +360,32 @@ def _seed(spec: FamilySpec, t: Tier) -> tuple[Member, Any]:
         return m, (E_s - _birth(spec, t)) / (u_s * u_s)
 
 
-def _path(
+def branch_from_birth(
     spec: FamilySpec,
     E_target: Any,
-    t: Tier,
+    digits: int | Tier | None = None,
     steps: int | None = None,
     traces: bool = False,
 ) -> Branch:
-    """The branch from the seed to ``E_target``, continued in ``E`` (Natural, ``steps``
-    values spaced in ``sqrt|E - E_n|``; ``traces``: ``tr M`` of every member); raises
-    :class:`~rotorlib.continuation.FamilyEnd` where it stops."""
+    """The family ``spec`` from its seed (:func:`seed`, beside the birth) to ``E_target``,
+    continued in ``E`` (natural continuation, :class:`~rotorlib.continuation.Natural`)
+    in the tier of ``digits``.
+
+    The ``steps`` energies (default: 4 to 40, by the distance covered) are equally
+    spaced in ``sqrt|E - E_n|``, the family's own scale near its birth, and end at
+    ``E_target`` (a decimal string keeps its digits in an extended tier); ``traces``
+    adds ``tr M`` of every member. Raises ValueError for an ``E_target`` on the side of
+    ``E_n`` where the family does not exist, and
+    :class:`~rotorlib.continuation.FamilyEnd` where the continuation stops.
+
+    Examples
+    --------
+    >>> from rotorlib.newborn import branch_from_birth, family_spec
+    >>> b = branch_from_birth(family_spec("IS^l_1"), 4.0, steps=4)
+    >>> len(b.members), float(b.members[-1].E)
+    (5, 4.0)
+    """
+    t = tier(digits)
     m0, c = seed(spec.label, t)
     with t.context():
         E_target = t.num(E_target)
@@ -451,7 +468,9 @@ def newborn_orbit(
     t_cont, t_out = _tiers(spec, digits)
     t0 = time.perf_counter()
     try:  # continuation steps from the seed: by the distance to birth
-        path = _path(spec, str(E) if t_cont.extended else float(E), t_cont).members
+        path = branch_from_birth(
+            spec, str(E) if t_cont.extended else float(E), t_cont
+        ).members
     except FamilyEnd:
         if t_cont.extended:
             raise

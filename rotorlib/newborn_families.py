@@ -32,7 +32,7 @@ from .newborn import (
     FAMILY_REACH,
     FamilyRangeError,
     FamilySpec,
-    _path,
+    branch_from_birth,
     family_range,
     family_spec,
     seed,
@@ -212,7 +212,7 @@ def family(
     if steps is not None:
         if float(hi) > top:
             raise FamilyRangeError(spec, E_range)
-        return _inside(_path(spec, hi, t, steps, traces), lo, hi, r_max)
+        return _inside(branch_from_birth(spec, hi, t, steps, traces), lo, hi, r_max)
     kw: dict[str, Any] = dict(
         t_max=_t_max(spec, t_max), chart=chart, jump=jump, max_steps=max_steps
     )

@@ -12,7 +12,7 @@ from __future__ import annotations
 import math
 from typing import Any
 
-__all__ = ["rounded", "sig", "bound", "glue"]
+__all__ = ["rounded", "sig", "bound", "difference", "glue"]
 
 
 def rounded(x: Any, digits: int, *, atol: float = 0.0) -> Any:
@@ -93,6 +93,18 @@ def bound(x: Any, tol: float) -> str:
     if not (math.isfinite(v) and v < tol):
         raise AssertionError(f"|x| = {v:.1g} is not below the bound {tol:.0e}")
     return f"< {tol:.0e}"
+
+
+def difference(x: float, floor: float = 1e-15) -> str:
+    """A difference of two locations or routes in words: one significant digit, or the
+    bound ``'< floor'`` below ``floor`` (float64's last bits by default).
+
+    Examples
+    --------
+    >>> difference(2.3e-13), difference(4e-17)
+    ('2e-13', '< 1e-15')
+    """
+    return f"{x:.0e}" if x >= floor else f"< {floor:.0e}"
 
 
 def glue(key: str, value: Any, digits: int | None = None, *, atol: float = 0.0) -> None:

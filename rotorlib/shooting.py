@@ -27,8 +27,9 @@ from collections.abc import Callable
 from dataclasses import dataclass, replace
 from typing import Any
 
-from .flow import Section, SectionNotReached, _rhs, to_section
+from .flow import Section, SectionNotReached, to_section
 from .precision import Tier, tier
+from .system import rhs_alpha
 
 __all__ = [
     "StartSet",
@@ -272,7 +273,7 @@ def _gradient(problem, u, w, x0, Phi, x1, t: Tier):
         dp_dK = (
             [bi / (2 * t.m.sqrt(K * _kin(st.b))) for bi in st.b] if K > 0 else [0, 0]
         )
-        f0 = _rhs(x0)
+        f0 = rhs_alpha(0.0, x0)
         dK_du = (
             0
             if problem.K_ref is not None
@@ -295,7 +296,7 @@ def _gradient(problem, u, w, x0, Phi, x1, t: Tier):
                 for a, b in zip(problem.state(u, w + h, t), problem.state(u, w - h, t))
             ],
         ]
-    f = _rhs(x1)
+    f = rhs_alpha(0.0, x1)
     s = problem.section.c
     sf = sum(si * fi for si, fi in zip(s, f))
     out = []

@@ -29,6 +29,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass, replace
 from typing import Any
 
+import mpmath as mp
 import numpy as np
 from numpy.typing import ArrayLike
 
@@ -136,26 +137,31 @@ def energy_beta(state: ArrayLike) -> Real:
     return q1**2 + 3.0 * q2**2 + potential_beta(b1, b2)
 
 
-def rhs_alpha(t: float, state: Sequence[float] | np.ndarray) -> np.ndarray:
+def rhs_alpha(t: float, state: Sequence[Any] | np.ndarray) -> np.ndarray:
     """Hamilton's equations in pendulum variables, ``d/dt [a1, a2, p1, p2]``.
+
+    ``state`` holds float64 numbers (or arrays of them: the equations act elementwise),
+    or a tier's ``mpmath.mpf`` numbers, evaluated in the current mpmath context (an
+    object array of mpf then; the crossing directions and projections of
+    :mod:`rotorlib.shooting`). The one statement of the equations outside heyoka's
+    (:func:`rotorlib.flow.equations_of_motion`).
 
     Examples
     --------
+    >>> import mpmath as mp
     >>> from rotorlib.system import rhs_alpha
     >>> rhs_alpha(0.0, [0.0, 0.0, 2.0, 2.0])  # at G: only the angles move
     array([ 1.,  3., -0., -0.])
+    >>> with mp.workdps(30):  # dp2/dt = -2 sin 1 at a1 = 0, a2 = 1
+    ...     print(mp.nstr(rhs_alpha(0.0, [0, mp.mpf(1), 0, 0])[3], 25))
+    -1.682941969615793013305005
     """
     a1, a2, p1, p2 = state
-    s_m = np.sin(a2 - a1)
-    s_p = np.sin(a1 + a2)
-    return np.array(
-        [
-            0.5 * p1,
-            1.5 * p2,
-            -(2.0 * np.sin(2.0 * a1) - s_m + s_p),
-            -(s_m + s_p),
-        ]
-    )
+    sin = mp.sin if any(isinstance(v, mp.mpf) for v in (a1, a2, p1, p2)) else np.sin
+    s_m, s_p = sin(a2 - a1), sin(a1 + a2)
+    # 0.5 p1 and 1.5 p2 round as p1 / 2 and 3 p2 / 2 do: a power of two scales exactly
+    f = [0.5 * p1, 1.5 * p2, -(2.0 * sin(2.0 * a1) - s_m + s_p), -(s_m + s_p)]
+    return np.array(f, dtype=object) if sin is mp.sin else np.array(f)
 
 
 def jacobian_alpha(state: Sequence[float] | np.ndarray) -> np.ndarray:

@@ -64,14 +64,14 @@ _END_OK = set(" \t-.,:;!?\\/'\")]}>")
 def _typeset_labels(line: str) -> str:
     """Family labels in docstring prose (``IS^l_3``, ``ISl6``, ``PD^b``) as :math:
     roles, outside inline literals and roles (``rotorlib.compare.label_tex``)."""
-    from rotorlib.compare import _LABEL_IN_TEXT_RE, label_tex
+    from rotorlib.compare import LABEL_IN_TEXT_RE, label_tex
 
     if _TABLE_LINE.match(line) or line.lstrip().startswith((">>>", "... ")):
         return line
     parts = _LITERAL.split(line)
     for i in range(0, len(parts), 2):  # even = outside literals and roles
         text, out, pos = parts[i], [], 0
-        for m in _LABEL_IN_TEXT_RE.finditer(text):
+        for m in LABEL_IN_TEXT_RE.finditer(text):
             before = text[m.start() - 1] if m.start() else (" " if i == 0 else "`")
             after = text[m.end()] if m.end() < len(text) else " "
             if before == ":" or after == "`":

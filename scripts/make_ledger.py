@@ -211,9 +211,9 @@ def pretty(text: str) -> str:
 
 
 def _labels(text: str) -> frozenset[str]:
-    from rotorlib.compare import _LABEL_IN_TEXT_RE
+    from rotorlib.compare import LABEL_IN_TEXT_RE
 
-    return frozenset(label_tex(m) for m in _LABEL_IN_TEXT_RE.findall(text))
+    return frozenset(label_tex(m) for m in LABEL_IN_TEXT_RE.findall(text))
 
 
 def category_of(rec: dict) -> str:

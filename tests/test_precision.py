@@ -14,8 +14,8 @@ import pytest
 
 import rotorlib as rl
 from rotorlib.floquet import _monodromy
-from rotorlib.hill import _solve_hill, hill_problem, precision_tier, solve_hill
-from rotorlib.precision import FLOAT64, Tier, tier
+from rotorlib.hill import hill_problem, precision_tier, solve_hill
+from rotorlib.precision import Tier, tier
 
 HEYOKA = rl.heyoka_available()
 needs_heyoka = pytest.mark.skipif(not HEYOKA, reason="heyoka not installed")
@@ -117,7 +117,7 @@ def test_variational_reports_precision():
 
 
 def test_hill_solution_reports_precision():
-    sol = _solve_hill(hill_problem(rl.pendulum(E=3.0)), "scipy", FLOAT64)
+    sol = solve_hill(hill_problem(rl.pendulum(E=3.0)), integrator="scipy")
     assert (sol.backend, sol.precision) == ("scipy", "float64") and sol.steps > 0
     sol = solve_hill(hill_problem(rl.pendulum(E=3.0)))
     assert (sol.backend, sol.precision) == ("heyoka" if HEYOKA else "scipy", "float64")
@@ -221,8 +221,8 @@ def test_looser_tol_is_less_accurate_and_cheaper(backend):
     o = rl.pendulum(log_abs_dE=-21.5, phase="rot")
     prob = hill_problem(o)
     ref = rl.monodromy(o, digits=30).trace if HEYOKA else rl.monodromy(o).trace
-    loose = _solve_hill(prob, backend, FLOAT64, tol=1e-6)
-    tight = _solve_hill(prob, backend, FLOAT64)
+    loose = solve_hill(prob, tol=1e-6, integrator=backend)
+    tight = solve_hill(prob, integrator=backend)
     err = lambda s: abs(2.0 + s.delta - ref)  # noqa: E731  (rotation: tr M = 2 + Delta)
     assert err(tight) < 1e-12 < err(loose) < 1e-4
     if backend == "scipy":

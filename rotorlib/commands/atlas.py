@@ -50,12 +50,12 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from ..atlas import _check, census
+    from ..atlas import census, check_census
     from ..parallel import executor_for
 
     energies = [as_float(v, "E") for v in args.E]
     t_max = as_float(args.t_max, "--t-max")
-    _check(energies, t_max, args.grid)  # refuses before any work is done
+    check_census(energies, t_max, args.grid)  # refuses before any work is done
     with executor_for(args.workers, args.scheduler) as ex:
         recs: list = [  # one per orbit, in order of energy and period
             o.to_dict()
