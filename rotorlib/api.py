@@ -19,15 +19,18 @@ result has ``label``, ``E``, ``period``, ``trace``, ``multipliers``, ``stability
 from __future__ import annotations
 
 import math
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import mpmath as mp
 import numpy as np
 
-from .bifurcations import is_breather_label, parse_label
-from .branch import energy_range
+from .bifurcations import Transition, is_breather_label, parse_label
+from .branch import Branch, energy_range
 from .periodic import PeriodicOrbit
 from .precision import Tier, check_digits
+
+if TYPE_CHECKING:  # imported when called: import rotorlib stays light
+    from .atlas import Atlas
 
 __all__ = ["orbit", "family", "transition", "census", "LABELS"]
 
@@ -193,7 +196,7 @@ def orbit(
 
 def family(
     label: str, E_range: tuple[float, float], *, digits: int | Tier | None = None
-) -> Any:
+) -> Branch:
     """The family ``label`` followed over ``E_range = (lo, hi)``.
 
     Members lie inside ``E_range``, never outside it; the special points (folds, the
@@ -228,7 +231,7 @@ def family(
     )
 
 
-def transition(label: str, *, digits: int | Tier | None = None) -> Any:
+def transition(label: str, *, digits: int | Tier | None = None) -> Transition:
     """The stability transition ``label`` of the pendulum (``IS^l_n``, ``PD^r_n``, ...) or
     of the breather (``PD^b``): exact decimal energy, period and kind.
 
@@ -251,7 +254,7 @@ def census(
     digits: int | Tier | None = None,
     workers: int | None = None,
     scheduler: str | None = None,
-) -> Any:
+) -> Atlas:
     """Every symmetric periodic orbit with period ``<= t_max`` at energy ``E``.
 
     ``workers`` processes (or a Dask ``scheduler`` address) share the work; the result

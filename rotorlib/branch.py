@@ -317,7 +317,7 @@ class Branch:
 
 def energy_range(E_range: Sequence[Any]) -> tuple[float, float]:
     """``E_range = (lo, hi)`` as floats, checked: two finite energies with ``lo < hi``
-    (the range of every family, :func:`rotorlib.family`). Raises ValueError otherwise.
+    (the range of every family, :func:`rotorlib.api.family`). Raises ValueError otherwise.
 
     Examples
     --------

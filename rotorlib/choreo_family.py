@@ -438,8 +438,8 @@ def locate_member(
     Examples
     --------
     >>> from rotorlib.choreo_family import locate_member
-    >>> m = locate_member(lambda m: m.trace_reduced - 4, -1.46, -1.50, 5.3)  # the fold
-    >>> round(float(m.E), 9)
+    >>> m = locate_member(lambda m: m.trace_reduced - 4, -1.46, -1.50, 5.3)
+    >>> round(float(m.E), 9)  # the fold: tr DP = 4
     5.315323913
     """
     t = tier(digits)

@@ -42,6 +42,7 @@ __all__ = [
     "crossings",
     "flow",
     "monodromy_matrix",
+    "states_at",
     "sample",
     "extrema",
 ]

@@ -80,6 +80,8 @@ def test_orbit_digits_are_one_knob():
         (lambda: rotorlib.orbit("pendulum", -1.0), "E"),
         (lambda: rotorlib.orbit("CG", 6.0), "fold"),
         (lambda: rotorlib.family("IS^l_1", (3.99, 3.9)), "lo < hi"),
+        (lambda: rotorlib.family("CG", (5.0, float("inf"))), "two finite energies"),
+        (lambda: rotorlib.family("CZ1", (float("nan"), 5.0)), "two finite energies"),
         (lambda: rotorlib.family("pendulumX", (3.9, 3.99)), "unknown family label"),
         (lambda: rotorlib.transition("XYl1"), "label"),
     ],

@@ -254,3 +254,18 @@ def test_heyoka_disk_cache_is_bounded(monkeypatch):
     monkeypatch.delenv("ROTORLIB_HEYOKA_CACHE_MB")
     precision.load_heyoka()
     assert hy.llvm_state.get_diskcache_limit() == precision.HEYOKA_CACHE_MB * 2**20
+
+
+def test_solve_hill_integrator_chooses_the_method_not_the_precision():
+    """``integrator=`` forces one integrator of the public ``solve_hill`` (to check one
+    against another); the precision is still ``digits``."""
+    prob = hill_problem(rl.pendulum(E=1.0))
+    a = solve_hill(prob, integrator="scipy")
+    b = solve_hill(prob, integrator="mpmath")  # 20 working digits for float64
+    assert (a.backend, a.precision) == ("scipy", "float64")
+    assert (b.backend, b.precision) == ("mpmath", "mp70")
+    assert abs(a.delta - b.delta) < 1e-12
+    with pytest.raises(ValueError, match="scipy integrates in float64 only"):
+        solve_hill(hill_problem(rl.pendulum(E=1.0), 20), 20, integrator="scipy")
+    with pytest.raises(ValueError, match="integrator must be heyoka, scipy or mpmath"):
+        solve_hill(prob, integrator="fortran")
