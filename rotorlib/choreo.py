@@ -420,9 +420,10 @@ def amplitude_at_energy(
     p: ShootingProblem, a: float, b: float, Ea: float, Eb: float, E: float
 ) -> float:
     """The amplitude ``u`` in ``(a, b)`` where the member of the problem ``p`` has energy
-    ``E`` (``E(u)`` monotone there, ``E(a) = Ea``, ``E(b) = Eb``), float64: the Illinois
-    method on ``E(u) - E`` to ``2e-16 E``, each ``u`` solved for its energy by the engine
-    (robust beside a fold, where a secant at fixed ``E`` is not).
+    ``E`` (``E(u)`` monotone there, ``E(a) = Ea``, ``E(b) = Eb``), float64: the engine's
+    Illinois method (:func:`rotorlib.continuation.illinois`) on ``E(u) - E`` to
+    ``2e-16 E``, each ``u`` solved for its energy by the engine (robust beside a fold,
+    where a secant at fixed ``E`` is not).
 
     Examples
     --------
@@ -433,19 +434,15 @@ def amplitude_at_energy(
     >>> bool(min(a.u, b.u) < u < max(a.u, b.u))
     True
     """
-    ga, gb = Ea - E, Eb - E
-    c, last = a, None
-    for _ in range(200):
-        c = (a * gb - b * ga) / (gb - ga)
-        gc = float(solve(p, E, u=c).x) - E
-        if gc == 0 or abs(gc) < 2e-16 * E or (last is not None and c == last):
-            break
-        last = c
-        if (gc > 0) == (gb > 0):
-            b, gb, ga = c, gc, ga / 2
-        else:
-            a, ga, gb = c, gc, gb / 2
-    return c
+    from .continuation import illinois
+
+    def at(v: float) -> tuple[float, float]:  # (u, E(u) - E)
+        return a + v, float(solve(p, E, u=a + v).x) - E
+
+    def g(m: tuple[float, float]) -> float:  # zero once E(u) is E to 2e-16 E
+        return 0.0 if abs(m[1]) < 2e-16 * E else m[1]
+
+    return illinois(g, at, b - a, Ea - E, Eb - E, 0.0, maxiter=200)[0]
 
 
 def choreo_branch(
