@@ -1,6 +1,6 @@
 """Wall time of one atlas census: serial, on a 2-process pool and on 2 Dask workers.
 
-The census (``rotorlib.atlas.census``, by default at E = 5.45, T_max = 16, grid 300,
+The census (``rotorlib.beyond.atlas.census``, by default at E = 5.45, T_max = 16, grid 300,
 named: about 23 s of one core) is timed ``--repeat`` times on each executor, in turn
 (serial, process pool, Dask), and every result is checked to be the serial one, orbit by
 orbit and digit by digit (``to_dict()`` and start parameter). Each
@@ -30,7 +30,7 @@ from concurrent.futures import Executor, ProcessPoolExecutor
 
 import psutil  # a dependency of distributed
 
-from rotorlib.atlas import Atlas, census
+from rotorlib.beyond.atlas import Atlas, census
 
 
 def fingerprint(a: Atlas) -> list:

@@ -19,14 +19,14 @@ def main():
     p = subprocess.run(cli + args, capture_output=True, text=True, check=True)
     wall = time.perf_counter() - t0
     recs = json.loads(p.stdout)
-    from rotorlib.bifurcations import transitions
+    from rotorlib.paper.bifurcations import transitions
 
     t0 = time.perf_counter()
     trs = transitions(phase="both", n_max=20)
     lib = time.perf_counter() - t0
     print(
         f"bifurcations --n-max 20 --phase both: {len(recs)} transitions, {wall:.2f} s wall (CLI), "
-        f"{lib:.2f} s in rotorlib.bifurcations.transitions (requirement: < 60 s)"
+        f"{lib:.2f} s in rotorlib.paper.bifurcations.transitions (requirement: < 60 s)"
     )
     assert len(recs) == len(trs) == 80
     return 0 if wall < 60 else 1

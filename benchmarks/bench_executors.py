@@ -1,4 +1,4 @@
-"""Overhead per task of rotorlib.parallel.pmap on a process pool and on a Dask cluster.
+"""Overhead per task of rotorlib.core.parallel.pmap on a process pool and on a Dask cluster.
 
 Maps a function that does nothing over N items with 2 workers: serially, on a
 ``ProcessPoolExecutor(2)`` (``executor_for(workers=2)``) and on a local Dask
@@ -18,7 +18,7 @@ import argparse
 import contextlib
 import time
 
-from rotorlib.parallel import executor_for, pmap
+from rotorlib.core.parallel import executor_for, pmap
 
 
 def noop(x):

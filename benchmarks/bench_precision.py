@@ -25,9 +25,9 @@ from dataclasses import dataclass
 import mpmath as mp
 
 import rotorlib as rl
-from rotorlib.flow import monodromy_matrix
-from rotorlib.hill import hill_problem, solve_hill
-from rotorlib.precision import FLOAT64, Tier
+from rotorlib.core.flow import monodromy_matrix
+from rotorlib.core.precision import FLOAT64, Tier
+from rotorlib.orbits.hill import hill_problem, solve_hill
 
 #: Digits of the reference computation (heyoka multiprecision, ~260 bits).
 REF_DIGITS = 70
@@ -270,7 +270,7 @@ def locate_methods(quick=False):
         return mp.mpf(brentq(f, *br, xtol=1e-15, rtol=1e-15)), n[0]
 
     def mp_locator(digits):
-        from rotorlib.bifurcations import delta_mp
+        from rotorlib.paper.bifurcations import delta_mp
 
         def run(br, phase, c):
             n = [0]
@@ -311,7 +311,7 @@ def locate_methods(quick=False):
 
 def reference_root(case=IS_L7, digits=REF_DIGITS, near=None):
     """The transition at ``digits`` digits (secant from ``near``, default the float64 root)."""
-    from rotorlib.bifurcations import refine_mp
+    from rotorlib.paper.bifurcations import refine_mp
 
     c = _target(case["phase"], case["bracket"])
     if near is None:

@@ -1,9 +1,9 @@
-"""Cost of the quantum spectrum (rotorlib.quantum) against hbar, printed, never asserted.
+"""Cost of the quantum spectrum (rotorlib.beyond.quantum) against hbar, printed, never asserted.
 
 For each hbar: every sector below ``E_max`` (default 6.5), each in a fresh worker process
 (``max_tasks_per_child=1``) so that its peak resident memory is its own: plane waves, block
 size, levels, seconds, peak memory, convergence and the method. Then the whole spectrum at
-the smallest hbar through ``rotorlib.parallel.pmap`` on the pool (wall time)::
+the smallest hbar through ``rotorlib.core.parallel.pmap`` on the pool (wall time)::
 
     .venv/bin/python benchmarks/bench_quantum.py                   # hbar 0.2 0.1 0.05 (~2 min)
     .venv/bin/python benchmarks/bench_quantum.py --hbar 0.02 --no-whole  # ~31,700 levels
@@ -16,7 +16,7 @@ import resource
 import time
 from concurrent.futures import ProcessPoolExecutor
 
-from rotorlib import quantum
+from rotorlib.beyond import quantum
 
 
 def one(args):

@@ -41,25 +41,20 @@ parallel              --      sweeps on a process pool or a Dask cluster (pmap)
 """
 
 from .api import LABELS, census, family, orbit, transition
-from .energy import BreatherEnergy, PendulumEnergy, breather_energy, pendulum_energy
-from .floquet import (
-    Monodromy,
-    monodromy,
-    multipliers_from_trace,
-    textbook_monodromy,
-    trace_monodromy,
-    variational_monodromy,
-)
-from .hill import heyoka_available, precision_tier
-from .orbits import (
+from .core.closed_forms import (
     BreatherOrbit,
     PendulumOrbit,
     breather,
     pendulum,
     separatrix_pendulum_state,
 )
-from .periodic import PeriodicOrbit
-from .system import (
+from .core.energy import (
+    BreatherEnergy,
+    PendulumEnergy,
+    breather_energy,
+    pendulum_energy,
+)
+from .core.system import (
     BREATHER_SEPARATRIX_ENERGY,
     SEPARATRIX_ENERGY,
     CriticalPoint,
@@ -69,6 +64,16 @@ from .system import (
     potential_phi,
     rhs_alpha,
 )
+from .orbits.floquet import (
+    Monodromy,
+    monodromy,
+    multipliers_from_trace,
+    textbook_monodromy,
+    trace_monodromy,
+    variational_monodromy,
+)
+from .orbits.hill import heyoka_available, precision_tier
+from .orbits.periodic_orbit import PeriodicOrbit
 
 __version__ = "0.1.0"
 

@@ -3,10 +3,10 @@
 ==========================================  =================================================
 call                                        returns
 ==========================================  =================================================
-``orbit(label, E, *, digits=None)``         one :class:`~rotorlib.periodic.PeriodicOrbit`
-``family(label, E_range, *, digits=None)``  one :class:`~rotorlib.continuation.Branch`
-``transition(label, *, digits=None)``       one :class:`~rotorlib.bifurcations.Transition`
-``census(E, t_max, *, digits=None, ...)``   one :class:`~rotorlib.atlas.Atlas`
+``orbit(label, E, *, digits=None)``         one :class:`~rotorlib.orbits.periodic_orbit.PeriodicOrbit`
+``family(label, E_range, *, digits=None)``  one :class:`~rotorlib.orbits.continuation.Branch`
+``transition(label, *, digits=None)``       one :class:`~rotorlib.paper.bifurcations.Transition`
+``census(E, t_max, *, digits=None, ...)``   one :class:`~rotorlib.beyond.atlas.Atlas`
 ==========================================  =================================================
 
 ``digits=None`` is float64 (near a separatrix the tier that keeps 15 digits); an integer
@@ -24,13 +24,13 @@ from typing import TYPE_CHECKING, Any
 import mpmath as mp
 import numpy as np
 
-from .bifurcations import Transition, is_breather_label, parse_label
-from .branch import Branch, energy_range
-from .periodic import PeriodicOrbit
-from .precision import Tier, check_digits
+from .core.precision import Tier, check_digits
+from .orbits.family import Branch, energy_range
+from .orbits.periodic_orbit import PeriodicOrbit
+from .paper.bifurcations import Transition, is_breather_label, parse_label
 
 if TYPE_CHECKING:  # imported when called: import rotorlib stays light
-    from .atlas import Atlas
+    from .beyond.atlas import Atlas
 
 __all__ = ["orbit", "family", "transition", "census", "LABELS"]
 
@@ -46,7 +46,7 @@ LABELS = {
 def _kind(label: str) -> tuple[str, str]:
     """``(kind, label)``: the kind in :data:`LABELS` that ``label`` names (``unknown``:
     none) and its spelling for that kind's module (a newborn label as given: the module
-    reads it with :func:`~rotorlib.bifurcations.parse_label`, as :func:`transition` does)."""
+    reads it with :func:`~rotorlib.paper.bifurcations.parse_label`, as :func:`transition` does)."""
     lab = str(label).strip()
     if lab.lower() in ("pendulum", "p"):
         return "closed form", "pendulum"
@@ -71,8 +71,8 @@ def _digits(digits: int | Tier | None) -> int | None:
 def _closed_form(label: str, E: Any, digits: int | None) -> PeriodicOrbit:
     """A pendulum or breather as a PeriodicOrbit: state from the closed form, monodromy and
     trace from the symmetry-reduced (Hill) problem at ``digits``."""
-    from .floquet import monodromy
-    from .orbits import breather, pendulum
+    from .core.closed_forms import breather, pendulum
+    from .orbits.floquet import monodromy
 
     orb = pendulum(E) if label == "pendulum" else breather(E, family=label)
     m = monodromy(orb, digits=digits)
@@ -170,7 +170,7 @@ def orbit(
     d = _digits(digits)
     kind, lab = _kind(label)
     if kind == "choreography":
-        from .choreo_family import choreography_orbit
+        from .beyond.choreo_family import choreography_orbit
 
         return choreography_orbit(lab, E, digits=d, branch=branch)
     if branch:
@@ -181,11 +181,11 @@ def orbit(
     if kind == "closed form":
         return _closed_form(lab, E, d)
     if kind == "breather daughter":
-        from .breather_bifurcation import breather_daughter
+        from .paper.breathers import breather_daughter
 
         return breather_daughter(E, digits=d)
     if kind == "newborn":
-        from .newborn import newborn_orbit
+        from .paper.newborn import newborn_orbit
 
         return newborn_orbit(lab, E, digits=d)
     raise ValueError(
@@ -214,15 +214,15 @@ def family(
     kind, lab = _kind(label)
     d = _digits(digits)
     if kind == "choreography":
-        from . import choreo_family
+        from .beyond import choreo_family
 
         if lab in ("CG", "CT"):
             return choreo_family.family(lab, (lo, hi), digits=d)
-        from .choreo_z3 import z3_family
+        from .beyond.choreo_z3 import z3_family
 
         return z3_family(lab, (lo, hi), digits=d)
     if kind == "newborn":
-        from .newborn import family as _family
+        from .paper.newborn import family as _family
 
         return _family(lab, (lo, hi), digits=digits)
     raise ValueError(
@@ -242,7 +242,7 @@ def transition(label: str, *, digits: int | Tier | None = None) -> Transition:
     >>> tr.kind, tr.label
     ('IS', 'IS^l_2')
     """
-    from .bifurcations import transition as _transition
+    from .paper.bifurcations import transition as _transition
 
     return _transition(label, digits=digits)
 
@@ -267,8 +267,8 @@ def census(
     >>> [o.label for o in a.orbits][:2]
     ['pendulum', 'CG']
     """
-    from .atlas import census as _census
-    from .parallel import executor_for
+    from .beyond.atlas import census as _census
+    from .core.parallel import executor_for
 
     with executor_for(workers, scheduler) as ex:  # None: serial
         return _census(E, t_max, digits=_digits(digits), executor=ex)

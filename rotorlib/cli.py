@@ -16,7 +16,7 @@ import sys
 from collections.abc import Sequence
 from typing import Any
 
-from .precision import DIGITS_RANGE, check_digits
+from .core.precision import DIGITS_RANGE, check_digits
 
 #: Command modules, in help order. A module missing from the package is skipped.
 COMMANDS = ("trace", "bifurcations", "orbit", "family", "atlas", "spectrum")
@@ -61,7 +61,7 @@ def build_parser(prog: str = "python -m rotorlib") -> argparse.ArgumentParser:
 
 
 class _Digits(argparse.Action):
-    """Stores ``--digits`` once :func:`rotorlib.precision.check_digits` accepts it (a
+    """Stores ``--digits`` once :func:`rotorlib.core.precision.check_digits` accepts it (a
     ``ValueError`` otherwise: the one range and message of every command)."""
 
     def __call__(self, parser, namespace, values, option_string=None):
@@ -70,7 +70,7 @@ class _Digits(argparse.Action):
 
 def add_digits_argument(p: argparse.ArgumentParser, detail: str) -> None:
     """``--digits D``, the one precision option of every command: an integer in
-    :data:`rotorlib.precision.DIGITS_RANGE` (default float64), checked as it is read;
+    :data:`rotorlib.core.precision.DIGITS_RANGE` (default float64), checked as it is read;
     ``detail`` says what the command does with it.
 
     Examples
@@ -98,7 +98,7 @@ def add_digits_argument(p: argparse.ArgumentParser, detail: str) -> None:
 
 def add_executor_arguments(p: argparse.ArgumentParser) -> None:
     """``--workers N`` or ``--scheduler ADDRESS`` (one of them): where a scanning command
-    runs, for :func:`rotorlib.parallel.executor_for`."""
+    runs, for :func:`rotorlib.core.parallel.executor_for`."""
     g = p.add_mutually_exclusive_group()
     g.add_argument("--workers", type=int, default=None, help="local worker processes")
     g.add_argument(

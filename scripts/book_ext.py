@@ -63,8 +63,8 @@ _END_OK = set(" \t-.,:;!?\\/'\")]}>")
 
 def _typeset_labels(line: str) -> str:
     """Family labels in docstring prose (``IS^l_3``, ``ISl6``, ``PD^b``) as :math:
-    roles, outside inline literals and roles (``rotorlib.compare.label_tex``)."""
-    from rotorlib.compare import LABEL_IN_TEXT_RE, label_tex
+    roles, outside inline literals and roles (``rotorlib.core.compare.label_tex``)."""
+    from rotorlib.core.compare import LABEL_IN_TEXT_RE, label_tex
 
     if _TABLE_LINE.match(line) or line.lstrip().startswith((">>>", "... ")):
         return line

@@ -1,21 +1,21 @@
 """Every symmetric choreography with T <= 16 at a set of energies, and its family (a data product).
 
 Writes book/data/choreographies_T16.json. For each energy of ENERGIES the census of
-symmetric periodic orbits with period <= T_MAX (``rotorlib.atlas.census``) is taken and
-each orbit tested with ``rotorlib.choreo.choreography_of`` (``x(T/3) = C x(0)`` modulo
+symmetric periodic orbits with period <= T_MAX (``rotorlib.beyond.atlas.census``) is taken and
+each orbit tested with ``rotorlib.beyond.choreo.choreography_of`` (``x(T/3) = C x(0)`` modulo
 the lattice). Each choreography not already on a family found before is followed with the
-engine through 3 <= E <= 8 (pseudo-arclength as ``rotorlib.atlas_families``,
+engine through 3 <= E <= 8 (pseudo-arclength as ``rotorlib.beyond.atlas_families``,
 through folds, ``tr M`` of every member, folds and crossings of 4 and 0 located; a family
 stops where its period exceeds 40) and the reduced trace ``tr DP`` of every member
-is computed (``rotorlib.choreo.reduced_trace``: order 6 for the D6 rotating waves, 3 for
+is computed (``rotorlib.beyond.choreo.reduced_trace``: order 6 for the D6 rotating waves, 3 for
 the others); the families are labelled CZk (non-rotating, Z3 only), CRk (rotating), CXk
-(other D6 rotating waves). CG and CT are recognised (``rotorlib.choreo.atlas_name``) and not
-followed here: ``rotorlib.choreo_family`` follows them. Chapter 10 (choreographies) reads
+(other D6 rotating waves). CG and CT are recognised (``rotorlib.beyond.choreo.atlas_name``) and not
+followed here: ``rotorlib.beyond.choreo_family`` follows them. Chapter 10 (choreographies) reads
 the file and checks it: CG and CT against its own family, and the census orbit of every
 other family re-integrated (it closes and is a choreography).
 
 Each family labelled CZ1, CZ2 or CR1 also gets its special points located to 30 digits
-(``rotorlib.choreo_z3.z3_points(label, 30)``: float64 and real128, with their agreement).
+(``rotorlib.beyond.choreo_z3.z3_points(label, 30)``: float64 and real128, with their agreement).
 Then the touches of CG (``tr M`` = 4 at theta = pi/3, 0 at theta = pi/6, no change of
 stability): a census just below and just above each (T up to 1 or 2 periods of CG), the
 near-resonant orbits found (``|tr M - 4| < 1e-3``, period within 30 % of T or 2T)
@@ -25,8 +25,8 @@ and each one's family followed with the engine up in energy to where it ends
 Scope: T <= 16 at E = 4.6 and 5.6 (chapter 9's census at 5.45 is read from its own data
 product by the chapter); at most 150 continuation steps of 0.05 each way. The censuses are
 cached in /tmp (choreo_census_<E>_<T_MAX>.pickle) so that a rerun of the families is cheap.
-About ten minutes of two cores. Re-run after changing rotorlib.atlas, the engine or
-rotorlib.choreo: python scripts/choreo_census.py
+About ten minutes of two cores. Re-run after changing rotorlib.beyond.atlas, the engine or
+rotorlib.beyond.choreo: python scripts/choreo_census.py
 """
 
 from __future__ import annotations
@@ -41,13 +41,13 @@ from pathlib import Path
 
 import numpy as np
 
-from rotorlib import atlas
-from rotorlib.choreo import atlas_name, choreography_of, reduced_trace
-from rotorlib.choreo_family import special_points
-from rotorlib.choreo_z3 import Z3_FAMILIES, z3_points
-from rotorlib.continuation import PALC, ContinuationOptions, continuation, member
-from rotorlib.flow import flow
-from rotorlib.shooting import residual
+from rotorlib.beyond import atlas
+from rotorlib.beyond.choreo import atlas_name, choreography_of, reduced_trace
+from rotorlib.beyond.choreo_family import special_points
+from rotorlib.beyond.choreo_z3 import Z3_FAMILIES, z3_points
+from rotorlib.core.flow import flow
+from rotorlib.orbits.continuation import PALC, ContinuationOptions, continuation, member
+from rotorlib.orbits.shooting import residual
 
 ROOT = Path(__file__).resolve().parents[1]
 OUT = ROOT / "book" / "data" / "choreographies_T16.json"
@@ -181,7 +181,7 @@ def _on(fam, E, T, rel=2e-3):
 
 def follow(o, lo, hi, step, T_cap):
     """The family of the atlas orbit ``o`` through ``lo <= E <= hi`` in both directions
-    (as ``rotorlib.atlas_families.families``, but up to the period ``T_cap``)."""
+    (as ``rotorlib.beyond.atlas_families.families``, but up to the period ``T_cap``)."""
     sh = residual(o.extra["problem"], o.extra["u"], o.E)
     factor = float(Fraction(o.period / float(sh.t1)).limit_denominator(48))
     prob = replace(o.extra["problem"], factor=factor)
@@ -298,7 +298,7 @@ def main():
                     }
                 )
                 print(f"E = {E}: {label} T = {o.period:.6f} {c}", flush=True)
-                if label not in ("CG", "CT"):  # those: rotorlib.choreo_family
+                if label not in ("CG", "CT"):  # those: rotorlib.beyond.choreo_family
                     tasks.append((o, c, E))
         _write(found, [], t0)
         families = []  # 2. their families, merged where one contains another's orbit

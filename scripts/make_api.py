@@ -22,16 +22,16 @@ OUT = ROOT / "book" / "api.md"
 FIRST = [
     "rotorlib",
     "rotorlib.api",
-    "rotorlib.system",
-    "rotorlib.energy",
-    "rotorlib.elliptic",
-    "rotorlib.orbits",
-    "rotorlib.hill",
-    "rotorlib.floquet",
-    "rotorlib.flow",
-    "rotorlib.periodic",
+    "rotorlib.core.system",
+    "rotorlib.core.energy",
+    "rotorlib.core.elliptic",
+    "rotorlib.core.closed_forms",
+    "rotorlib.orbits.hill",
+    "rotorlib.orbits.floquet",
+    "rotorlib.core.flow",
+    "rotorlib.orbits.periodic_orbit",
 ]
-LAST = ["rotorlib.parallel", "rotorlib.cli", "rotorlib.commands"]
+LAST = ["rotorlib.core.parallel", "rotorlib.cli", "rotorlib.commands"]
 
 
 def modules() -> list[str]:

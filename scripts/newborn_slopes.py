@@ -3,7 +3,7 @@
     .venv/bin/python scripts/newborn_slopes.py [--workers 2] [--out PATH]
 
 Writes book/data/newborn_slopes.json: for IS^l_1..4, IS^r_1..4 and PD^r_1..6, the fork fit
-of the newborn family at birth (``rotorlib.laws.newborn_slope``: five members at
+of the newborn family at birth (``rotorlib.paper.newborn_laws.newborn_slope``: five members at
 ``E_n + r |E_n - 4|``, ``r = 2e-4 ... 4e-3``) with the pendulum's slope by two routes. About
 a minute of CPU, the largest part of chapter 06's run time: chapter 06 reads this file and
 recomputes four of the fits itself to check it.
@@ -23,7 +23,7 @@ sys.path.insert(0, str(ROOT))
 from data_product import arguments, write_json  # noqa: E402
 
 from rotorlib import laws  # noqa: E402
-from rotorlib.parallel import pmap  # noqa: E402
+from rotorlib.core.parallel import pmap  # noqa: E402
 
 LABELS = [f"IS^{p}_{n}" for p in "lr" for n in range(1, 5)]
 LABELS += [f"PD^r_{n}" for n in range(1, 7)]
@@ -45,7 +45,7 @@ def main(argv=None) -> int:
         records.append(d)
     data = {
         "precision": "pendulum slope: two routes agree to < 1e-9 relative; newborn "
-        "slope: fork fit of members at the tier's precision (rotorlib.laws.newborn_slope)",
+        "slope: fork fit of members at the tier's precision (rotorlib.paper.newborn_laws.newborn_slope)",
         "generated_by": "scripts/newborn_slopes.py",
         "slopes": records,
     }

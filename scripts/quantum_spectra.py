@@ -5,7 +5,7 @@
 Writes book/data/quantum_spectra.npz: every level of every symmetry sector at
 hbar = 0.03 below E = 8 (about 20,000 levels with multiplicity) and at hbar = 0.02 below
 E = 6.5 (about 30,000), with each sector's convergence estimate and cut-off
-(``rotorlib.quantum.spectrum``). Several minutes: chapter 11 reads the file and checks it
+(``rotorlib.beyond.quantum.spectrum``). Several minutes: chapter 11 reads the file and checks it
 against levels it recomputes itself (the A1 sector at hbar = 0.03 below E = 4).
 """
 

@@ -4,9 +4,9 @@
 
 Writes book/data/rotational_members.json: each member of a rotational newborn family
 (IS^r_3..8, PD^r_3..8) that the paper's ratios alpha^r(n), beta^r(n) need for n = 3..6
-(``rotorlib.laws.rotational_members``: the family followed from its birth in the ``K``
+(``rotorlib.paper.newborn_laws.rotational_members``: the family followed from its birth in the ``K``
 chart to the bifurcation energy of the similar member two steps below it), as
-``rotorlib.laws.rotational_record`` (the member's JSON with ``E - 4``, its amplitudes
+``rotorlib.paper.newborn_laws.rotational_record`` (the member's JSON with ``E - 4``, its amplitudes
 ``a1_max``, ``a2dot_min`` and closure); or, for a family that ends below the energy
 asked for, why. About 2 minutes of CPU (one minute on two cores): too long to run twice in
 every CI run (book build and nbval), so chapter 06 reads this file, forms the ratios from
@@ -32,7 +32,7 @@ OUT = ROOT / "book" / "data" / "rotational_members.json"
 
 
 def as_record(label, dE, m) -> dict:
-    """A member (``rotorlib.laws.rotational_record``), or the reason it does not exist."""
+    """A member (``rotorlib.paper.newborn_laws.rotational_record``), or the reason it does not exist."""
     key = "not_reached" if isinstance(m, str) else "member"
     return {"label": label, "dE_target": dE, key: m}
 
@@ -48,7 +48,7 @@ def main(argv=None) -> int:
         "specs": [list(s) for s in SPECS],
         "precision": "members located to ~1e-15 (float64) or ~1e-30 (real128) in E - 4; "
         "a1max, a2'min to ~1e-8 (float64 members) or ~1e-15 (real128) relative; tr M "
-        "to ~5e-4 relative at the deepest members (rotorlib.laws.rotational_member)",
+        "to ~5e-4 relative at the deepest members (rotorlib.paper.newborn_laws.rotational_member)",
         "generated_by": "scripts/rotational_members.py",
         "members": [as_record(lab, dE, m) for (lab, dE), m in found.items()],
     }

@@ -16,7 +16,7 @@ import mpmath as mp
 import pytest
 
 import rotorlib
-from rotorlib.precision import Tier
+from rotorlib.core.precision import Tier
 
 requires_heyoka = pytest.mark.skipif(
     not rotorlib.heyoka_available(), reason="heyoka not installed"

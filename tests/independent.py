@@ -18,7 +18,7 @@ import functools
 import mpmath as mp
 
 import rotorlib
-from rotorlib.precision import Tier
+from rotorlib.core.precision import Tier
 
 
 def _run(state, period, bits, dps):

@@ -7,10 +7,15 @@ import math
 import mpmath as mp
 import pytest
 
-from rotorlib.bifurcations import transition
-from rotorlib.continuation import ContinuationOptions, FamilyEnd, Natural, continuation
-from rotorlib.floquet import monodromy, trace_monodromy
-from rotorlib.newborn import family, family_spec, seed
+from rotorlib.orbits.continuation import (
+    ContinuationOptions,
+    FamilyEnd,
+    Natural,
+    continuation,
+)
+from rotorlib.orbits.floquet import monodromy, trace_monodromy
+from rotorlib.paper.bifurcations import transition
+from rotorlib.paper.newborn import family, family_spec, seed
 
 
 def test_trace_monodromy_returns_the_extended_value():
@@ -77,12 +82,12 @@ def test_branch_says_why_it_stopped():
     b = _natural([])
     assert b.stop == "values" and b.reason.startswith("values: ended after 1 members")
     assert issubclass(FamilyEnd, ValueError)
-    assert not hasattr(__import__("rotorlib.shooting").shooting, "FamilyEnd")
+    assert not hasattr(__import__("rotorlib.orbits.shooting").shooting, "FamilyEnd")
     assert math.isfinite(float(b.members[0].E))
 
 
 def test_follow_says_why_it_stopped():
-    from rotorlib.newborn import follow
+    from rotorlib.paper.newborn import follow
 
     b = follow("IS^r_1", E_range=(5.8, 6.0))
     assert b.stop == "E range" and len(b.members) == 1  # the seed only
@@ -92,7 +97,7 @@ def test_follow_says_why_it_stopped():
 
 
 def test_follow_members_stay_inside_the_range():
-    from rotorlib.newborn import follow
+    from rotorlib.paper.newborn import follow
 
     b = follow("IS^r_1", E_range=(None, 4.3))
     assert b.stop == "E range" and b.E.max() <= 4.3  # it ended at 4.309
@@ -106,7 +111,7 @@ def test_budget_model_reproduces_its_documented_calibration():
     ``nice -n 10``; no timing is measured here)."""
     import re
 
-    from rotorlib.atlas import budget_seconds
+    from rotorlib.beyond.atlas import budget_seconds
 
     doc = " ".join(budget_seconds.__doc__.split())
     m = re.search(r"([\d.]+), ([\d.]+) and ([\d.]+) s at T = (\d+), (\d+), (\d+)", doc)
@@ -152,8 +157,8 @@ def _private_imports(source: str) -> list[str]:
 
 def test_the_scan_finds_private_imports():
     assert _private_imports("from .flow import _rhs, to_section") == ["flow._rhs"]
-    assert _private_imports("from rotorlib.hill import _solve_hill") == [
-        "rotorlib.hill._solve_hill"
+    assert _private_imports("from rotorlib.orbits.hill import _solve_hill") == [
+        "rotorlib.orbits.hill._solve_hill"
     ]
     assert _private_imports("from . import atlas\natlas._check([4.3], 7, 300)") == [
         "atlas._check"
@@ -177,7 +182,7 @@ def test_no_module_imports_another_modules_private_names():
 
 
 def test_family_end_lives_with_the_engine():
-    assert FamilyEnd.__module__ == "rotorlib.continuation"
+    assert FamilyEnd.__module__ == "rotorlib.orbits.continuation"
 
 
 def test_monodromy_accepts_a_transition():
@@ -188,7 +193,7 @@ def test_monodromy_accepts_a_transition():
 def test_no_module_shares_a_public_functions_name():
     """``rotorlib.monodromy`` and ``rotorlib.breather`` are functions; no module of
     rotorlib is called ``monodromy``, ``breather`` or ``breathers`` (the module of the
-    monodromy routes is ``rotorlib.floquet``, that of §8 ``rotorlib.breather_bifurcation``)."""
+    monodromy routes is ``rotorlib.orbits.floquet``, that of §8 ``rotorlib.paper.breathers``)."""
     import importlib.util
     import pkgutil
 
@@ -200,4 +205,4 @@ def test_no_module_shares_a_public_functions_name():
     assert {"floquet", "breather_bifurcation"} <= modules
     for name in rotorlib.__all__:
         assert name not in modules or not callable(getattr(rotorlib, name)), name
-    assert importlib.util.find_spec("rotorlib.floquet") is not None
+    assert importlib.util.find_spec("rotorlib.orbits.floquet") is not None

@@ -4,8 +4,8 @@ import numpy as np
 import pytest
 
 import rotorlib as rl
-from rotorlib import lame_functions as lf
-from rotorlib import qubit as q
+from rotorlib.paper import lame_functions as lf
+from rotorlib.paper import qubit as q
 
 
 def _random_states(n, seed=0):

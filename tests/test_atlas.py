@@ -4,7 +4,7 @@
   each reversor reverses the flow;
 * the census at E = 4.3 in 30 digits: every orbit closes, with the period and trace it
   states, under an independent real128 integration written here (heyoka, the equations of
-  motion and the variational equations derived from H in this file, not rotorlib.flow);
+  motion and the variational equations derived from H in this file, not rotorlib.core.flow);
 * the counts at E = 4.3, 5.45 and 6.2 (T_max = 16) against an independent census (other
   code, kept outside the project: symmetry-line scans with 64000 start points per fixed-set
   family, Newton polish, geometric deduplication under the group);
@@ -26,7 +26,9 @@ import numpy as np
 import pytest
 
 import rotorlib
-from rotorlib import atlas, chaos, reversors
+from rotorlib.beyond import atlas
+from rotorlib.orbits import reversors
+from rotorlib.paper import chaos
 
 pytestmark = pytest.mark.skipif(
     not rotorlib.heyoka_available(), reason="heyoka not installed"
@@ -83,7 +85,7 @@ def _state_map(g):
 def test_each_reversor_reverses_the_flow():
     from scipy.integrate import solve_ivp
 
-    from rotorlib.system import rhs_alpha
+    from rotorlib.core.system import rhs_alpha
 
     x0 = np.array([0.3, -0.7, 1.1, 0.4])
 
@@ -189,8 +191,8 @@ def test_mirror_start_set_is_smooth_at_turning_points():
     """Below the mirror's highest potential its start states are smooth in u through the
     turning points: on the energy shell, continuous across the ends of the arcs, momentum
     linear in the distance to the end, the same state in float64 and real128."""
-    from rotorlib.precision import tier
-    from rotorlib.system import potential_alpha
+    from rotorlib.core.precision import tier
+    from rotorlib.core.system import potential_alpha
 
     E = 4.3
     (m,) = [s for s in reversors.start_sets(E) if s.name == "Fix T(12)"]

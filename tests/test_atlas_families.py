@@ -13,9 +13,9 @@ import math
 import numpy as np
 import pytest
 
-from rotorlib import atlas
-from rotorlib import atlas_families as af
-from rotorlib.branch import Branch
+from rotorlib.beyond import atlas
+from rotorlib.beyond import atlas_families as af
+from rotorlib.orbits.family import Branch
 
 
 @pytest.fixture(scope="module")
@@ -106,8 +106,8 @@ def test_bad_input(family, orbit):
 def test_stable_windows_of_a_synthetic_branch():
     """A stable run bounded by its IS points, and a stretch between two unstable members
     where tr M crosses 4 and then 0 (a window narrower than the step); none without."""
-    from rotorlib.branch import Member, SpecialPoint
-    from rotorlib.precision import FLOAT64
+    from rotorlib.core.precision import FLOAT64
+    from rotorlib.orbits.family import Member, SpecialPoint
 
     def m(E, trace):
         return Member(u=0.0, w=0.0, E=E, t1=1.0, r=0.0, trace=trace)

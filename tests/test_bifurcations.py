@@ -24,8 +24,8 @@ import pytest
 from conftest import requires_heyoka
 
 import rotorlib
-from rotorlib import bifurcations as bf
-from rotorlib.precision import Tier
+from rotorlib.core.precision import Tier
+from rotorlib.paper import bifurcations as bf
 
 pytestmark = requires_heyoka
 
@@ -337,7 +337,7 @@ def test_cli_bad_input_one_line(args):
 def test_cli_breather_family():
     rc, out, err = run("bifurcations", "--family", "breather", "--json")
     try:
-        import rotorlib.breather_bifurcation  # noqa: F401
+        import rotorlib.paper.breathers  # noqa: F401
     except ModuleNotFoundError:
         assert rc == 2 and "breather transitions are not available yet" in err
         return
@@ -350,7 +350,7 @@ def test_cli_breather_family():
 
 # ----------------------------------------------------------------------------- tr M_perp asymptotics (paper §5.2)
 
-from rotorlib import scaling as sc  # noqa: E402
+from rotorlib.paper import cascade_scaling as sc  # noqa: E402
 
 
 def test_fit_harmonic_recovers_coefficients():
@@ -451,7 +451,7 @@ def test_trace_asymptotics_against_the_80_roots_and_a_deep_fit():
 def test_one_transition_class_for_pendulum_and_breather():
     """Pendulum and breather transitions are one class that follows the result protocol,
     and transition() is the one front door for both (ASCII and paper labels)."""
-    from rotorlib.breather_bifurcation import pd_transition
+    from rotorlib.paper.breathers import pd_transition
 
     b = bf.transition("PD^b")
     assert type(b) is bf.Transition

@@ -6,8 +6,8 @@ import pytest
 from scipy.integrate import solve_ivp
 
 import rotorlib
-from rotorlib import breather_bifurcation as B
-from rotorlib.system import energy_alpha, lattice_reduce, rhs_alpha
+from rotorlib.core.system import energy_alpha, lattice_reduce, rhs_alpha
+from rotorlib.paper import breathers as B
 
 
 @pytest.fixture(scope="module")

@@ -30,6 +30,6 @@ def test_no_module_over_the_line_limit():
 def test_new_science_kept_apart():
     """The choreography and quantum modules are counted apart, and exist as such."""
     parts = {m: part for m, part, _, _ in _budget().modules()}
-    assert parts["rotorlib/choreo_family.py"] == "new science"
-    assert parts["rotorlib/quantum.py"] == "new science"
-    assert parts["rotorlib/atlas.py"] == "core"
+    assert parts["rotorlib/beyond/choreo_family.py"] == "new science"
+    assert parts["rotorlib/beyond/quantum.py"] == "new science"
+    assert parts["rotorlib/beyond/atlas.py"] == "core"

@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from rotorlib import chaos as ch
-from rotorlib.system import energy_alpha, energy_phi, potential_alpha, rhs_phi
+from rotorlib.core.system import energy_alpha, energy_phi, potential_alpha, rhs_phi
+from rotorlib.paper import chaos as ch
 
 
 def test_shell_sampling_is_microcanonical():
@@ -92,7 +92,7 @@ def test_amplitude_branch_passes_the_fold():
         abs(float(exits[0].member.E) - 4.55) < 0.005
     )  # paper: PD^r_2 unstable from ~4.55
     # the member at the exit closes under scipy and has tr M = 4 (independent 4x4 route)
-    from rotorlib.floquet import variational_monodromy
+    from rotorlib.orbits.floquet import variational_monodromy
 
     m = exits[0].member
     v = variational_monodromy(
@@ -123,7 +123,7 @@ def test_pdr6_real128_exit():
     """PD^r_6 (born 2.5e-10 above E = 4), real128 throughout: tr M enters the window, stays >= 0
     and leaves through 4 at E - 4 = 1.55e-9 (the member there has tr M = 4); float64 tr M of the
     same members is round-off."""
-    from rotorlib.flow import monodromy_matrix
+    from rotorlib.core.flow import monodromy_matrix
 
     (r,) = ch.band_families(["PD^r_6"], dE_stop=3e-9)
     b = r.branch

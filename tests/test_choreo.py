@@ -1,4 +1,4 @@
-"""The choreographies born at G (rotorlib.choreo, rotorlib.choreo_family, ``orbit CG``,
+"""The choreographies born at G (rotorlib.beyond.choreo, rotorlib.beyond.choreo_family, ``orbit CG``,
 ``family``) against independent computations written here in the rotor angles.
 
 The independent route: three rotors ``theta_i`` with ``H = sum p_i^2/2 + sum (1 -
@@ -22,9 +22,8 @@ from scipy.integrate import solve_ivp
 from scipy.optimize import least_squares
 
 from rotorlib import cli
-from rotorlib.branch import Branch
-from rotorlib.choreo import T0, cg_problem, relabelling
-from rotorlib.choreo_family import (
+from rotorlib.beyond.choreo import T0, cg_problem, relabelling
+from rotorlib.beyond.choreo_family import (
     cg_orbit,
     family,
     fold,
@@ -33,7 +32,8 @@ from rotorlib.choreo_family import (
     special_points,
 )
 from rotorlib.commands.orbit import record
-from rotorlib.shooting import residual, solve
+from rotorlib.orbits.family import Branch
+from rotorlib.orbits.shooting import residual, solve
 
 PAIRS = ((0, 1), (1, 2), (2, 0))
 
@@ -314,7 +314,7 @@ def test_relabelling_and_refusals():
 
 
 def test_atlas_names_choreographies():
-    from rotorlib.atlas import census
+    from rotorlib.beyond.atlas import census
 
     a = census(5.3, 8.0, known=[])  # the known daughter families are not needed here
     named = {o.label: o for o in a.orbits if o.extra["choreography"]}
@@ -340,7 +340,7 @@ def test_z3_family_cr1_against_the_census():
     are those the census's engine located (book/data/choreographies_T16.json, tr M of
     the members: an independent route, to ~1e-9), and the 30-digit locations agree with
     the float64 ones to < 1e-12, the fold also with the extremum of E(u)."""
-    from rotorlib.choreo_z3 import z3_family
+    from rotorlib.beyond.choreo_z3 import z3_family
 
     (cr1,) = [f for f in _census_data()["families"] if f["label"] == "CR1"]
     stored = {k: e for k, e in cr1["points"] if k in ("PD", "fold") and e > 5.7}
@@ -357,7 +357,7 @@ def test_z3_family_cr1_against_the_census():
     assert "extremum of E(u)" in got["fold"].check
     assert r.fold is got["fold"].member and r.E_max == got["fold"].member.E
     # the 20 digits printed at digits=30 (real128) are those of the 40-digit tier (mp)
-    from rotorlib.choreo_z3 import z3_points
+    from rotorlib.beyond.choreo_z3 import z3_points
 
     with mp.workdps(40):
         for p40 in z3_points("CR1", 40):
@@ -401,7 +401,7 @@ def test_every_choreography_family_is_a_branch(label, E_range):
     import json
 
     import rotorlib
-    from rotorlib.branch import Member, SpecialPoint
+    from rotorlib.orbits.family import Member, SpecialPoint
 
     b = rotorlib.family(label, E_range)
     lo, hi = E_range
@@ -435,7 +435,7 @@ def test_choreography_orbit_z3_against_the_census():
     """``choreography_orbit`` for CR1 (and CG) against the census's orbits: period and
     tr M, the choreography's symmetry, and the 30-digit member's closure under an
     independent real128 integration of the rotor equations."""
-    from rotorlib.choreo_family import choreography_orbit
+    from rotorlib.beyond.choreo_family import choreography_orbit
 
     data = _census_data()
     cr1 = sorted(
@@ -459,8 +459,8 @@ def test_choreography_orbit_z3_against_the_census():
 
 def test_choreography_orbit_refusals(capsys):
     """Beyond a family's range, an unknown label or a missing branch: one line, exit 2."""
-    from rotorlib.choreo_family import choreography_orbit
-    from rotorlib.choreo_z3 import z3_range
+    from rotorlib.beyond.choreo_family import choreography_orbit
+    from rotorlib.beyond.choreo_z3 import z3_range
 
     lo, hi, _, why_hi = z3_range("CR1")
     assert abs(lo - 4.5) < 1e-4 and "fold" in why_hi
@@ -478,7 +478,7 @@ def test_choreography_orbit_refusals(capsys):
 
 def test_atlas_names_z3_choreographies():
     """The atlas's name for the census's Z3 choreographies: their families' labels."""
-    from rotorlib.choreo import atlas_name
+    from rotorlib.beyond.choreo import atlas_name
 
     for c in _census_data()["choreographies"]:
         label, rec = atlas_name("new", c["E"], c["state0"], c["period"])

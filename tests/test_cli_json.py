@@ -11,7 +11,7 @@ import mpmath as mp
 import pytest
 
 from rotorlib.cli import main
-from rotorlib.precision import DIGITS_RANGE, check_digits, json_number
+from rotorlib.core.precision import DIGITS_RANGE, check_digits, json_number
 
 
 def _run(capsys, *argv):

@@ -1,4 +1,4 @@
-"""rotorlib.compare: the one rule by which the book judges the paper's numbers."""
+"""rotorlib.core.compare: the one rule by which the book judges the paper's numbers."""
 
 import json
 import math
@@ -6,7 +6,7 @@ import math
 import mpmath as mp
 import pytest
 
-from rotorlib import compare as cmp
+from rotorlib.core import compare as cmp
 
 
 @pytest.mark.parametrize(
@@ -242,7 +242,7 @@ def test_label_tex_rejects(bad):
 
 
 def test_label_tex_agrees_with_parse_label():
-    from rotorlib.bifurcations import parse_label
+    from rotorlib.paper.bifurcations import parse_label
 
     for label in ("IS^l_3", "ISl3", "IS^l_{3}", "PDr2", "PD^r_7"):
         kind, phase, n = parse_label(label)

@@ -4,7 +4,7 @@ import mpmath as mp
 import numpy as np
 import pytest
 
-from rotorlib.elliptic import dK_dm, ellipk_m1, jacobi_am, jacobi_sncndn
+from rotorlib.core.elliptic import dK_dm, ellipk_m1, jacobi_am, jacobi_sncndn
 
 
 @pytest.mark.parametrize("m1", [0.9, 0.5, 0.3, 1e-3, 1e-12, 1e-20, 1e-40])
@@ -79,7 +79,7 @@ def test_bad_parameter():
 def test_mp_ellipk_m1(m1):
     """K from the complementary parameter by the AGM, against mpmath's ellipk(1 - m1) evaluated with
     enough guard digits that forming 1 - m1 costs nothing."""
-    from rotorlib.elliptic import mp_ellipk_m1
+    from rotorlib.core.elliptic import mp_ellipk_m1
 
     with mp.workdps(40):
         k = mp_ellipk_m1(mp.mpf(m1))
@@ -90,7 +90,7 @@ def test_mp_ellipk_m1(m1):
 
 def test_mp_ellipk_m1_far_beyond_float64():
     """m1 = 1e-4343 (log|E - 4| = -10000): K = log(4/sqrt(m1)) + O(m1 log m1), to 40 digits."""
-    from rotorlib.elliptic import mp_ellipk_m1
+    from rotorlib.core.elliptic import mp_ellipk_m1
 
     with mp.workdps(40):
         m1 = mp.mpf("1e-4343")
@@ -102,7 +102,7 @@ def test_mp_ellipk_m1_far_beyond_float64():
 )
 def test_mp_dK_dm(m):
     """Both branches (series below |m| = 1/2, closed form above) against numerical differentiation at 80 digits."""
-    from rotorlib.elliptic import mp_dK_dm
+    from rotorlib.core.elliptic import mp_dK_dm
 
     with mp.workdps(40):
         d = mp_dK_dm(mp.mpf(m), 1 - mp.mpf(m))
@@ -113,7 +113,7 @@ def test_mp_dK_dm(m):
 
 def test_mp_dK_dm_near_separatrix():
     """m1 = 1e-400: dK/dm = (E - m1 K)/(2 m m1) ~ 1/(2 m1) (float64 would overflow)."""
-    from rotorlib.elliptic import mp_dK_dm
+    from rotorlib.core.elliptic import mp_dK_dm
 
     with mp.workdps(40):
         m1 = mp.mpf("1e-400")

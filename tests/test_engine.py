@@ -1,4 +1,4 @@
-"""The periodic-orbit engine (rotorlib.shooting, rotorlib.continuation): one residual, one
+"""The periodic-orbit engine (rotorlib.orbits.shooting, rotorlib.orbits.continuation): one residual, one
 corrector, one continuation, at every precision, checked against what it does not use."""
 
 import contextlib
@@ -12,11 +12,11 @@ import pytest
 from scipy.integrate import solve_ivp
 
 import rotorlib
-from rotorlib import newborn as nb
-from rotorlib.flow import Section, SectionNotReached, crossings, to_section
-from rotorlib.precision import REAL128, Tier, tier
-from rotorlib.shooting import NoConvergence, residual, secant, solve
-from rotorlib.system import rhs_alpha
+from rotorlib.core.flow import Section, SectionNotReached, crossings, to_section
+from rotorlib.core.precision import REAL128, Tier, tier
+from rotorlib.core.system import rhs_alpha
+from rotorlib.orbits.shooting import NoConvergence, residual, secant, solve
+from rotorlib.paper import newborn as nb
 
 pytestmark = pytest.mark.skipif(
     not rotorlib.heyoka_available(), reason="heyoka not installed"
@@ -24,7 +24,7 @@ pytestmark = pytest.mark.skipif(
 
 
 def test_tiers_match_the_hill_tiers():
-    from rotorlib.hill import precision_tier
+    from rotorlib.orbits.hill import precision_tier
 
     for d in (None, 5, 15, 16, 31, 32, 60, 200):
         assert tier(d).name == precision_tier(d)[1]

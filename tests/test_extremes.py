@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 
 import rotorlib as rl
-from rotorlib.floquet import _monodromy
+from rotorlib.orbits.floquet import _monodromy
 
 HEYOKA = rl.heyoka_available()
 needs_heyoka = pytest.mark.skipif(not HEYOKA, reason="heyoka not installed")

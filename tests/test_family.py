@@ -6,7 +6,7 @@ import json
 
 import pytest
 
-from rotorlib.newborn import FamilyRangeError, family, family_spec, newborn_orbit
+from rotorlib.paper.newborn import FamilyRangeError, family, family_spec, newborn_orbit
 
 
 def test_members_stay_inside_the_range_and_reach_its_ends():
@@ -92,7 +92,7 @@ def test_one_container_for_every_family(capsys):
     family command prints both through it (members, then special points)."""
     import rotorlib
     from rotorlib import cli
-    from rotorlib.branch import Branch
+    from rotorlib.orbits.family import Branch
 
     for label, E_range in (("IS^l_1", (3.991, 4.0)), ("CG", (5.3, 5.4))):
         b = rotorlib.family(label, E_range)

@@ -9,8 +9,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+from rotorlib.core.system import critical_points, potential_phi  # noqa: E402
 from rotorlib.plotting import formulation as fp  # noqa: E402
-from rotorlib.system import critical_points, potential_phi  # noqa: E402
 
 
 def _labelled(ax):

@@ -463,7 +463,7 @@ def test_every_cited_key_is_in_the_bibliography():
 
 @pytest.mark.parametrize("nb_path", NOTEBOOKS, ids=lambda p: p.name)
 def test_glued_numbers_are_rounded(nb_path):
-    """Glue stores values already rounded to their verified digits (rotorlib.compare.glue):
+    """Glue stores values already rounded to their verified digits (rotorlib.core.compare.glue):
     no glued number carries a float64's 16-17 significant digits, whose last ones are the
     machine's round-off and would not reproduce on another CPU."""
     bad = {}

@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 
 import rotorlib
-from rotorlib import laws
-from rotorlib.bifurcations import transition
+from rotorlib.paper import newborn_laws as laws
+from rotorlib.paper.bifurcations import transition
 
 pytestmark = pytest.mark.skipif(
     not rotorlib.heyoka_available(), reason="heyoka not installed"
@@ -224,7 +224,7 @@ def test_rotational_bad_input():
 def test_rotational_member_where_energy_continuation_stops():
     """IS^r_3 reaches E(IS^r_1) (the follow in the K chart: q = K - 4 the second unknown), and the
     member there is a periodic orbit: it closes under an independent integrator (scipy DOP853)."""
-    from rotorlib.floquet import variational_monodromy
+    from rotorlib.orbits.floquet import variational_monodromy
 
     target = transition("IS^r_1").E - 4
     m = laws.rotational_member("IS^r_3", laws.dE_str("IS^r_1"))
@@ -264,7 +264,7 @@ def test_rotational_ratio_converges_to_sqrt_delta_r():
 def test_rotational_family_ends_at_the_potential_maximum():
     """PD^r_2 followed in amplitude passes its fold (E max 4.5517, where tr M = 4) and ends at
     E -> 4.5 = V(pi/3, pi) with a diverging half period; tr M = 4 is located at the fold."""
-    from rotorlib.newborn import follow
+    from rotorlib.paper.newborn import follow
 
     b = follow("PD^r_2", chart="K", E_range=(None, 5.0), traces=True)
     assert (

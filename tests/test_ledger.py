@@ -6,7 +6,7 @@ import importlib.util
 import json
 from pathlib import Path
 
-from rotorlib import compare as cmp
+from rotorlib.core import compare as cmp
 
 ROOT = Path(__file__).resolve().parents[1]
 _spec = importlib.util.spec_from_file_location(

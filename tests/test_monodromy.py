@@ -15,7 +15,7 @@ import pytest
 from conftest import requires_heyoka, textbook_reference
 
 import rotorlib
-from rotorlib.floquet import _monodromy
+from rotorlib.orbits.floquet import _monodromy
 
 CASES = (
     [("pendulum-E", E, "") for E in (1.0, 3.9, 5.0, 100.0)]
@@ -149,7 +149,7 @@ def test_every_route_returns_one_monodromy_with_digits():
     textbook reference return one type; ``digits`` is their one precision argument."""
     import mpmath as mp
 
-    from rotorlib.floquet import Monodromy
+    from rotorlib.orbits.floquet import Monodromy
 
     o = rotorlib.pendulum(E=3.9)
     block = rotorlib.monodromy(o, digits=30)

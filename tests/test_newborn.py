@@ -7,7 +7,7 @@ did not use:
 * closure of the exported float64 ``state0``/``period`` with heyoka in 160-bit
   multiprecision (the search integrates in float64/real128), and with scipy's
   DOP853 (rtol 1e-13) where its own error is below the tolerance;
-* the energy shell with the plain formula of :mod:`rotorlib.system`;
+* the energy shell with the plain formula of :mod:`rotorlib.core.system`;
 * ``tr M`` with the textbook 4x4 variational equations (rotorlib.variational_monodromy,
   heyoka mp160) from the exported 32-digit state.
 
@@ -32,7 +32,7 @@ import pytest
 from scipy.integrate import solve_ivp
 
 import rotorlib
-from rotorlib.system import energy_alpha, lattice_reduce, rhs_alpha
+from rotorlib.core.system import energy_alpha, lattice_reduce, rhs_alpha
 
 pytestmark = pytest.mark.skipif(
     not rotorlib.heyoka_available(), reason="heyoka not installed"
@@ -140,8 +140,8 @@ def test_paper_a2_amplitudes(records, label, paper, tol):
 def test_fork_like_and_start_lines():
     """Each family is born on one side only (E > E_n: forward fork), with tr M -> 4, and the
     starting symmetry line of the spec is the one on which the linearised residual vanishes."""
-    from rotorlib import newborn as nb
-    from rotorlib.shooting import residual
+    from rotorlib.orbits.shooting import residual
+    from rotorlib.paper import newborn as nb
 
     for label in (
         "ISl1",
@@ -171,7 +171,7 @@ def test_fork_like_and_start_lines():
 
 def test_pdr2_fold():
     """PD^r_2's family reaches a maximum energy 4.5517 (fold, tr M = 4), then turns back."""
-    from rotorlib import newborn as nb
+    from rotorlib.paper import newborn as nb
 
     spec = nb.family_spec("PDr2")
     Es = []
@@ -201,7 +201,7 @@ DEEP = [("IS^l_7", "4"), ("PD^r_5", None)]
 @pytest.mark.parametrize("label,E", DEEP)
 def test_deep_families_real128(capsys, label, E):
     """A real128 member of a deep family, exported by the CLI, checked with an independent integrator."""
-    from rotorlib import newborn as nb
+    from rotorlib.paper import newborn as nb
 
     spec = nb.family_spec(label)
     E = E or repr(spec.E_birth + 0.1 * abs(spec.E_birth - 4.0))
@@ -221,7 +221,7 @@ def test_deep_families_real128(capsys, label, E):
 
 @pytest.mark.slow
 def test_deep_family_born_with_trace_4():
-    from rotorlib import newborn as nb
+    from rotorlib.paper import newborn as nb
 
     slope, tr0 = nb.trace_slope_at_birth("IS^l_8")
     assert abs(tr0 - 4.0) < 1e-3
@@ -231,7 +231,7 @@ def test_deep_family_born_with_trace_4():
 def test_family_steps_float64_and_default_precision():
     """``family(..., steps=n)``: the seed and ``n`` members spaced in ``sqrt|E - E_n|`` (the
     grid of chapters 03-06), float64 or real128 by depth, to E = 4 and past it."""
-    from rotorlib.newborn import family
+    from rotorlib.paper.newborn import family
 
     c = family("IS^l_1", (3.99, 4.0), steps=4)
     assert c.tier.name == "float64" and len(c.members) == len(c.trace) == 5

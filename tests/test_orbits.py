@@ -8,7 +8,7 @@ import pytest
 from scipy.integrate import solve_ivp
 
 import rotorlib
-from rotorlib.system import energy_alpha, rhs_alpha
+from rotorlib.core.system import energy_alpha, rhs_alpha
 
 
 def _eom_residual(orbit, n=801):

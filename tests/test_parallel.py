@@ -19,8 +19,8 @@ import numpy as np
 import pytest
 
 import rotorlib as rl
-from rotorlib import parallel
-from rotorlib.parallel import executor_for, pmap
+from rotorlib.core import parallel
+from rotorlib.core.parallel import executor_for, pmap
 
 HAVE_DISTRIBUTED = importlib.util.find_spec("distributed") is not None
 # Skipped only where dask[distributed] is missing; CI (CI=true) installs it from environment.txt and runs them.
@@ -81,7 +81,7 @@ def test_no_progress_bar_in_notebook_output():
     km, kc = jc.manager.start_new_kernel(kernel_name="python3", env=env)
     try:
         code = (
-            "from rotorlib.parallel import pmap\nimport rotorlib as rl\n"
+            "from rotorlib.core.parallel import pmap\nimport rotorlib as rl\n"
             "r = pmap(lambda x: rl.monodromy(rl.pendulum(E=x)).trace, [1.0, 2.0, 5.0], progress=True)\n"
             "len(r)"
         )
@@ -240,7 +240,7 @@ def test_bad_scheduler_leaves_no_noise_at_exit(tmp_path):
     import subprocess
 
     code = (
-        "from rotorlib.parallel import executor_for\n"
+        "from rotorlib.core.parallel import executor_for\n"
         "for a in ['foo://x:1', 'tcp://', 'tcp://127.0.0.1:9']:\n"
         "    try:\n"
         "        with executor_for(scheduler=a, timeout=1): pass\n"

@@ -23,6 +23,7 @@ import pytest  # noqa: E402
 from matplotlib.text import Text  # noqa: E402
 
 import rotorlib.plotting as rp  # noqa: E402
+from rotorlib.core.system import critical_points  # noqa: E402
 from rotorlib.plotting import (  # noqa: E402
     atlas,
     breathers,
@@ -34,7 +35,6 @@ from rotorlib.plotting import (  # noqa: E402
     precision,
     search,
 )
-from rotorlib.system import critical_points  # noqa: E402
 
 x = np.linspace(0.1, 1.0, 12)
 st = np.zeros((12, 4))

@@ -13,9 +13,9 @@ import numpy as np
 import pytest
 
 import rotorlib as rl
-from rotorlib.floquet import _monodromy
-from rotorlib.hill import hill_problem, precision_tier, solve_hill
-from rotorlib.precision import Tier, tier
+from rotorlib.core.precision import Tier, tier
+from rotorlib.orbits.floquet import _monodromy
+from rotorlib.orbits.hill import hill_problem, precision_tier, solve_hill
 
 HEYOKA = rl.heyoka_available()
 needs_heyoka = pytest.mark.skipif(not HEYOKA, reason="heyoka not installed")
@@ -240,7 +240,7 @@ def test_real128_tol_knob():
 
 def test_heyoka_disk_cache_is_bounded(monkeypatch):
     hy = pytest.importorskip("heyoka")
-    from rotorlib import precision
+    from rotorlib.core import precision
 
     precision.load_heyoka.cache_clear()
     monkeypatch.setenv("ROTORLIB_HEYOKA_CACHE_MB", "300")

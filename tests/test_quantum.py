@@ -1,4 +1,4 @@
-"""The quantum 3-rotor (rotorlib.quantum, rotorlib.quantum_semiclassics, `spectrum`).
+"""The quantum 3-rotor (rotorlib.beyond.quantum, rotorlib.beyond.quantum_semiclassics, `spectrum`).
 
 The reference diagonalizations here share no code with the library: the Hamiltonian is
 built in the rotor wave numbers k = (k1, k2, k3), sum k = 0 (kinetic hbar^2 |k|^2 / 2,
@@ -18,8 +18,8 @@ from concurrent.futures import ProcessPoolExecutor
 import numpy as np
 import pytest
 
-from rotorlib import quantum as q
-from rotorlib import quantum_semiclassics as sc
+from rotorlib.beyond import quantum as q
+from rotorlib.beyond import quantum_semiclassics as sc
 
 SHIFTS = [
     np.array(d)

@@ -12,10 +12,10 @@ import numpy as np
 import pytest
 
 import rotorlib
-from rotorlib import newborn as nb
-from rotorlib import search as sr
-from rotorlib.precision import REAL128
-from rotorlib.shooting import residual
+from rotorlib.core.precision import REAL128
+from rotorlib.orbits.shooting import residual
+from rotorlib.paper import newborn as nb
+from rotorlib.paper import search as sr
 
 pytestmark = pytest.mark.skipif(
     not rotorlib.heyoka_available(), reason="heyoka not installed"

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from rotorlib import system as S
+from rotorlib.core import system as S
 
 rng = np.random.default_rng(1)
 
@@ -80,7 +80,7 @@ def test_potential_propagates_nan(bad):
 def test_lattice_reduce_arrays_and_tiers_agree():
     import mpmath as mp
 
-    from rotorlib.precision import tier
+    from rotorlib.core.precision import tier
 
     rng = np.random.default_rng(1)
     d = rng.uniform(-20, 20, size=(200, 4))
@@ -104,7 +104,7 @@ def test_lattice_reduce_arrays_and_tiers_agree():
 
 
 def test_heyoka_equations_of_motion_are_rhs_alpha():
-    from rotorlib.flow import flow
+    from rotorlib.core.flow import flow
 
     x0 = np.array([0.3, -0.8, 0.5, 0.9])
     sol = solve_ivp(S.rhs_alpha, (0, 3.0), x0, method="DOP853", rtol=1e-13, atol=1e-13)
@@ -112,7 +112,7 @@ def test_heyoka_equations_of_motion_are_rhs_alpha():
 
 
 def test_tier_owns_thresholds_and_tolerances():
-    from rotorlib.precision import FLOAT64, REAL128, Tier, tier
+    from rotorlib.core.precision import FLOAT64, REAL128, Tier, tier
 
     assert Tier.separatrix_depth == FLOAT64.separatrix_depth == 3e-8
     assert FLOAT64.r_max == 1e-8 and FLOAT64.step_tol == 4e-15

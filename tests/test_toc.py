@@ -152,7 +152,7 @@ def test_notebook_stored_clean(nb):
                 if reprs:
                     problems.append(
                         f"code cell {i}: float64 repr(s) in a compared output {reprs[:3]}: "
-                        "print the verified digits (rotorlib.compare.sig/rounded) or a bound"
+                        "print the verified digits (rotorlib.core.compare.sig/rounded) or a bound"
                     )
     assert not problems, f"{nb.name}:\n  " + "\n  ".join(problems)
 
@@ -177,7 +177,7 @@ def test_generated_page_up_to_date(script):
 def test_ledger_counts_every_chapter_claim():
     """The ledger lists at least 90 claims, each in one row (a claim the paper makes twice
     is merged into one row) with a category and a link to a chapter that is in the toc."""
-    from rotorlib.compare import CATEGORIES, STATUSES
+    from rotorlib.core.compare import CATEGORIES, STATUSES
 
     sys.path.insert(0, str(ROOT / "scripts"))
     try:

@@ -13,7 +13,7 @@ import argparse
 import sys
 
 from ..cli import add_digits_argument, add_executor_arguments, emit
-from ..energy import as_float
+from ..core.energy import as_float
 
 COLUMNS = [
     "E",
@@ -50,8 +50,8 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from ..atlas import census, check_census
-    from ..parallel import executor_for
+    from ..beyond.atlas import census, check_census
+    from ..core.parallel import executor_for
 
     energies = [as_float(v, "E") for v in args.E]
     t_max = as_float(args.t_max, "--t-max")

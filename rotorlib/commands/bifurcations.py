@@ -47,7 +47,7 @@ def register(sub: Any) -> None:
 
 def run(args: argparse.Namespace) -> int:
     if args.family == "breather":
-        from ..breather_bifurcation import breather_transitions
+        from ..paper.breathers import breather_transitions
 
         emit(
             [t.to_dict() for t in breather_transitions(digits=args.digits)],
@@ -56,7 +56,7 @@ def run(args: argparse.Namespace) -> int:
             one=False,
         )
         return 0
-    from ..bifurcations import transition, transitions
+    from ..paper.bifurcations import transition, transitions
 
     if args.phase not in ("lib", "rot", "both"):
         raise ValueError(f"--phase must be lib, rot or both, got {args.phase!r}")

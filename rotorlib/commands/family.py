@@ -1,11 +1,11 @@
 """``python -m rotorlib family LABEL --E-range A B``: a family followed (:func:`rotorlib.family`).
 
 Prints the members of the branch with energy in ``[A, B]`` and its special points there,
-one path for every family (a :class:`~rotorlib.branch.Branch`). A family born at a pendulum bifurcation (``IS^l_n``, ``PD^r_n``, ...): period, ``tr M``,
+one path for every family (a :class:`~rotorlib.orbits.family.Branch`). A family born at a pendulum bifurcation (``IS^l_n``, ``PD^r_n``, ...): period, ``tr M``,
 stability, and the folds and ``tr M = 4`` (IS) / ``0`` (PD) points located by the engine,
 with why the branch stopped. A choreography: period, ``tr DP`` of the reduced map,
 ``tr M``, stability, the fold, the stability changes and the energies where ``tr M``
-touches 4 or 0 without one (:mod:`rotorlib.choreo_family`).
+touches 4 or 0 without one (:mod:`rotorlib.beyond.choreo_family`).
 
 Examples
 --------
@@ -15,7 +15,7 @@ Examples
 ``python -m rotorlib family CT --E-range 4.5 5.4 --json``
 ``python -m rotorlib family CG --E-range 5.3 5.4 --digits 30`` (the fold to 30 digits)
 ``python -m rotorlib family CR1 --E-range 5.6 5.8 --digits 30`` (a rotating Z3
-choreography: :mod:`rotorlib.choreo_z3`, followed live from its seed, ~20 s; its PD and
+choreography: :mod:`rotorlib.beyond.choreo_z3`, followed live from its seed, ~20 s; its PD and
 fold located again in real128)
 """
 
@@ -28,7 +28,7 @@ from typing import TYPE_CHECKING
 from ..cli import add_digits_argument
 
 if TYPE_CHECKING:
-    from ..branch import Branch
+    from ..orbits.family import Branch
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -60,9 +60,9 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def _print_branch(b: Branch, lo: float, hi: float) -> None:
     """Any family: its members and special points; a choreography's
-    (:class:`~rotorlib.choreo_family.ChoreoMember`, ``ChoreoPoint``) also ``tr DP``, and
+    (:class:`~rotorlib.beyond.choreo_family.ChoreoMember`, ``ChoreoPoint``) also ``tr DP``, and
     each point's period, description, branch and check."""
-    from ..choreo_family import ChoreoMember, ChoreoPoint
+    from ..beyond.choreo_family import ChoreoMember, ChoreoPoint
 
     d = max(12, min(30, b.members[0].digits)) if b.members else 12
     reduced = any(  # a choreography: a column of tr DP
@@ -104,7 +104,7 @@ _WHAT = {"IS": "tr M = 4", "PD": "tr M = 0", "fold": "fold of E"}
 
 def run(args: argparse.Namespace) -> int:
     from ..api import LABELS, family
-    from ..energy import as_float
+    from ..core.energy import as_float
 
     lo, hi = (as_float(v, "--E-range") for v in args.E_range)
     if (args.digits or 0) > 60 and args.label.strip().upper() in LABELS["choreography"]:

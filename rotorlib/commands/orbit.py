@@ -7,9 +7,9 @@ Examples
 ``python -m rotorlib orbit PDr3 --E 4.0002``
 ``python -m rotorlib orbit PD^b --E 8.9 --json`` (the breather's period-doubled daughter)
 ``python -m rotorlib orbit CG --E 3 --digits 30`` (the choreography born at G; ``CT`` its
-unstable partner beyond the fold, :mod:`rotorlib.choreo_family`)
+unstable partner beyond the fold, :mod:`rotorlib.beyond.choreo_family`)
 ``python -m rotorlib orbit CR1 --E 5.6 --branch 1`` (a Z3 choreography, the second of its
-members at that energy by period; ``CZ1``, ``CZ2`` likewise, :mod:`rotorlib.choreo_z3`)
+members at that energy by period; ``CZ1``, ``CZ2`` likewise, :mod:`rotorlib.beyond.choreo_z3`)
 """
 
 from __future__ import annotations
@@ -18,8 +18,8 @@ import argparse
 from typing import Any
 
 from ..cli import add_digits_argument, emit
-from ..energy import as_float
-from ..precision import check_digits
+from ..core.energy import as_float
+from ..core.precision import check_digits
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -58,7 +58,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 def record(label: str, E: Any, digits: int | None = None, branch: int = 0) -> dict:
     """The record the command prints for ``label`` at energy ``E`` (a decimal string keeps
     its digits): :meth:`rotorlib.orbit(label, E, digits=digits).to_dict()
-    <rotorlib.periodic.PeriodicOrbit.to_dict>`, the choreographies with their
+    <rotorlib.orbits.periodic_orbit.PeriodicOrbit.to_dict>`, the choreographies with their
     ``choreography`` field."""
     from ..api import orbit
 

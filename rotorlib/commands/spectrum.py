@@ -12,7 +12,7 @@ import argparse
 import math
 
 from ..cli import add_executor_arguments, emit
-from ..energy import as_float
+from ..core.energy import as_float
 
 _DESCRIPTION = """\
 Levels of the quantum relative motion of the three rotors (the three-junction flux qubit with
@@ -60,8 +60,8 @@ def decimals(convergence: float) -> int:
 
 
 def run(args: argparse.Namespace) -> int:
-    from .. import quantum
-    from ..parallel import executor_for
+    from ..beyond import quantum
+    from ..core.parallel import executor_for
 
     hbar = as_float(args.hbar, "--hbar")
     E_max = as_float(args.E_max, "--E-max")

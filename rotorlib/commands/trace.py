@@ -16,9 +16,9 @@ import argparse
 from typing import Any
 
 from ..cli import add_digits_argument, emit
-from ..floquet import monodromy
-from ..orbits import BreatherOrbit, PendulumOrbit, breather, pendulum
-from ..precision import json_number
+from ..core.closed_forms import BreatherOrbit, PendulumOrbit, breather, pendulum
+from ..core.precision import json_number
+from ..orbits.floquet import monodromy
 
 _DESCRIPTION = """\
 tr M (full 4x4) of pendula or isosceles breathers, with the precision that produced it.
@@ -78,7 +78,7 @@ def register(sub: Any) -> None:
 
 
 def _record(M, digits: int | None) -> dict[str, Any]:
-    """The JSON record of one monodromy (the rule of :func:`rotorlib.precision.json_number`:
+    """The JSON record of one monodromy (the rule of :func:`rotorlib.core.precision.json_number`:
     numbers are float64 values, the digits beyond them in ``*_str`` decimal strings)."""
     ext = M.precision != "float64"
     en = M.energy

@@ -20,7 +20,7 @@ import matplotlib.ticker
 from matplotlib.axes import Axes
 from matplotlib.axis import Axis
 
-from ..compare import label_tex, typeset_labels
+from ..core.compare import label_tex, typeset_labels
 
 __all__ = [
     "COLUMN_WIDTH",

@@ -13,10 +13,10 @@ from numpy.typing import ArrayLike
 from . import COLUMN_WIDTH, integer_ticks, panel_letters
 
 if TYPE_CHECKING:
-    from ..atlas import Atlas
-    from ..atlas_families import Cascade
-    from ..branch import Branch
-    from ..chaos import ChaoticFraction, PoincareSection
+    from ..beyond.atlas import Atlas
+    from ..beyond.atlas_families import Cascade
+    from ..orbits.family import Branch
+    from ..paper.chaos import ChaoticFraction, PoincareSection
 
 __all__ = [
     "plot_sweep",
@@ -82,7 +82,7 @@ def plot_growth(
 
 
 def plot_family_trace(fam: Branch, E_fold: float | None = None) -> Figure:
-    """``tr M`` against E along one atlas family (:func:`rotorlib.atlas_families.families`),
+    """``tr M`` against E along one atlas family (:func:`rotorlib.beyond.atlas_families.families`),
     its special points dotted, the stable strip ``0 < tr M < 4``."""
     fig, ax = plt.subplots(figsize=(COLUMN_WIDTH, 3.8))
     ax.axhspan(
@@ -145,7 +145,7 @@ def plot_islands(
 
 def plot_cascade(cas: Cascade) -> Figure:
     """``tr M`` against ``E - E_last`` (the last located birth) for each generation of a
-    :class:`rotorlib.atlas_families.Cascade`, the births marked; ``E`` on a symmetric
+    :class:`rotorlib.beyond.atlas_families.Cascade`, the births marked; ``E`` on a symmetric
     logarithmic axis (each generation's window is ~9 times narrower than its parent's)."""
     fig, ax = plt.subplots(figsize=(COLUMN_WIDTH, 3.8))
     E0 = cas.births[-1]

@@ -1,6 +1,6 @@
 """Figures for the chapter on pendulum stability transitions (paper §5, Figs. 2 and 3).
 
-Units m = g = r = 1. The caller computes every number with :mod:`rotorlib.bifurcations`;
+Units m = g = r = 1. The caller computes every number with :mod:`rotorlib.paper.bifurcations`;
 these functions only draw. Each returns the matplotlib ``Figure``.
 """
 
@@ -16,7 +16,7 @@ from matplotlib.figure import Figure
 from . import COLUMN_WIDTH, family_tex
 
 if TYPE_CHECKING:
-    from ..bifurcations import Transition
+    from ..paper.bifurcations import Transition
 
 __all__ = ["plot_fig2", "plot_fig3"]
 
@@ -88,7 +88,7 @@ def plot_fig3(panels: Sequence[Mapping[str, Any]]) -> Figure:
         Each with ``dE`` (``E - 4``, array), ``trace`` (array), ``title`` (str),
         ``marks`` (list of ``(E - 4, y, label)``), optionally ``ylim`` and
         ``families``: a list of objects with ``label``, ``dE`` and ``trace``
-        (:class:`rotorlib.branch.Branch`), drawn dashed (IS) or dotted (PD)
+        (:class:`rotorlib.orbits.family.Branch`), drawn dashed (IS) or dotted (PD)
         and listed in the panel's legend; ``deeper``: more such families, drawn thin
         and grey under one legend entry ``deeper_label``; ``legend_loc``.
     """
@@ -161,5 +161,5 @@ _FAMILY_COLORS = (
 
 
 def _tex(label):
-    r"""``IS^l_3`` -> ``$\mathrm{IS}^\ell_{3}$`` (:func:`rotorlib.compare.label_tex`)."""
+    r"""``IS^l_3`` -> ``$\mathrm{IS}^\ell_{3}$`` (:func:`rotorlib.core.compare.label_tex`)."""
     return family_tex(label)

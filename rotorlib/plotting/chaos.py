@@ -17,8 +17,8 @@ from numpy.typing import ArrayLike
 from . import COLUMN_WIDTH, family_tex, integer_ticks, panel_letters
 
 if TYPE_CHECKING:
-    from ..branch import Branch
-    from ..chaos import ChaoticFraction, PoincareSection
+    from ..orbits.family import Branch
+    from ..paper.chaos import ChaoticFraction, PoincareSection
 
 __all__ = [
     "plot_band_traces",
@@ -63,7 +63,7 @@ def plot_band_traces(curves: Mapping[str, tuple[ArrayLike, ArrayLike]]) -> Figur
 
 
 def plot_sections(sections: Sequence[PoincareSection], ncols: int = 3) -> Figure:
-    """Poincaré sections (``rotorlib.chaos.PoincareSection``), one panel each."""
+    """Poincaré sections (``rotorlib.paper.chaos.PoincareSection``), one panel each."""
     n = len(sections)
     nrows = (n + ncols - 1) // ncols
     fig, axes = plt.subplots(
@@ -90,7 +90,7 @@ def plot_sections(sections: Sequence[PoincareSection], ncols: int = 3) -> Figure
 
 
 def plot_fraction(cf: ChaoticFraction) -> Figure:
-    """Chaotic fraction ``f(E)`` with binomial error bars (``rotorlib.chaos.ChaoticFraction``)."""
+    """Chaotic fraction ``f(E)`` with binomial error bars (``rotorlib.paper.chaos.ChaoticFraction``)."""
     fig, ax = plt.subplots(figsize=(COLUMN_WIDTH, 3.4))
     _band(ax)
     ax.errorbar(
@@ -145,8 +145,8 @@ def plot_ftle_histograms(
 def plot_rotational_branches(
     branches: Iterable[Branch], E_max: float = 4.5, trace_cap: float = 1e12
 ) -> Figure:
-    """tr M against E along rotational newborn families (:class:`rotorlib.continuation.Branch`
-    with traces, e.g. ``FamilyInBand.branch`` of :func:`rotorlib.chaos.band_families`),
+    """tr M against E along rotational newborn families (:class:`rotorlib.orbits.continuation.Branch`
+    with traces, e.g. ``FamilyInBand.branch`` of :func:`rotorlib.paper.chaos.band_families`),
     symmetric-log axis, with the band shaded and the energy ``E_max`` (where the families
     end) marked. Members with ``|tr M| > trace_cap`` (float64 traces there are only an
     order of magnitude) are not drawn."""

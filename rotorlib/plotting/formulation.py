@@ -5,7 +5,7 @@ Units m = g = r = 1 (time is the paper's dimensionless t~). Every function
 returns the matplotlib ``Figure`` it drew (or a string, for tables); the
 numbers plotted are computed by the caller with :mod:`rotorlib`, except the
 potential V(phi1, phi2) on a grid, which is evaluated here with
-:func:`rotorlib.system.potential_phi`.
+:func:`rotorlib.core.system.potential_phi`.
 """
 
 from __future__ import annotations
@@ -19,11 +19,11 @@ import numpy as np
 from matplotlib.figure import Figure
 from numpy.typing import ArrayLike
 
-from ..system import potential_phi
+from ..core.system import potential_phi
 from . import COLUMN_WIDTH, panel_letters
 
 if TYPE_CHECKING:
-    from ..system import CriticalPoint
+    from ..core.system import CriticalPoint
 
 __all__ = [
     "pendulum_lines",
@@ -125,8 +125,8 @@ def plot_fig1(
 
     Parameters
     ----------
-    points : sequence of rotorlib.system.CriticalPoint
-        From :func:`rotorlib.system.critical_points` (marked and labelled).
+    points : sequence of rotorlib.core.system.CriticalPoint
+        From :func:`rotorlib.core.system.critical_points` (marked and labelled).
     levels : sequence of float, optional
         Equipotential levels (default 0.25, 0.5, ..., 4.25 and 4.4). E = 4 (red)
         and E = 4.5 (purple) are always drawn.

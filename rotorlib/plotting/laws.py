@@ -13,7 +13,7 @@ from numpy.typing import ArrayLike
 from . import COLUMN_WIDTH, family_tex, panel_letters
 
 if TYPE_CHECKING:
-    from ..branch import Branch
+    from ..orbits.family import Branch
 
 
 def _grid(n, row_height, figsize=None):
@@ -199,7 +199,7 @@ def rotational_reach(
     """Rotational newborn families followed in amplitude: (a) ``E - 4`` against the amplitude ``u``,
     (b) ``E - 4`` against the time ``t1`` from the start line to ``a2 = pi`` (half or quarter period).
 
-    ``profiles``: list of :class:`rotorlib.continuation.Branch`; ``levels``: list of ``(label, E - 4)``
+    ``profiles``: list of :class:`rotorlib.orbits.continuation.Branch`; ``levels``: list of ``(label, E - 4)``
     drawn as horizontal lines (energies the definition of alpha^r needs, and E = 4.5).
     """
     fig, ax = plt.subplots(1, 2, figsize=figsize or (COLUMN_WIDTH, 3.6), sharey=True)

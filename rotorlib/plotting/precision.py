@@ -206,7 +206,7 @@ def cells(
 ) -> list:
     """``rows`` (dicts) as lists of strings in the order of ``columns`` (``formats`` maps a
     column to a format specification; None is shown as ``-``), for
-    ``rotorlib.compare.markdown(cells(...), columns)``."""
+    ``rotorlib.core.compare.markdown(cells(...), columns)``."""
     formats = formats or {}
     return [[_cell(r, c, formats) for c in columns] for r in rows]
 

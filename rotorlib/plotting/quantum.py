@@ -1,4 +1,4 @@
-"""Figures for the chapter on the quantum 3-rotor (:mod:`rotorlib.quantum`).
+"""Figures for the chapter on the quantum 3-rotor (:mod:`rotorlib.beyond.quantum`).
 
 Units g = m r^2 = 1, dimensionless hbar. Each function returns the ``Figure`` it drew; the
 numbers are computed by the caller.
@@ -15,9 +15,9 @@ from matplotlib.figure import Figure
 from numpy.typing import ArrayLike
 
 if TYPE_CHECKING:
-    from ..chaos import ChaoticFraction
-    from ..quantum import Spectrum
-    from ..quantum_semiclassics import RatioStatistics
+    from ..beyond.quantum import Spectrum
+    from ..beyond.quantum_semiclassics import RatioStatistics
+    from ..paper.chaos import ChaoticFraction
 
 __all__ = ["plot_levels_vs_hbar", "plot_ratio", "plot_weyl", "plot_trace"]
 
@@ -26,7 +26,7 @@ COLORS = {"A1": "C0", "A2": "C1", "B1": "C2", "B2": "C3", "E1": "C4", "E2": "C5"
 
 
 def plot_levels_vs_hbar(spectra: Sequence[Spectrum], E_max: float) -> Figure:
-    """``spectra``: list of :class:`rotorlib.quantum.Spectrum` at several hbar; each level
+    """``spectra``: list of :class:`rotorlib.beyond.quantum.Spectrum` at several hbar; each level
     a dot coloured by its sector, with the harmonic shells ``hbar sqrt 3 (n + 1)``."""
     fig, ax = plt.subplots(figsize=(7, 4.2))
     seen = set()

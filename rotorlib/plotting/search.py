@@ -14,8 +14,8 @@ from numpy.typing import ArrayLike
 from . import COLUMN_WIDTH, family_tex, panel_letters
 
 if TYPE_CHECKING:
-    from ..branch import Branch
-    from ..search import DefectLandscape, WorkPrecision
+    from ..orbits.family import Branch
+    from ..paper.search import DefectLandscape, WorkPrecision
 
 
 def landscape(L: DefectLandscape, ax: Axes | None = None) -> Figure | SubFigure:
@@ -111,7 +111,7 @@ def amplitude_branch(
     r_scan: ArrayLike | None = None,
     E_scan: float | None = None,
 ) -> Figure:
-    """(a) ``E`` against the amplitude ``u`` along a family (a :class:`rotorlib.continuation.Branch`)
+    """(a) ``E`` against the amplitude ``u`` along a family (a :class:`rotorlib.orbits.continuation.Branch`)
     with its fold; (b) ``r(u)`` at ``E_scan``."""
     ncols = 1 if u_scan is None else 2
     fig, axes = plt.subplots(

@@ -1,0 +1,700 @@
+"""The quantum 3-rotor: the spectrum of the relative motion on the (phi1, phi2) torus.
+
+Units g = m r^2 = 1 and one dimensionless Planck constant ``hbar`` (the physical one over
+``sqrt(g m r^2)``). The relative Lagrangian of the paper (§2),
+``L = (phi1'^2 + phi2'^2 + phi1' phi2')/3 - V`` has the mass matrix
+``M = [[2, 1], [1, 2]]/3`` and the Hamiltonian ``H = P1^2 - P1 P2 + P2^2 + V`` with
+``V = 3 - cos phi1 - cos phi2 - cos(phi1 + phi2)``. Quantized with ``P_j = -i hbar d/dphi_j``
+on plane waves ``exp(i (n1 phi1 + n2 phi2))``:
+
+    <n|H|n> = hbar^2 (n1^2 - n1 n2 + n2^2) + 3,     <n +- e|H|n> = -1/2
+    for e = (1, 0), (0, 1), (1, 1).
+
+In rotor wave numbers ``k = (n1, n2 - n1, -n2)`` (``sum k = 0``) the kinetic energy is
+``hbar^2 |k|^2 / 2`` and the symmetry group S3 x Z2 (rotor permutations and the reflection
+``theta -> -theta``, order 12, the point group C6v of the hexagonal lattice of ``k``) acts
+by signed permutations of ``k``. Its irreducible representations:
+
+====  =====================================  ==========================
+name  S3 x Z2                                C6v characters (E C6 C3 C2 sv sd)
+====  =====================================  ==========================
+A1    trivial, even                          1  1  1  1  1  1
+A2    sign, even                             1  1  1  1 -1 -1
+B1    trivial, odd                           1 -1  1 -1  1 -1
+B2    sign, odd                              1 -1  1 -1 -1  1
+E1    two-dimensional, odd                   2  1 -1 -2  0  0
+E2    two-dimensional, even                  2 -1 -1  2  0  0
+====  =====================================  ==========================
+
+("even/odd": under ``theta -> -theta``, i.e. C2; ``sv`` are the rotor transpositions,
+``sd`` a transposition times the reflection.) Each block is the Hamiltonian on the
+symmetry-adapted functions of one row of its irrep, built orbit by orbit of the lattice;
+the levels of E1 and E2 are doubly degenerate in the full spectrum.
+
+Precision: float64 throughout. The basis is every plane wave with kinetic energy
+``hbar^2 |k|^2/2 <= cutoff``; the levels converge from above (nested bases, Cauchy
+interlacing) and :func:`spectrum` states their change when the cut-off is lowered by
+``cutoff_step(hbar)`` (``convergence``, typically < 1e-11 with the default cut-off).
+Blocks of up to ``DENSE_MAX`` functions are diagonalized by LAPACK ``dsyevr``; larger
+ones by spectrum slicing: Sylvester inertia counts from a sparse factorization of
+``H - x`` (SuperLU, symmetric ordering, no pivoting) cut ``[0, E_max]`` into slices of at
+most ``SLICE`` levels, each solved by shift-and-invert Lanczos (ARPACK) at its midpoint
+and checked against its count (dense ``dsyevr`` if a count fails). Both are backward
+stable: absolute error ~1e-15 ||H|| ~ 1e-13 at E ~ 8. Checked against independent
+diagonalizations in the rotor wave numbers (``tests/test_quantum.py``).
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from concurrent.futures import Executor
+from dataclasses import dataclass
+from functools import cache
+
+import numpy as np
+import scipy.linalg as sla
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+from ..core.parallel import pmap
+from ..core.precision import tier
+
+__all__ = [
+    "SECTORS",
+    "DIMENSIONS",
+    "cutoff_step",
+    "SectorSpectrum",
+    "Spectrum",
+    "plane_waves",
+    "hamiltonian",
+    "symmetry_basis",
+    "sector_hamiltonian",
+    "default_cutoff",
+    "basis_size",
+    "memory_estimate",
+    "sector_spectrum",
+    "spectrum",
+]
+
+#: The six irreducible representations of S3 x Z2 (C6v), in the order used throughout.
+SECTORS = ("A1", "A2", "B1", "B2", "E1", "E2")
+#: Their dimensions (the multiplicity of a sector's levels in the full spectrum).
+DIMENSIONS = {"A1": 1, "A2": 1, "B1": 1, "B2": 1, "E1": 2, "E2": 2}
+#: Levels compared with the smaller basis when the block is solved by slicing.
+TOP_CHECK = 40
+#: Blocks up to this size use dense ``dsyevr``; larger ones spectrum slicing.
+DENSE_MAX = 1500
+#: Largest number of levels per shift-and-invert slice.
+SLICE = 80
+
+
+def _check(hbar, E_max=None, sector=None, digits=None):
+    tier(digits)  # validates digits
+    if digits is not None and digits > 15:
+        raise ValueError(
+            f"the spectrum is computed in float64 only (at most 15 digits), not {digits}"
+        )
+    try:
+        hbar = float(hbar)
+    except (TypeError, ValueError):
+        raise ValueError(f"hbar must be a positive number, not {hbar!r}") from None
+    if not (math.isfinite(hbar) and hbar > 0):
+        raise ValueError(f"hbar must be a positive finite number, not {hbar}")
+    if E_max is not None:
+        try:
+            E_max = float(E_max)
+        except (TypeError, ValueError):
+            raise ValueError(f"E_max must be a number, not {E_max!r}") from None
+        if not (math.isfinite(E_max) and E_max > 0):
+            raise ValueError(f"E_max must be a positive finite energy, not {E_max}")
+    if sector is not None and sector not in SECTORS:
+        raise ValueError(
+            f"unknown sector {sector!r}: choose one of {', '.join(SECTORS)}"
+        )
+    return hbar, E_max
+
+
+# ---------------------------------------------------------------- the group
+@cache
+def _group():
+    """The 12 signed permutation matrices acting on ``k``, their permutations and signs."""
+    import itertools
+
+    mats, perms, signs = [], [], []
+    for p in itertools.permutations(range(3)):
+        P = np.zeros((3, 3), dtype=np.int64)
+        P[list(p), range(3)] = 1  # e_j -> e_{p(j)}
+        for s in (1, -1):
+            mats.append(s * P)
+            perms.append(P)
+            signs.append(s)
+    mats = np.array(mats)
+    n = len(mats)
+    mult = np.empty((n, n), dtype=np.int64)
+    for a in range(n):
+        for b in range(n):
+            prod = mats[a] @ mats[b]
+            mult[a, b] = next(c for c in range(n) if np.array_equal(mats[c], prod))
+    return mats, np.array(perms), np.array(signs), mult
+
+
+@cache
+def _rep(sector: str, row: int):
+    """``D_{row,row}(g)`` of the irrep ``sector`` for the 12 group elements (real)."""
+    mats, perms, signs, _ = _group()
+    det = np.rint(np.linalg.det(perms)).astype(int)  # sign of the permutation
+    if sector in ("A1", "A2", "B1", "B2"):
+        if row != 0:
+            raise ValueError(f"sector {sector} is one-dimensional: row must be 0")
+        return {
+            "A1": np.ones(12),
+            "A2": det.astype(float),
+            "B1": signs.astype(float),
+            "B2": (signs * det).astype(float),
+        }[sector]
+    if row not in (0, 1):
+        raise ValueError(f"row must be 0 or 1, not {row}")
+    # orthonormal basis of the plane sum(x) = 0: the standard representation of S3
+    U = np.array([[1.0, -1.0, 0.0], [1.0, 1.0, -2.0]]).T
+    U /= np.linalg.norm(U, axis=0)
+    D = np.einsum("ia,gij,jb->gab", U, perms.astype(float), U)
+    d = D[:, row, row]
+    return d * signs if sector == "E1" else d
+
+
+# ---------------------------------------------------------------- the basis
+def default_cutoff(hbar: float, E_max: float) -> float:
+    """Kinetic-energy cut-off of the (smaller) plane-wave basis for levels below ``E_max``.
+
+    ``E_max + 0.5 + 40 hbar``: beyond the classical kinetic energy ``E_max`` an
+    eigenfunction decays in momentum space by a fixed factor per lattice step, and a
+    step is worth ``~2 hbar sqrt(E)`` of kinetic energy, so the margin grows like
+    ``hbar``. Measured to converge every level to < 1e-9 for ``0.02 <= hbar <= 0.5``,
+    ``E_max <= 8`` (``convergence`` states it for each run).
+
+    Examples
+    --------
+    >>> round(default_cutoff(0.1, 2.0), 3)
+    6.5
+    """
+    return float(E_max) + 0.5 + 40.0 * float(hbar)
+
+
+def cutoff_step(hbar: float) -> float:
+    """Raise of the cut-off between the two bases of the convergence estimate:
+    ``0.5 + 6 hbar``.
+
+    Examples
+    --------
+    >>> cutoff_step(0.5)
+    3.5
+    """
+    return 0.5 + 6.0 * float(hbar)
+
+
+def plane_waves(hbar: float, cutoff: float) -> np.ndarray:
+    """The wave numbers ``(n1, n2)`` with ``hbar^2 (n1^2 - n1 n2 + n2^2) <= cutoff``.
+
+    Sorted by kinetic energy (then lexicographically); shape ``(N, 2)``, integers.
+    ``N ~ (2 pi/sqrt 3) cutoff / hbar^2``.
+
+    Examples
+    --------
+    >>> plane_waves(1.0, 1.0).tolist()
+    [[0, 0], [-1, -1], [-1, 0], [0, -1], [0, 1], [1, 0], [1, 1]]
+    """
+    hbar, _ = _check(hbar)
+    r = int(math.floor(math.sqrt(4.0 * cutoff / 3.0) / hbar)) + 1
+    a = np.arange(-r, r + 1)
+    n1, n2 = np.meshgrid(a, a, indexing="ij")
+    q = n1 * n1 - n1 * n2 + n2 * n2
+    keep = hbar * hbar * q <= cutoff * (1 + 1e-12)
+    n = np.stack([n1[keep], n2[keep]], axis=1)
+    order = np.lexsort((n[:, 1], n[:, 0], q[keep]))
+    return n[order]
+
+
+def _keys(n, r):
+    w = 2 * r + 1
+    return (n[..., 0] + r) * w + (n[..., 1] + r)
+
+
+def hamiltonian(hbar: float, cutoff: float) -> tuple[sp.csr_matrix, np.ndarray]:
+    """The Hamiltonian in the plane-wave basis, ``(H, n)``: a sparse symmetric CSR matrix
+    and the wave numbers of :func:`plane_waves`.
+
+    Examples
+    --------
+    >>> H, n = hamiltonian(1.0, 1.0)
+    >>> H.shape, float(H[0, 0]), float(H[0, 1])
+    ((7, 7), 3.0, -0.5)
+    """
+    n = plane_waves(hbar, cutoff)
+    N = len(n)
+    r = int(np.abs(n).max()) + 2
+    keys = _keys(n, r)
+    order = np.argsort(keys)
+    diag = hbar * hbar * (n[:, 0] ** 2 - n[:, 0] * n[:, 1] + n[:, 1] ** 2) + 3.0
+    rows, cols = [np.arange(N)], [np.arange(N)]
+    vals = [diag]
+    for e in ((1, 0), (0, 1), (1, 1), (-1, 0), (0, -1), (-1, -1)):
+        kk = _keys(n + np.array(e), r)
+        pos = np.searchsorted(keys[order], kk)
+        pos = np.minimum(pos, N - 1)
+        hit = keys[order][pos] == kk
+        rows.append(np.nonzero(hit)[0])
+        cols.append(order[pos[hit]])
+        vals.append(np.full(hit.sum(), -0.5))
+    H = sp.csr_matrix(
+        (np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
+        shape=(N, N),
+    )
+    return H, n
+
+
+@cache
+def _orbit_vectors(pattern: tuple, sector: str, row: int):
+    """Orthonormal symmetry-adapted vectors on one lattice orbit (by its pattern)."""
+    _, _, _, mult = _group()
+    D = _rep(sector, row)
+    slots = sorted(set(pattern))
+    where = {s: i for i, s in enumerate(slots)}
+    S = np.zeros((12, len(slots)))
+    for h in range(12):
+        for g in range(12):
+            S[h, where[pattern[mult[g, h]]]] += D[g]
+    u, s, vt = np.linalg.svd(S)
+    rank = int(np.sum(s > 1e-9 * max(s.max(), 1.0)))
+    return slots, vt[:rank]
+
+
+def symmetry_basis(n: np.ndarray, sector: str, row: int = 0) -> sp.csc_matrix:
+    """Symmetry-adapted orthonormal basis of ``sector`` (row ``row`` of a 2D irrep).
+
+    Parameters
+    ----------
+    n : array (N, 2)
+        A basis of plane waves closed under the group (e.g. :func:`plane_waves`).
+    sector : str
+        One of :data:`SECTORS`.
+    row : int
+        0, or 1 for the second row of E1 and E2 (the same levels: a check).
+
+    Returns
+    -------
+    scipy.sparse.csc_matrix, shape (N, N_sector)
+        Orthonormal columns spanning the functions of that row of the irrep.
+
+    Examples
+    --------
+    >>> n = plane_waves(1.0, 1.0)
+    >>> [symmetry_basis(n, s).shape[1] for s in SECTORS]
+    [2, 0, 0, 1, 1, 1]
+    """
+    _check(1.0, sector=sector)
+    mats, _, _, _ = _group()
+    n = np.asarray(n)
+    k = np.stack([n[:, 0], n[:, 1] - n[:, 0], -n[:, 1]], axis=1)
+    img = np.einsum("gij,nj->ngi", mats, k)  # (N, 12, 3)
+    r = int(np.abs(k).max()) + 1
+    w = 2 * r + 1
+    key = ((img[..., 0] + r) * w + (img[..., 1] + r)) * w + (img[..., 2] + r)
+    canon = key.max(axis=1)
+    mine = key[:, 0] == canon  # the canonical representative of each orbit
+    reps = np.nonzero(mine)[0]
+    kr = key[reps]  # (n_orb, 12): key of g . rep
+    first = np.argmax(kr[:, :, None] == kr[:, None, :], axis=2)  # first equal slot
+    lookup = np.argsort(key[:, 0])
+    sorted_keys = key[lookup, 0]
+    rows, cols, vals = [], [], []
+    col = 0
+    patterns, inverse = np.unique(first, axis=0, return_inverse=True)
+    inverse = np.asarray(inverse).ravel()
+    for p_idx, pat in enumerate(patterns):
+        slots, vecs = _orbit_vectors(tuple(int(x) for x in pat), sector, row)
+        if len(vecs) == 0:
+            continue
+        orbits = np.nonzero(inverse == p_idx)[0]
+        pts = lookup[np.searchsorted(sorted_keys, kr[orbits][:, slots])]  # (m_o, len)
+        for v in vecs:
+            m = len(orbits)
+            rows.append(pts.ravel())
+            cols.append(np.repeat(np.arange(col, col + m), len(slots)))
+            vals.append(np.tile(v, m))
+            col += m
+    if col == 0:
+        return sp.csc_matrix((len(n), 0))
+    B = sp.csc_matrix(
+        (np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
+        shape=(len(n), col),
+    )
+    # order the columns by the kinetic energy of their orbit (smaller bandwidth)
+    q = (n[:, 0] ** 2 - n[:, 0] * n[:, 1] + n[:, 1] ** 2).astype(float)
+    first_row = B.indices[B.indptr[:-1]]
+    B = B[:, np.argsort(q[first_row], kind="stable")]
+    B.eliminate_zeros()
+    return B
+
+
+def sector_hamiltonian(
+    hbar: float, sector: str, cutoff: float, row: int = 0
+) -> sp.csr_matrix:
+    """The block of ``sector`` (CSR, symmetric): ``B^T H B`` with ``B`` of
+    :func:`symmetry_basis`.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> H = sector_hamiltonian(1.0, "A1", 1.0).toarray()  # the origin and the hexagon
+    >>> np.linalg.eigvalsh(H).round(6).tolist()  # 3 -/+ sqrt(6)/2
+    [1.775255, 4.224745]
+    """
+    hbar, _ = _check(hbar, sector=sector)
+    H, n = hamiltonian(hbar, cutoff)
+    B = symmetry_basis(n, sector, row)
+    Hs = (B.T @ H @ B).tocsr()
+    Hs.data[np.abs(Hs.data) < 1e-14] = 0.0
+    Hs.eliminate_zeros()
+    return Hs
+
+
+class SlicingFailed(RuntimeError):
+    """Shift-and-invert Lanczos found a different number of levels than the inertia."""
+
+
+def _factor(Hs, x):
+    """Sparse LDL^T-like factorization of ``Hs - x`` (SuperLU, symmetric ordering, no
+    pivoting): the number of negative pivots is the number of levels below ``x``
+    (Sylvester's law of inertia)."""
+    A = (Hs - x * sp.identity(Hs.shape[0], format="csc")).tocsc()
+    lu = spla.splu(
+        A,
+        permc_spec="MMD_AT_PLUS_A",
+        diag_pivot_thresh=0.0,
+        options=dict(SymmetricMode=True),
+    )
+    return lu, int(np.count_nonzero(lu.U.diagonal() < 0))
+
+
+def _slice(Hs, a, b, k):
+    """The ``k`` levels in ``(a, b]``: the ``k + 8`` nearest ``(a + b)/2`` by ARPACK in
+    shift-and-invert mode (every level inside is nearer the midpoint than any outside)."""
+    N = Hs.shape[0]
+    sigma = 0.5 * (a + b)
+    lu, _ = _factor(Hs, sigma)
+    op = spla.LinearOperator((N, N), matvec=lu.solve, dtype=float)
+    m = min(k + 8, N - 2)
+    w = spla.eigsh(
+        Hs,
+        k=m,
+        sigma=sigma,
+        OPinv=op,
+        which="LM",
+        return_eigenvectors=False,
+        tol=0.0,
+        ncv=min(N - 1, max(2 * m + 1, m + 40)),
+    )
+    w = np.sort(w[(w > a) & (w <= b)])
+    if len(w) != k:
+        raise SlicingFailed(f"found {len(w)} levels in ({a}, {b}], inertia says {k}")
+    return w
+
+
+def _eigenvalues_below(Hs, E_max: float) -> tuple[np.ndarray, str]:
+    """Eigenvalues of the symmetric sparse ``Hs`` in ``(-1, E_max]`` (H >= 0)."""
+    N = Hs.shape[0]
+    if N == 0:
+        return np.empty(0), "none"
+    if N > DENSE_MAX:
+        try:
+            return _sliced(Hs, E_max), "shift-invert Lanczos slices (ARPACK, SuperLU)"
+        except SlicingFailed:
+            pass
+    w = sla.eigh(
+        Hs.toarray(), eigvals_only=True, subset_by_value=(-1.0, E_max), driver="evr"
+    )
+    return np.sort(w), "dense dsyevr"
+
+
+def _sliced(Hs, E_max):
+    """Spectrum slicing: cut ``(-1, E_max]`` by inertia counts into slices of at most
+    ``SLICE`` levels, each solved by :func:`_slice`; the total is checked against the
+    inertia at ``E_max``."""
+    counts = {-1.0: 0, E_max: _factor(Hs, E_max)[1]}
+    stack, out = [(-1.0, E_max)], []
+    while stack:
+        a, b = stack.pop()
+        k = counts[b] - counts[a]
+        if k == 0:
+            continue
+        if k > SLICE and b - a > 1e-6:
+            c = 0.5 * (a + b)
+            counts[c] = _factor(Hs, c)[1]
+            stack += [(c, b), (a, c)]
+            continue
+        out.append(_slice(Hs, a, b, k))
+    w = np.sort(np.concatenate(out)) if out else np.empty(0)
+    if len(w) != counts[E_max]:
+        raise SlicingFailed("slices do not add up")
+    return w
+
+
+# ---------------------------------------------------------------- sizes and memory
+def basis_size(hbar: float, cutoff: float) -> int:
+    """Number of plane waves below ``cutoff``: ``(2 pi / sqrt 3) cutoff / hbar^2`` (Weyl's
+    estimate, within a few per cent; nothing is allocated).
+
+    Examples
+    --------
+    >>> basis_size(0.1, 10.0)
+    3627
+    """
+    return int(2.0 * math.pi / math.sqrt(3.0) * cutoff / hbar**2)
+
+
+def memory_estimate(hbar: float, E_max: float, cutoff: float | None = None) -> int:
+    """Peak bytes of one sector's computation, estimated (not allocated).
+
+    The full sparse H (7 entries per plane wave), the group images of the lattice
+    (12 x 3 integers per plane wave), and the sparse factorization of the largest block
+    (a row of E1 or E2, ~N/6 functions, ~100 nonzeros per row after fill-in), plus the
+    interpreter. ``benchmarks/bench_quantum.py`` prints the measured peak (114 MiB at
+    hbar = 0.03, E_max = 6.5, where this gives 91 MB).
+
+    Examples
+    --------
+    >>> memory_estimate(0.1, 2.0) < 10**8
+    True
+    """
+    hbar, E_max = _check(hbar, E_max)
+    K = default_cutoff(hbar, E_max) + cutoff_step(hbar) if cutoff is None else cutoff
+    N = basis_size(hbar, K)
+    nb = N / 6.0
+    return int(N * (7 * 12 * 2 + 12 * 3 * 8 + 96) + nb * 100 * 12 * 3 + 5e7)
+
+
+def available_memory() -> int:
+    """Bytes of physical memory available now (``sysconf``); 8 GB if unknown."""
+    try:
+        return os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
+    except (ValueError, OSError, AttributeError):
+        return 8 * 2**30
+
+
+# ---------------------------------------------------------------- spectra
+@dataclass(frozen=True)
+class SectorSpectrum:
+    """The levels of one symmetry sector below ``E_max``.
+
+    Attributes
+    ----------
+    hbar, E_max : float
+    sector : str
+    row : int
+        Row of the irrep (0; 1 only for the second row of E1/E2).
+    levels : numpy.ndarray
+        Sorted eigenvalues ``<= E_max`` (float64), from the larger basis.
+    cutoff : float
+        Kinetic cut-off of the larger basis (the smaller one is ``cutoff - cutoff_step(hbar)``).
+    basis_size : int
+        Functions in the block of the larger basis.
+    plane_waves : int
+        Plane waves in the larger basis.
+    convergence : float
+        ``max |E(cutoff) - E(cutoff - cutoff_step(hbar))|`` over the levels (a level that
+        crossed ``E_max`` between the two counts as ``inf``).
+    method : str
+        The LAPACK driver used.
+    """
+
+    hbar: float
+    sector: str
+    row: int
+    E_max: float
+    levels: np.ndarray
+    cutoff: float
+    basis_size: int
+    plane_waves: int
+    convergence: float
+    method: str
+
+    @property
+    def multiplicity(self) -> int:
+        """Degeneracy of each level in the full spectrum (the irrep's dimension)."""
+        return DIMENSIONS[self.sector]
+
+
+def _block(hbar, sector, cutoff, row):
+    H, n = hamiltonian(hbar, cutoff)
+    B = symmetry_basis(n, sector, row)
+    Hs = (B.T @ H @ B).tocsc()
+    Hs.data[np.abs(Hs.data) < 1e-14] = 0.0
+    Hs.eliminate_zeros()
+    return Hs, len(n)
+
+
+def _sector_task(args):
+    hbar, sector, E_max, cutoff, row = args
+    Hs, npw = _block(hbar, sector, cutoff, row)
+    w1, method = _eigenvalues_below(Hs, E_max)
+    # the check: the basis with the cut-off lowered by cutoff_step(hbar). Levels converge
+    # from the top down (the highest reach furthest in momentum), so beyond the dense
+    # range only the count and the top TOP_CHECK levels are compared.
+    Hs0, _ = _block(hbar, sector, cutoff - cutoff_step(hbar), row)
+    if Hs0.shape[0] <= DENSE_MAX or len(w1) <= TOP_CHECK:
+        w0, _ = _eigenvalues_below(Hs0, E_max)
+        same = len(w0) == len(w1)
+        conv = float(np.max(np.abs(w1 - w0))) if same and len(w1) else 0.0
+    else:
+        a = 0.5 * (w1[-TOP_CHECK - 1] + w1[-TOP_CHECK])
+        ca, cb = _factor(Hs0, a)[1], _factor(Hs0, E_max)[1]
+        same = cb == len(w1) and cb - ca == TOP_CHECK
+        if same:
+            w0 = _slice(Hs0, a, E_max, TOP_CHECK)
+            conv = float(np.max(np.abs(w1[-TOP_CHECK:] - w0)))
+    if not same:
+        conv = math.inf
+    return SectorSpectrum(
+        hbar=hbar,
+        sector=sector,
+        row=row,
+        E_max=E_max,
+        levels=w1,
+        cutoff=cutoff,
+        basis_size=Hs.shape[0],
+        plane_waves=npw,
+        convergence=conv,
+        method=method,
+    )
+
+
+def sector_spectrum(
+    hbar: float,
+    sector: str,
+    E_max: float,
+    cutoff: float | None = None,
+    row: int = 0,
+    digits: int | None = None,
+) -> SectorSpectrum:
+    """The levels of one sector below ``E_max``, with the convergence estimate.
+
+    Parameters
+    ----------
+    hbar : float
+        Dimensionless Planck constant (units g = m r^2 = 1), > 0.
+    sector : str
+        One of :data:`SECTORS`.
+    E_max : float
+        Highest energy (the minimum of V is 0, the ground state ~ hbar sqrt 3).
+    cutoff : float, optional
+        Kinetic cut-off of the larger basis; default ``default_cutoff + cutoff_step(hbar)``.
+    row : int
+        Row of a two-dimensional irrep (0 or 1).
+    digits : int, optional
+        At most 15 (float64 is the only tier).
+
+    Returns
+    -------
+    SectorSpectrum
+        Levels to ~1e-13 absolute when ``convergence`` is below that.
+
+    Examples
+    --------
+    >>> s = sector_spectrum(0.1, "A1", 0.6)
+    >>> [round(float(x), 6) for x in s.levels]
+    [0.171947, 0.510725]
+    >>> s.convergence < 1e-12
+    True
+    """
+    hbar, E_max = _check(hbar, E_max, sector, digits)
+    if cutoff is None:
+        cutoff = default_cutoff(hbar, E_max) + cutoff_step(hbar)
+    if cutoff - cutoff_step(hbar) <= E_max:
+        raise ValueError(
+            f"cutoff {cutoff} must exceed E_max + cutoff_step = "
+            f"{E_max + cutoff_step(hbar)}"
+        )
+    return _sector_task((hbar, sector, E_max, float(cutoff), row))
+
+
+@dataclass(frozen=True)
+class Spectrum:
+    """The spectrum of several sectors (``all``: the whole spectrum with multiplicities).
+
+    Attributes
+    ----------
+    hbar, E_max : float
+    sectors : tuple of SectorSpectrum
+    """
+
+    hbar: float
+    E_max: float
+    sectors: tuple
+
+    @property
+    def levels(self) -> np.ndarray:
+        """All levels, each repeated by its multiplicity, sorted."""
+        parts = [np.repeat(s.levels, s.multiplicity) for s in self.sectors]
+        return np.sort(np.concatenate(parts)) if parts else np.empty(0)
+
+    @property
+    def labels(self) -> np.ndarray:
+        """The sector of each distinct level, in the order of :attr:`distinct`."""
+        lab = np.concatenate([[s.sector] * len(s.levels) for s in self.sectors])
+        return lab[np.argsort(self._distinct_unsorted(), kind="stable")]
+
+    def _distinct_unsorted(self):
+        return np.concatenate([s.levels for s in self.sectors])
+
+    @property
+    def distinct(self) -> np.ndarray:
+        """Every level once (a level of E1/E2 once), sorted."""
+        return np.sort(self._distinct_unsorted(), kind="stable")
+
+    @property
+    def convergence(self) -> float:
+        return max((s.convergence for s in self.sectors), default=0.0)
+
+    def sector(self, name: str) -> SectorSpectrum:
+        return next(s for s in self.sectors if s.sector == name)
+
+
+def spectrum(
+    hbar: float,
+    E_max: float,
+    sectors: str | tuple[str, ...] | list[str] = "all",
+    cutoff: float | None = None,
+    executor: Executor | None = None,
+    digits: int | None = None,
+) -> Spectrum:
+    """The levels below ``E_max`` of the given sectors (``"all"``: the six).
+
+    Each sector is one task of :func:`rotorlib.core.parallel.pmap` (serial, a process pool
+    or a Dask cluster via ``executor``), largest first.
+
+    Examples
+    --------
+    >>> s = spectrum(0.5, 2.0)
+    >>> [round(float(x), 6) for x in s.levels]
+    [0.833625, 1.63238, 1.63238]
+    >>> [x.sector for x in s.sectors if len(x.levels)]
+    ['A1', 'E1']
+    """
+    names = (
+        SECTORS
+        if sectors == "all"
+        else tuple([sectors] if isinstance(sectors, str) else sectors)
+    )
+    for s in names:
+        hbar, E_max = _check(hbar, E_max, s, digits)
+    if cutoff is None:
+        cutoff = default_cutoff(hbar, E_max) + cutoff_step(hbar)
+    order = sorted(names, key=lambda s: -DIMENSIONS[s])
+    res = pmap(
+        _sector_task,
+        [(hbar, s, E_max, float(cutoff), 0) for s in order],
+        executor=executor,
+    )
+    by = {r.sector: r for r in res}
+    return Spectrum(hbar=hbar, E_max=E_max, sectors=tuple(by[s] for s in names))

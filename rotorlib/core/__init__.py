@@ -1,0 +1,1 @@
+"""The system and its flow: equations, energies, elliptic functions, precision tiers."""

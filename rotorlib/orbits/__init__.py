@@ -1,0 +1,1 @@
+"""The periodic-orbit engine: shooting, continuation, Floquet theory, result types."""

@@ -1,0 +1,1 @@
+"""The paper's families: pendulum transitions, newborn orbits, laws, breathers, chaos."""
