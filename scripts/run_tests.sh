@@ -76,7 +76,7 @@ if selected lint; then
         part "actionlint" .venv/bin/actionlint -shellcheck= -pyflakes= "${workflows[@]}"
     fi
 else
-    not_run+=("lint (ruff, actionlint): not in RUN_TESTS_PARTS")
+    not_run+=("lint (ruff and actionlint): not in RUN_TESTS_PARTS")
 fi
 
 # --- types --------------------------------------------------------------------
@@ -100,7 +100,7 @@ if selected pytest; then
     # book: say so at the end, loudly, rather than count it among the passes.
     browser=$("$PY" scripts/skipped_tests.py _build/pytest.xml tests/test_book_html.py || true)
     if [ -n "$browser" ]; then
-        not_run+=("browser test (tests/test_book_html.py): $browser. To run it: bash scripts/build_book.sh, then apt-get install chromium (as .ci/run does) or set CHROMIUM=/path/to/chromium")
+        not_run+=("browser test (tests/test_book_html.py): $browser. To run it: build the book (bash scripts/build_book.sh) and install chromium (apt-get install chromium, as .ci/run does) or set CHROMIUM=/path/to/chromium")
     fi
 else
     not_run+=("pytest (tests/, the browser test included): not in RUN_TESTS_PARTS")
@@ -142,12 +142,13 @@ fi
 for what in "${not_run[@]}"; do
     echo "run_tests: NOT RUN: $what"
 done
+names=$(printf '%s\n' "${not_run[@]}" | sed 's/:.*//' | paste -sd, - | sed 's/,/, /g')
 if [ "${#failed[@]}" -gt 0 ]; then
-    echo "run_tests: FAILED: $(IFS=,; echo "${failed[*]}" | sed 's/,/, /g')"
+    echo "run_tests: FAILED: $(IFS=,; echo "${failed[*]}" | sed 's/,/, /g')${names:+; NOT RUN: $names}"
     exit 1
 fi
 if [ "${#not_run[@]}" -gt 0 ]; then
-    echo "run_tests: the parts that ran passed, but ${#not_run[@]} did NOT run (listed above)"
+    echo "run_tests: the parts that ran passed, but NOT all parts ran. NOT RUN: $names (how to run each: above)"
     exit 0
 fi
 echo "run_tests: all parts passed"

@@ -122,14 +122,6 @@ class HeyokaMissing(ImportError):
     elsewhere install the extra ``rotorlib[fast]`` (or conda-forge's ``heyoka.py``).
     """
 
-    def __init__(self, reason: str = "") -> None:
-        super().__init__(
-            "this computation needs heyoka (the Taylor integrator of the nonlinear flow"
-            "), which is not installed here (" + (reason or "no module 'heyoka'") + "): "
-            "pip install 'rotorlib[fast]' or conda install -c conda-forge heyoka.py",
-            name="heyoka",
-        )
-
 
 @cache
 def load_heyoka() -> Any:
@@ -150,8 +142,13 @@ def load_heyoka() -> Any:
     """
     try:
         import heyoka as hy
-    except ImportError as exc:
-        raise HeyokaMissing(str(exc)) from exc
+    except ImportError as exc:  # one line, naming the extra (the CLI prints it)
+        raise HeyokaMissing(
+            "this computation needs heyoka (the Taylor integrator of the nonlinear "
+            f"flow), which is not installed here ({exc}): pip install "
+            "'rotorlib[fast]' or conda install -c conda-forge heyoka.py",
+            name="heyoka",
+        ) from exc
 
     raw = os.environ.get("ROTORLIB_HEYOKA_CACHE_MB", str(HEYOKA_CACHE_MB))
     if not raw.strip().isdecimal():
