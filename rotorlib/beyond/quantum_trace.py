@@ -339,7 +339,7 @@ class OrbitTerm:
             maslov=tuple(int(v) for v in d["maslov"]),
             copies=int(d["copies"]),
             stabiliser=tuple(d.get("stabiliser", ())),
-            period_slope=float(d.get("period_slope", float("nan"))),
+            period_slope=float(d.get("period_slope") or float("nan")),
             extra=dict(d.get("extra", {})),
         )
 
