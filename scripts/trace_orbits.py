@@ -28,10 +28,9 @@ from rotorlib.beyond import quantum_trace as qt  # noqa: E402
 
 ENERGIES = (3.0, 4.3, 5.45, 7.0)
 T_MAX, T_NAMED = 10.0, 14.0
-NAMED = (
-    ["pendulum", "LG", "LD", "R", "PD^b", "CG", "CT", "CZ1", "CZ2", "CR1"]
-    + [f"{k}^{s}_{n}" for k in ("IS", "PD") for s in ("l", "r") for n in (1, 2, 3)]
-)
+NAMED = ["pendulum", "LG", "LD", "R", "PD^b", "CG", "CT", "CZ1", "CZ2", "CR1"] + [
+    f"{k}^{s}_{n}" for k in ("IS", "PD") for s in ("l", "r") for n in (1, 2, 3)
+]
 DE = 1e-4
 
 
@@ -45,9 +44,10 @@ def named_orbits(E0: float) -> list:
         if o.period > T_NAMED:
             continue
         try:
-            dT = (rotorlib.orbit(lab, E0 + DE).period - rotorlib.orbit(lab, E0 - DE).period) / (
-                2 * DE
-            )
+            dT = (
+                rotorlib.orbit(lab, E0 + DE).period
+                - rotorlib.orbit(lab, E0 - DE).period
+            ) / (2 * DE)
         except ValueError:
             dT = float("nan")
         out.append((lab, o, dT))
@@ -55,7 +55,9 @@ def named_orbits(E0: float) -> list:
 
 
 def main(argv=None) -> int:
-    args = arguments("trace_orbits", __doc__, ROOT / "book" / "data" / "trace_orbits.json", argv)
+    args = arguments(
+        "trace_orbits", __doc__, ROOT / "book" / "data" / "trace_orbits.json", argv
+    )
     if args is None:
         return 2
     t0 = time.perf_counter()

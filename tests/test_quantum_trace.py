@@ -63,7 +63,9 @@ def test_pendulum_action_derivative_is_the_period():
 
 def test_pendulum_small_and_large_energy_limits():
     # harmonic limit: S = 2 pi E / sqrt 3; fast rotation: S -> 2 pi sqrt(4 E/3)
-    assert abs(qt.pendulum_action(1e-9) / (2 * math.pi * 1e-9 / math.sqrt(3)) - 1) < 1e-8
+    assert (
+        abs(qt.pendulum_action(1e-9) / (2 * math.pi * 1e-9 / math.sqrt(3)) - 1) < 1e-8
+    )
     E = 1e6
     assert abs(qt.pendulum_action(E) / (2 * math.pi * math.sqrt(4 * E / 3)) - 1) < 1e-5
     # index: near the bottom the transverse motion turns by just over 2 pi (5 = 2 + 3),
@@ -85,9 +87,14 @@ def test_harmonic_oscillator_frame_index_is_exact(w2):
         f = np.array([-math.sin(t), 0.0, -math.cos(t), 0.0])  # q1 = cos t, p1 = -sin t
         c, s = math.cos(w2 * t), math.sin(w2 * t)
         Phi = np.eye(4)
-        Phi[np.ix_([0, 2], [0, 2])] = [[math.cos(t), math.sin(t)], [-math.sin(t), math.cos(t)]]
+        Phi[np.ix_([0, 2], [0, 2])] = [
+            [math.cos(t), math.sin(t)],
+            [-math.sin(t), math.cos(t)],
+        ]
         Phi[np.ix_([1, 3], [1, 3])] = [[c, s / w2], [-w2 * s, c]]
-        mats.append(qt.transverse_frame(f) @ Phi @ qt.transverse_frame([0, 0, -1.0, 0]).T)
+        mats.append(
+            qt.transverse_frame(f) @ Phi @ qt.transverse_frame([0, 0, -1.0, 0]).T
+        )
     got = qt.conley_zehnder(mats, 3)
     assert got == tuple(2 * r + 2 * math.floor(r * w2) + 1 for r in (1, 2, 3))
 
@@ -96,8 +103,12 @@ def test_hyperbolic_path_index_counts_half_turns():
     # m(t) = R(pi t) diag(e^t, e^-t): one full turn and a hyperbolic end: index 2
     mats = []
     for t in np.linspace(0.0, 2.0, 200):
-        R = np.array([[math.cos(math.pi * t), math.sin(math.pi * t)],
-                      [-math.sin(math.pi * t), math.cos(math.pi * t)]])
+        R = np.array(
+            [
+                [math.cos(math.pi * t), math.sin(math.pi * t)],
+                [-math.sin(math.pi * t), math.cos(math.pi * t)],
+            ]
+        )
         mats.append(R @ np.diag([math.exp(t), math.exp(-t)]))
     assert qt.conley_zehnder(mats, 3) == (2, 4, 6)
 
@@ -128,7 +139,10 @@ def test_signals_agree_for_one_orbit_with_its_phase():
     s = qt.semiclassical_signal([tm], 2.0, 0.2, 0.05, t, 1)
     k = np.argmax(np.abs(s))
     assert abs(t[k] - 3.0) < 0.01
-    assert abs(np.angle(s[k]) - np.angle(np.exp(1j * (1.234 / 0.05 - 1.5 * math.pi)))) < 1e-9
+    assert (
+        abs(np.angle(s[k]) - np.angle(np.exp(1j * (1.234 / 0.05 - 1.5 * math.pi))))
+        < 1e-9
+    )
     # the 2-d oscillator (w1 = 1, w2 = 1.37): its trace formula is exact; two orbits
     # with S = 2 pi E/w, sigma_r = 2 r + 2 floor(r w'/w) + 1, tr M = 2 + 2 cos(2 pi w'/w)
     h, w2, E0, sig = 0.01, 1.37, 2.0, 0.2
@@ -138,7 +152,9 @@ def test_signals_agree_for_one_orbit_with_its_phase():
     for w, v in ((1.0, w2), (w2, 1.0)):
         sigma = tuple(2 * r + 2 * math.floor(r * v / w) + 1 for r in (1, 2))
         tr = 2 + 2 * math.cos(2 * math.pi * v / w)
-        terms.append(qt.OrbitTerm("ho", E0, 2 * math.pi / w, 2 * math.pi * E0 / w, tr, sigma))
+        terms.append(
+            qt.OrbitTerm("ho", E0, 2 * math.pi / w, 2 * math.pi * E0 / w, tr, sigma)
+        )
     tt = np.linspace(3.5, 7.5, 201)
     q = qt.quantum_signal(levels, E0, sig, h, tt)
     sc = qt.semiclassical_signal(terms, E0, sig, h, tt, 2)
@@ -156,13 +172,17 @@ def test_match_and_correlation_tests_can_fail():
     m = qt.match_test(peaks, peaks[:6] + 0.01, 0.05, (1.0, 10.0), 2000)
     assert m.explained == 6 and m.p_value < 0.01
     t = np.linspace(1.0, 10.0, 901)
-    terms = [qt.OrbitTerm("x", 1.0, float(p), 0.1 * k, 30.0, (1,), 1)
-             for k, p in enumerate(random_periods)]
+    terms = [
+        qt.OrbitTerm("x", 1.0, float(p), 0.1 * k, 30.0, (1,), 1)
+        for k, p in enumerate(random_periods)
+    ]
     q = qt.semiclassical_signal(terms, 1.0, 0.1, 0.02, t, 1)
     c = qt.correlation_test(q, terms, 1.0, 0.1, 0.02, t, 1, draws=200)
     assert c.value > 0.999 and c.p_value < 0.01
-    decoy = [qt.OrbitTerm("y", 1.0, float(p), 0.0, 30.0, (1,), 1)
-             for p in rng.uniform(1, 10, 6)]
+    decoy = [
+        qt.OrbitTerm("y", 1.0, float(p), 0.0, 30.0, (1,), 1)
+        for p in rng.uniform(1, 10, 6)
+    ]
     c = qt.correlation_test(q, decoy, 1.0, 0.1, 0.02, t, 1, draws=200)
     assert c.p_value > 0.05
 

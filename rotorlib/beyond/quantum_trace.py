@@ -84,7 +84,9 @@ def _positive(x, name):
 def _state(x0):
     x = np.asarray(x0, float)
     if x.shape != (4,) or not np.all(np.isfinite(x)):
-        raise ValueError(f"state0 must be 4 finite numbers [a1, a2, p1, p2], not {x0!r}")
+        raise ValueError(
+            f"state0 must be 4 finite numbers [a1, a2, p1, p2], not {x0!r}"
+        )
     return x
 
 
@@ -165,9 +167,7 @@ def transverse_path(
     return np.array(times), np.array(mats), np.array(thetas)
 
 
-def conley_zehnder(
-    mats: ArrayLike, repetitions: int = 1
-) -> tuple[int, ...]:
+def conley_zehnder(mats: ArrayLike, repetitions: int = 1) -> tuple[int, ...]:
     """The indices ``sigma_1 .. sigma_R`` of a sampled path ``m(t)`` in ``Sp(2)`` from
     the identity (shape ``(n, 2, 2)``; consecutive samples must turn by less than
     ``pi/2``), read with the rules of the module docstring.
@@ -518,7 +518,11 @@ def peak_match(peaks: ArrayLike, periods: ArrayLike, tol: float) -> np.ndarray:
     x = np.asarray(peaks, float)
     if len(p) == 0:
         return np.zeros(len(x), bool)
-    j = np.clip(np.searchsorted(p, x), 1, len(p) - 1) if len(p) > 1 else np.zeros(len(x), int)
+    j = (
+        np.clip(np.searchsorted(p, x), 1, len(p) - 1)
+        if len(p) > 1
+        else np.zeros(len(x), int)
+    )
     d = np.minimum(np.abs(x - p[j]), np.abs(x - p[np.maximum(j - 1, 0)]))
     return d <= tol
 
