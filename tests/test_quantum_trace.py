@@ -17,6 +17,7 @@ import pytest
 from scipy.integrate import solve_ivp
 
 import rotorlib
+from rotorlib.beyond import quantum_significance as qs
 from rotorlib.beyond import quantum_trace as qt
 
 
@@ -163,13 +164,34 @@ def test_signals_agree_for_one_orbit_with_its_phase():
     assert np.max(np.abs(q - qt.semiclassical_signal(wrong, E0, sig, h, tt, 2))) > 0.5
 
 
+def test_smoothed_density_of_the_oscillator_is_exact():
+    """2-d oscillator (w1 = 1, w2 = 1.37): smoothed density minus its smooth part
+    (E/hbar^2 w2 at this smoothing, exactly linear) against the two orbits' terms."""
+    h, w2, gam = 0.01, 1.37, 0.004
+    n = np.arange(0, 700)
+    levels = (h * (n[:, None] + 0.5) + h * w2 * (n[None, :] + 0.5)).ravel()
+    E = np.linspace(1.9, 2.1, 41)
+    terms = []
+    for w, v in ((1.0, w2), (w2, 1.0)):
+        sigma = tuple(2 * r + 2 * math.floor(r * v / w) + 1 for r in range(1, 6))
+        tr = 2 + 2 * math.cos(2 * math.pi * v / w)
+        terms.append(
+            qt.OrbitTerm("ho", 2.0, 2 * math.pi / w, 2 * math.pi * 2.0 / w, tr, sigma)
+        )
+    smooth = E / (h * h * w2)
+    osc = qt.smoothed_density(levels, E, gam) - smooth
+    pred = qt.smoothed_oscillation(terms, E, gam, h, 5)
+    assert np.max(np.abs(osc - pred)) < 0.02 * np.max(np.abs(pred))
+    assert qs.signal_correlation(osc, pred) > 0.999
+
+
 def test_match_and_correlation_tests_can_fail():
     rng = np.random.default_rng(5)
     peaks = np.sort(rng.uniform(1, 10, 20))
     random_periods = rng.uniform(1, 10, 6)
-    m = qt.match_test(peaks, random_periods, 0.05, (1.0, 10.0), 2000)
+    m = qs.match_test(peaks, random_periods, 0.05, (1.0, 10.0), 2000)
     assert m.p_value > 0.05  # random "orbits" explain no more than chance
-    m = qt.match_test(peaks, peaks[:6] + 0.01, 0.05, (1.0, 10.0), 2000)
+    m = qs.match_test(peaks, peaks[:6] + 0.01, 0.05, (1.0, 10.0), 2000)
     assert m.explained == 6 and m.p_value < 0.01
     t = np.linspace(1.0, 10.0, 901)
     terms = [
@@ -177,13 +199,13 @@ def test_match_and_correlation_tests_can_fail():
         for k, p in enumerate(random_periods)
     ]
     q = qt.semiclassical_signal(terms, 1.0, 0.1, 0.02, t, 1)
-    c = qt.correlation_test(q, terms, 1.0, 0.1, 0.02, t, 1, draws=200)
+    c = qs.correlation_test(q, terms, 1.0, 0.1, 0.02, t, 1, draws=200)
     assert c.value > 0.999 and c.p_value < 0.01
     decoy = [
         qt.OrbitTerm("y", 1.0, float(p), 0.0, 30.0, (1,), 1)
         for p in rng.uniform(1, 10, 6)
     ]
-    c = qt.correlation_test(q, decoy, 1.0, 0.1, 0.02, t, 1, draws=200)
+    c = qs.correlation_test(q, decoy, 1.0, 0.1, 0.02, t, 1, draws=200)
     assert c.p_value > 0.05
 
 
@@ -205,9 +227,13 @@ def test_bad_input():
     with pytest.raises(ValueError):
         qt.maslov_index([0, 0, 0, 1.0], 1.0, 0)
     with pytest.raises(ValueError):
-        qt.match_test([1.0], [1.0], 0.1, (2.0, 1.0))
+        qs.match_test([1.0], [1.0], 0.1, (2.0, 1.0))
     with pytest.raises(ValueError):
         qt.quantum_signal([1.0], 1.0, 0.0, 0.1, [0.0])
+    with pytest.raises(ValueError):
+        qs.signal_correlation([1.0, 2.0], [1.0])
+    with pytest.raises(ValueError):
+        qs.correlation_test([1.0], [], 1.0, 0.1, 0.02, [1.0])
     tm = qt.OrbitTerm("x", 2.0, 3.0, 1.0, 30.0, (1,), 1)
     with pytest.raises(ValueError):
         qt.semiclassical_signal([tm], 3.0, 0.2, 0.05, [1.0])

@@ -39,6 +39,8 @@ repetitions of elliptic orbits), where it is undefined and a uniform approximati
 needed. The action is a trapezoid sum of the periodic integrand ``2 (E - V)``: spectrally
 accurate, ~1e-13 relative with the default samples.
 
+The tests of significance are in :mod:`rotorlib.beyond.quantum_significance`.
+
 **Symmetry.** :func:`orbit_symmetry` finds the group elements that map an orbit to itself
 (with a time shift, or reversed in time); the orbit's images number ``24 / |stabiliser|``.
 """
@@ -65,12 +67,8 @@ __all__ = [
     "orbit_symmetry",
     "quantum_signal",
     "semiclassical_signal",
-    "peak_times",
-    "peak_match",
-    "MatchTest",
-    "match_test",
-    "CorrelationTest",
-    "correlation_test",
+    "smoothed_density",
+    "smoothed_oscillation",
 ]
 
 
@@ -496,172 +494,55 @@ def semiclassical_signal(
     return out
 
 
-# --------------------------------------------------------------------------------------
-# significance
-
-
-def peak_times(t: ArrayLike, signal: ArrayLike, height: float) -> np.ndarray:
-    """Times of the local maxima of ``|signal|`` above ``height``."""
-    from scipy.signal import find_peaks
-
-    t = np.asarray(t, float)
-    a = np.abs(np.asarray(signal))
-    if t.shape != a.shape or t.ndim != 1:
-        raise ValueError("t and signal must be 1-d arrays of the same length")
-    idx, _ = find_peaks(a, height=float(height))
-    return t[idx]
-
-
-def peak_match(peaks: ArrayLike, periods: ArrayLike, tol: float) -> np.ndarray:
-    """For each peak, whether a period lies within ``tol`` of it (bool array)."""
-    p = np.sort(np.asarray(periods, float))
-    x = np.asarray(peaks, float)
-    if len(p) == 0:
-        return np.zeros(len(x), bool)
-    j = (
-        np.clip(np.searchsorted(p, x), 1, len(p) - 1)
-        if len(p) > 1
-        else np.zeros(len(x), int)
-    )
-    d = np.minimum(np.abs(x - p[j]), np.abs(x - p[np.maximum(j - 1, 0)]))
-    return d <= tol
-
-
-@dataclass(frozen=True)
-class MatchTest:
-    """Peaks explained by the periods, against periods drawn at random.
-
-    ``explained``: peaks with a period within ``tol``; ``null``: the same count for each
-    random draw (as many periods, uniform on ``t_range``); ``p_value``:
-    ``(1 + #{null >= explained}) / (1 + draws)``.
-    """
-
-    explained: int
-    peaks: int
-    null: np.ndarray
-    p_value: float
-
-    @property
-    def null_mean(self) -> float:
-        return float(np.mean(self.null))
-
-
-def match_test(
-    peaks: ArrayLike,
-    periods: ArrayLike,
-    tol: float,
-    t_range: tuple[float, float],
-    draws: int = 10000,
-    seed: int = 0,
-) -> MatchTest:
-    """How many ``peaks`` the ``periods`` explain, and how often random periods do as well.
+def smoothed_density(levels: ArrayLike, E: ArrayLike, gamma: float) -> np.ndarray:
+    """``sum_n exp(-(E - E_n)^2 / 2 gamma^2) / (sqrt(2 pi) gamma)``: the level density
+    smoothed by a Gaussian of width ``gamma`` (``levels`` with multiplicities).
 
     Examples
     --------
-    >>> m = match_test([2.0, 5.0, 8.0], [2.01, 5.0, 8.02], 0.05, (1.0, 10.0), 2000)
-    >>> m.explained, m.p_value < 0.01
-    (3, True)
+    >>> round(float(smoothed_density([0.0], [0.0], 1.0)[0]), 6)
+    0.398942
     """
-    lo, hi = (float(v) for v in t_range)
-    if not (hi > lo):
-        raise ValueError(f"t_range must be increasing, not {t_range!r}")
-    _positive(tol, "tol")
-    if not (isinstance(draws, (int, np.integer)) and draws >= 1):
-        raise ValueError(f"draws must be a positive integer, not {draws!r}")
-    x = np.asarray(peaks, float)
-    p = np.asarray(periods, float)
-    p = p[(p >= lo) & (p <= hi)]
-    obs = int(peak_match(x, p, tol).sum())
-    rng = np.random.default_rng(seed)
-    null = np.array(
-        [peak_match(x, rng.uniform(lo, hi, len(p)), tol).sum() for _ in range(draws)]
-    )
-    pv = (1 + int(np.sum(null >= obs))) / (1 + draws)
-    return MatchTest(explained=obs, peaks=len(x), null=null, p_value=pv)
+    g = _positive(gamma, "gamma")
+    x = np.sort(np.asarray(levels, float))
+    E = np.atleast_1d(np.asarray(E, float))
+    out = np.empty(len(E))
+    for i, e in enumerate(E):
+        lo, hi = np.searchsorted(x, [e - 9 * g, e + 9 * g])
+        out[i] = np.exp(-0.5 * ((e - x[lo:hi]) / g) ** 2).sum()
+    return out / (math.sqrt(2 * math.pi) * g)
 
 
-@dataclass(frozen=True)
-class CorrelationTest:
-    """The complex correlation of the quantum and semiclassical signals, and its null.
-
-    ``value``: ``Re <q, s> / (|q| |s|)`` over the times given (1: the same signal, phases
-    included); ``modulus``: the same for ``|q|`` and ``|s|`` after removing their means;
-    ``null``, ``null_modulus``: both for the orbits moved to random periods (same
-    amplitudes, actions and indices); ``p_value``, ``p_modulus``: the fraction of the
-    null at least as large (with the ``+1`` of an exact test).
-    """
-
-    value: float
-    modulus: float
-    null: np.ndarray
-    null_modulus: np.ndarray
-    p_value: float
-    p_modulus: float
-
-
-def _corr(q, s):
-    nq, ns = np.linalg.norm(q), np.linalg.norm(s)
-    return float(np.real(np.vdot(s, q)) / (nq * ns)) if nq > 0 and ns > 0 else 0.0
-
-
-def correlation_test(
-    q: ArrayLike,
+def smoothed_oscillation(
     terms: Sequence[OrbitTerm],
-    E0: float,
-    sigma: float,
+    E: ArrayLike,
+    gamma: float,
     hbar: float,
-    t: ArrayLike,
     r_max: int = 3,
-    draws: int = 1000,
-    seed: int = 0,
-) -> CorrelationTest:
-    """Correlate the quantum signal ``q(t)`` with the trace formula, against chance.
-
-    The null moves every orbit (each repetition with it) to a period drawn uniformly on
-    the time range of ``t`` and a uniformly random phase, keeping its amplitude.
+) -> np.ndarray:
+    """The trace formula's oscillating density smoothed by a Gaussian of width ``gamma``:
+    ``(1/pi hbar) sum A_r exp(-(gamma r T/hbar)^2/2) cos(r S(E)/hbar - sigma_r pi/2)``
+    with ``S(E) = S + T (E - E0) + T' (E - E0)^2/2`` (``T'`` = 0 where unknown) around
+    each orbit's energy ``E0``.
 
     Examples
     --------
-    >>> tm = OrbitTerm("x", 1.0, 2.0, 0.3, 20.0, (1, 2), 1)
-    >>> tt = np.linspace(1.0, 4.0, 301)
-    >>> q = semiclassical_signal([tm], 1.0, 0.5, 0.1, tt)
-    >>> c = correlation_test(q, [tm], 1.0, 0.5, 0.1, tt, draws=200)
-    >>> round(c.value, 6), c.p_value < 0.05
-    (1.0, True)
+    >>> tm = OrbitTerm("x", 1.0, 2.0, 0.0, 20.0, (0,), 1)
+    >>> round(float(smoothed_oscillation([tm], [1.0], 0.01, 0.1, 1)[0]), 6)
+    1.560035
     """
-    t = np.asarray(t, float)
-    q = np.asarray(q, complex)
-    if q.shape != t.shape or t.ndim != 1 or len(t) < 2:
-        raise ValueError("q and t must be 1-d arrays of the same length (>= 2)")
-    if not (isinstance(draws, (int, np.integer)) and draws >= 1):
-        raise ValueError(f"draws must be a positive integer, not {draws!r}")
-    s = semiclassical_signal(terms, E0, sigma, hbar, t, r_max)
-    aq = np.abs(q) - np.abs(q).mean()
-    val, mod = _corr(q, s), _corr(aq, np.abs(s) - np.abs(s).mean())
-    rng = np.random.default_rng(seed)
-    lo, hi = float(t[0]), float(t[-1])
-    null, null_m = np.empty(draws), np.empty(draws)
-    for k in range(draws):
-        moved = [
-            OrbitTerm(
-                tm.label,
-                tm.E,
-                float(rng.uniform(lo, hi)),
-                float(rng.uniform(0, 2 * math.pi * hbar)),
-                tm.trace,
-                tm.maslov,
-                tm.copies,
-            )
-            for tm in terms
-        ]
-        sr = semiclassical_signal(moved, E0, sigma, hbar, t, r_max)
-        null[k] = _corr(q, sr)
-        null_m[k] = _corr(aq, np.abs(sr) - np.abs(sr).mean())
-    return CorrelationTest(
-        value=val,
-        modulus=mod,
-        null=null,
-        null_modulus=null_m,
-        p_value=(1 + int(np.sum(null >= val))) / (1 + draws),
-        p_modulus=(1 + int(np.sum(null_m >= mod))) / (1 + draws),
-    )
+    h, g = _positive(hbar, "hbar"), _positive(gamma, "gamma")
+    E = np.atleast_1d(np.asarray(E, float))
+    out = np.zeros(len(E))
+    for tm in terms:
+        dE = E - tm.E
+        b = tm.period_slope if math.isfinite(tm.period_slope) else 0.0
+        S = tm.action + tm.period * dE + 0.5 * b * dE**2
+        for r in range(1, min(r_max, len(tm.maslov)) + 1):
+            try:
+                A = tm.amplitude(r)
+            except ValueError:
+                continue
+            damp = math.exp(-0.5 * (g * r * tm.period / h) ** 2)
+            out += A * damp * np.cos(r * S / h - tm.maslov[r - 1] * math.pi / 2)
+    return out / (math.pi * h)
