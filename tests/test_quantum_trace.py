@@ -17,6 +17,7 @@ import pytest
 from scipy.integrate import solve_ivp
 
 import rotorlib
+from rotorlib.beyond import quantum_signals as qg
 from rotorlib.beyond import quantum_significance as qs
 from rotorlib.beyond import quantum_trace as qt
 
@@ -137,7 +138,7 @@ def test_orbit_term_and_symmetry():
 def test_signals_agree_for_one_orbit_with_its_phase():
     tm = qt.OrbitTerm("x", 2.0, 3.0, 1.234, 30.0, (3, 6), 1)
     t = np.linspace(2.0, 4.0, 401)
-    s = qt.semiclassical_signal([tm], 2.0, 0.2, 0.05, t, 1)
+    s = qg.semiclassical_signal([tm], 2.0, 0.2, 0.05, t, 1)
     k = np.argmax(np.abs(s))
     assert abs(t[k] - 3.0) < 0.01
     assert (
@@ -157,11 +158,11 @@ def test_signals_agree_for_one_orbit_with_its_phase():
             qt.OrbitTerm("ho", E0, 2 * math.pi / w, 2 * math.pi * E0 / w, tr, sigma)
         )
     tt = np.linspace(3.5, 7.5, 201)
-    q = qt.quantum_signal(levels, E0, sig, h, tt)
-    sc = qt.semiclassical_signal(terms, E0, sig, h, tt, 2)
+    q = qg.quantum_signal(levels, E0, sig, h, tt)
+    sc = qg.semiclassical_signal(terms, E0, sig, h, tt, 2)
     assert np.max(np.abs(q - sc)) < 1e-6 * np.max(np.abs(q))
     wrong = [qt.OrbitTerm("ho", E0, x.period, x.action, x.trace, (0, 0)) for x in terms]
-    assert np.max(np.abs(q - qt.semiclassical_signal(wrong, E0, sig, h, tt, 2))) > 0.5
+    assert np.max(np.abs(q - qg.semiclassical_signal(wrong, E0, sig, h, tt, 2))) > 0.5
 
 
 def test_smoothed_density_of_the_oscillator_is_exact():
@@ -179,8 +180,8 @@ def test_smoothed_density_of_the_oscillator_is_exact():
             qt.OrbitTerm("ho", 2.0, 2 * math.pi / w, 2 * math.pi * 2.0 / w, tr, sigma)
         )
     smooth = E / (h * h * w2)
-    osc = qt.smoothed_density(levels, E, gam) - smooth
-    pred = qt.smoothed_oscillation(terms, E, gam, h, 5)
+    osc = qg.smoothed_density(levels, E, gam) - smooth
+    pred = qg.smoothed_oscillation(terms, E, gam, h, 5)
     assert np.max(np.abs(osc - pred)) < 0.02 * np.max(np.abs(pred))
     assert qs.signal_correlation(osc, pred) > 0.999
 
@@ -198,7 +199,7 @@ def test_match_and_correlation_tests_can_fail():
         qt.OrbitTerm("x", 1.0, float(p), 0.1 * k, 30.0, (1,), 1)
         for k, p in enumerate(random_periods)
     ]
-    q = qt.semiclassical_signal(terms, 1.0, 0.1, 0.02, t, 1)
+    q = qg.semiclassical_signal(terms, 1.0, 0.1, 0.02, t, 1)
     c = qs.correlation_test(q, terms, 1.0, 0.1, 0.02, t, 1, draws=200)
     assert c.value > 0.999 and c.p_value < 0.01
     decoy = [
@@ -229,11 +230,63 @@ def test_bad_input():
     with pytest.raises(ValueError):
         qs.match_test([1.0], [1.0], 0.1, (2.0, 1.0))
     with pytest.raises(ValueError):
-        qt.quantum_signal([1.0], 1.0, 0.0, 0.1, [0.0])
+        qg.quantum_signal([1.0], 1.0, 0.0, 0.1, [0.0])
     with pytest.raises(ValueError):
         qs.signal_correlation([1.0, 2.0], [1.0])
     with pytest.raises(ValueError):
         qs.correlation_test([1.0], [], 1.0, 0.1, 0.02, [1.0])
     tm = qt.OrbitTerm("x", 2.0, 3.0, 1.0, 30.0, (1,), 1)
     with pytest.raises(ValueError):
-        qt.semiclassical_signal([tm], 3.0, 0.2, 0.05, [1.0])
+        qg.semiclassical_signal([tm], 3.0, 0.2, 0.05, [1.0])
+
+
+def test_mirror_relative_orbit_of_the_oscillator_is_exact():
+    """q2 -> -q2 fixes the q1-orbit of the 2-d oscillator pointwise: the even levels
+    minus the odd ones (n2 even/odd) are its relative orbit, monodromy -M, with the index
+    of reflection_term."""
+    h, w2, E0, sig = 0.01, 1.37, 2.0, 0.2
+    n = np.arange(0, 700)
+    E = h * (n[:, None] + 0.5) + h * w2 * (n[None, :] + 0.5)
+    chi = 2 * math.pi * w2
+    M = np.array(
+        [[math.cos(chi), math.sin(chi) / w2], [-w2 * math.sin(chi), math.cos(chi)]]
+    )
+    sigma = tuple(2 * r + 2 * math.floor(r * w2) + 1 for r in (1,))
+    amp, sig_t = qt.reflection_term(M, sigma)
+    T, S = 2 * math.pi, 2 * math.pi * E0
+    t = np.linspace(5.9, 6.6, 71)  # away from the q2-orbit relative ones, (m + 1/2) 4.59
+    diff = qg.quantum_signal(E[:, 0::2].ravel(), E0, sig, h, t) - qg.quantum_signal(
+        E[:, 1::2].ravel(), E0, sig, h, t
+    )
+    pred = T * amp[0] * np.exp(1j * (S / h - sig_t[0] * math.pi / 2))
+    pred = pred * np.exp(-((t - T) ** 2) * sig**2 / (2 * h * h))
+    assert np.max(np.abs(diff - pred)) < 1e-6 * np.max(np.abs(diff))
+    assert sig_t[0] != sigma[0]  # the stationary-phase term does change here
+
+
+def test_classes_and_mirrors():
+    from collections import Counter
+
+    from rotorlib.orbits.reversors import symmetry_group
+
+    got = Counter(qt.element_class(g) for g in symmetry_group())
+    assert got == {"E": 1, "C6": 2, "C3": 2, "C2": 1, "sv": 3, "sd": 3}
+    for sector, chi in qt.CHARACTERS.items():  # orthogonality over the 12 elements
+        for other, psi in qt.CHARACTERS.items():
+            s = sum(
+                chi[qt.element_class(g)] * psi[qt.element_class(g)]
+                for g in symmetry_group()
+            )
+            assert s == (12 if sector == other else 0)
+    o = rotorlib.orbit("pendulum", 5.45)
+    assert qt.mirror_classes(o.state0, o.period) == ("sv",)
+    o = rotorlib.orbit("R", 5.45)
+    assert qt.mirror_classes(o.state0, o.period) == ("sd",)
+    o = rotorlib.orbit("CG", 3.0)
+    assert qt.mirror_classes(o.state0, o.period) == ()
+    with pytest.raises(ValueError):
+        qt.element_class([[2, 0], [0, 1]])
+    with pytest.raises(ValueError):
+        qt.reflection_term(np.eye(3), (1,))
+    with pytest.raises(ValueError):
+        qg.sector_signal([], "X", 1.0, 0.1, 0.02, [1.0])

@@ -22,7 +22,8 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
-from .quantum_trace import OrbitTerm, semiclassical_signal
+from .quantum_signals import semiclassical_signal
+from .quantum_trace import OrbitTerm
 
 __all__ = [
     "peak_times",

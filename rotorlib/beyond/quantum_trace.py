@@ -39,7 +39,8 @@ repetitions of elliptic orbits), where it is undefined and a uniform approximati
 needed. The action is a trapezoid sum of the periodic integrand ``2 (E - V)``: spectrally
 accurate, ~1e-13 relative with the default samples.
 
-The tests of significance are in :mod:`rotorlib.beyond.quantum_significance`.
+The signals (quantum and predicted) are in :mod:`rotorlib.beyond.quantum_signals`, the
+tests of significance in :mod:`rotorlib.beyond.quantum_significance`.
 
 **Symmetry.** :func:`orbit_symmetry` finds the group elements that map an orbit to itself
 (with a time shift, or reversed in time); the orbit's images number ``24 / |stabiliser|``.
@@ -65,10 +66,10 @@ __all__ = [
     "OrbitTerm",
     "orbit_term",
     "orbit_symmetry",
-    "quantum_signal",
-    "semiclassical_signal",
-    "smoothed_density",
-    "smoothed_oscillation",
+    "CHARACTERS",
+    "element_class",
+    "reflection_term",
+    "mirror_classes",
 ]
 
 
@@ -288,7 +289,9 @@ class OrbitTerm:
     ``label``, ``E``, ``period`` (``T_p``), ``action`` (``S_p``), ``trace`` (full 4x4
     ``tr M``), ``maslov`` (``sigma_r`` for ``r = 1 ..``), ``copies`` (``g_p``),
     ``stabiliser`` (the symmetries that map the orbit to itself, as strings, see
-    :func:`orbit_symmetry`) and ``period_slope`` (``dT/dE``, nan if unknown).
+    :func:`orbit_symmetry`), ``period_slope`` (``dT/dE``, nan if unknown), and for an
+    orbit that lies in mirrors: their classes (``mirrors``, :func:`mirror_classes`) and
+    the relative orbit's ``1/sqrt|2 + tr M^r|`` and index (:func:`reflection_term`).
     """
 
     label: str
@@ -301,6 +304,9 @@ class OrbitTerm:
     stabiliser: tuple[str, ...] = ()
     period_slope: float = float("nan")
     extra: dict[str, Any] = field(default_factory=dict)
+    mirrors: tuple[str, ...] = ()
+    mirror_amplitude: tuple[float, ...] = ()
+    mirror_maslov: tuple[int, ...] = ()
 
     def amplitude(self, r: int = 1) -> float:
         """``g_p T_p / sqrt|det(M_p^r - 1)|``."""
@@ -324,6 +330,9 @@ class OrbitTerm:
             "stabiliser": list(self.stabiliser),
             "period_slope": self.period_slope,
             "extra": self.extra,
+            "mirrors": list(self.mirrors),
+            "mirror_amplitude": list(self.mirror_amplitude),
+            "mirror_maslov": list(self.mirror_maslov),
         }
 
     @classmethod
@@ -339,6 +348,9 @@ class OrbitTerm:
             stabiliser=tuple(d.get("stabiliser", ())),
             period_slope=float(d.get("period_slope") or float("nan")),
             extra=dict(d.get("extra", {})),
+            mirrors=tuple(d.get("mirrors", ())),
+            mirror_amplitude=tuple(float(v) for v in d.get("mirror_amplitude", ())),
+            mirror_maslov=tuple(int(v) for v in d.get("mirror_maslov", ())),
         )
 
 
@@ -365,6 +377,13 @@ def orbit_term(
     T = _positive(period, "period")
     sigma = maslov_index(x, T, repetitions, n)
     stab = orbit_symmetry(x, T)
+    mirrors, m_amp, m_sig = mirror_classes(x, T), (), ()
+    e = _frame(x)
+    if mirrors and max(np.abs(e[0, 2:]).max(), np.abs(e[1, :2]).max()) < 1e-12:
+        _, m, _ = transverse_path(x, T, n)  # e1: a position, e2: its momentum
+        m_amp, m_sig = reflection_term(m[-1], sigma)
+    else:
+        mirrors = ()  # the start point does not split position and momentum
     return OrbitTerm(
         label=str(label),
         E=float(E),
@@ -374,6 +393,9 @@ def orbit_term(
         maslov=sigma,
         copies=24 // len(stab),
         stabiliser=stab,
+        mirrors=mirrors,
+        mirror_amplitude=m_amp,
+        mirror_maslov=m_sig,
     )
 
 
@@ -421,128 +443,108 @@ def orbit_symmetry(
 
 
 # --------------------------------------------------------------------------------------
-# the two signals
+# symmetry sectors
+
+#: Characters of the six sectors of ``S3 x Z2`` on the classes of ``C6v`` (chapter 11):
+#: ``E`` identity, ``C6``/``C3`` the rotations of order 6/3, ``C2`` = -1, ``sv`` the
+#: transpositions of two rotors, ``sd`` a transposition times the reflection.
+CHARACTERS = {
+    "A1": {"E": 1, "C6": 1, "C3": 1, "C2": 1, "sv": 1, "sd": 1},
+    "A2": {"E": 1, "C6": 1, "C3": 1, "C2": 1, "sv": -1, "sd": -1},
+    "B1": {"E": 1, "C6": -1, "C3": 1, "C2": -1, "sv": 1, "sd": -1},
+    "B2": {"E": 1, "C6": -1, "C3": 1, "C2": -1, "sv": -1, "sd": 1},
+    "E1": {"E": 2, "C6": 1, "C3": -1, "C2": -2, "sv": 0, "sd": 0},
+    "E2": {"E": 2, "C6": -1, "C3": -1, "C2": 2, "sv": 0, "sd": 0},
+}
 
 
-def quantum_signal(
-    levels: ArrayLike, E0: float, sigma: float, hbar: float, t: ArrayLike
-) -> np.ndarray:
-    """``(sqrt(2 pi) hbar/sigma) sum_n w(E_n - E0) exp(-i (E_n - E0) t/hbar)``, complex.
-
-    The modulus is :func:`rotorlib.beyond.quantum_semiclassics.density_fourier`; the
-    phase is what the trace formula predicts as ``S_p/hbar - sigma_p pi/2``. ``levels``: the
-    whole spectrum with multiplicities; ``w`` a Gaussian of width ``sigma``.
-
-    Examples
-    --------
-    >>> z = quantum_signal([1.0], 1.0, 0.5, 0.1, [0.0, 1.0])
-    >>> np.round(np.abs(z), 6).tolist()
-    [0.501326, 0.501326]
-    """
-    h, s = _positive(hbar, "hbar"), _positive(sigma, "sigma")
-    E = np.asarray(levels, float)
-    w = np.exp(-0.5 * ((E - E0) / s) ** 2)
-    keep = w > 1e-17
-    E, w = E[keep] - E0, w[keep]
-    t = np.atleast_1d(np.asarray(t, float))
-    out = np.empty(len(t), complex)
-    for i0 in range(0, len(t), 256):
-        out[i0 : i0 + 256] = np.exp(-1j * np.outer(t[i0 : i0 + 256], E) / h) @ w
-    return math.sqrt(2.0 * math.pi) * h / s * out
-
-
-def semiclassical_signal(
-    terms: Sequence[OrbitTerm],
-    E0: float,
-    sigma: float,
-    hbar: float,
-    t: ArrayLike,
-    r_max: int = 3,
-    phases: bool = True,
-) -> np.ndarray:
-    """The trace formula's prediction for :func:`quantum_signal`.
-
-    Each orbit and repetition gives ``A exp(i (r S/hbar - sigma_r pi/2))`` times the
-    transform of the window, ``exp(-(t - r T)^2 sigma^2 / 2 hbar^2)``; with a known
-    ``period_slope`` ``T'`` the quadratic term ``r T' (E - E0)^2/2`` of the action is kept
-    (the Gaussian integral with complex width). ``phases=False``: the moduli only.
-    Repetitions with ``det(M^r - 1) = 0`` are skipped. The orbits must be at ``E0``.
+def element_class(g: ArrayLike) -> str:
+    """The class (a key of :data:`CHARACTERS`) of a symmetry ``g`` acting on
+    ``(phi1, phi2) = (theta1 - theta2, theta2 - theta3)``.
 
     Examples
     --------
-    >>> tm = OrbitTerm("x", 1.0, 2.0, 0.0, 20.0, (0,), 1)
-    >>> round(float(abs(semiclassical_signal([tm], 1.0, 0.5, 0.1, [2.0], 1)[0])), 6)
-    0.5
+    >>> element_class([[-1, 0], [1, 1]]), element_class([[1, 0], [-1, -1]])  # swap 1, 2
+    ('sv', 'sd')
     """
-    h, s = _positive(hbar, "hbar"), _positive(sigma, "sigma")
-    t = np.atleast_1d(np.asarray(t, float))
-    out = np.zeros(len(t), complex)
-    for tm in terms:
-        if abs(tm.E - E0) > 1e-9 * max(1.0, abs(E0)):
-            raise ValueError(f"orbit {tm.label} is at E = {tm.E}, not at E0 = {E0}")
-        for r in range(1, min(r_max, len(tm.maslov)) + 1):
-            try:
-                A = tm.amplitude(r)
-            except ValueError:
-                continue
-            ph = r * tm.action / h - tm.maslov[r - 1] * math.pi / 2 if phases else 0.0
-            b = r * tm.period_slope if math.isfinite(tm.period_slope) else 0.0
-            # int w(x) exp(i x (rT - t)/h + i b x^2/2h) dx / (sqrt(2 pi) s)
-            a = 0.5 / s**2 - 0.5j * b / h
-            g = np.exp(-((r * tm.period - t) ** 2) / (4 * a * h * h))
-            out += A * np.exp(1j * ph) * g / (s * np.sqrt(2 * a))
-    return out
+    g = np.rint(np.asarray(g, float)).astype(int)
+    if g.shape != (2, 2) or abs(round(np.linalg.det(g))) != 1:
+        raise ValueError(
+            f"g must be an integer 2x2 matrix of determinant +-1, not {g!r}"
+        )
+    tr, det = int(np.trace(g)), int(round(np.linalg.det(g)))
+    if det == 1:
+        return {2: "E", 1: "C6", -1: "C3", -2: "C2"}[tr]
+    # a transposition of two rotors maps the differences (phi1, phi2, phi3 = -phi1 - phi2)
+    # to minus a permutation of them; with the reflection theta -> -theta, to a permutation
+    phi = np.array([[1, 0], [0, 1], [-1, -1]])
+    images = {tuple(r) for r in phi @ g}
+    return "sv" if images == {tuple(-r) for r in phi} else "sd"
 
 
-def smoothed_density(levels: ArrayLike, E: ArrayLike, gamma: float) -> np.ndarray:
-    """``sum_n exp(-(E - E_n)^2 / 2 gamma^2) / (sqrt(2 pi) gamma)``: the level density
-    smoothed by a Gaussian of width ``gamma`` (``levels`` with multiplicities).
+def reflection_term(
+    monodromy: ArrayLike, maslov: Sequence[int]
+) -> tuple[tuple[float, ...], tuple[int, ...]]:
+    """The relative orbit of a reflection that fixes a periodic orbit pointwise.
+
+    ``monodromy``: the orbit's 2x2 reduced monodromy in coordinates ``(q_perp, p_perp)``
+    across the mirror at the start point; ``maslov``: its indices ``sigma_r``. The
+    reflection maps ``(q_perp, p_perp)`` to minus themselves, so the relative monodromy
+    of ``r`` turns is ``-M^r``: ``|det(-M^r - 1)| = |2 + tr M^r|``, and the index differs
+    from ``sigma_r`` only through Gutzwiller's stationary-phase term (0 or 1 as
+    ``(tr - 2)/m_12`` is positive or negative): ``sigma~_r = sigma_r + nu(-M^r) - nu(M^r)``.
+    Returns ``(1/sqrt|2 + tr M^r|, sigma~_r)`` for ``r = 1 .. len(maslov)``.
 
     Examples
     --------
-    >>> round(float(smoothed_density([0.0], [0.0], 1.0)[0]), 6)
-    0.398942
+    >>> c, s = math.cos(1.0), math.sin(1.0)  # an elliptic orbit turning by 1 radian
+    >>> amp, sig = reflection_term([[c, s], [-s, c]], [1])
+    >>> round(amp[0], 6), sig
+    (0.569747, (0,))
     """
-    g = _positive(gamma, "gamma")
-    x = np.sort(np.asarray(levels, float))
-    E = np.atleast_1d(np.asarray(E, float))
-    out = np.empty(len(E))
-    for i, e in enumerate(E):
-        lo, hi = np.searchsorted(x, [e - 9 * g, e + 9 * g])
-        out[i] = np.exp(-0.5 * ((e - x[lo:hi]) / g) ** 2).sum()
-    return out / (math.sqrt(2 * math.pi) * g)
+    M = np.asarray(monodromy, float)
+    if M.shape != (2, 2) or not np.all(np.isfinite(M)):
+        raise ValueError("monodromy must be a finite 2x2 matrix")
+    amps, sig = [], []
+    for r, s in enumerate(maslov, start=1):
+        Mr = np.linalg.matrix_power(M, r)
+        tr, m12 = float(np.trace(Mr)), float(Mr[0, 1])
+        if m12 == 0 or abs(tr + 2) < 1e-12:
+            raise ValueError(f"repetition {r}: the relative orbit is marginal")
+        nu, nu_t = (tr - 2) / m12 < 0, (tr + 2) / m12 < 0
+        amps.append(1.0 / math.sqrt(abs(2.0 + tr)))
+        sig.append(int(s) + int(nu_t) - int(nu))
+    return tuple(amps), tuple(sig)
 
 
-def smoothed_oscillation(
-    terms: Sequence[OrbitTerm],
-    E: ArrayLike,
-    gamma: float,
-    hbar: float,
-    r_max: int = 3,
-) -> np.ndarray:
-    """The trace formula's oscillating density smoothed by a Gaussian of width ``gamma``:
-    ``(1/pi hbar) sum A_r exp(-(gamma r T/hbar)^2/2) cos(r S(E)/hbar - sigma_r pi/2)``
-    with ``S(E) = S + T (E - E0) + T' (E - E0)^2/2`` (``T'`` = 0 where unknown) around
-    each orbit's energy ``E0``.
+def mirror_classes(
+    state0: ArrayLike, period: float, tol: float = 1e-9
+) -> tuple[str, ...]:
+    """Classes of the reflections that fix an orbit pointwise (``g x(t) = x(t)`` for all
+    ``t``, up to the lattice), one entry per such reflection.
 
     Examples
     --------
-    >>> tm = OrbitTerm("x", 1.0, 2.0, 0.0, 20.0, (0,), 1)
-    >>> round(float(smoothed_oscillation([tm], [1.0], 0.01, 0.1, 1)[0]), 6)
-    1.560035
+    >>> import rotorlib
+    >>> o = rotorlib.orbit("pendulum", 5.45)
+    >>> mirror_classes(o.state0, o.period)
+    ('sv',)
     """
-    h, g = _positive(hbar, "hbar"), _positive(gamma, "gamma")
-    E = np.atleast_1d(np.asarray(E, float))
-    out = np.zeros(len(E))
-    for tm in terms:
-        dE = E - tm.E
-        b = tm.period_slope if math.isfinite(tm.period_slope) else 0.0
-        S = tm.action + tm.period * dE + 0.5 * b * dE**2
-        for r in range(1, min(r_max, len(tm.maslov)) + 1):
-            try:
-                A = tm.amplitude(r)
-            except ValueError:
-                continue
-            damp = math.exp(-0.5 * (g * r * tm.period / h) ** 2)
-            out += A * damp * np.cos(r * S / h - tm.maslov[r - 1] * math.pi / 2)
-    return out / (math.pi * h)
+    from ..core.flow import sample
+    from ..orbits.reversors import A, symmetry_group
+
+    x0 = _state(state0)
+    pts, _ = sample(x0, _positive(period, "period"), 64)
+    out = []
+    for g in symmetry_group():
+        if round(np.linalg.det(g)) != -1:
+            continue
+        q = A @ g @ np.linalg.inv(A)
+        y = np.hstack([pts[:, :2] @ q.T, pts[:, 2:] @ np.linalg.inv(q)])
+        d = y - pts
+        k = np.rint(d[:, 0] / math.pi)
+        d0, d1 = d[:, 0] - k * math.pi, d[:, 1] - k * math.pi
+        d1 = d1 - 2 * math.pi * np.rint(d1 / (2 * math.pi))
+        if max(np.abs(d0).max(), np.abs(d1).max(), np.abs(d[:, 2:]).max()) < tol:
+            out.append(element_class(g))
+    return tuple(out)
