@@ -254,7 +254,9 @@ def test_mirror_relative_orbit_of_the_oscillator_is_exact():
     sigma = tuple(2 * r + 2 * math.floor(r * w2) + 1 for r in (1,))
     amp, sig_t = qt.reflection_term(M, sigma)
     T, S = 2 * math.pi, 2 * math.pi * E0
-    t = np.linspace(5.9, 6.6, 71)  # away from the q2-orbit relative ones, (m + 1/2) 4.59
+    t = np.linspace(
+        5.9, 6.6, 71
+    )  # away from the q2-orbit relative ones, (m + 1/2) 4.59
     diff = qg.quantum_signal(E[:, 0::2].ravel(), E0, sig, h, t) - qg.quantum_signal(
         E[:, 1::2].ravel(), E0, sig, h, t
     )

@@ -377,7 +377,9 @@ def orbit_term(
     T = _positive(period, "period")
     sigma = maslov_index(x, T, repetitions, n)
     stab = orbit_symmetry(x, T)
-    mirrors, m_amp, m_sig = mirror_classes(x, T), (), ()
+    mirrors = mirror_classes(x, T)
+    m_amp: tuple[float, ...] = ()
+    m_sig: tuple[int, ...] = ()
     e = _frame(x)
     if mirrors and max(np.abs(e[0, 2:]).max(), np.abs(e[1, :2]).max()) < 1e-12:
         _, m, _ = transverse_path(x, T, n)  # e1: a position, e2: its momentum
@@ -458,7 +460,7 @@ CHARACTERS = {
 }
 
 
-def element_class(g: ArrayLike) -> str:
+def element_class(g: Any) -> str:
     """The class (a key of :data:`CHARACTERS`) of a symmetry ``g`` acting on
     ``(phi1, phi2) = (theta1 - theta2, theta2 - theta3)``.
 
@@ -467,12 +469,12 @@ def element_class(g: ArrayLike) -> str:
     >>> element_class([[-1, 0], [1, 1]]), element_class([[1, 0], [-1, -1]])  # swap 1, 2
     ('sv', 'sd')
     """
-    g = np.rint(np.asarray(g, float)).astype(int)
-    if g.shape != (2, 2) or abs(round(np.linalg.det(g))) != 1:
+    g = np.rint(np.asarray(g, dtype=float)).astype(int)
+    if g.shape != (2, 2) or abs(round(float(np.linalg.det(g)))) != 1:
         raise ValueError(
             f"g must be an integer 2x2 matrix of determinant +-1, not {g!r}"
         )
-    tr, det = int(np.trace(g)), int(round(np.linalg.det(g)))
+    tr, det = int(np.trace(g)), int(round(float(np.linalg.det(g))))
     if det == 1:
         return {2: "E", 1: "C6", -1: "C3", -2: "C2"}[tr]
     # a transposition of two rotors maps the differences (phi1, phi2, phi3 = -phi1 - phi2)
