@@ -86,7 +86,7 @@ def main(argv=None) -> int:
         for label, o, slope, src in rows:
             tm = qt.orbit_term(label, E0, o.period, o.state0, o.trace, 3)
             d = tm.to_dict()
-            d["period_slope"] = slope
+            d["period_slope"] = slope if slope == slope else None  # JSON has no NaN
             d["extra"] = {"source": src, "state0": [float(v) for v in o.state0]}
             terms.append(d)
         terms.sort(key=lambda d: d["period"])

@@ -20,7 +20,7 @@ from collections.abc import Sequence
 import numpy as np
 from numpy.typing import ArrayLike
 
-from .quantum_trace import CHARACTERS, OrbitTerm
+from .quantum_trace import CHARACTERS, OrbitTerm, check_positive
 
 __all__ = [
     "quantum_signal",
@@ -29,13 +29,6 @@ __all__ = [
     "smoothed_density",
     "smoothed_oscillation",
 ]
-
-
-def _positive(x, name):
-    x = float(x)
-    if not (math.isfinite(x) and x > 0):
-        raise ValueError(f"{name} must be positive and finite, not {x}")
-    return x
 
 
 def quantum_signal(
@@ -53,7 +46,7 @@ def quantum_signal(
     >>> np.round(np.abs(z), 6).tolist()
     [0.501326, 0.501326]
     """
-    h, s = _positive(hbar, "hbar"), _positive(sigma, "sigma")
+    h, s = check_positive(hbar, "hbar"), check_positive(sigma, "sigma")
     E = np.asarray(levels, float)
     w = np.exp(-0.5 * ((E - E0) / s) ** 2)
     keep = w > 1e-17
@@ -88,7 +81,7 @@ def semiclassical_signal(
     >>> round(float(abs(semiclassical_signal([tm], 1.0, 0.5, 0.1, [2.0], 1)[0])), 6)
     0.5
     """
-    h, s = _positive(hbar, "hbar"), _positive(sigma, "sigma")
+    h, s = check_positive(hbar, "hbar"), check_positive(sigma, "sigma")
     t = np.atleast_1d(np.asarray(t, float))
     out = np.zeros(len(t), complex)
     for tm in terms:
@@ -134,7 +127,7 @@ def sector_signal(
     """
     if sector not in CHARACTERS:
         raise ValueError(f"sector must be one of {sorted(CHARACTERS)}, not {sector!r}")
-    h, s = _positive(hbar, "hbar"), _positive(sigma, "sigma")
+    h, s = check_positive(hbar, "hbar"), check_positive(sigma, "sigma")
     chi = CHARACTERS[sector]
     t = np.atleast_1d(np.asarray(t, float))
     out = chi["E"] / 12.0 * semiclassical_signal(terms, E0, s, h, t, r_max)
@@ -163,7 +156,7 @@ def smoothed_density(levels: ArrayLike, E: ArrayLike, gamma: float) -> np.ndarra
     >>> round(float(smoothed_density([0.0], [0.0], 1.0)[0]), 6)
     0.398942
     """
-    g = _positive(gamma, "gamma")
+    g = check_positive(gamma, "gamma")
     x = np.sort(np.asarray(levels, float))
     E = np.atleast_1d(np.asarray(E, float))
     out = np.empty(len(E))
@@ -191,7 +184,7 @@ def smoothed_oscillation(
     >>> round(float(smoothed_oscillation([tm], [1.0], 0.01, 0.1, 1)[0]), 6)
     1.560035
     """
-    h, g = _positive(hbar, "hbar"), _positive(gamma, "gamma")
+    h, g = check_positive(hbar, "hbar"), check_positive(gamma, "gamma")
     E = np.atleast_1d(np.asarray(E, float))
     out = np.zeros(len(E))
     for tm in terms:

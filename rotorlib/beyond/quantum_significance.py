@@ -23,7 +23,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from .quantum_signals import semiclassical_signal
-from .quantum_trace import OrbitTerm
+from .quantum_trace import OrbitTerm, check_positive
 
 __all__ = [
     "peak_times",
@@ -34,13 +34,6 @@ __all__ = [
     "CorrelationTest",
     "correlation_test",
 ]
-
-
-def _positive(x, name):
-    x = float(x)
-    if not (math.isfinite(x) and x > 0):
-        raise ValueError(f"{name} must be positive and finite, not {x}")
-    return x
 
 
 def peak_times(t: ArrayLike, signal: ArrayLike, height: float) -> np.ndarray:
@@ -121,7 +114,7 @@ def match_test(
     lo, hi = (float(v) for v in t_range)
     if not (hi > lo):
         raise ValueError(f"t_range must be increasing, not {t_range!r}")
-    _positive(tol, "tol")
+    check_positive(tol, "tol")
     if not (isinstance(draws, (int, np.integer)) and draws >= 1):
         raise ValueError(f"draws must be a positive integer, not {draws!r}")
     x = np.asarray(peaks, float)

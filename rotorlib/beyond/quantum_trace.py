@@ -57,6 +57,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 __all__ = [
+    "check_positive",
     "transverse_frame",
     "transverse_path",
     "conley_zehnder",
@@ -73,7 +74,14 @@ __all__ = [
 ]
 
 
-def _positive(x, name):
+def check_positive(x: Any, name: str) -> float:
+    """``float(x)``, or ValueError naming ``name`` unless it is positive and finite.
+
+    Examples
+    --------
+    >>> check_positive(2, "hbar")
+    2.0
+    """
     x = float(x)
     if not (math.isfinite(x) and x > 0):
         raise ValueError(f"{name} must be positive and finite, not {x}")
@@ -140,7 +148,7 @@ def transverse_path(
     from ..core.flow import flow
 
     x = _state(state0)
-    T = _positive(period, "period")
+    T = check_positive(period, "period")
     if not (isinstance(n, (int, np.integer)) and n >= 4):
         raise ValueError(f"n must be an integer >= 4, not {n!r}")
     F0 = _frame(x).T  # columns e1(0), e2(0)
@@ -244,7 +252,7 @@ def orbit_action(state0: ArrayLike, period: float, n: int | None = None) -> floa
     from ..core.system import energy_alpha, potential_alpha
 
     x = _state(state0)
-    T = _positive(period, "period")
+    T = check_positive(period, "period")
     n = int(max(2000, 400 * T)) if n is None else int(n)
     if n < 8:
         raise ValueError(f"n must be at least 8, not {n}")
@@ -269,7 +277,7 @@ def pendulum_action(E: float) -> float:
     """
     import mpmath as mp
 
-    E = _positive(E, "E")
+    E = check_positive(E, "E")
     if E == 4.0:
         raise ValueError("the separatrix E = 4 is not a periodic orbit")
     with mp.workdps(30):
@@ -374,7 +382,7 @@ def orbit_term(
     ((1, 1), 6)
     """
     x = _state(state0)
-    T = _positive(period, "period")
+    T = check_positive(period, "period")
     sigma = maslov_index(x, T, repetitions, n)
     stab = orbit_symmetry(x, T)
     mirrors = mirror_classes(x, T)
@@ -431,7 +439,7 @@ def orbit_symmetry(
     names = [("Tg" if s else "g") + str(k) for k, s in pairs]
     names = [names[2 * k_id]] + [n for i, n in enumerate(names) if i != 2 * k_id]
     x0 = _state(state0)
-    pts, _ = sample(x0, _positive(period, "period"), n)
+    pts, _ = sample(x0, check_positive(period, "period"), n)
     out = []
     for k, y in enumerate(images(x0)):
         d = pts - y
@@ -536,7 +544,7 @@ def mirror_classes(
     from ..orbits.reversors import A, symmetry_group
 
     x0 = _state(state0)
-    pts, _ = sample(x0, _positive(period, "period"), 64)
+    pts, _ = sample(x0, check_positive(period, "period"), 64)
     out = []
     for g in symmetry_group():
         if round(np.linalg.det(g)) != -1:
