@@ -6,10 +6,12 @@ Writes book/data/trace_orbits.json: at each energy E0 of ``ENERGIES``, every sym
 orbit of the census with period <= ``T_MAX`` (``rotorlib.census``) and every named family
 of chapters 5, 7 and 10 that exists there with period <= ``T_NAMED`` (pendulum, the
 breathers LG/LD/R, PD^b, the newborn IS/PD families n <= 3, the choreographies CG, CT,
-CZ1, CZ2, CR1), each with its action, Maslov indices (r = 1, 2, 3), trace, stabiliser and
-copies (``rotorlib.beyond.quantum_trace.orbit_term``), and for the named ones dT/dE by a
-central difference of +-1e-4 in E. About a minute on 2 cores; book/11a_trace_formula
-reads the file and recomputes the orbits of one energy.
+CZ1, CZ2, CR1), each with its action, Maslov indices (r = 1, 2, 3), trace, stabiliser,
+copies and, for orbits lying in a mirror, the mirror's relative orbit
+(``rotorlib.beyond.quantum_trace.orbit_term``), and for the named ones dT/dE by a
+central difference of +-1e-4 in E (null where unknown). About 7 minutes on 2 busy cores
+(mostly the named families at E0 +- 1e-4); book/11a_trace_formula reads the file and
+recomputes the orbits of E0 = 3.
 """
 
 from __future__ import annotations
