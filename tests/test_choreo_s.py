@@ -19,39 +19,23 @@ from __future__ import annotations
 import json
 import math
 
-import mpmath as mp
 import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 
+# the rotor equations (scipy; real128 by heyoka) written in test_choreo, independent of
+# rotorlib, and its reading of a state [a1, a2, p1, p2] into rotor angles
+from test_choreo import _decimal_theta, _real128_closure, _rhs_var
+from test_choreo import _rhs as _rhs6
+
 from rotorlib.beyond.choreo_s import cs_family, cs_orbit, cs_orbits, cs_points
 
-PAIRS = ((0, 1), (1, 2), (2, 0))
 RTOL = 1e-12
 
 
-def _rhs(t, y):
-    th = y[:3]
-    f = np.zeros(3)
-    for i, j in PAIRS:
-        s = math.sin(th[i] - th[j])
-        f[i] -= s
-        f[j] += s
-    out = np.concatenate([y[3:6], f])
-    if len(y) == 6:
-        return out
-    H = np.zeros((3, 3))
-    for i, j in PAIRS:
-        c = math.cos(th[i] - th[j])
-        H[i, i] += c
-        H[j, j] += c
-        H[i, j] -= c
-        H[j, i] -= c
-    J = np.zeros((6, 6))
-    J[:3, 3:] = np.eye(3)
-    J[3:, :3] = -H
-    return np.concatenate([out, (J @ y[6:].reshape(6, 6)).ravel()])
+def _rhs(t, y):  # the flow (6) or the flow and its 6x6 variational equations (42)
+    return _rhs6(t, y) if len(y) == 6 else _rhs_var(t, y)
 
 
 def _start(s, E):
@@ -152,53 +136,15 @@ def test_orbit_cs_against_independent_shooting():
     assert o.extra["members_at_E"] == 2
 
 
-def _real128_closure(th, w, T):
-    """``max |x(T) - x(0)|`` (relative angles mod 2 pi, momenta) by heyoka's real128
-    Taylor method on the rotor equations; ``th``, ``w``, ``T`` decimal strings."""
-    hy = pytest.importorskip("heyoka")
-    q = hy.make_vars("t1", "t2", "t3")
-    ps = hy.make_vars("q1", "q2", "q3")
-    f = [0, 0, 0]
-    for i, j in PAIRS:
-        s = hy.sin(q[i] - q[j])
-        f[i] = f[i] - s
-        f[j] = f[j] + s
-    R = hy.real128
-    y0 = np.array([R(v) for v in list(th) + list(w)])
-    ta = hy.taylor_adaptive(
-        list(zip(q, ps)) + [(ps[k], f[k]) for k in range(3)], y0, fp_type=R
-    )
-    ta.propagate_until(R(T))
-    with mp.workdps(40):
-        a = [mp.mpf(str(v)) for v in ta.state]
-        b = [mp.mpf(str(v)) for v in y0]
-        d = [(a[0] - a[1]) - (b[0] - b[1]), (a[1] - a[2]) - (b[1] - b[2])]
-        d = [v - 2 * mp.pi * mp.nint(v / (2 * mp.pi)) for v in d]
-        d += [a[k] - b[k] for k in range(3, 6)]
-        return float(max(abs(v) for v in d))
-
-
-def _theta_strings(state_str):
-    """Rotor angles and velocities (centre of mass at rest) of ``[a1, a2, p1, p2]``."""
-    with mp.workdps(40):
-        a1, a2, p1, p2 = (mp.mpf(v) for v in state_str)
-        phi1, phi2 = 2 * a1, a2 - a1
-        th = [mp.mpf(0), -phi1, -phi1 - phi2]
-        d1, d2 = p1, 3 * p2 / 2 - p1 / 2  # phi1', phi2'
-        w = [mp.mpf(0), -d1, -d1 - d2]
-        mt, mw = sum(th) / 3, sum(w) / 3
-        return [mp.nstr(v - mt, 38) for v in th], [mp.nstr(v - mw, 38) for v in w]
-
-
 def test_orbit_cs_digits30_closes_under_independent_real128():
     """The 30-digit member at E = 5.4 closes under real128 to its |tr M|-amplified
     precision, and its period agrees with the float64 member's."""
     o = cs_orbit("5.4", digits=30)
     assert abs(float(o.period_str) - cs_orbit(5.4).period) < 1e-11
-    th, w = _theta_strings(o.state0_str)
+    th, w = _decimal_theta(o.state0_str)
     assert _real128_closure(th, w, o.period_str) < 1e-20
     # and the float64 state does not close to that: the test can fail
-    th64, w64 = _theta_strings([repr(float(v)) for v in o.state0_str])
+    th64, w64 = _decimal_theta([repr(float(v)) for v in o.state0_str])
     assert _real128_closure(th64, w64, o.period_str) > 1e-14
 
 
