@@ -32,7 +32,7 @@ from typing import Any
 import mpmath as mp
 import numpy as np
 
-from .beyond import atlas, choreo_family, choreo_z3
+from .beyond import atlas, choreo_family, choreo_s, choreo_z3
 from .beyond.atlas import Atlas
 from .beyond.choreo import Choreography
 from .core.parallel import executor_for
@@ -176,6 +176,15 @@ _Z3 = Served(
     rotating=lambda lab: choreo_z3.seed_choreography(lab).rotating,
     branches=True,
 )
+# helper E: the third D6 choreography (rotorlib.beyond.choreo_s)
+_CS = Served(
+    "choreography",
+    lambda lab, E, d, b: choreo_s.cs_orbit(E, digits=d, branch=b),
+    lambda lab, rng, d: choreo_s.cs_family(rng, digits=d),
+    periods=lambda lab, E: choreo_s.cs_periods(E),
+    rotating=lambda lab: False,
+    branches=True,
+)
 _DAUGHTER = Served(
     "breather daughter",
     lambda lab, E, d, b: breathers.breather_daughter(E, digits=d),
@@ -199,6 +208,7 @@ REGISTRY: dict[str, Served] = {
     "CZ1": _Z3,
     "CZ2": _Z3,
     "CR1": _Z3,
+    "CS": _CS,
 }
 
 #: The orbit labels :func:`orbit` accepts, by kind (IS/PD labels take any ``n >= 1``).
@@ -344,7 +354,7 @@ def family(
     if served.family is None:
         raise ValueError(
             f"{label!r} has no family here: families are the newborn IS^l_n, PD^l_n, "
-            "IS^r_n, PD^r_n and the choreographies CG, CT, CZ1, CZ2, CR1"
+            "IS^r_n, PD^r_n and the choreographies " + ", ".join(LABELS["choreography"])
         )
     # a newborn family reads a Tier itself (the tier of its continuation)
     return served.family(

@@ -33,7 +33,8 @@ choreographies (``rotorlib.beyond.choreo_census.census``: one residual in one am
 per problem and crossing) at E = 5.33, 5.45 and 5.6 up to T = 50, each with a grid of
 N_GRID and 4 N_GRID amplitudes (the period up to which the two agree is the census's
 completeness to that resolution), names every orbit on a known family
-(``choreo_census.name_of``: CG, CT, CS, CZ1, CZ2, CR1) and writes
+(``rotorlib.api.name_choreography``: CG, CT, CS, CZ1, CZ2, CR1 and every family the
+front door serves; "" for none) and writes
 book/data/choreo_census_T50.json with the time per energy (~1 minute in all).
 """
 
@@ -343,7 +344,8 @@ N_GRID = 1200
 
 def main_t50():
     """The choreography census up to T = 50 (see the module docstring)."""
-    from rotorlib.beyond.choreo_census import agreement_period, census, name_of
+    from rotorlib.api import name_choreography
+    from rotorlib.beyond.choreo_census import agreement_period, census
 
     out = []
     for E in ENERGIES_T50:
@@ -355,7 +357,9 @@ def main_t50():
         orbits = []
         for o in fine:
             rec = o.to_dict()
-            rec["label"] = name_of(o)
+            c = choreography_of(o.state0, o.period, tol=1e-6)
+            lab = name_choreography(E, c, o.period) if c else "choreography"
+            rec["label"] = "" if lab == "choreography" else lab
             rec["in_coarse"] = any(
                 abs(c.period - o.period) < 1e-7 * o.period for c in coarse
             )

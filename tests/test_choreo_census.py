@@ -10,8 +10,9 @@ from pathlib import Path
 
 import pytest
 
+from rotorlib.api import REGISTRY
 from rotorlib.beyond.choreo import choreography_of
-from rotorlib.beyond.choreo_census import agreement_period, census, name_of
+from rotorlib.beyond.choreo_census import agreement_period, census
 from rotorlib.beyond.choreo_s import cs_orbits
 
 DATA = Path(__file__).resolve().parents[1] / "book" / "data"
@@ -23,8 +24,15 @@ def test_census_finds_cr1_and_cs_in_the_band():
     assert [(o.sixth, o.rotating) for o in c] == [(False, True), (True, False)]
     cs = c[1]
     assert abs(cs.period - cs_orbits(5.45)[0].period) < 1e-9
-    assert name_of(cs) == "CS"
-    assert choreography_of(cs.state0, cs.period) is not None
+    chor = choreography_of(cs.state0, cs.period)
+    assert chor is not None and chor.sixth and not chor.rotating
+    # the front door names it (CG and CT tried first; the Z3 rows, ~20 s each, are
+    # skipped here by asking only the rows that serve D6 choreographies)
+    assert [
+        lab
+        for lab in ("CG", "CT", "CS")
+        if any(abs(T - cs.period) < 1e-7 * T for T in REGISTRY[lab].periods(lab, 5.45))
+    ] == ["CS"]
     assert all(o.stability == "unstable" for o in c)
 
 
@@ -34,7 +42,9 @@ def test_agreement_period():
     assert agreement_period(a[:1], a) == pytest.approx(a[1].period)
 
 
-@pytest.mark.parametrize("args", [(math.nan, 10.0, 100), (5.4, -1.0, 100), (5.4, 10, 3)])
+@pytest.mark.parametrize(
+    "args", [(math.nan, 10.0, 100), (5.4, -1.0, 100), (5.4, 10, 3)]
+)
 def test_census_refuses_bad_input(args):
     with pytest.raises(ValueError, match="census needs"):
         census(*args)
@@ -60,7 +70,7 @@ def test_island_against_the_stored_value():
 
     data = json.loads((DATA / "choreo_island.json").read_text())
     (rec,) = [r for r in data["islands"] if r["E"] == 5.2]
-    r = island_area(5.2, n=21)
+    r = island_area(5.2, n=15)
     assert abs(r.area - rec["area"]) < 2 * (r.area_err + rec["area_err"])
     assert r.area_err < 0.2 * r.area
     with pytest.raises(ValueError):

@@ -29,7 +29,9 @@ from scipy.optimize import brentq
 from test_choreo import _decimal_theta, _real128_closure, _rhs_var
 from test_choreo import _rhs as _rhs6
 
+from rotorlib import cli
 from rotorlib.beyond.choreo_s import cs_family, cs_orbit, cs_orbits, cs_points
+from rotorlib.commands.orbit import record
 
 RTOL = 1e-12
 
@@ -103,25 +105,41 @@ def _root(level, s_a, s_b, E_guess):
     return _energy(s, E_guess - 2e-3, E_guess + 2e-3)
 
 
-def test_fold_and_pitchfork_against_independent_brentq():
-    """``family CS``'s pitchfork and fold (float64 and real128) against the roots of
-    ``tr DP`` and ``tr DP - 4`` found here, to 1e-8; the two tiers agree to 1e-12."""
-    pts = {p.kind: p for p in cs_family((4.6, 6.9), digits=30).special_points}
-    assert sorted(pts) == ["fold", "pitchfork"]
+def _cli_json(capsys, *argv):
+    assert cli.main(list(argv)) == 0
+    return json.loads(capsys.readouterr().out)
+
+
+def test_fold_and_pitchfork_against_independent_brentq(capsys):
+    """``family CS --E-range 4.6 6.9 --json``: the pitchfork and the fold against the
+    roots of ``tr DP`` and ``tr DP - 4`` found here, to 1e-8; with ``--digits 30``
+    (real128) the same points to 1e-12."""
+    d = _cli_json(capsys, "family", "CS", "--E-range", "4.6", "6.9", "--json")
+    d30 = _cli_json(
+        capsys, "family", "CS", "--E-range", "4.6", "6.9", "--digits", "30", "--json"
+    )
+    pts = {p["kind"]: p for p in d["special_points"]}
+    pts30 = {p["kind"]: p for p in d30["special_points"]}
+    assert sorted(pts) == sorted(pts30) == ["fold", "pitchfork"]
     for kind, level in (("pitchfork", 0.0), ("fold", 4.0)):
-        p = pts[kind]
-        u, E = float(p.member.u), float(p.member.E)
+        p, p30 = pts[kind], pts30[kind]
+        u, E = p["member"]["u"], p["E"]
         E_ind = _root(level, u - 2e-4, u + 2e-4, E)
         assert abs(E_ind - E) < 1e-8, (kind, E_ind, E)
-        assert abs(float(p.E_str) - E) < 1e-12 and p.agreement < 1e-12
-        assert "real128" in p.check
-    assert "stable" in pts["pitchfork"].description
-    assert "extremum of E(u)" in pts["fold"].check
+        assert abs(float(p30["E_str"]) - E) < 1e-12 and len(p30["E_str"]) > 17
+        assert "real128 agree to" in p30["located"]
+        assert p["branch"] == "CS"
+    assert "unstable -> stable" in pts["pitchfork"]["description"]
+    assert "extremum of E(u)" in pts["fold"]["located"]
+    # and the API's points are those of the command
+    assert [q.E for q in cs_points()] == [pts["pitchfork"]["E"], pts["fold"]["E"]]
 
 
 def test_orbit_cs_against_independent_shooting():
     """``orbit CS --E 5.4``: period, tr M and the D6 symmetry against the shooting here."""
+    rec = record("CS", "5.4")
     o = cs_orbit("5.4")
+    assert rec["period"] == o.period and rec["trace"] == o.trace
     s0 = 2 * o.state0[0]  # phi1 = phi2 = s on the start mirror
     s = brentq(lambda s: _shot(s, 5.4)[0], s0 - 1e-3, s0 + 1e-3, xtol=1e-15, rtol=1e-15)
     trp, T, err = _trace_dp(s, 5.4)
@@ -139,7 +157,9 @@ def test_orbit_cs_against_independent_shooting():
 def test_orbit_cs_digits30_closes_under_independent_real128():
     """The 30-digit member at E = 5.4 closes under real128 to its |tr M|-amplified
     precision, and its period agrees with the float64 member's."""
+    rec = record("CS", "5.4", digits=30)
     o = cs_orbit("5.4", digits=30)
+    assert rec["state0_str"] == list(o.state0_str)
     assert abs(float(o.period_str) - cs_orbit(5.4).period) < 1e-11
     th, w = _decimal_theta(o.state0_str)
     assert _real128_closure(th, w, o.period_str) < 1e-20

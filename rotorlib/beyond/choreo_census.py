@@ -26,6 +26,9 @@ the grid's spacing can be missed: the census is run with ``n`` and ``4 n`` and i
 complete, to the resolution tested, up to the period where the two counts agree
 (:func:`agreement_period`).
 
+The census does not name its orbits: the front door does
+(:func:`rotorlib.api.name_choreography`, the families of :data:`rotorlib.api.REGISTRY`).
+
 Scope: reversible choreographies (of the classes above); not a choreography that meets
 no mirror. Precision: float64 shots, ``|r| < 1e-10`` at the roots kept (most ``1e-14``);
 period to ~1e-12 relative.
@@ -43,7 +46,7 @@ from ..orbits.shooting import ShootingProblem, residual
 from .choreo import cg_problem, choreography_of, reduced_trace
 from .choreo_z3 import z3_problem
 
-__all__ = ["PROBLEMS", "CensusChoreography", "census", "agreement_period", "name_of"]
+__all__ = ["PROBLEMS", "CensusChoreography", "census", "agreement_period"]
 
 
 def _problems() -> dict[str, tuple[ShootingProblem, tuple[float, float]]]:
@@ -194,36 +197,3 @@ def agreement_period(
         if i >= len(a) or abs(a[i] - T) > 1e-7 * T:
             return float(T)
     return math.inf if len(a) == len(b) else float(a[len(b)])
-
-
-def name_of(o: CensusChoreography) -> str:
-    """The family a census orbit lies on at its energy (its period that of a member to
-    1e-7): ``CG``, ``CT`` (:mod:`rotorlib.beyond.choreo_family`), ``CS``
-    (:mod:`rotorlib.beyond.choreo_s`), ``CZ1``, ``CZ2``, ``CR1``
-    (:mod:`rotorlib.beyond.choreo_z3`; each followed once per process, ~20 s), else ``""``.
-    """
-    from .choreo_family import branch_range, cg_orbit
-    from .choreo_s import cs_orbits, cs_range
-    from .choreo_z3 import Z3_FAMILIES, seed_choreography, z3_orbits, z3_range
-
-    E, T = o.E, o.period
-
-    def same(Tm: float) -> bool:
-        return abs(Tm - T) < 1e-7 * T
-
-    if o.sixth:
-        for lab in ("CG", "CT"):
-            lo, hi = branch_range(lab)
-            if lo < E <= hi and same(cg_orbit(E, label=lab).period):
-                return lab
-        lo, hi = cs_range()[:2]
-        if lo <= E <= hi and any(same(m.period) for m in cs_orbits(E)):
-            return "CS"
-        return ""
-    for lab in Z3_FAMILIES:
-        if seed_choreography(lab).rotating != o.rotating:
-            continue
-        lo, hi = z3_range(lab)[:2]
-        if lo <= E <= hi and any(same(m.period) for m in z3_orbits(lab, E)):
-            return lab
-    return ""

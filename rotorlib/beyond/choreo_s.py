@@ -41,7 +41,7 @@ from functools import cache
 from ..core.precision import FLOAT64, Tier, tier
 from ..core.rounding import difference
 from ..orbits.continuation import PALC, ContinuationOptions, continuation, member
-from ..orbits.family import Branch, energy_range
+from ..orbits.family import Branch, SpecialPoint, energy_range
 from ..orbits.periodic_orbit import PeriodicOrbit
 from ..orbits.shooting import ShootingProblem, residual, solve
 from .choreo import (
@@ -51,7 +51,7 @@ from .choreo import (
     reduced_orbit,
     reduced_trace,
 )
-from .choreo_family import ChoreoMember, ChoreoPoint, locate_member
+from .choreo_family import ONCE, ChoreoMember, locate_member
 
 __all__ = [
     "CS_LABEL",
@@ -62,6 +62,7 @@ __all__ = [
     "cs_points",
     "cs_range",
     "cs_orbits",
+    "cs_periods",
     "cs_orbit",
     "cs_family",
 ]
@@ -161,18 +162,19 @@ def _extremum(j: int) -> float:
 
 
 @cache
-def cs_points(digits: int | None = None) -> tuple[ChoreoPoint, ...]:
+def cs_points(digits: int | None = None) -> tuple[SpecialPoint, ...]:
     """The special points of ``CS`` ordered by energy
-    (:class:`~rotorlib.beyond.choreo_family.ChoreoPoint`, ``branch`` ``CS``): every root of
+    (:class:`~rotorlib.orbits.family.SpecialPoint`, ``branch`` ``CS``): every root of
     ``tr DP - 4`` (the fold, where ``E(u)`` turns) and of ``tr DP`` (the pitchfork
     ``D6 -> Z3``, kind ``pitchfork``) between consecutive members, located in float64 and,
-    with ``digits`` > 15, again in that tier (``refined``, ``E_str``, ``agreement``); the
-    fold's ``check`` also gives its distance to the extremum of ``E(u)``.
+    with ``digits`` > 15, again in that tier (then ``member`` and ``E_str`` are the
+    tier's, and ``located`` gives the agreement of the two); the fold's ``located`` also
+    gives its distance to the extremum of ``E(u)``.
 
     Examples
     --------
     >>> from rotorlib.beyond.choreo_s import cs_points
-    >>> [(p.kind, round(float(p.member.E), 6)) for p in cs_points()]
+    >>> [(p.kind, round(p.E, 6)) for p in cs_points()]
     [('pitchfork', 6.469685), ('fold', 6.867887)]
     """
     t = tier(digits) if digits is not None and digits > 15 else FLOAT64
@@ -199,11 +201,11 @@ def cs_points(digits: int | None = None) -> tuple[ChoreoPoint, ...]:
                     f"{change} (tr DP = 0): pitchfork D6 -> Z3, two Z3 choreographies of "
                     "the same period branch off"
                 )
-            refined, agree, check = None, math.nan, ""
+            best, check = m, ONCE
             if t.extended:
                 h = 1e-7 * max(1.0, abs(float(m.u)))
                 r = _root(lev, float(m.u) - h, float(m.u) + h, float(m.E), t)
-                refined = replace(r, digits=max(10, int(digits or 0) - 10))
+                best = replace(r, digits=max(10, int(digits or 0) - 10))
                 agree = abs(float(r.E) - float(m.E))
                 check = (
                     f"root of tr DP = {lev:g} in float64 and {t.name} agree to "
@@ -212,12 +214,9 @@ def cs_points(digits: int | None = None) -> tuple[ChoreoPoint, ...]:
             if fold:
                 j = min((i, i + 1), key=lambda k: abs(float(ms[k].u) - float(m.u)))
                 d = abs(_extremum(j) - float(m.E))
-                check = f"{check}; " if check else ""
-                check += f"extremum of E(u) {difference(d)} away"
-            out.append(
-                ChoreoPoint(kind, m, i, True, text, CS_LABEL, refined, agree, check)
-            )
-    return tuple(sorted(out, key=lambda q: q.member.E))
+                check += f"; extremum of E(u) {difference(d)} away"
+            out.append(SpecialPoint(kind, best, i, check, text, branch=CS_LABEL))
+    return tuple(sorted(out, key=lambda q: q.E))
 
 
 @cache
@@ -236,7 +235,7 @@ def cs_range() -> tuple:
     (f,) = [q for q in cs_points() if q.kind == "fold"]
     lo = min(float(m.E) for m in ms)
     why = "the period exceeds 100 (E -> 4.5: the maxima T1, T2)"
-    return lo, float(f.member.E), why, "a fold (saddle-node)"
+    return lo, f.E, why, "a fold (saddle-node)"
 
 
 @cache
@@ -280,6 +279,21 @@ def cs_orbits(E: float | str, digits: int | None = None) -> tuple:
     [16.524918, 27.750819]
     """
     return _orbits(str(E), digits)
+
+
+def cs_periods(E: float) -> list[float]:
+    """The periods of the members of ``CS`` at ``E`` (empty outside :func:`cs_range`):
+    how the front door names a census's choreography (:func:`rotorlib.api.name_choreography`).
+
+    Examples
+    --------
+    >>> from rotorlib.beyond.choreo_s import cs_periods
+    >>> [round(T, 4) for T in cs_periods(5.6)], cs_periods(7.0)
+    ([16.1171, 25.8245], [])
+    """
+    lo, hi = cs_range()[:2]
+    E = float(E)
+    return [float(o.period) for o in cs_orbits(E)] if lo <= E <= hi else []
 
 
 def cs_orbit(

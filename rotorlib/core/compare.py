@@ -24,7 +24,8 @@ number, named in ``inherits``), ``definition`` (the value depends on a definitio
 in ``cause``), ``inequality`` (the paper states a bound, ``≲`` or ``≳``, and it holds),
 ``not evaluable`` and ``answer`` (the paper asks, the book answers: our number set beside
 the paper's quoted value, with the paper's printed digits as the tolerance, never
-scored as reproduced; its status is ``answer to an open question``). By default it is derived from the verdict (``agrees`` -> reproduced,
+scored as reproduced; its status is ``answer to an open question``). By default it is
+derived from the verdict (``agrees`` -> reproduced,
 ``truncated``/``last digit off`` -> misrounded, ``typo`` -> typo, ``DIFFERS`` -> error);
 a chapter that knows better passes ``category=`` and ``cause=`` to :func:`claim`.
 
@@ -110,6 +111,7 @@ _STATUS_OF_CATEGORY = {
     "inequality": "reproduced",
     "not evaluable": "not evaluable",
     "misrounded": "not correctly rounded",
+    "answer": "answer to an open question",
 }
 
 
@@ -180,9 +182,12 @@ class Claim:
     def status(self) -> str:
         """The ledger class: one of ``STATUSES`` (from the verdict's own category; an
         answer to one of the paper's open questions is a class of its own)."""
-        if self.category == "answer":
-            return "answer to an open question"
-        return _STATUS_OF_CATEGORY.get(category_of_verdict(self.verdict), "wrong")
+        return _STATUS_OF_CATEGORY.get(
+            "answer"
+            if self.category == "answer"
+            else category_of_verdict(self.verdict),
+            "wrong",
+        )
 
 
 def _decimals(text: str) -> int:
