@@ -30,8 +30,9 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.integrate import quad
 
+from ..core.flow import Section, to_section
 from ..core.system import alpha_to_phi, phi_to_alpha, potential_phi
-from ..paper.chaos import _crossings, ftle
+from ..paper.chaos import ftle
 
 __all__ = ["IslandArea", "island_area", "section_area"]
 
@@ -124,8 +125,14 @@ def island_area(E: float, n: int = 49) -> IslandArea:
     o = cg_orbit(E)
     if not o.extra["stable"]:
         raise ValueError(f"CG is unstable at E = {E}: no island")
-    ph, P = _crossings(alpha_to_phi(o.state0), o.period, 1)
-    c2, cP = float(ph[0]), 0.0  # P2 = 0 on CG's crossing (its symmetry)
+    # CG's crossing of phi1 = 0 (a1 = 0 mod pi), phi1' > 0: P2 = 0 there (its symmetry)
+    _, x1 = to_section(
+        list(o.state0), Section((1, 0, 0, 0), 0.0, 1, 1.0), None, 1, 50.0
+    )
+    y = alpha_to_phi([float(v) for v in x1])
+    c2, cP = float(y[1]) % (2 * math.pi), 0.0
+    if abs(float(y[3])) > 1e-9:
+        raise RuntimeError(f"CG's crossing has P2 = {float(y[3])}, not 0")
     w = 0.8
     for _ in range(8):  # shrink the box until the island has >= 20 points
         comp = _component(_grid(E, c2, cP, w, w, 25))
