@@ -240,7 +240,9 @@ def cs_range() -> tuple:
 
 @cache
 def _orbits(E: str, digits: int | None) -> tuple:
-    p, ms = cs_problem(), cs_members()[0]
+    p, ms = cs_problem(), list(cs_members()[0])
+    (f,) = [q for q in cs_points() if q.kind == "fold"]
+    ms.insert(f.index + 1, f.member)  # the fold itself: brackets up to E_f
     t = tier(digits) if digits is not None and digits > 15 else FLOAT64
     Ef = float(E)
     found: list = []
