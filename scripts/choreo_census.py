@@ -9,13 +9,13 @@ through folds, ``tr M`` of every member, folds and crossings of 4 and 0 located;
 stops where its period exceeds 40) and the reduced trace ``tr DP`` of every member
 is computed (``rotorlib.beyond.choreo.reduced_trace``: order 6 for the D6 rotating waves, 3 for
 the others); the families are labelled CZk (non-rotating, Z3 only), CRk (rotating), CXk
-(other D6 rotating waves). CG and CT are recognised (``rotorlib.beyond.choreo.atlas_name``) and not
+(other D6 rotating waves). CG and CT are recognised (``rotorlib.api.name_choreography``) and not
 followed here: ``rotorlib.beyond.choreo_family`` follows them. Chapter 10 (choreographies) reads
 the file and checks it: CG and CT against its own family, and the census orbit of every
 other family re-integrated (it closes and is a choreography).
 
 Each family labelled CZ1, CZ2 or CR1 also gets its special points located to 30 digits
-(``rotorlib.beyond.choreo_z3.z3_points(label, 30)``: float64 and real128, with their agreement).
+(``rotorlib.beyond.choreo_z3.z3_points(label, 30)``: real128, with its agreement with float64).
 Then the touches of CG (``tr M`` = 4 at theta = pi/3, 0 at theta = pi/6, no change of
 stability): a census just below and just above each (T up to 1 or 2 periods of CG), the
 near-resonant orbits found (``|tr M - 4| < 1e-3``, period within 30 % of T or 2T)
@@ -27,11 +27,21 @@ product by the chapter); at most 150 continuation steps of 0.05 each way. The ce
 cached in /tmp (choreo_census_<E>_<T_MAX>.pickle) so that a rerun of the families is cheap.
 About ten minutes of two cores. Re-run after changing rotorlib.beyond.atlas, the engine or
 rotorlib.beyond.choreo: python scripts/choreo_census.py
+
+``python scripts/choreo_census.py --t50`` runs instead the census restricted to reversible
+choreographies (``rotorlib.beyond.choreo_census.census``: one residual in one amplitude
+per problem and crossing) at E = 5.33, 5.45 and 5.6 up to T = 50, each with a grid of
+N_GRID and 4 N_GRID amplitudes (the period up to which the two agree is the census's
+completeness to that resolution), names every orbit on a known family
+(``rotorlib.api.name_choreography``: CG, CT, CS, CZ1, CZ2, CR1 and every family the
+front door serves; "" for none) and writes
+book/data/choreo_census_T50.json with the time per energy (~1 minute in all).
 """
 
 from __future__ import annotations
 
 import json
+import math
 import pickle
 import time
 from concurrent.futures import ProcessPoolExecutor
@@ -41,8 +51,9 @@ from pathlib import Path
 
 import numpy as np
 
+from rotorlib.api import name_choreography
 from rotorlib.beyond import atlas
-from rotorlib.beyond.choreo import atlas_name, choreography_of, reduced_trace
+from rotorlib.beyond.choreo import choreography_of, reduced_trace
 from rotorlib.beyond.choreo_family import special_points
 from rotorlib.beyond.choreo_z3 import Z3_FAMILIES, z3_points
 from rotorlib.core.flow import flow
@@ -147,19 +158,19 @@ def _z3_points(label):
     (the birth at CG: of CG's point located again in real128, with CG's float64 ``u``),
     ``E_str`` of the real128 one, their ``agreement`` and the ``check``."""
     out = []
-    for p in z3_points(label, 30):
-        v = p.refined if p.description.startswith("born") else p.member
+    for p, q in zip(z3_points(label), z3_points(label, 30)):  # float64, real128
+        v = q.member if p.description.startswith("born") else p.member
         out.append(
             {
                 "kind": p.description,
                 "branch": p.branch,
                 "E": float(v.E),
-                "E_str": p.E_str,
+                "E_str": q.E_str,
                 "period": float(v.period),
                 "trace_reduced": float(v.trace_reduced),
                 "trace": float(v.trace),
-                "agreement": p.agreement,
-                "check": p.check,
+                "agreement": abs(q.E - p.E),
+                "check": q.located,
                 "u": float(p.member.u),
             }
         )
@@ -285,7 +296,7 @@ def main():
                 c = choreography_of(o.state0, o.period)
                 if c is None:
                     continue
-                label, _ = atlas_name("new", E, o.state0, o.period)
+                label = name_choreography(E, c, o.period)
                 found.append(
                     {
                         "E": E,
@@ -325,6 +336,66 @@ def main():
     print(f"wrote {OUT} ({len(found)} choreographies, {len(families)} families)")
 
 
+OUT_T50 = ROOT / "book" / "data" / "choreo_census_T50.json"
+ENERGIES_T50 = (5.33, 5.45, 5.6)
+T_MAX_T50 = 50.0
+N_GRID = 1200
+
+
+def main_t50():
+    """The choreography census up to T = 50 (see the module docstring)."""
+    from rotorlib.api import name_choreography
+    from rotorlib.beyond.choreo_census import agreement_period, census
+
+    out = []
+    for E in ENERGIES_T50:
+        t0 = time.perf_counter()
+        coarse = census(E, T_MAX_T50, N_GRID)
+        t1 = time.perf_counter()
+        fine = census(E, T_MAX_T50, 4 * N_GRID)
+        t2 = time.perf_counter()
+        orbits = []
+        for o in fine:
+            rec = o.to_dict()
+            c = choreography_of(o.state0, o.period, tol=1e-6)
+            lab = name_choreography(E, c, o.period) if c else "choreography"
+            rec["label"] = "" if lab == "choreography" else lab
+            rec["in_coarse"] = any(
+                abs(c.period - o.period) < 1e-7 * o.period for c in coarse
+            )
+            orbits.append(rec)
+        agree = agreement_period(coarse, fine)
+        out.append(
+            {
+                "E": E,
+                "t_max": T_MAX_T50,
+                "n_grid": [N_GRID, 4 * N_GRID],
+                "seconds": [round(t1 - t0, 1), round(t2 - t1, 1)],
+                "n_orbits": [len(coarse), len(fine)],
+                "complete_to": agree if math.isfinite(agree) else T_MAX_T50,
+                "orbits": orbits,
+            }
+        )
+        named = sorted({r["label"] for r in orbits if r["label"]})
+        print(
+            f"E = {E}: {len(coarse)} / {len(fine)} choreographies (n = {N_GRID} / "
+            f"{4 * N_GRID}), agree up to T = {agree:.3f}; {t1 - t0:.1f} s + "
+            f"{t2 - t1:.1f} s; named {named}; stable "
+            f"{sum(r['stability'] == 'stable' for r in orbits)}",
+            flush=True,
+        )
+    data = {
+        "scope": "reversible choreographies (meeting a mirror of the transpositions or "
+        "of the negated transpositions at right angles), T <= t_max, one grid of "
+        "n_grid amplitudes per shooting problem and crossing",
+        "census": out,
+    }
+    OUT_T50.write_text(json.dumps(data, indent=1) + "\n")
+    print(f"wrote {OUT_T50}")
+
+
 if __name__ == "__main__":
+    import sys
+
     np.seterr(all="ignore")
-    main()
+    main_t50() if "--t50" in sys.argv[1:] else main()

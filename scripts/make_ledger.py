@@ -59,6 +59,9 @@ MEANING = {
     "states the definition under which ours is computed",
     "inequality": "the paper states a bound (≲, ≳), and our value satisfies it",
     "not evaluable": "the quantity does not exist where the paper evaluates it",
+    "answer": "the paper asks an open question and the book answers it: our value is "
+    "set beside the value the paper quotes, with the tolerance of its printed digits; "
+    "it is not a claim of the paper and is not scored as reproduced",
 }
 
 _WORDS = {

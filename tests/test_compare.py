@@ -269,3 +269,16 @@ def test_markdown_typeset_and_compact():
     assert compact[2].startswith(r"| $\mathrm{IS}^\ell_{9}$: tau | 33.3356 | 35.3355 |")
     rows = cmp.markdown([["PD^r_2", 1.5e-3]], ["family", "E - 4"], typeset=True)
     assert rows.splitlines()[2] == r"| $\mathrm{PD}^r_{2}$ | 1.5e-03 |"
+
+
+def test_answer_to_an_open_question_is_its_own_class():
+    """An answer to one of the paper's open questions is never scored as reproduced:
+    its status is its own, whatever the numbers; the numbers still give the verdict."""
+    from rotorlib.core.compare import CATEGORIES, STATUSES, claim
+
+    far = claim("edge", "5.33", 5.3153, tol=0.005, category="answer")
+    near = claim("edge", "5.33", 5.331, tol=0.005, category="answer")
+    assert "answer" in CATEGORIES and "answer to an open question" in STATUSES
+    assert (far.verdict, far.status) == ("DIFFERS", "answer to an open question")
+    assert (near.verdict, near.status) == ("agrees", "answer to an open question")
+    assert claim("edge", "5.33", 5.331, tol=0.005).status == "reproduced"

@@ -23,19 +23,19 @@ from __future__ import annotations
 
 import argparse
 import json
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, cast
 
 from ..cli import add_digits_argument
 
 if TYPE_CHECKING:
-    from ..orbits.family import Branch
+    from ..orbits.family import Branch, Member
 
 
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
         "family",
         help="a family (IS^l_n, PD^l_n, IS^r_n, PD^r_n; choreographies CG, CT, CZ1, "
-        "CZ2, CR1) over an energy range: members, folds, stability changes",
+        "CZ2, CR1, CS) over an energy range: members, folds, stability changes",
         description="Follow a family of periodic orbits with the continuation engine and "
         "print the members with E in the range and the special points (folds, the "
         "energies where tr M crosses 4 (IS) or 0 (PD), with their kind).",
@@ -44,7 +44,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         "label",
         help="a family born at a pendulum bifurcation (IS^l_2, PDr3, ...), CG (born at "
         "G), CT (its partner beyond the fold), or a Z3 choreography CZ1, CZ2 "
-        "(non-rotating), CR1 (rotating)",
+        "(non-rotating), CR1 (rotating), or CS (the third D6 choreography)",
     )
     p.add_argument(
         "--E-range", nargs=2, required=True, metavar=("A", "B"), help="energies A < B"
@@ -60,9 +60,9 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def _print_branch(b: Branch, lo: float, hi: float) -> None:
     """Any family: its members and special points; a choreography's
-    (:class:`~rotorlib.beyond.choreo_family.ChoreoMember`, ``ChoreoPoint``) also ``tr DP``, and
-    each point's period, description, branch and check."""
-    from ..beyond.choreo_family import ChoreoMember, ChoreoPoint
+    (:class:`~rotorlib.beyond.choreo_family.ChoreoMember`) also ``tr DP``, and each
+    point's period, description, branch and how it was located."""
+    from ..beyond.choreo_family import ChoreoMember
 
     d = max(12, min(30, b.members[0].digits)) if b.members else 12
     reduced = any(  # a choreography: a column of tr DP
@@ -87,13 +87,12 @@ def _print_branch(b: Branch, lo: float, hi: float) -> None:
         "special points:" if b.special_points else "special points: none in the range"
     )
     for p in b.special_points:
-        m = p.member
+        m = cast("Member", p.member)  # a branch's points have their member
         what = f"({_WHAT.get(p.kind, p.kind)}{'' if p.located else ', not located'})"
-        if isinstance(p, ChoreoPoint):
-            m = p.refined or p.member  # the best location
+        if isinstance(m, ChoreoMember):  # the best location, and how it was found
             what = (
                 f"T = {float(m.period):.10f}  tr DP = {float(m.trace_reduced):.10f}  "
-                f"({p.description})  [{p.branch}]" + (f"  {p.check}" if p.check else "")
+                f"({p.description})  [{p.branch}]  {p.located}"
             )
         E_p = m.E_str if m.precision != "float64" else f"{float(m.E):.{d}f}"
         print(f"  {p.kind:4s} E = {E_p}  {what}")

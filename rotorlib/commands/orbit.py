@@ -8,6 +8,7 @@ Examples
 ``python -m rotorlib orbit PD^b --E 8.9 --json`` (the breather's period-doubled daughter)
 ``python -m rotorlib orbit CG --E 3 --digits 30`` (the choreography born at G; ``CT`` its
 unstable partner beyond the fold, :mod:`rotorlib.beyond.choreo_family`)
+``python -m rotorlib orbit CS --E 5.4`` (the third D6 choreography, :mod:`rotorlib.beyond.choreo_s`)
 ``python -m rotorlib orbit CR1 --E 5.6 --branch 1`` (a Z3 choreography, the second of its
 members at that energy by period; ``CZ1``, ``CZ2`` likewise, :mod:`rotorlib.beyond.choreo_z3`)
 """
@@ -26,13 +27,13 @@ def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
         "orbit",
         help="a periodic orbit: pendulum, breathers R/LG/LD, newborn IS^l_n, PD^l_n, "
-        "IS^r_n, PD^r_n, PD^b, choreographies CG, CT, CZ1, CZ2, CR1",
+        "IS^r_n, PD^r_n, PD^b, choreographies CG, CT, CZ1, CZ2, CR1, CS",
         description="The periodic orbit LABEL at energy E (rotorlib.orbit): the pendulum or a "
         "breather (closed form, monodromy from the reduced problem), the member with energy "
         "E of the family of periodic orbits born at a pendulum bifurcation (symmetry-reduced shooting + continuation in energy; "
         "paper §6-7), of the breather's period-doubled daughter (PD^b), or of the "
         "choreographies born at G (CG, and CT beyond its fold) or of the Z3 "
-        "choreographies CZ1, CZ2, CR1.",
+        "choreographies CZ1, CZ2, CR1, or the third D6 choreography CS.",
     )
     p.add_argument(
         "label", help="pendulum, R, LG, LD, IS^l_2, ISl2, PD^r_3, PDr3, PD^b, CG ..."
@@ -48,7 +49,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         "--branch",
         type=int,
         default=0,
-        help="choreographies CZ1, CZ2, CR1: which member at E, numbered by period from 0 "
+        help="choreographies CZ1, CZ2, CR1, CS: which member at E, numbered by period from 0 "
         "(a family that folds has several)",
     )
     p.add_argument("--json", action="store_true", help="print one JSON object")

@@ -21,8 +21,11 @@ What the disagreement *means* is the claim's ``category`` (one of
 last digit is off by ``k`` units, or ours truncated), ``typo`` (a transcription typo),
 ``error`` (an error in the paper), ``inherited`` (a consequence of an earlier wrong
 number, named in ``inherits``), ``definition`` (the value depends on a definition, stated
-in ``cause``), ``inequality`` (the paper states a bound, ``≲`` or ``≳``, and it holds) and
-``not evaluable``. By default it is derived from the verdict (``agrees`` -> reproduced,
+in ``cause``), ``inequality`` (the paper states a bound, ``≲`` or ``≳``, and it holds),
+``not evaluable`` and ``answer`` (the paper asks, the book answers: our number set beside
+the paper's quoted value, with the paper's printed digits as the tolerance, never
+scored as reproduced; its status is ``answer to an open question``). By default it is
+derived from the verdict (``agrees`` -> reproduced,
 ``truncated``/``last digit off`` -> misrounded, ``typo`` -> typo, ``DIFFERS`` -> error);
 a chapter that knows better passes ``category=`` and ``cause=`` to :func:`claim`.
 
@@ -60,7 +63,13 @@ __all__ = [
     "glue",
 ]
 
-STATUSES = ("reproduced", "not correctly rounded", "wrong", "not evaluable")
+STATUSES = (
+    "reproduced",
+    "not correctly rounded",
+    "wrong",
+    "not evaluable",
+    "answer to an open question",
+)
 
 #: The ledger's categories: key -> what a reader is told (in this order).
 CATEGORIES = {
@@ -72,6 +81,7 @@ CATEGORIES = {
     "definition": "depends on a definition",
     "inequality": "inequality holds",
     "not evaluable": "not evaluable",
+    "answer": "answer to an open question",
 }
 
 
@@ -101,6 +111,7 @@ _STATUS_OF_CATEGORY = {
     "inequality": "reproduced",
     "not evaluable": "not evaluable",
     "misrounded": "not correctly rounded",
+    "answer": "answer to an open question",
 }
 
 
@@ -169,8 +180,14 @@ class Claim:
 
     @property
     def status(self) -> str:
-        """The ledger class: one of ``STATUSES`` (from the verdict's own category)."""
-        return _STATUS_OF_CATEGORY.get(category_of_verdict(self.verdict), "wrong")
+        """The ledger class: one of ``STATUSES`` (from the verdict's own category; an
+        answer to one of the paper's open questions is a class of its own)."""
+        return _STATUS_OF_CATEGORY.get(
+            "answer"
+            if self.category == "answer"
+            else category_of_verdict(self.verdict),
+            "wrong",
+        )
 
 
 def _decimals(text: str) -> int:

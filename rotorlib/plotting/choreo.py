@@ -15,7 +15,15 @@ import numpy as np
 from matplotlib.figure import Figure
 from numpy.typing import ArrayLike
 
-__all__ = ["plot_family", "plot_all_families", "plot_orbits", "plot_birth", "BAND"]
+__all__ = [
+    "plot_family",
+    "plot_all_families",
+    "plot_orbits",
+    "plot_birth",
+    "plot_cs",
+    "plot_island",
+    "BAND",
+]
 
 #: The band of global chaos quoted by the paper (its edges, in units of g).
 BAND = (5.33, 5.6)
@@ -181,5 +189,56 @@ def plot_all_families(
     b.set_yscale("symlog", linthresh=4)
     b.set_ylabel(r"$\mathrm{tr}\,DP$ (reduced map)")
     b.set_title(r"(b) stable where $0 < \mathrm{tr}\,DP < 4$")
+    fig.tight_layout()
+    return fig
+
+
+def plot_cs(
+    E: ArrayLike,
+    period: ArrayLike,
+    trp: ArrayLike,
+    marks: Sequence[tuple[float, float, float, str]] = (),
+) -> Figure:
+    """The family CS along the continuation: (a) period and (b) ``tr DP`` (symmetric
+    log scale) against E, the band shaded, the stable part ``0 < tr DP < 4`` drawn
+    thick; ``marks``: ``(E, period, tr DP, text)`` of its special points."""
+    E, period, trp = (np.asarray(v, float) for v in (E, period, trp))
+    fig, (a, b) = plt.subplots(1, 2, figsize=(10, 3.6))
+    stable = (trp > 0) & (trp < 4)
+    for ax, y in ((a, period), (b, trp)):
+        _band(ax)
+        ax.plot(E, y, "C2-", lw=1, label="CS")
+        ax.plot(E, np.where(stable, y, np.nan), "C2-", lw=3, label="CS stable")
+        ax.set_xlabel("E (units of g)")
+    for Em, Tm, pm, text in marks:
+        a.plot(Em, Tm, "ko", ms=4)
+        b.plot(Em, pm, "ko", ms=4)
+        b.annotate(text, (Em, pm), textcoords="offset points", xytext=(-60, 8))
+    a.set_ylabel(r"period $T$ (units of $\sqrt{mr^2/g}$)")
+    a.set_ylim(0, 60)
+    b.set_yscale("symlog", linthresh=4)
+    for lev in (0, 4):
+        b.axhline(lev, color="0.5", lw=0.6, ls=":")
+    b.set_ylabel(r"$\mathrm{tr}\,DP$ (reduced map over $T/6$)")
+    a.legend(loc="upper right", fontsize=8)
+    a.set_title("(a)", loc="left")
+    b.set_title("(b)", loc="left")
+    fig.tight_layout()
+    return fig
+
+
+def plot_island(
+    dE: ArrayLike, area: ArrayLike, err: ArrayLike, fold_label: str = ""
+) -> Figure:
+    """The area of CG's island on the section against the distance ``E_f - E`` to the
+    fold (log-log, error bars)."""
+    fig, ax = plt.subplots(figsize=(5, 3.6))
+    ax.errorbar(dE, area, yerr=err, fmt="o-", ms=4, capsize=2, color="C0")
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel(
+        r"$E_f - E$ (units of g)" + (f" ({fold_label})" if fold_label else "")
+    )
+    ax.set_ylabel(r"island area in $(\varphi_2, P_2)$ (units of $\sqrt{m r^2 g}$)")
     fig.tight_layout()
     return fig
