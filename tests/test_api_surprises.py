@@ -191,18 +191,19 @@ def test_monodromy_accepts_a_transition():
 
 
 def test_no_module_shares_a_public_functions_name():
-    """``rotorlib.monodromy`` and ``rotorlib.breather`` are functions; no module of
-    rotorlib is called ``monodromy``, ``breather`` or ``breathers`` (the module of the
-    monodromy routes is ``rotorlib.orbits.floquet``, that of §8 ``rotorlib.paper.breathers``)."""
+    """``rotorlib.family`` is the front door's function; no top-level module of rotorlib
+    is called like a name of ``rotorlib.__all__`` (the module of the family types is
+    ``rotorlib.orbits.family``, that of the monodromy routes ``rotorlib.orbits.floquet``)."""
     import importlib.util
     import pkgutil
+    import types
 
     import rotorlib
 
     modules = {m.name for m in pkgutil.iter_modules(rotorlib.__path__)}
-    assert callable(rotorlib.monodromy) and callable(rotorlib.breather)
-    assert not {"monodromy", "breather", "breathers"} & modules
-    assert {"floquet", "breather_bifurcation"} <= modules
+    assert callable(rotorlib.family) and callable(rotorlib.orbit)
     for name in rotorlib.__all__:
-        assert name not in modules or not callable(getattr(rotorlib, name)), name
+        assert name not in modules, name
+        assert not isinstance(getattr(rotorlib, name), types.ModuleType), name
     assert importlib.util.find_spec("rotorlib.orbits.floquet") is not None
+    assert importlib.util.find_spec("rotorlib.orbits.family") is not None
