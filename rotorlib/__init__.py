@@ -37,8 +37,8 @@ layer       modules
             ``search`` (the paper's search; §6), ``newborn`` and ``newborn_families``
             (the orbits born at IS/PD points; §7.1-2), ``newborn_laws`` (slope theorems,
             fans, self-similarity, duality; §7.3-6), ``breathers`` (the breather's
-            transition and PD^b; §8), ``chaos`` (the band of global chaos; §9), ``qubit``
-            (App. A), ``lame_functions`` (App. B)
+            transition and PD^b; §8), ``chaos`` (the band of global chaos; §9),
+            ``qubit`` (App. A), ``lame_functions`` (App. B)
 ``beyond``  new science: ``atlas`` and ``atlas_families`` (every symmetric periodic orbit
             with T <= T_max, their families and cascade), ``choreo``, ``choreo_family``,
             ``choreo_z3`` (choreographies), ``quantum`` and ``quantum_semiclassics`` (the
