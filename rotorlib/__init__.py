@@ -55,7 +55,7 @@ from .orbits.family import Branch, Member, SpecialPoint
 from .orbits.periodic_orbit import PeriodicOrbit
 from .paper.bifurcations import Transition
 
-__version__ = "0.1.0"
+__version__ = "1.0.0"
 
 __all__ = [
     "orbit",

@@ -37,7 +37,7 @@ from numpy.typing import ArrayLike
 from ..core.energy import as_float
 from ..core.flow import SectionNotReached, crossings, monodromy_matrix, sample
 from ..core.parallel import pmap
-from ..core.precision import FLOAT64, tier
+from ..core.precision import FLOAT64, load_heyoka, tier
 from ..core.system import lattice_reduce
 from ..orbits.periodic_orbit import PeriodicOrbit
 from ..orbits.reversors import images, start_sets, targets
@@ -641,6 +641,7 @@ def census(
     """
     E, t_max = as_float(E, "E"), as_float(t_max, "T_max")
     check_census([E], t_max, grid)
+    load_heyoka()  # the scan integrates the flow: without heyoka, refuse at once
     t_half = t_max / 2 * 1.02
     classes = range(len(start_sets(E)))
     parts = max(4, round(budget_seconds([E], t_max, grid) / 0.25 / len(classes)))

@@ -26,6 +26,7 @@ import mpmath as mp
 import numpy as np
 
 __all__ = ["Tier", "tier", "FLOAT64", "REAL128", "load_heyoka", "HEYOKA_CACHE_MB"]
+__all__ += ["HeyokaMissing"]
 __all__ += ["DIGITS_RANGE", "check_digits", "json_number", "requested_digits"]
 
 #: The significant digits every function (``digits=``) and command (``--digits``) accepts.
@@ -114,6 +115,14 @@ def json_number(key: str, value: Any, text: str | None = None, note: str = "") -
 HEYOKA_CACHE_MB = 512
 
 
+class HeyokaMissing(ImportError):
+    """heyoka is not installed: its message is the one-line refusal every command prints.
+
+    heyoka is a required dependency where its wheels exist (Linux x86_64 and aarch64);
+    elsewhere install the extra ``rotorlib[fast]`` (or conda-forge's ``heyoka.py``).
+    """
+
+
 @cache
 def load_heyoka() -> Any:
     """heyoka, imported once, with its on-disk cache bounded.
@@ -124,12 +133,22 @@ def load_heyoka() -> Any:
 
     Raises
     ------
-    ImportError
-        heyoka is not installed (callers fall back to scipy/mpmath).
+    HeyokaMissing
+        heyoka is not installed: the Hill integrals fall back to scipy/mpmath
+        (:func:`rotorlib.orbits.hill.heyoka_available`); the nonlinear flow
+        (:mod:`rotorlib.core.flow`: shooting, families, the atlas) refuses with it.
     ValueError
         ``ROTORLIB_HEYOKA_CACHE_MB`` is not a non-negative integer.
     """
-    import heyoka as hy
+    try:
+        import heyoka as hy
+    except ImportError as exc:  # one line, naming the extra (the CLI prints it)
+        raise HeyokaMissing(
+            "this computation needs heyoka (the Taylor integrator of the nonlinear "
+            f"flow), which is not installed here ({exc}): pip install "
+            "'rotorlib[fast]' or conda install -c conda-forge heyoka.py",
+            name="heyoka",
+        ) from exc
 
     raw = os.environ.get("ROTORLIB_HEYOKA_CACHE_MB", str(HEYOKA_CACHE_MB))
     if not raw.strip().isdecimal():

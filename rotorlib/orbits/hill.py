@@ -67,7 +67,8 @@ __all__ = [
 
 
 def heyoka_available() -> bool:
-    """True when heyoka imports (Linux wheels; optional)."""
+    """True when heyoka imports (a dependency on Linux x86_64/aarch64, the extra
+    ``rotorlib[fast]`` elsewhere); without it the Hill problem uses scipy/mpmath."""
     try:
         load_heyoka()  # a malformed ROTORLIB_HEYOKA_CACHE_MB raises: never hidden
     except ImportError:
