@@ -19,7 +19,9 @@
      ``:math:`` roles (outside literals, roles, doctests and literal blocks).
 
    And cross-references by short name (``:class:`PeriodicOrbit```) resolve when
-   exactly one documented rotorlib object has that name.
+   exactly one documented rotorlib object has that name; a front-door name
+   (``:func:`rotorlib.transition```, ``rotorlib.Branch``: ``rotorlib.__all__``) resolves
+   to the module that defines it.
 """
 
 from __future__ import annotations
@@ -143,6 +145,14 @@ def _resolve_short_names(app, env, node, contnode):
     target = node.get("reftarget", "").lstrip("~.")
     if not target:
         return None
+    if target.count(".") == 1 and target.startswith("rotorlib."):
+        # a name of the front door (rotorlib.__all__) is documented where it is defined
+        import rotorlib
+
+        name = target.split(".")[1]
+        if name in rotorlib.__all__:
+            module = getattr(getattr(rotorlib, name), "__module__", None)
+            target = f"{module or 'rotorlib.api'}.{name}"
     objects = env.get_domain("py").objects
     hits = [
         full
