@@ -16,7 +16,8 @@
    * section titles inside *module* docstrings ("Precision\\n---------") become
      rubrics, so they neither collide between modules nor enter the page's TOC;
    * family labels in the prose (``IS^l_3``, ``ISl6``, ``PD^b``) are typeset as
-     ``:math:`` roles (outside literals, roles, doctests and literal blocks).
+     ``:math:`` roles (outside literals, roles, literal blocks and doctest blocks, their
+     output lines included).
 
    And cross-references by short name (``:class:`PeriodicOrbit```) resolve when
    exactly one documented rotorlib object has that name; a front-door name
@@ -95,12 +96,21 @@ def _process_docstring(app, what, name, obj, options, lines: list[str]) -> None:
     literal = None  # indentation of the paragraph that opened a literal block (::)
     borders = 0  # border lines of a simple table seen so far (inside while 1 or 2)
     last_column = 0  # where the last column of that table starts
+    doctest = False  # in a doctest block (">>>" to a blank line), its output too
     while i < len(lines):
         line = lines[i]
         nxt = lines[i + 1] if i + 1 < len(lines) else ""
         indent = len(line) - len(line.lstrip())
         if literal is not None and line.strip() and indent <= literal:
             literal = None
+        if line.lstrip().startswith(">>>"):
+            doctest = True
+        elif not line.strip():
+            doctest = False
+        if doctest:
+            out.append(line)
+            i += 1
+            continue
         if _SIMPLE_TABLE_BORDER.match(line):
             borders = (borders + 1) % 3  # top, under the header, bottom
             last_column = line.rstrip().rfind(" ") + 1
