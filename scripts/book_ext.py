@@ -23,6 +23,10 @@
    exactly one documented rotorlib object has that name; a front-door name
    (``:func:`rotorlib.transition```, ``rotorlib.Branch``: ``rotorlib.__all__``) resolves
    to the module that defines it.
+
+3. A module constant's value is shown only when ``NAME = value`` fits the 88-column
+   code width; a longer one (``FAMILIES``, ``REGISTRY``, a regex) is described by its
+   docstring instead.
 """
 
 from __future__ import annotations
@@ -178,8 +182,30 @@ def _resolve_short_names(app, env, node, contnode):
     )
 
 
+def _short_data_documenter():
+    """autodoc's documenter of module constants, showing a constant's value only when
+    ``NAME = value`` fits the code column (88 characters); a longer value (a table of
+    families, a registry, a compiled regex) is left to the docstring, which says what
+    the constant holds."""
+    from sphinx.ext.autodoc import DataDocumenter
+    from sphinx.util.inspect import object_description
+
+    class ShortDataDocumenter(DataDocumenter):
+        def should_suppress_value_header(self) -> bool:
+            if super().should_suppress_value_header():
+                return True
+            try:
+                value = object_description(self.object)
+            except Exception:
+                return False
+            return len(self.objpath[-1]) + 3 + len(value) > 88
+
+    return ShortDataDocumenter
+
+
 def setup(app: Sphinx) -> dict:
     _disconnect_thebe(app)
+    app.add_autodocumenter(_short_data_documenter(), override=True)
     app.connect(
         "autodoc-process-docstring", _process_docstring, priority=400
     )  # before numpydoc (500)

@@ -63,10 +63,7 @@ __all__ = [
     "follow",
 ]
 
-#: The families this module follows (paper Fig. 4-6 and Tables III-IV): IS^l_n for
-#: n = 1-8, PD^l_n for n = 1-4, IS^r_n for n = 1-4 and PD^r_n for n = 1-6.
-#:
-#: :meta hide-value:
+#: The families this module follows (paper Fig. 4-6 and Tables III-IV).
 FAMILIES = tuple(
     [f"IS^l_{n}" for n in range(1, 9)]
     + [f"PD^l_{n}" for n in range(1, 5)]
@@ -196,9 +193,6 @@ def _family_spec(kind, phase, n) -> FamilySpec:
 #: was checked (:func:`~rotorlib.paper.newborn.newborn_orbit`) and the branch runs on towards
 #: E = 4.5 (the maxima of V) with a growing period; ``'followed'``: checked up to there.
 #: Extended-precision families: checked at E = 4 (libration), ``E_n + 1000 |E_n - 4|``.
-#: The book's chapter 4 tabulates it.
-#:
-#: :meta hide-value:
 FAMILY_REACH: dict[str, tuple[float | str, str]] = {
     "IS^l_1": (4.4999101, "E = 4.5"),
     "IS^l_2": (4.48, "E = 4.5"),
