@@ -1,7 +1,7 @@
 """Cost of tr M far from float64: the Hill integration runs to u = K ~ |log|E - sep||/2.
 
 Run ``.venv/bin/python benchmarks/bench_depth.py``. Prints (never asserts) the
-time of one ``rotorlib.monodromy`` call per depth, tier and family, the
+time of one ``rotorlib.orbits.floquet.monodromy`` call per depth, tier and family, the
 minimum over ``repeats`` calls after a warm-up (JIT compilation excluded),
 and K. Accuracy at these depths is tested in ``tests/test_extremes.py`` and
 ``tests/test_breather_depth.py``.
@@ -14,7 +14,8 @@ from __future__ import annotations
 import argparse
 import time
 
-import rotorlib as rl
+from rotorlib.core.closed_forms import breather, pendulum
+from rotorlib.orbits.floquet import monodromy
 
 CASES = (
     ("pendulum", "lib", -60),
@@ -34,18 +35,18 @@ CASES = (
 
 def _orbit(kind, ph, x):
     return (
-        rl.pendulum(log_abs_dE=x, phase=ph)
+        pendulum(log_abs_dE=x, phase=ph)
         if kind == "pendulum"
-        else rl.breather(log_abs_dE=x, family=ph)
+        else breather(log_abs_dE=x, family=ph)
     )
 
 
 def timed(orbit, digits, repeats):
-    rl.monodromy(orbit, digits=digits)
+    monodromy(orbit, digits=digits)
     best = float("inf")
     for _ in range(repeats):
         t0 = time.perf_counter()
-        rl.monodromy(orbit, digits=digits)
+        monodromy(orbit, digits=digits)
         best = min(best, time.perf_counter() - t0)
     return best
 

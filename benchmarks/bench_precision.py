@@ -24,10 +24,16 @@ from dataclasses import dataclass
 
 import mpmath as mp
 
-import rotorlib as rl
+from rotorlib.core.closed_forms import pendulum
 from rotorlib.core.flow import monodromy_matrix
 from rotorlib.core.precision import FLOAT64, Tier
-from rotorlib.orbits.hill import hill_problem, solve_hill
+from rotorlib.orbits.floquet import monodromy, textbook_monodromy, variational_monodromy
+from rotorlib.orbits.hill import (
+    heyoka_available,
+    hill_problem,
+    precision_tier,
+    solve_hill,
+)
 
 #: Digits of the reference computation (heyoka multiprecision, ~260 bits).
 REF_DIGITS = 70
@@ -62,7 +68,7 @@ class Method:
 
 
 def _tm(orbit, **kw):
-    M = rl.monodromy(orbit, **kw)
+    M = monodromy(orbit, **kw)
     return (M.trace_str if M.precision != "float64" else M.trace), None
 
 
@@ -81,13 +87,13 @@ def _hill(orbit, backend, precision, tol=None, digits=None):
 def _textbook(orbit, method, rtol=1e-12):
     if method == "heyoka":  # heyoka's Taylor method in float64 (no step count)
         return float(monodromy_matrix(list(orbit.state0), orbit.period, FLOAT64)[2]), 0
-    V = rl.variational_monodromy(orbit.state0, orbit.period, rtol=rtol)
+    V = variational_monodromy(orbit.state0, orbit.period, rtol=rtol)
     return V.trace, V.steps
 
 
 def trace_methods(quick=False, mpmath_tier=True):
     """The methods and settings of the tr M work-precision diagram."""
-    hy = rl.heyoka_available()
+    hy = heyoka_available()
     ms = []
     for rtol in (1e-6, 1e-8, 1e-10, 1e-12, 1e-13):
         ms.append(
@@ -138,7 +144,7 @@ def trace_methods(quick=False, mpmath_tier=True):
                 )
             )
         for digits in (40, 50):
-            _, prec = rl.precision_tier(digits)
+            _, prec = precision_tier(digits)
             ms.append(
                 Method(
                     "Hill reduction, heyoka multiprecision",
@@ -164,7 +170,7 @@ def trace_methods(quick=False, mpmath_tier=True):
 
 def reference_trace(x, phase, digits=REF_DIGITS):
     """tr M at ``log|E - 4| = x`` with ``digits`` digits (Hill reduction, heyoka multiprecision)."""
-    M = rl.monodromy(rl.pendulum(log_abs_dE=x, phase=phase), digits=digits)
+    M = monodromy(pendulum(log_abs_dE=x, phase=phase), digits=digits)
     with mp.workdps(digits + 10):
         return mp.mpf(M.trace_str)
 
@@ -191,7 +197,7 @@ def work_precision(energies=CASCADE, methods=None, refs=None, quick=False):
         (mean integrator steps per energy) and ``n_energies``.
     """
     methods = trace_methods(quick) if methods is None else methods
-    orbits = [rl.pendulum(log_abs_dE=x, phase=ph) for x, ph in energies]
+    orbits = [pendulum(log_abs_dE=x, phase=ph) for x, ph in energies]
     if refs is None:
         refs = [reference_trace(x, ph) for x, ph in energies]
     rows = []
@@ -226,7 +232,7 @@ IS_L7 = dict(label="IS^l_7", phase="lib", bracket=(-21.1, -20.9), paper=-21.0012
 
 def _delta_float(x, phase, backend, tol=None):
     return solve_hill(
-        hill_problem(rl.pendulum(log_abs_dE=x, phase=phase)),
+        hill_problem(pendulum(log_abs_dE=x, phase=phase)),
         tol=tol,
         integrator=backend,
     ).delta
@@ -234,7 +240,7 @@ def _delta_float(x, phase, backend, tol=None):
 
 def _target(phase, bracket):
     """``Delta`` at the root (+2 or -2 for an IS transition): the value of ``|Delta|>=2`` side."""
-    d = _delta_float(bracket[0], phase, "heyoka" if rl.heyoka_available() else "scipy")
+    d = _delta_float(bracket[0], phase, "heyoka" if heyoka_available() else "scipy")
     return 2.0 if d > 0 else -2.0
 
 
@@ -259,10 +265,8 @@ def locate_methods(quick=False):
 
         def f(x):
             n[0] += 1
-            o = rl.pendulum(log_abs_dE=x, phase=phase)
-            return (
-                rl.variational_monodromy(o.state0, o.period, rtol=1e-12).trace - c * c
-            )
+            o = pendulum(log_abs_dE=x, phase=phase)
+            return variational_monodromy(o.state0, o.period, rtol=1e-12).trace - c * c
 
         fa, fb = f(br[0]), f(br[1])
         if fa * fb > 0:
@@ -296,13 +300,13 @@ def locate_methods(quick=False):
         ("textbook scipy DOP853 rtol=1e-12", "float64", textbook_locator),
         ("Hill, scipy float64 + brentq", "float64", float_locator("scipy")),
     ]
-    if rl.heyoka_available():
+    if heyoka_available():
         out += [
             ("Hill, heyoka float64 + brentq", "float64", float_locator("heyoka")),
             ("Hill, heyoka real128 + Anderson-Bjorck", "real128", mp_locator(30)),
             (
                 "Hill, heyoka mp + Anderson-Bjorck",
-                rl.precision_tier(45)[1],
+                precision_tier(45)[1],
                 mp_locator(45),
             ),
         ]
@@ -354,14 +358,14 @@ def bifurcation_work_precision(case=IS_L7, ref=None, quick=False):
 
 
 def per_energy_time(x=-21.5, phase="rot", n=200):
-    """Seconds per float64 ``rotorlib.monodromy`` call after warm-up (min over 5 batches of ``n``)."""
-    orb = rl.pendulum(log_abs_dE=x, phase=phase)
-    rl.monodromy(orb)
+    """Seconds per float64 ``rotorlib.orbits.floquet.monodromy`` call after warm-up (min over 5 batches of ``n``)."""
+    orb = pendulum(log_abs_dE=x, phase=phase)
+    monodromy(orb)
     best = math.inf
     for _ in range(5):
         t0 = time.perf_counter()
         for _ in range(n):
-            rl.monodromy(orb)
+            monodromy(orb)
         best = min(best, (time.perf_counter() - t0) / n)
     return best
 
@@ -412,8 +416,8 @@ def textbook_reference(x, phase, bits=512):
     ``p2 = sqrt(4E/3)``, period ``4K(E/4)/sqrt3`` or ``2 kappa K(kappa^2)/sqrt3``
     with ``kappa^2 = 4/E``); no Hill reduction and no closed-form orbit involved.
     """
-    return rl.textbook_monodromy(
-        rl.pendulum(log_abs_dE=float(x), phase=phase), Tier(f"mp{bits}")
+    return textbook_monodromy(
+        pendulum(log_abs_dE=float(x), phase=phase), Tier(f"mp{bits}")
     )
 
 
@@ -510,10 +514,10 @@ def main(argv=None):
         f"time per energy: {f64['method']} {f64['time'] * 1e3:.3f} ms, textbook scipy rtol=1e-12 "
         f"{tb['time'] * 1e3:.1f} ms (error {tb['error']:.1e}) -> {f64['time'] <= tb['time']}"
     )
-    if rl.heyoka_available():
+    if heyoka_available():
         t = per_energy_time()
         print(
-            f"rotorlib.monodromy float64 (heyoka) per energy after warm-up: {t * 1e3:.3f} ms "
+            f"rotorlib.orbits.floquet.monodromy float64 (heyoka) per energy after warm-up: {t * 1e3:.3f} ms "
             f"(target < 1 ms) -> {t < 1e-3}"
         )
     tr, ref, agree = trace_digits_check()

@@ -26,6 +26,8 @@ COMMANDS = ("trace", "bifurcations", "orbit", "family", "atlas", "spectrum")
 
 #: A negative number in any notation (-5, -1.5, -.5, -1e6, -1E+3, -inf, -nan). argparse's own matcher
 #: knows only -123 and -1.5 and takes "-1e6" for an option ("expected at least one argument").
+#:
+#: :meta hide-value:
 NEGATIVE_NUMBER = re.compile(
     r"^-(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?$|^-(inf|infinity|nan)$", re.IGNORECASE
 )

@@ -23,7 +23,7 @@ sys.path.insert(0, str(ROOT))
 
 from data_product import arguments, write_json  # noqa: E402
 
-from rotorlib import atlas  # noqa: E402
+from rotorlib.beyond import atlas  # noqa: E402
 from rotorlib.beyond import atlas_families as af  # noqa: E402
 
 E, T_MAX, E_RANGE, STEP = 5.45, 16.0, (5.33, 5.6), 0.03

@@ -20,7 +20,7 @@ sys.path.insert(0, str(ROOT))
 
 from data_product import arguments, write_json  # noqa: E402
 
-from rotorlib import atlas  # noqa: E402
+from rotorlib.beyond import atlas  # noqa: E402
 
 E_SWEEP = [round(3.9 + 0.2 * k, 1) for k in range(14)]  # 3.9, 4.1, ..., 6.5
 T_MAX, GRID = 8.0, 150

@@ -16,10 +16,17 @@
    * section titles inside *module* docstrings ("Precision\\n---------") become
      rubrics, so they neither collide between modules nor enter the page's TOC;
    * family labels in the prose (``IS^l_3``, ``ISl6``, ``PD^b``) are typeset as
-     ``:math:`` roles (outside literals, roles, doctests and literal blocks).
+     ``:math:`` roles (outside literals, roles, literal blocks and doctest blocks, their
+     output lines included).
 
    And cross-references by short name (``:class:`PeriodicOrbit```) resolve when
-   exactly one documented rotorlib object has that name.
+   exactly one documented rotorlib object has that name; a front-door name
+   (``:func:`rotorlib.transition```, ``rotorlib.Branch``: ``rotorlib.__all__``) resolves
+   to the module that defines it.
+
+3. A module constant's value is shown only when ``NAME = value`` fits the 88-column
+   code width; a longer one (``FAMILIES``, ``REGISTRY``, a regex) is described by its
+   docstring instead.
 """
 
 from __future__ import annotations
@@ -93,12 +100,21 @@ def _process_docstring(app, what, name, obj, options, lines: list[str]) -> None:
     literal = None  # indentation of the paragraph that opened a literal block (::)
     borders = 0  # border lines of a simple table seen so far (inside while 1 or 2)
     last_column = 0  # where the last column of that table starts
+    doctest = False  # in a doctest block (">>>" to a blank line), its output too
     while i < len(lines):
         line = lines[i]
         nxt = lines[i + 1] if i + 1 < len(lines) else ""
         indent = len(line) - len(line.lstrip())
         if literal is not None and line.strip() and indent <= literal:
             literal = None
+        if line.lstrip().startswith(">>>"):
+            doctest = True
+        elif not line.strip():
+            doctest = False
+        if doctest:
+            out.append(line)
+            i += 1
+            continue
         if _SIMPLE_TABLE_BORDER.match(line):
             borders = (borders + 1) % 3  # top, under the header, bottom
             last_column = line.rstrip().rfind(" ") + 1
@@ -143,6 +159,14 @@ def _resolve_short_names(app, env, node, contnode):
     target = node.get("reftarget", "").lstrip("~.")
     if not target:
         return None
+    if target.count(".") == 1 and target.startswith("rotorlib."):
+        # a name of the front door (rotorlib.__all__) is documented where it is defined
+        import rotorlib
+
+        name = target.split(".")[1]
+        if name in rotorlib.__all__:
+            module = getattr(getattr(rotorlib, name), "__module__", None)
+            target = f"{module or 'rotorlib.api'}.{name}"
     objects = env.get_domain("py").objects
     hits = [
         full
@@ -158,8 +182,30 @@ def _resolve_short_names(app, env, node, contnode):
     )
 
 
+def _short_data_documenter():
+    """autodoc's documenter of module constants, showing a constant's value only when
+    ``NAME = value`` fits the code column (88 characters); a longer value (a table of
+    families, a registry, a compiled regex) is left to the docstring, which says what
+    the constant holds."""
+    from sphinx.ext.autodoc import DataDocumenter
+    from sphinx.util.inspect import object_description
+
+    class ShortDataDocumenter(DataDocumenter):
+        def should_suppress_value_header(self) -> bool:
+            if super().should_suppress_value_header():
+                return True
+            try:
+                value = object_description(self.object)
+            except Exception:
+                return False
+            return len(self.objpath[-1]) + 3 + len(value) > 88
+
+    return ShortDataDocumenter
+
+
 def setup(app: Sphinx) -> dict:
     _disconnect_thebe(app)
+    app.add_autodocumenter(_short_data_documenter(), override=True)
     app.connect(
         "autodoc-process-docstring", _process_docstring, priority=400
     )  # before numpydoc (500)

@@ -22,8 +22,8 @@ sys.path.insert(0, str(ROOT))
 
 from data_product import arguments, write_json  # noqa: E402
 
-from rotorlib import laws  # noqa: E402
 from rotorlib.core.parallel import pmap  # noqa: E402
+from rotorlib.paper import newborn_laws as laws  # noqa: E402
 
 LABELS = [f"IS^{p}_{n}" for p in "lr" for n in range(1, 5)]
 LABELS += [f"PD^r_{n}" for n in range(1, 7)]

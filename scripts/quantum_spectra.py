@@ -23,7 +23,7 @@ sys.path.insert(0, str(ROOT))
 
 from data_product import arguments  # noqa: E402
 
-from rotorlib import quantum  # noqa: E402
+from rotorlib.beyond import quantum  # noqa: E402
 
 RUNS = ((0.03, 8.0), (0.02, 6.5))
 OUT = ROOT / "book" / "data" / "quantum_spectra.npz"

@@ -25,7 +25,7 @@ sys.path.insert(0, str(ROOT))
 
 from data_product import arguments, write_json  # noqa: E402
 
-from rotorlib import laws  # noqa: E402
+from rotorlib.paper import newborn_laws as laws  # noqa: E402
 
 SPECS = [(k, n) for k in ("IS", "PD") for n in (3, 4, 5, 6)]
 OUT = ROOT / "book" / "data" / "rotational_members.json"

@@ -3,7 +3,7 @@
 The reference integrates the *full nonlinear flow and the 4x4 variational
 equations* (the textbook route) with heyoka in multiprecision, from an initial
 state and period computed with mpmath. It shares no code with the
-symmetry-reduced Hill route that ``rotorlib.monodromy`` uses (different
+symmetry-reduced Hill route that ``rotorlib.orbits.floquet.monodromy`` uses (different
 variables, different equations, different integrator settings); its closure
 after one period also checks the closed-form period.
 """
@@ -15,11 +15,13 @@ import functools
 import mpmath as mp
 import pytest
 
-import rotorlib
+from rotorlib.core.closed_forms import breather, pendulum
 from rotorlib.core.precision import Tier
+from rotorlib.orbits.floquet import textbook_monodromy
+from rotorlib.orbits.hill import heyoka_available
 
 requires_heyoka = pytest.mark.skipif(
-    not rotorlib.heyoka_available(), reason="heyoka not installed"
+    not heyoka_available(), reason="heyoka not installed"
 )
 
 
@@ -30,11 +32,11 @@ def textbook_reference(kind: str, value: float, phase_or_family: str, bits: int 
     kind: 'pendulum-E', 'pendulum-log' or 'breather'.
     """
     if kind == "pendulum-E":
-        orbit = rotorlib.pendulum(E=value)
+        orbit = pendulum(E=value)
     elif kind == "pendulum-log":
-        orbit = rotorlib.pendulum(log_abs_dE=value, phase=phase_or_family)
+        orbit = pendulum(log_abs_dE=value, phase=phase_or_family)
     else:
-        orbit = rotorlib.breather(value, phase_or_family)
-    res = rotorlib.textbook_monodromy(orbit, Tier(f"mp{bits}"))
+        orbit = breather(value, phase_or_family)
+    res = textbook_monodromy(orbit, Tier(f"mp{bits}"))
     with mp.workdps(int(bits / 3.33)):
         return mp.mpf(res.trace_str), res.closure

@@ -6,7 +6,7 @@ decimal ``x = log|E - sep|`` in mpmath, the period is ``K(m)`` from
 ``mpmath.ellipk`` with ``m`` from the textbook formula (``1 - m`` *is* formed,
 at enough digits that it does not matter), and the nonlinear flow plus the
 4x4 variational equations are integrated by heyoka at ``bits`` of precision
-(``rotorlib.variational_monodromy``, a plain integrator call). The textbook
+(``rotorlib.orbits.floquet.variational_monodromy``, a plain integrator call). The textbook
 route loses about ``2 log10(1/|E - sep|)`` digits near a separatrix, so
 ``bits`` must exceed ``3.33 (2 log10(1/|E - sep|) + digits wanted)``.
 """
@@ -17,15 +17,15 @@ import functools
 
 import mpmath as mp
 
-import rotorlib
 from rotorlib.core.precision import Tier
+from rotorlib.orbits.floquet import variational_monodromy
 
 
 def _run(state, period, bits, dps):
     with mp.workdps(dps):
         st = [mp.nstr(v, dps - 5) for v in state]
         T = mp.nstr(period, dps - 5)
-    res = rotorlib.variational_monodromy(st, T, digits=Tier(f"mp{bits}"))
+    res = variational_monodromy(st, T, digits=Tier(f"mp{bits}"))
     with mp.workdps(dps):
         return mp.mpf(res.trace_str), mp.mpf(T), res.closure
 

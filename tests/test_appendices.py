@@ -3,7 +3,9 @@
 import numpy as np
 import pytest
 
-import rotorlib as rl
+from rotorlib.core.closed_forms import pendulum
+from rotorlib.core.system import potential_phi
+from rotorlib.orbits.floquet import monodromy
 from rotorlib.paper import lame_functions as lf
 from rotorlib.paper import qubit as q
 
@@ -26,9 +28,7 @@ def test_qubit_energies_equal_rotor_energies():
         T_q, U_q = q.qubit_energies(phi, dphi, m=m, r=r, g=g, hbar_over_2e=h)
         assert np.max(np.abs(T_rot - T_q)) < 1e-12 * max(1, np.max(T_rot))
         assert np.max(np.abs(V_rot - U_q)) < 1e-12
-        assert (
-            np.max(np.abs(V_rot / g - rl.potential_phi(phi[:, 0], phi[:, 1]))) < 1e-12
-        )
+        assert np.max(np.abs(V_rot / g - potential_phi(phi[:, 0], phi[:, 1]))) < 1e-12
 
 
 def test_identification_fails_off_the_special_point():
@@ -48,10 +48,7 @@ def test_lame_trace_formula_matches_monodromy(E):
     h, k2, m1, w = lf.lame_parameters(E)
     L = lf.lame_solutions(h, k2, w, m1, c_norm=1.7, s_norm=0.4)
     assert abs(L.Ls0) == 0 and abs(L.dLc0) == 0
-    assert (
-        abs(lf.trace_from_lame(L) - rl.monodromy(rl.pendulum(E)).trace_transverse)
-        < 1e-9
-    )
+    assert abs(lf.trace_from_lame(L) - monodromy(pendulum(E)).trace_transverse) < 1e-9
 
 
 def test_mathieu_limit():

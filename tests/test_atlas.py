@@ -25,14 +25,12 @@ from concurrent.futures import ProcessPoolExecutor
 import numpy as np
 import pytest
 
-import rotorlib
 from rotorlib.beyond import atlas
 from rotorlib.orbits import reversors
+from rotorlib.orbits.hill import heyoka_available
 from rotorlib.paper import chaos
 
-pytestmark = pytest.mark.skipif(
-    not rotorlib.heyoka_available(), reason="heyoka not installed"
-)
+pytestmark = pytest.mark.skipif(not heyoka_available(), reason="heyoka not installed")
 
 #: The independent census (total orbits with T <= 16, linearly stable ones), 64000 start
 #: points per fixed-set family (/work/census_indep, raw/census_E*_N64000.json).

@@ -24,7 +24,9 @@ import pytest
 from conftest import requires_heyoka
 
 import rotorlib
+from rotorlib.core.closed_forms import breather, pendulum
 from rotorlib.core.precision import Tier
+from rotorlib.orbits.floquet import monodromy, variational_monodromy
 from rotorlib.paper import bifurcations as bf
 
 pytestmark = requires_heyoka
@@ -141,15 +143,15 @@ def test_numbering_and_structure():
 
 
 def test_roots_satisfy_the_condition_and_slopes():
-    """tr M from rotorlib.monodromy at each root is 4 or 0, and the slope sign matches the direction."""
+    """tr M from rotorlib.orbits.floquet.monodromy at each root is 4 or 0, and the slope sign matches the direction."""
     for t in all80():
-        M = rotorlib.monodromy(rotorlib.pendulum(t.energy))
+        M = monodromy(pendulum(t.energy))
         target = 4.0 if t.kind == "IS" else 0.0
         assert abs(M.trace - target) < 1e-11, t.label
         if not (t.kind == "PD" and t.phase == "lib"):
             h = 1e-6  # tr M one step on either side in x
-            up = rotorlib.monodromy(log_abs_dE=t.log_abs_dE + h, phase=t.phase).trace
-            dn = rotorlib.monodromy(log_abs_dE=t.log_abs_dE - h, phase=t.phase).trace
+            up = monodromy(log_abs_dE=t.log_abs_dE + h, phase=t.phase).trace
+            dn = monodromy(log_abs_dE=t.log_abs_dE - h, phase=t.phase).trace
             assert abs((up - dn) / (2 * h) - t.dtrace_dx) < 1e-5 * max(
                 1, abs(t.dtrace_dx)
             ), t.label
@@ -238,9 +240,7 @@ def test_textbook_variational_at_located_roots(label):
         x, per = bf.refine_mp(t.log_abs_dE, t.phase, t.delta_target, digits=30)
         E = 4 - mp.exp(x) if t.phase == "lib" else 4 + mp.exp(x)
         state0 = ["0", "0", "0", mp.nstr(mp.sqrt(4 * E / 3), 45)]
-        v = rotorlib.variational_monodromy(
-            state0, mp.nstr(per, 45), digits=Tier("mp256")
-        )
+        v = variational_monodromy(state0, mp.nstr(per, 45), digits=Tier("mp256"))
         tr = mp.mpf(v.trace_str)
     assert v.closure < 1e-25
     M = v.matrix  # state order a1, a2, p1, p2
@@ -479,8 +479,8 @@ def test_one_transition_class_for_pendulum_and_breather():
         assert abs(p1**2 / 4 + 3 * p2**2 / 4 - t.E) < 1e-13 * t.E
     assert p.slope == p.dtrace_dE and b.cls == "PD^b" and p.cls == "IS^l_even"
     # monodromy(transition) evaluates M at the transition's energy, breathers too
-    assert abs(rotorlib.monodromy(b).trace) < 1e-9
-    assert abs(rotorlib.monodromy(p).trace - 4) < 1e-10
+    assert abs(monodromy(b).trace) < 1e-9
+    assert abs(monodromy(p).trace - 4) < 1e-10
 
 
 def test_breather_transition_extended_and_bad_labels():
@@ -488,7 +488,7 @@ def test_breather_transition_extended_and_bad_labels():
     assert b30.digits == 25 and b30.precision == "real128"
     assert len(b30.E_str.replace(".", "")) == 25
     with mp.workdps(40):  # tr M at E_str, evaluated independently of the locator
-        M = rotorlib.monodromy(rotorlib.breather(b30.E_str, "R"), digits=30)
+        M = monodromy(breather(b30.E_str, "R"), digits=30)
         assert abs(mp.mpf(M.trace_str)) < mp.mpf("1e-22")
         assert mp.mpf(b30.state0_str[3]) ** 2 - mp.mpf(b30.E_str) < mp.mpf("1e-23")
     for bad in ("PD^c", "IS^b_1", "XYl1", 3):

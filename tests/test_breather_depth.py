@@ -27,11 +27,12 @@ import mpmath as mp
 import pytest
 from independent import textbook_breather_R
 
-import rotorlib as rl
+from rotorlib.core.closed_forms import breather
+from rotorlib.core.energy import breather_energy
+from rotorlib.orbits.floquet import monodromy
+from rotorlib.orbits.hill import heyoka_available
 
-needs_heyoka = pytest.mark.skipif(
-    not rl.heyoka_available(), reason="heyoka not installed"
-)
+needs_heyoka = pytest.mark.skipif(not heyoka_available(), reason="heyoka not installed")
 
 
 def rel(a, b):
@@ -44,13 +45,13 @@ def rel(a, b):
 def test_R_against_independent_textbook(x, bits):
     ref, period, closure = textbook_breather_R(x, bits)
     assert closure < 1e-14  # the reference's own period and state close the orbit
-    o = rl.breather(log_abs_dE=x, family="R")
-    assert rel(rl.monodromy(o).trace, ref) < 1e-10
-    M30 = rl.monodromy(o, digits=30)
+    o = breather(log_abs_dE=x, family="R")
+    assert rel(monodromy(o).trace, ref) < 1e-10
+    M30 = monodromy(o, digits=30)
     assert M30.precision == "real128"
     assert rel(M30.trace_str, ref) < 1e-25
     assert rel(M30.period_str, period) < 1e-25
-    assert rel(rl.monodromy(o).period, period) < 1e-14
+    assert rel(monodromy(o).period, period) < 1e-14
 
 
 @needs_heyoka
@@ -84,9 +85,9 @@ def test_cli_R_digits30_against_independent_textbook():
 @pytest.mark.parametrize("family", ["LG", "LD", "R"])
 @pytest.mark.parametrize("x", [-20.0, -40.0, -200.0, -340.0])
 def test_float64_relative_at_depth(family, x):
-    o = rl.breather(log_abs_dE=x, family=family)
-    ref = rl.monodromy(o, digits=30).trace_str
-    M = rl.monodromy(o)
+    o = breather(log_abs_dE=x, family=family)
+    ref = monodromy(o, digits=30).trace_str
+    M = monodromy(o)
     assert math.isfinite(M.trace) and rel(M.trace, ref) < 1e-10
     assert abs(math.log(abs(M.trace)) + 2 * x) < 12  # tr M ~ |E - 4.5|^-2
 
@@ -96,19 +97,19 @@ def test_float64_relative_at_depth(family, x):
 @pytest.mark.parametrize("x", [-400.0, -700.0])
 def test_float64_past_overflow_of_trace(family, x):
     """tr M ~ e^(-2x) overflows float64 below x ~ -350: ``trace`` is inf, ``trace_str`` keeps 16 digits."""
-    o = rl.breather(log_abs_dE=x, family=family)
-    M = rl.monodromy(o)
+    o = breather(log_abs_dE=x, family=family)
+    M = monodromy(o)
     assert math.isinf(M.trace) and M.stability == "unstable"
-    assert rel(M.trace_str, rl.monodromy(o, digits=30).trace_str) < 1e-10
+    assert rel(M.trace_str, monodromy(o, digits=30).trace_str) < 1e-10
 
 
 @needs_heyoka
 def test_beyond_float64_range_extended_only():
-    o = rl.breather(log_abs_dE=-800, family="R")
+    o = breather(log_abs_dE=-800, family="R")
     with pytest.raises(ValueError, match="float64 range"):
-        rl.monodromy(o)
-    a = rl.monodromy(o, digits=30).trace_str
-    b = rl.monodromy(o, digits=40).trace_str  # heyoka multiprecision
+        monodromy(o)
+    a = monodromy(o, digits=30).trace_str
+    b = monodromy(o, digits=40).trace_str  # heyoka multiprecision
     assert rel(a, b) < 1e-25
     with mp.workdps(30):
         assert abs(mp.log(abs(mp.mpf(a))) - 1600) < 12
@@ -121,7 +122,7 @@ def test_closed_form_parameters_without_cancellation(family, x):
     (there the cancellations of 1 - S, 3 - S, Q + E - 6 cost nothing): one rounding near 4.5. At x = -1
     the float64 E = 4.5 -/+ e^-1 itself carries 1e-16, amplified ~10x through E - 4 or Q - E + 6."""
     tol = 4e-16 if x <= -40 else 1e-14
-    p = rl.breather(log_abs_dE=x, family=family).params
+    p = breather(log_abs_dE=x, family=family).params
     with mp.workdps(400):
         E = mp.mpf(9) / 2 + (1 if family == "R" else -1) * mp.exp(x)
         if family == "R":
@@ -147,7 +148,7 @@ def test_closed_form_parameters_without_cancellation(family, x):
 
 def test_LG_near_zero_energy_parameters():
     """E = 1e-300: A^2 = (3 - S)/(1 + S) ~ E/6 would be 0 in float64 from S; 2E/den keeps it."""
-    p = rl.breather(E="1e-300", family="LG").params
+    p = breather(E="1e-300", family="LG").params
     with mp.workdps(700):
         E = mp.mpf("1e-300")
         S = mp.sqrt(9 - 2 * E)
@@ -156,14 +157,14 @@ def test_LG_near_zero_energy_parameters():
 
 
 def test_breather_energy_carries_distance():
-    en = rl.breather_energy(log_abs_dE="-40", family="R")
+    en = breather_energy(log_abs_dE="-40", family="R")
     assert en.E == 4.5 and en.eps == math.exp(-40) and en.log_abs_dE == -40.0
     assert en.given == ("log_abs_dE", "-40")
     with mp.workdps(50):
         v = en.mp_values(45)
         assert abs(v["eps"] / mp.exp(-40) - 1) < mp.mpf("1e-44")
         assert abs(v["E"] - 4.5 - mp.exp(-40)) < mp.mpf("1e-44")
-    en = rl.breather_energy(E="4.49999999999999999999", family="LD")
+    en = breather_energy(E="4.49999999999999999999", family="LD")
     assert en.family == "LD" and en.eps == 1e-20 and en.E == 4.5
     for bad in (
         dict(E="4.5"),
@@ -174,4 +175,4 @@ def test_breather_energy_carries_distance():
         dict(E="4.5000000000000000000001", family="LG"),
     ):
         with pytest.raises(ValueError):
-            rl.breather_energy(**bad)
+            breather_energy(**bad)

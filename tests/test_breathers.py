@@ -5,8 +5,9 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-import rotorlib
+from rotorlib.core.closed_forms import breather
 from rotorlib.core.system import energy_alpha, lattice_reduce, rhs_alpha
+from rotorlib.orbits.floquet import variational_monodromy
 from rotorlib.paper import breathers as B
 
 
@@ -37,7 +38,7 @@ def test_pd_energy_and_period_independent(pd30):
         )
         assert abs(T - mp.mpf(pd30.period_str)) < mp.mpf("1e-20")
         s = mp.nstr(mp.sqrt(E), 40)
-        v = rotorlib.variational_monodromy(["0", "0", s, s], mp.nstr(T, 40), digits=30)
+        v = variational_monodromy(["0", "0", s, s], mp.nstr(T, 40), digits=30)
         # tr M = 0 at E_PD; |d tr M / dE| ~ 1.6, so |tr M| < 1e-20 pins E to ~1e-20
         assert abs(mp.mpf(v.trace_str)) < mp.mpf("1e-20")
     # float64 transition agrees to 12+ digits
@@ -88,9 +89,9 @@ def test_daughter_closes_under_scipy(E):
     assert abs(energy_alpha(o.state0) - E) < 1e-9 and abs(energy_alpha(xT) - E) < 1e-9
     # not the parent: b2(0) = 3 a1 - a2 is far from 0, and the period is near twice the parent's
     assert abs(3 * o.state0[0] - o.state0[1]) > 0.5
-    assert 1.9 < o.period / rotorlib.breather(E, "R").period < 2.4
+    assert 1.9 < o.period / breather(E, "R").period < 2.4
     # independent monodromy (scipy DOP853 variational equations) agrees on the trace
-    v = rotorlib.variational_monodromy(o.state0, o.period)
+    v = variational_monodromy(o.state0, o.period)
     assert abs(v.trace - o.trace) < 1e-6 * max(1.0, abs(o.trace))
     stable = 0.0 < o.trace < 4.0
     assert stable == (E > 8.2755)
@@ -116,7 +117,7 @@ def test_backward_fork_and_slope_ratio(family):
     assert family.unstable_crossing == "tr M = 4"
     assert abs(family.E_unstable - 8.27) < 0.01  # paper 8.27
     assert np.all(family.trace > -1e-9)  # tr M = (tr N - 2)^2 >= 0
-    assert abs(family.period[0] - 2 * rotorlib.breather(family.E_PD, "R").period) < 1e-3
+    assert abs(family.period[0] - 2 * breather(family.E_PD, "R").period) < 1e-3
 
 
 def test_daughter_range_errors(family):

@@ -9,6 +9,9 @@ import mpmath as mp
 import pytest
 from conftest import requires_heyoka, textbook_reference
 
+from rotorlib.core.closed_forms import pendulum
+from rotorlib.orbits.floquet import monodromy
+
 
 def run(*args):
     p = subprocess.run(
@@ -197,7 +200,6 @@ def test_negative_numbers_reach_the_library(args, reason):
 @requires_heyoka
 def test_negative_numbers_any_notation_computed():
     """-.5 (float64) and -1E+3 (beyond float64, --digits 30) give the library's values for the same x."""
-    import rotorlib
 
     rc, out, err = run(
         "trace", "pendulum", "--log-dE", "-.5", "--phase", "lib", "--json"
@@ -205,7 +207,7 @@ def test_negative_numbers_any_notation_computed():
     assert rc == 0, err
     assert (
         json.loads(out)["trace"]
-        == rotorlib.monodromy(rotorlib.pendulum(log_abs_dE=-0.5, phase="lib")).trace
+        == monodromy(pendulum(log_abs_dE=-0.5, phase="lib")).trace
     )
     rc, out, err = run(
         "trace",
@@ -223,9 +225,7 @@ def test_negative_numbers_any_notation_computed():
     # -1E+3 is the float64 -1000 exactly: a number, no log_abs_dE_str (no more digits)
     assert rec["log_abs_dE"] == -1000.0 and "log_abs_dE_str" not in rec
     assert rec["E"] == 4.0 and rec["E_str"].startswith("4 + 5.0759588975494")
-    ref = rotorlib.monodromy(
-        rotorlib.pendulum(log_abs_dE=-1000, phase="rot"), digits=30
-    ).trace_str
+    ref = monodromy(pendulum(log_abs_dE=-1000, phase="rot"), digits=30).trace_str
     assert rec["trace_str"] == ref and rec["trace"] == float(ref)
 
 

@@ -11,16 +11,15 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-import rotorlib
 from rotorlib.core.flow import Section, SectionNotReached, crossings, to_section
 from rotorlib.core.precision import REAL128, Tier, tier
 from rotorlib.core.system import rhs_alpha
+from rotorlib.orbits.floquet import variational_monodromy
+from rotorlib.orbits.hill import heyoka_available
 from rotorlib.orbits.shooting import NoConvergence, residual, secant, solve
 from rotorlib.paper import newborn as nb
 
-pytestmark = pytest.mark.skipif(
-    not rotorlib.heyoka_available(), reason="heyoka not installed"
-)
+pytestmark = pytest.mark.skipif(not heyoka_available(), reason="heyoka not installed")
 
 
 def test_tiers_match_the_hill_tiers():
@@ -110,9 +109,7 @@ def test_trace_events_against_the_textbook_monodromy():
     b = nb.follow("IS^r_2", chart="K", E_range=(None, 4.03), traces=True)
     p = [p for p in b.special_points if p.kind in ("IS", "PD")][0]
     x0 = np.array(b.state(p.member), float)
-    v = rotorlib.variational_monodromy(
-        x0, b.problem.factor * float(p.member.t1), rtol=1e-13
-    )
+    v = variational_monodromy(x0, b.problem.factor * float(p.member.t1), rtol=1e-13)
     level = 4.0 if p.kind == "IS" else 0.0
     assert abs(v.trace - level) < 1e-6 and v.closure < 1e-8
     assert abs(float(p.member.E) - 4.0181836) < 1e-7  # chapter 08's exit

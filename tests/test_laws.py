@@ -7,13 +7,13 @@ import math
 import numpy as np
 import pytest
 
-import rotorlib
+from rotorlib.core.closed_forms import pendulum
+from rotorlib.orbits.floquet import monodromy
+from rotorlib.orbits.hill import heyoka_available
 from rotorlib.paper import newborn_laws as laws
 from rotorlib.paper.bifurcations import transition
 
-pytestmark = pytest.mark.skipif(
-    not rotorlib.heyoka_available(), reason="heyoka not installed"
-)
+pytestmark = pytest.mark.skipif(not heyoka_available(), reason="heyoka not installed")
 
 
 # ----------------------------------------------------------------- slope theorems (must show)
@@ -43,20 +43,15 @@ def test_slope_theorem_from_cli_orbits(label, expected):
 
 
 def test_pendulum_slope_independent():
-    """Central difference of Delta(x) vs Transition.dtrace_dE vs rotorlib.monodromy at E_n +- h."""
-    import rotorlib
+    """Central difference of Delta(x) vs Transition.dtrace_dE vs rotorlib.orbits.floquet.monodromy at E_n +- h."""
 
     for label in ("IS^l_1", "IS^r_1", "PD^r_3"):
         t = transition(label)
         s = laws.pendulum_slope(label)
         assert abs(s / t.dtrace_dE - 1) < 1e-6
         h = 1e-6
-        tp = rotorlib.monodromy(
-            rotorlib.pendulum(log_abs_dE=t.log_abs_dE + h, phase=t.phase)
-        ).trace
-        tm = rotorlib.monodromy(
-            rotorlib.pendulum(log_abs_dE=t.log_abs_dE - h, phase=t.phase)
-        ).trace
+        tp = monodromy(pendulum(log_abs_dE=t.log_abs_dE + h, phase=t.phase)).trace
+        tm = monodromy(pendulum(log_abs_dE=t.log_abs_dE - h, phase=t.phase)).trace
         s_m = (tp - tm) / (2 * h) / (t.E - 4.0)
         assert abs(s_m / s - 1) < 1e-5
 

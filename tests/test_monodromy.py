@@ -14,8 +14,14 @@ import numpy as np
 import pytest
 from conftest import requires_heyoka, textbook_reference
 
-import rotorlib
-from rotorlib.orbits.floquet import _monodromy
+from rotorlib.core.closed_forms import breather, pendulum
+from rotorlib.orbits.floquet import (
+    _monodromy,
+    monodromy,
+    textbook_monodromy,
+    trace_monodromy,
+    variational_monodromy,
+)
 
 CASES = (
     [("pendulum-E", E, "") for E in (1.0, 3.9, 5.0, 100.0)]
@@ -26,10 +32,10 @@ CASES = (
 
 def _orbit(kind, value, ph):
     if kind == "pendulum-E":
-        return rotorlib.pendulum(E=value)
+        return pendulum(E=value)
     if kind == "pendulum-log":
-        return rotorlib.pendulum(log_abs_dE=value, phase=ph)
-    return rotorlib.breather(value, ph)
+        return pendulum(log_abs_dE=value, phase=ph)
+    return breather(value, ph)
 
 
 @requires_heyoka
@@ -41,10 +47,10 @@ def test_trace_against_textbook_multiprecision(kind, value, ph):
     ref, closure = textbook_reference(kind, value, ph, bits)
     assert closure < 1e-30  # the closed-form period and state are right
     orb = _orbit(kind, value, ph)
-    M = rotorlib.monodromy(orb)
+    M = monodromy(orb)
     scale = max(1.0, abs(float(ref)))
     assert abs(M.trace - float(ref)) < 1e-12 * scale, (M.trace, ref)
-    M30 = rotorlib.monodromy(orb, digits=30)  # real128 tier: 28+ digits
+    M30 = monodromy(orb, digits=30)  # real128 tier: 28+ digits
     with mp.workdps(40):
         assert abs(mp.mpf(M30.trace_str) - ref) < mp.mpf(10) ** -27 * scale
     assert M30.precision == "real128" and M.precision == "float64"
@@ -53,9 +59,9 @@ def test_trace_against_textbook_multiprecision(kind, value, ph):
 @pytest.mark.parametrize("E", [1.0, 3.0, 3.9, 5.0, 9.0, 100.0])
 def test_block_matrix_equals_textbook_float64(E):
     """Full 4x4 (both blocks, incl. the closed-form longitudinal block) vs scipy textbook at moderate E."""
-    o = rotorlib.pendulum(E)
-    M = rotorlib.monodromy(o).in_alpha_state_order()
-    V = rotorlib.variational_monodromy(o.state0, o.period, rtol=1e-13)
+    o = pendulum(E)
+    M = monodromy(o).in_alpha_state_order()
+    V = variational_monodromy(o.state0, o.period, rtol=1e-13)
     assert np.max(np.abs(M - V.matrix) / np.maximum(1, np.abs(V.matrix))) < 1e-9
     assert V.closure < 1e-10
 
@@ -64,9 +70,9 @@ def test_block_matrix_equals_textbook_float64(E):
     "E,fam", [(3.0, "LG"), (4.3, "LD"), (4.3, "LG"), (9.0, "R"), (20.0, "R")]
 )
 def test_breather_blocks_equal_textbook(E, fam):
-    o = rotorlib.breather(E, fam)
-    M = rotorlib.monodromy(o)
-    V = rotorlib.variational_monodromy(o.state0, o.period, rtol=1e-13)
+    o = breather(E, fam)
+    M = monodromy(o)
+    V = variational_monodromy(o.state0, o.period, rtol=1e-13)
     Ma = M.in_alpha_state_order()
     assert np.max(np.abs(Ma - V.matrix) / np.maximum(1, np.abs(V.matrix))) < 1e-8
     assert abs(np.trace(M.longitudinal) - 2) == 0.0
@@ -78,7 +84,7 @@ def test_longitudinal_block_is_parabolic_and_transverse_symplectic():
         dict(log_abs_dE=-50, phase="lib"),
         dict(log_abs_dE=-50, phase="rot"),
     ):
-        M = rotorlib.monodromy(rotorlib.pendulum(**kw))
+        M = monodromy(pendulum(**kw))
         assert (
             M.longitudinal[0, 0] == 1
             and M.longitudinal[1, 1] == 1
@@ -95,53 +101,53 @@ def test_numerics_md_table_deep_libration():
         (-21.0012, 4.00002111),
         (-27.5529, 4.00005659),
     ):
-        t = rotorlib.trace_monodromy(rotorlib.pendulum(log_abs_dE=x, phase="lib"))
+        t = trace_monodromy(pendulum(log_abs_dE=x, phase="lib"))
         assert abs(t - ref) < 5e-9
 
 
 def test_textbook_method_fails_near_separatrix():
     """The scipy textbook route at rtol 1e-12 is off by >1e3 at log(4-E) = -21 (book/numerical_notes.md); ours is not."""
-    o = rotorlib.pendulum(log_abs_dE=-21.0012, phase="lib")
-    V = rotorlib.variational_monodromy(o.state0, o.period, rtol=1e-12)
-    t = rotorlib.trace_monodromy(o)
+    o = pendulum(log_abs_dE=-21.0012, phase="lib")
+    V = variational_monodromy(o.state0, o.period, rtol=1e-12)
+    t = trace_monodromy(o)
     assert abs(V.trace - t) > 1e3 and abs(t - 4.00002111) < 1e-8
 
 
 def test_small_energy_limit():
     """E -> 0: transverse frequency sqrt(3) over the period 2 pi/sqrt(3): tr M -> 4 (linear limit)."""
     for E in (0.0, 1e-12, 1e-6):
-        M = rotorlib.monodromy(rotorlib.pendulum(E))
+        M = monodromy(pendulum(E))
         assert abs(M.trace - 4.0) < 1e-9 + 10 * E
         assert abs(M.period - 2 * math.pi / math.sqrt(3)) < 1e-6
 
 
 def test_multipliers():
-    M = rotorlib.monodromy(rotorlib.pendulum(5.0))  # unstable
+    M = monodromy(pendulum(5.0))  # unstable
     mu = M.multipliers
     assert abs(mu[0] * mu[1] - 1) < 1e-13 and not M.stable
-    M = rotorlib.monodromy(rotorlib.pendulum(1.0))  # stable
+    M = monodromy(pendulum(1.0))  # stable
     assert abs(abs(M.multipliers[0]) - 1) < 1e-13 and M.stable
 
 
 def test_mpmath_backend_independent_integrator():
     """mpmath's Taylor integrator (no heyoka) reproduces the real128 value at E = 5."""
-    o = rotorlib.pendulum(5.0)
+    o = pendulum(5.0)
     a = _monodromy(o, 20, "mpmath")
-    b = rotorlib.monodromy(o)
+    b = monodromy(o)
     assert abs(float(a.trace_str) - b.trace) < 1e-12
     assert a.backend == "mpmath"
 
 
 def test_bad_precision_requests():
-    o = rotorlib.pendulum(1.0)
+    o = pendulum(1.0)
     with pytest.raises(ValueError):
-        rotorlib.monodromy(o, digits=0)
+        monodromy(o, digits=0)
     with pytest.raises(ValueError):
         _monodromy(o, 30, "scipy")
     with pytest.raises(ValueError):
         _monodromy(o, None, "fortran")
     with pytest.raises(TypeError):  # one precision argument: digits
-        rotorlib.monodromy(o, backend="scipy")
+        monodromy(o, backend="scipy")
 
 
 def test_every_route_returns_one_monodromy_with_digits():
@@ -151,14 +157,14 @@ def test_every_route_returns_one_monodromy_with_digits():
 
     from rotorlib.orbits.floquet import Monodromy
 
-    o = rotorlib.pendulum(E=3.9)
-    block = rotorlib.monodromy(o, digits=30)
-    var64 = rotorlib.variational_monodromy(o.state0, o.period)
+    o = pendulum(E=3.9)
+    block = monodromy(o, digits=30)
+    var64 = variational_monodromy(o.state0, o.period)
     with mp.workdps(40):
         s0 = ["0", "0", "0", mp.nstr(mp.sqrt(mp.mpf("15.6") / 3), 40)]
         per = mp.nstr(o.closed_form(40)["period"], 40)
-    var30 = rotorlib.variational_monodromy(s0, per, digits=30)
-    tb = rotorlib.textbook_monodromy(o, digits=40)
+    var30 = variational_monodromy(s0, per, digits=30)
+    tb = textbook_monodromy(o, digits=40)
     for M in (block, var64, var30, tb):
         assert type(M) is Monodromy and M.stability == "stable"
     assert (var30.precision, tb.precision) == ("real128", "mp160")
@@ -172,6 +178,6 @@ def test_every_route_returns_one_monodromy_with_digits():
         assert abs(mp.mpf(tb.trace_str) - ref) < mp.mpf("1e-28")
     assert var30.closure < 1e-25 and var64.closure < 1e-9 and var64.steps > 0
     with pytest.raises(TypeError):  # the integrator follows digits
-        rotorlib.variational_monodromy(o.state0, o.period, method="heyoka")
+        variational_monodromy(o.state0, o.period, method="heyoka")
     with pytest.raises(TypeError):
-        rotorlib.textbook_monodromy(o, bits=256)
+        textbook_monodromy(o, bits=256)

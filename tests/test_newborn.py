@@ -8,7 +8,7 @@ did not use:
   multiprecision (the search integrates in float64/real128), and with scipy's
   DOP853 (rtol 1e-13) where its own error is below the tolerance;
 * the energy shell with the plain formula of :mod:`rotorlib.core.system`;
-* ``tr M`` with the textbook 4x4 variational equations (rotorlib.variational_monodromy,
+* ``tr M`` with the textbook 4x4 variational equations (rotorlib.orbits.floquet.variational_monodromy,
   heyoka mp160) from the exported 32-digit state.
 
 PD^r_2 is checked at E = 4.55, not 4.6: the family continued from its birth
@@ -31,12 +31,11 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-import rotorlib
 from rotorlib.core.system import energy_alpha, lattice_reduce, rhs_alpha
+from rotorlib.orbits.floquet import variational_monodromy
+from rotorlib.orbits.hill import heyoka_available
 
-pytestmark = pytest.mark.skipif(
-    not rotorlib.heyoka_available(), reason="heyoka not installed"
-)
+pytestmark = pytest.mark.skipif(not heyoka_available(), reason="heyoka not installed")
 
 MUST_SHOW = [
     ("ISl1", 3.995),
@@ -86,7 +85,7 @@ def test_closure_energy_trace(records, label, E):
     # energy shell (1e-9)
     assert abs(float(energy_alpha(x0)) - E) < 1e-9
     # closure under heyoka mp160 from the exported float64 state (1e-7)
-    v = rotorlib.variational_monodromy(x0, T, digits=40)
+    v = variational_monodromy(x0, T, digits=40)
     assert v.closure < 1e-7, v.closure
     if label not in SCIPY_TOO_COARSE:
         sol = solve_ivp(
@@ -96,7 +95,7 @@ def test_closure_energy_trace(records, label, E):
     # the trace: textbook variational monodromy at 160 bits from the full-digit state (1e-5 relative)
     s0 = rec.get("state0_str", x0)
     Tm = rec.get("period_str", T)
-    ref = rotorlib.variational_monodromy(s0, Tm, digits=40)
+    ref = variational_monodromy(s0, Tm, digits=40)
     assert abs(ref.trace - rec["trace"]) < 1e-5 * abs(ref.trace)
     assert ref.closure < 1e-12
 
@@ -209,13 +208,11 @@ def test_deep_families_real128(capsys, label, E):
     assert rec["precision"] == "real128"
     x0 = np.array(rec["state0"])
     assert abs(float(energy_alpha(x0)) - float(E)) < 1e-9
-    ref = rotorlib.variational_monodromy(
-        rec["state0_str"], rec["period_str"], digits=40
-    )
+    ref = variational_monodromy(rec["state0_str"], rec["period_str"], digits=40)
     assert ref.closure < 1e-20
     assert abs(ref.trace - rec["trace"]) < 1e-5 * abs(ref.trace)
     # the float64 rounding of the state closes only to ~|E - 4|^-1 eps (measured 2e-6 for IS^l_7 at E = 4)
-    v = rotorlib.variational_monodromy(x0, rec["period"], digits=40)
+    v = variational_monodromy(x0, rec["period"], digits=40)
     assert v.closure < 1e-4
 
 

@@ -5,7 +5,8 @@ import subprocess
 import sys
 import textwrap
 
-import rotorlib
+from rotorlib.core.closed_forms import breather, pendulum
+from rotorlib.orbits.floquet import trace_monodromy
 
 HIDE = textwrap.dedent("""
     import sys, importlib.abc
@@ -30,18 +31,21 @@ def run_hidden(code):
 
 def test_scipy_fallback_matches():
     out = run_hidden("""
-        import json, rotorlib
-        assert not rotorlib.heyoka_available()
+        import json
+        from rotorlib.core.closed_forms import breather, pendulum
+        from rotorlib.orbits.floquet import monodromy
+        from rotorlib.orbits.hill import heyoka_available
+        assert not heyoka_available()
         res = []
         for kw in (dict(E=1.0), dict(E=5.0), dict(log_abs_dE=-30.0, phase="lib"), dict(log_abs_dE=-100.0, phase="rot")):
-            M = rotorlib.monodromy(rotorlib.pendulum(**kw))
+            M = monodromy(pendulum(**kw))
             res.append([M.trace, M.backend, M.precision])
-        M = rotorlib.monodromy(rotorlib.breather(9.0, "R"))
+        M = monodromy(breather(9.0, "R"))
         res.append([M.trace, M.backend, M.precision])
         print(json.dumps(res))
     """)
     refs = [
-        rotorlib.trace_monodromy(rotorlib.pendulum(**kw))
+        trace_monodromy(pendulum(**kw))
         for kw in (
             dict(E=1.0),
             dict(E=5.0),
@@ -49,7 +53,7 @@ def test_scipy_fallback_matches():
             dict(log_abs_dE=-100.0, phase="rot"),
         )
     ]
-    refs.append(rotorlib.trace_monodromy(rotorlib.breather(9.0, "R")))
+    refs.append(trace_monodromy(breather(9.0, "R")))
     for (t, backend, prec), ref in zip(out, refs):
         assert backend == "scipy" and prec == "float64"
         assert abs(t - ref) < 1e-11 * max(1.0, abs(ref))
@@ -73,8 +77,9 @@ def test_cli_without_heyoka():
 
 def test_extended_precision_without_heyoka_uses_mpmath():
     out = run_hidden("""
-        import json, rotorlib
-        print(json.dumps(list(rotorlib.precision_tier(25))))
+        import json
+        from rotorlib.orbits.hill import precision_tier
+        print(json.dumps(list(precision_tier(25))))
     """)
     assert out == ["mpmath", "mp103"]  # mpmath at 30 digits: a name Tier accepts
 

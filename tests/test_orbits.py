@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-import rotorlib
+from rotorlib.core.closed_forms import breather, pendulum, separatrix_pendulum_state
 from rotorlib.core.system import energy_alpha, rhs_alpha
 
 
@@ -52,7 +52,7 @@ BREATHERS = [
 
 @pytest.mark.parametrize("kw", PENDULA)
 def test_pendulum_energy_and_eom(kw):
-    o = rotorlib.pendulum(**kw)
+    o = pendulum(**kw)
     t = np.linspace(0, o.period, 2001)
     E = energy_alpha(o.state(t))
     assert np.max(np.abs(E - o.E)) < 5e-15 * max(1, o.E)
@@ -61,7 +61,7 @@ def test_pendulum_energy_and_eom(kw):
 
 @pytest.mark.parametrize("E,fam", BREATHERS)
 def test_breather_energy_eom_and_closure(E, fam):
-    o = rotorlib.breather(E, fam)
+    o = breather(E, fam)
     t = np.linspace(-o.period, 2 * o.period, 3001)
     X = o.state(t)
     assert np.max(np.abs(energy_alpha(X) - E)) < 5e-15 * max(1, E)
@@ -81,7 +81,7 @@ def test_pendulum_period_by_quadrature(E):
             return mp.re(1 / mp.sqrt(3 * (E - 2 + 2 * mp.cos(a))))
 
         ref = 4 * mp.quad(f, [0, amax])
-    assert abs(rotorlib.pendulum(E).period / float(ref) - 1) < 1e-13
+    assert abs(pendulum(E).period / float(ref) - 1) < 1e-13
 
 
 @pytest.mark.parametrize(
@@ -108,12 +108,12 @@ def test_breather_period_by_quadrature(E, fam):
             else:
                 fmin = mp.acos((-1 - mp.sqrt(9 - 2 * E)) / 2)
                 ref = 4 * mp.quad(inv, [fmin, mp.pi])
-    assert abs(rotorlib.breather(E, fam).period / float(ref) - 1) < 1e-12
+    assert abs(breather(E, fam).period / float(ref) - 1) < 1e-12
 
 
 def test_closed_form_beats_integration_near_separatrix():
     """At log(4-E) = -30 the closed form closes exactly; a DOP853 integration of the pendulum cannot."""
-    o = rotorlib.pendulum(log_abs_dE=-30, phase="lib")
+    o = pendulum(log_abs_dE=-30, phase="lib")
     assert np.max(np.abs(o.state(o.period) - o.state0)) < 1e-13
     sol = solve_ivp(
         rhs_alpha, (0, o.period), o.state0, method="DOP853", rtol=1e-12, atol=1e-12
@@ -123,12 +123,12 @@ def test_closed_form_beats_integration_near_separatrix():
 
 def test_period_logarithmic_divergence():
     for x in (-20.0, -60.0, -300.0):
-        o = rotorlib.pendulum(log_abs_dE=x, phase="lib")
+        o = pendulum(log_abs_dE=x, phase="lib")
         asym = (
             -2 / math.sqrt(3) * (x - math.log(4) - math.log(16))
         )  # -(2/w0) log((1-E/4)/16)
         assert abs(o.period - asym) < 10 * math.exp(x) + 4e-16 * o.period
-        r = rotorlib.pendulum(log_abs_dE=x, phase="rot")
+        r = pendulum(log_abs_dE=x, phase="rot")
         kappa = math.sqrt(r.energy.m)
         asym_r = -kappa / math.sqrt(3) * (math.log(r.energy.m1) - math.log(16))
         assert abs(r.period - asym_r) < 10 * math.exp(x) * abs(x) + 4e-16 * r.period
@@ -136,7 +136,7 @@ def test_period_logarithmic_divergence():
 
 def test_separatrix_state():
     t = np.linspace(-5, 5, 101)
-    X = rotorlib.separatrix_pendulum_state(t)
+    X = separatrix_pendulum_state(t)
     assert np.max(np.abs(energy_alpha(X) - 4.0)) < 1e-14
 
 
@@ -161,14 +161,14 @@ def test_separatrix_state():
 )
 def test_pendulum_bad_input(kw):
     with pytest.raises(ValueError):
-        rotorlib.pendulum(**kw)
+        pendulum(**kw)
 
 
 @pytest.mark.parametrize("phase", ["lib", "rot"])
 def test_beyond_float64_range(phase):
     """log|E-4| = -800: the energy is carried by its log; K, period (float64 view of the mpmath closed
     form) follow the logarithmic asymptotics; the float64 state refuses (|E-4| is not a normal float)."""
-    o = rotorlib.pendulum(log_abs_dE=-800, phase=phase)
+    o = pendulum(log_abs_dE=-800, phase=phase)
     assert (
         o.energy.eps < 1e-307
         and o.energy.log_abs_dE == -800.0
@@ -188,7 +188,7 @@ def test_beyond_float64_range(phase):
 
 def test_decimal_energy_read_exactly():
     """A decimal with more digits than float64: E = 4 - 1e-20 keeps its distance (E itself rounds to 4.0)."""
-    o = rotorlib.pendulum(E="3.99999999999999999999")
+    o = pendulum(E="3.99999999999999999999")
     assert o.energy.phase == "lib" and o.energy.E == 4.0 and o.energy.eps == 1e-20
     assert abs(o.energy.log_abs_dE - math.log(1e-20)) < 1e-15 * 46
     with mp.workdps(50):
@@ -197,12 +197,12 @@ def test_decimal_energy_read_exactly():
             "1e-39"
         )  # correct to 40 digits
         assert abs(v["E"] - mp.mpf("3.99999999999999999999")) < mp.mpf("4e-39")
-    b = rotorlib.breather(E="4.5000000000000000000000000001")
+    b = breather(E="4.5000000000000000000000000001")
     assert b.energy.family == "R" and b.energy.eps == 1e-28 and b.E == 4.5
     with pytest.raises(ValueError, match="separatrix"):
-        rotorlib.pendulum(E="4.000000000000000000000000")
+        pendulum(E="4.000000000000000000000000")
     with pytest.raises(ValueError, match="separatrix"):
-        rotorlib.breather(E="4.50")
+        breather(E="4.50")
 
 
 @pytest.mark.parametrize(
@@ -219,21 +219,21 @@ def test_decimal_energy_read_exactly():
 )
 def test_breather_bad_input(E, fam):
     with pytest.raises(ValueError):
-        rotorlib.breather(E, fam)
+        breather(E, fam)
 
 
 @pytest.mark.parametrize(
     "make",
     [
-        lambda: rotorlib.pendulum(E=1.0),
-        lambda: rotorlib.pendulum(E=0.001),
-        lambda: rotorlib.pendulum(log_abs_dE=-30, phase="lib"),
-        lambda: rotorlib.pendulum(log_abs_dE=-30, phase="rot"),
-        lambda: rotorlib.breather(E=3.0, family="LG"),
-        lambda: rotorlib.breather(E=4.0, family="LG"),
-        lambda: rotorlib.breather(log_abs_dE=-30, family="LD"),
-        lambda: rotorlib.breather(E=9.0, family="R"),
-        lambda: rotorlib.breather(log_abs_dE=-30, family="R"),
+        lambda: pendulum(E=1.0),
+        lambda: pendulum(E=0.001),
+        lambda: pendulum(log_abs_dE=-30, phase="lib"),
+        lambda: pendulum(log_abs_dE=-30, phase="rot"),
+        lambda: breather(E=3.0, family="LG"),
+        lambda: breather(E=4.0, family="LG"),
+        lambda: breather(log_abs_dE=-30, family="LD"),
+        lambda: breather(E=9.0, family="R"),
+        lambda: breather(log_abs_dE=-30, family="R"),
     ],
 )
 def test_closed_form_float64_against_mpmath(make):
@@ -251,11 +251,7 @@ def test_closed_form_float64_against_mpmath(make):
 
         def period(E):
             text = mp.nstr(E, 45)
-            orb = (
-                rotorlib.pendulum(E=text)
-                if fam is None
-                else rotorlib.breather(E=text, family=fam)
-            )
+            orb = pendulum(E=text) if fam is None else breather(E=text, family=fam)
             return orb.closed_form(45)["period"]
 
         num = (period(E0 + h) - period(E0 - h)) / (2 * h)

@@ -18,9 +18,10 @@ from concurrent.futures import ProcessPoolExecutor, ThreadPoolExecutor
 import numpy as np
 import pytest
 
-import rotorlib as rl
 from rotorlib.core import parallel
+from rotorlib.core.closed_forms import pendulum
 from rotorlib.core.parallel import executor_for, pmap
+from rotorlib.orbits.floquet import monodromy
 
 HAVE_DISTRIBUTED = importlib.util.find_spec("distributed") is not None
 # Skipped only where dask[distributed] is missing; CI (CI=true) installs it from environment.txt and runs them.
@@ -42,7 +43,7 @@ XS = [
 def trace_at(item):
     """Module level, so that process pools can pickle it."""
     x, phase = item
-    M = rl.monodromy(rl.pendulum(log_abs_dE=x, phase=phase))
+    M = monodromy(pendulum(log_abs_dE=x, phase=phase))
     return M.trace, M.precision, M.backend
 
 
@@ -81,8 +82,11 @@ def test_no_progress_bar_in_notebook_output():
     km, kc = jc.manager.start_new_kernel(kernel_name="python3", env=env)
     try:
         code = (
-            "from rotorlib.core.parallel import pmap\nimport rotorlib as rl\n"
-            "r = pmap(lambda x: rl.monodromy(rl.pendulum(E=x)).trace, [1.0, 2.0, 5.0], progress=True)\n"
+            "from rotorlib.core.closed_forms import pendulum\n"
+            "from rotorlib.core.parallel import pmap\n"
+            "from rotorlib.orbits.floquet import monodromy\n"
+            "r = pmap(lambda x: monodromy(pendulum(E=x)).trace, [1.0, 2.0, 5.0], "
+            "progress=True)\n"
             "len(r)"
         )
         msg_id = kc.execute(code)

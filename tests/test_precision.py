@@ -12,12 +12,22 @@ import mpmath as mp
 import numpy as np
 import pytest
 
-import rotorlib as rl
+from rotorlib.core.closed_forms import pendulum
 from rotorlib.core.precision import Tier, tier
-from rotorlib.orbits.floquet import _monodromy
-from rotorlib.orbits.hill import hill_problem, precision_tier, solve_hill
+from rotorlib.orbits.floquet import (
+    _monodromy,
+    monodromy,
+    textbook_monodromy,
+    variational_monodromy,
+)
+from rotorlib.orbits.hill import (
+    heyoka_available,
+    hill_problem,
+    precision_tier,
+    solve_hill,
+)
 
-HEYOKA = rl.heyoka_available()
+HEYOKA = heyoka_available()
 needs_heyoka = pytest.mark.skipif(not HEYOKA, reason="heyoka not installed")
 
 
@@ -28,8 +38,8 @@ def textbook_reference(x, phase, bits=512):
     E = 4 -+ exp(x), p2 = sqrt(4E/3) at G and the period (4K(E/4)/sqrt3 or
     2 kappa K(kappa^2)/sqrt3, kappa^2 = 4/E) are computed in mpmath.
     """
-    return rl.textbook_monodromy(
-        rl.pendulum(log_abs_dE=float(x), phase=phase), Tier(f"mp{bits}")
+    return textbook_monodromy(
+        pendulum(log_abs_dE=float(x), phase=phase), Tier(f"mp{bits}")
     )
 
 
@@ -81,7 +91,7 @@ def test_precision_tier_refuses(digits):
 def test_integrator_choice_is_private_and_labelled():
     """Forcing an integrator is a private test hook; mpmath's working precision is
     labelled as the tier mp<bits> of its arithmetic (20 digits: 70 bits)."""
-    o = rl.pendulum(E=1.0)
+    o = pendulum(E=1.0)
     M = _monodromy(o, None, "mpmath")
     assert M.precision == "mp70" and Tier(M.precision).bits == 70
     with pytest.raises(ValueError, match="scipy integrates in float64 only"):
@@ -96,7 +106,7 @@ def test_integrator_choice_is_private_and_labelled():
     "digits,label", [(None, "float64"), (20, "real128"), (40, "mp")]
 )
 def test_monodromy_reports_precision(digits, label):
-    M = rl.monodromy(rl.pendulum(log_abs_dE=-21.0012, phase="lib"), digits=digits)
+    M = monodromy(pendulum(log_abs_dE=-21.0012, phase="lib"), digits=digits)
     assert M.precision.startswith(label)
     assert M.backend == "heyoka"
     if digits:
@@ -105,24 +115,24 @@ def test_monodromy_reports_precision(digits, label):
 
 
 def test_scipy_backend_reports_float64():
-    M = _monodromy(rl.pendulum(E=3.9), None, "scipy")
+    M = _monodromy(pendulum(E=3.9), None, "scipy")
     assert (M.backend, M.precision) == ("scipy", "float64")
 
 
 def test_variational_reports_precision():
-    o = rl.pendulum(E=1.0)
-    V = rl.variational_monodromy(o.state0, o.period, rtol=1e-10)
+    o = pendulum(E=1.0)
+    V = variational_monodromy(o.state0, o.period, rtol=1e-10)
     assert V.precision == "float64" and V.backend == "scipy-DOP853 rtol=1e-10"
-    assert V.steps > 0 and type(V) is type(rl.monodromy(o))
+    assert V.steps > 0 and type(V) is type(monodromy(o))
 
 
 def test_hill_solution_reports_precision():
-    sol = solve_hill(hill_problem(rl.pendulum(E=3.0)), integrator="scipy")
+    sol = solve_hill(hill_problem(pendulum(E=3.0)), integrator="scipy")
     assert (sol.backend, sol.precision) == ("scipy", "float64") and sol.steps > 0
-    sol = solve_hill(hill_problem(rl.pendulum(E=3.0)))
+    sol = solve_hill(hill_problem(pendulum(E=3.0)))
     assert (sol.backend, sol.precision) == ("heyoka" if HEYOKA else "scipy", "float64")
     with pytest.raises(TypeError):  # one precision argument: digits
-        solve_hill(hill_problem(rl.pendulum(E=3.0)), backend="scipy")
+        solve_hill(hill_problem(pendulum(E=3.0)), backend="scipy")
 
 
 def _cli(*args):
@@ -166,19 +176,19 @@ def test_trace_digits30_at_minus60_against_textbook_512bit():
 
 @needs_heyoka
 def test_real128_and_mp_tiers_agree_deep_lib():
-    o = rl.pendulum(log_abs_dE=-21.0012, phase="lib")
-    a = rl.monodromy(o, digits=30).trace_str
-    b = rl.monodromy(o, digits=50).trace_str
+    o = pendulum(log_abs_dE=-21.0012, phase="lib")
+    a = monodromy(o, digits=30).trace_str
+    b = monodromy(o, digits=50).trace_str
     assert agreeing_digits(a, b) >= 29
 
 
 @needs_heyoka
 def test_mpmath_tier_agrees_with_heyoka_mp():
     """mpmath's Taylor integrator (independent of heyoka) against heyoka multiprecision."""
-    o = rl.pendulum(log_abs_dE=-10.0, phase="rot")
+    o = pendulum(log_abs_dE=-10.0, phase="rot")
     a = _monodromy(o, 16, "mpmath")
     assert a.precision == "mp73" and a.backend == "mpmath"  # 21 digits
-    b = rl.monodromy(o, digits=40)
+    b = monodromy(o, digits=40)
     assert agreeing_digits(a.trace_str, b.trace_str) >= 15
 
 
@@ -187,11 +197,11 @@ def test_mpmath_tier_agrees_with_heyoka_mp():
 )
 def test_float64_within_1e11_deep_in_cascade(x, phase):
     """Target of issue 7 (accuracy part): float64 tr M within 1e-11 for log|E-4| in [-22, -21] and beyond."""
-    o = rl.pendulum(log_abs_dE=x, phase=phase)
+    o = pendulum(log_abs_dE=x, phase=phase)
     ref = (
-        rl.monodromy(o, digits=30).trace_str
+        monodromy(o, digits=30).trace_str
         if HEYOKA
-        else rl.monodromy(o, digits=20).trace_str
+        else monodromy(o, digits=20).trace_str
     )
     for backend in ("heyoka", "scipy") if HEYOKA else ("scipy",):
         with mp.workdps(40):
@@ -200,16 +210,16 @@ def test_float64_within_1e11_deep_in_cascade(x, phase):
 
 def test_textbook_float64_is_wrong_deep_in_cascade():
     """The trap the reduction avoids: the textbook scipy route is off by > 1e3 at log(4 - E) = -21."""
-    o = rl.pendulum(log_abs_dE=-21.0012, phase="lib")
-    V = rl.variational_monodromy(o.state0, o.period, rtol=1e-12)
-    assert abs(V.trace - rl.monodromy(o).trace) > 1e3
+    o = pendulum(log_abs_dE=-21.0012, phase="lib")
+    V = variational_monodromy(o.state0, o.period, rtol=1e-12)
+    assert abs(V.trace - monodromy(o).trace) > 1e3
 
 
 # --------------------------------------------------------------------------- the tolerance knob
 
 
 def test_default_tol_is_unchanged():
-    o = rl.pendulum(log_abs_dE=-21.5, phase="rot")
+    o = pendulum(log_abs_dE=-21.5, phase="rot")
     for be in ("heyoka", "scipy") if HEYOKA else ("scipy",):
         assert _monodromy(o, None, be).trace == _monodromy(o, None, be, tol=None).trace
 
@@ -218,9 +228,9 @@ def test_default_tol_is_unchanged():
     "backend", ["scipy", pytest.param("heyoka", marks=needs_heyoka)]
 )
 def test_looser_tol_is_less_accurate_and_cheaper(backend):
-    o = rl.pendulum(log_abs_dE=-21.5, phase="rot")
+    o = pendulum(log_abs_dE=-21.5, phase="rot")
     prob = hill_problem(o)
-    ref = rl.monodromy(o, digits=30).trace if HEYOKA else rl.monodromy(o).trace
+    ref = monodromy(o, digits=30).trace if HEYOKA else monodromy(o).trace
     loose = solve_hill(prob, tol=1e-6, integrator=backend)
     tight = solve_hill(prob, integrator=backend)
     err = lambda s: abs(2.0 + s.delta - ref)  # noqa: E731  (rotation: tr M = 2 + Delta)
@@ -231,9 +241,9 @@ def test_looser_tol_is_less_accurate_and_cheaper(backend):
 
 @needs_heyoka
 def test_real128_tol_knob():
-    o = rl.pendulum(log_abs_dE=-21.5, phase="rot")
-    ref = rl.monodromy(o, digits=50).trace_str
-    loose = rl.monodromy(o, digits=30, tol=1e-20).trace_str
+    o = pendulum(log_abs_dE=-21.5, phase="rot")
+    ref = monodromy(o, digits=50).trace_str
+    loose = monodromy(o, digits=30, tol=1e-20).trace_str
     assert 15 < agreeing_digits(loose, ref) < 27
     assert np.isfinite(float(loose))
 
@@ -259,13 +269,13 @@ def test_heyoka_disk_cache_is_bounded(monkeypatch):
 def test_solve_hill_integrator_chooses_the_method_not_the_precision():
     """``integrator=`` forces one integrator of the public ``solve_hill`` (to check one
     against another); the precision is still ``digits``."""
-    prob = hill_problem(rl.pendulum(E=1.0))
+    prob = hill_problem(pendulum(E=1.0))
     a = solve_hill(prob, integrator="scipy")
     b = solve_hill(prob, integrator="mpmath")  # 20 working digits for float64
     assert (a.backend, a.precision) == ("scipy", "float64")
     assert (b.backend, b.precision) == ("mpmath", "mp70")
     assert abs(a.delta - b.delta) < 1e-12
     with pytest.raises(ValueError, match="scipy integrates in float64 only"):
-        solve_hill(hill_problem(rl.pendulum(E=1.0), 20), 20, integrator="scipy")
+        solve_hill(hill_problem(pendulum(E=1.0), 20), 20, integrator="scipy")
     with pytest.raises(ValueError, match="integrator must be heyoka, scipy or mpmath"):
         solve_hill(prob, integrator="fortran")

@@ -11,15 +11,13 @@ import math
 import numpy as np
 import pytest
 
-import rotorlib
 from rotorlib.core.precision import REAL128
+from rotorlib.orbits.hill import heyoka_available
 from rotorlib.orbits.shooting import residual
 from rotorlib.paper import newborn as nb
 from rotorlib.paper import search as sr
 
-pytestmark = pytest.mark.skipif(
-    not rotorlib.heyoka_available(), reason="heyoka not installed"
-)
+pytestmark = pytest.mark.skipif(not heyoka_available(), reason="heyoka not installed")
 
 
 def test_periodicity_defect_vanishes_on_a_member_and_grows_linearly():

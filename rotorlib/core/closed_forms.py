@@ -106,7 +106,7 @@ class _ClosedForm:
         Examples
         --------
         >>> import mpmath
-        >>> from rotorlib import pendulum
+        >>> from rotorlib.core.closed_forms import pendulum
         >>> cf = pendulum(E=3.9).closed_form(30, derivative=True)
         >>> mpmath.nstr(cf["period"], 25), round(float(cf["dperiod_dE"]), 6)
         ('7.493684782180075798697786', 11.289633)
@@ -238,7 +238,7 @@ def pendulum(
 
     Examples
     --------
-    >>> from rotorlib import pendulum
+    >>> from rotorlib.core.closed_forms import pendulum
     >>> o = pendulum(E=3.9)
     >>> o.energy.phase, round(o.period, 9), [round(float(v), 9) for v in o.state0]
     ('lib', 7.493684782, [0.0, 0.0, 0.0, 2.28035085])
@@ -378,7 +378,7 @@ def breather(
 
     Examples
     --------
-    >>> from rotorlib import breather
+    >>> from rotorlib.core.closed_forms import breather
     >>> b = breather(E=9.0)
     >>> b.family, round(b.period, 9), [float(v) for v in b.state0]
     ('breather-R', 2.62597978, [0.0, 0.0, 3.0, 3.0])

@@ -514,6 +514,8 @@ _LABEL_TEX_RE = re.compile(
 #: An orbit label inside running text (``IS^l_2``, ``PD^{r}_{n}``, ``ISl1``: the plain
 #: style only with an index, so that words and code names such as PDw8 or ISkr are left
 #: alone; ``PDb`` as a whole word), as :func:`typeset_labels` finds them.
+#:
+#: :meta hide-value:
 LABEL_IN_TEXT_RE = re.compile(
     r"(?<![\w\\^{])(?:"
     r"(?:IS|PD)\^(?:\{[^{}$]*\}|\\ell|[lrℓb])(?:_(?:\{[^{}$]*\}|\d+|[A-Za-z](?![A-Za-z])))?"

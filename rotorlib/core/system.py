@@ -110,8 +110,8 @@ def energy_alpha(state: ArrayLike) -> Real:
 
     Examples
     --------
-    >>> from rotorlib.core.system import alpha_to_beta, alpha_to_phi, energy_alpha, energy_beta
-    >>> from rotorlib.core.system import energy_phi
+    >>> from rotorlib.core.system import alpha_to_beta, alpha_to_phi, energy_alpha
+    >>> from rotorlib.core.system import energy_beta, energy_phi
     >>> x = [0.3, 1.1, -0.2, 0.7]
     >>> pairs = [(energy_alpha, x), (energy_phi, alpha_to_phi(x))]
     >>> pairs.append((energy_beta, alpha_to_beta(x)))

@@ -153,8 +153,8 @@ class Monodromy:
 
     Examples
     --------
-    >>> import rotorlib
-    >>> M = rotorlib.monodromy(E=3.9)
+    >>> from rotorlib.orbits.floquet import monodromy
+    >>> M = monodromy(E=3.9)
     >>> M.basis, M.stability, round(M.trace, 10)
     (('a1', 'p1', 'a2', 'p2'), 'stable', 0.0195119424)
     """
@@ -211,7 +211,7 @@ def _as_orbit(orbit=None, E=None, log_abs_dE=None, phase=None, family="pendulum"
         return BreatherOrbit(energy)
     raise TypeError(
         "monodromy takes a pendulum or breather orbit "
-        "(rotorlib.pendulum(...), rotorlib.breather(...)) or its energy "
+        "(rotorlib.core.closed_forms.pendulum(...) or breather(...)) or its energy "
         "(a PendulumEnergy / BreatherEnergy, e.g. transition(label).energy), "
         f"or E=... / log_abs_dE=... keywords; got {type(orbit).__name__}"
     )
@@ -264,11 +264,11 @@ def monodromy(
 
     Examples
     --------
-    >>> import rotorlib
-    >>> M = rotorlib.monodromy(rotorlib.pendulum(E=3.9))
+    >>> from rotorlib.core.closed_forms import pendulum
+    >>> M = monodromy(pendulum(E=3.9))
     >>> M.stability, round(M.trace, 10), M.multipliers.shape
     ('stable', 0.0195119424, (2,))
-    >>> rotorlib.monodromy(E=3.9, digits=30).trace_str
+    >>> monodromy(E=3.9, digits=30).trace_str
     '0.0195119424111676105307516364433'
     """
     orbit = _as_orbit(orbit, E, log_abs_dE, phase, family)
@@ -372,7 +372,7 @@ def trace_monodromy(orbit: Any = None, **kwargs: Any) -> Any:
 
     Examples
     --------
-    >>> from rotorlib import trace_monodromy
+    >>> from rotorlib.orbits.floquet import trace_monodromy
     >>> round(trace_monodromy(E=3.9), 10)
     0.0195119424
     >>> import mpmath
@@ -425,8 +425,8 @@ def variational_monodromy(
 
     Examples
     --------
-    >>> import rotorlib
-    >>> o = rotorlib.pendulum(E=3.9)
+    >>> from rotorlib.core.closed_forms import pendulum
+    >>> o = pendulum(E=3.9)
     >>> V = variational_monodromy(o.state0, o.period)
     >>> round(V.trace, 6), V.basis, V.closure < 1e-9
     (0.019512, ('a1', 'a2', 'p1', 'p2'), True)
@@ -494,8 +494,8 @@ def textbook_monodromy(
 
     Examples
     --------
-    >>> import rotorlib
-    >>> V = textbook_monodromy(rotorlib.pendulum(E=3.9))
+    >>> from rotorlib.core.closed_forms import pendulum
+    >>> V = textbook_monodromy(pendulum(E=3.9))
     >>> V.precision, V.trace_str[:22]
     ('mp256', '0.01951194241116761053')
     """

@@ -169,8 +169,8 @@ def hill_problem(
 
     Examples
     --------
-    >>> import rotorlib
-    >>> p = hill_problem(rotorlib.pendulum(E=3.9))
+    >>> from rotorlib.core.closed_forms import pendulum
+    >>> p = hill_problem(pendulum(E=3.9))
     >>> p.kind, p.repeats, round(p.m, 6)
     ('pendulum-lib', 2, 0.975)
     """
@@ -425,8 +425,8 @@ def solve_hill(
 
     Examples
     --------
-    >>> import rotorlib
-    >>> sol = solve_hill(hill_problem(rotorlib.pendulum(E=3.9)))
+    >>> from rotorlib.core.closed_forms import pendulum
+    >>> sol = solve_hill(hill_problem(pendulum(E=3.9)))
     >>> round(sol.delta, 10), sol.precision, sol.psi_end < 1e-13
     (-0.1396851546, 'float64', True)
     """

@@ -400,11 +400,12 @@ def fit_rate(ns: ArrayLike, values: ArrayLike) -> tuple[float, float]:
     return float(-b), float(a)
 
 
-def dual_lame(
-    lib_label: str = "IS^l_1", rot_label: str = "IS^r_1", n: int = 2001
-) -> dict[str, Any]:
+def dual_lame(lib_label: str, rot_label: str, n: int = 2001) -> dict[str, Any]:
     """Periodic transverse solutions ``a1'' = -(2 + cos a2) a1``, ``a1(0) = 1``, ``a1'(0) = 0`` at two dual
     transitions, on the paper's rescaled times ``z = sqrt3 t`` (lib) and ``z = sqrt3 k_r t`` (rot).
+
+    ``lib_label`` is a librational transition and ``rot_label`` a rotational one (the
+    book compares IS^l_1 with its dual IS^r_1, and with IS^r_2 as a control).
 
     The librational solution is sampled over one pendulum period (``z`` in ``[0, 4K(k_l)]``) and the
     rotational one over two (``z`` in ``[0, 4K(1/k_r)]``), both on ``n`` points of the normalised time

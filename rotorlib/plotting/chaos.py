@@ -35,11 +35,8 @@ def _band(ax):
     ax.axvspan(*BAND, color="0.85", zorder=0, label=r"band $5.33 \leq E \leq 5.6$")
 
 
-def plot_band_traces(curves: Mapping[str, tuple[ArrayLike, ArrayLike]]) -> Figure:
-    """``curves``: ``{label: (E, trM)}``; tr M on a symmetric-log axis (linear for |tr M| < 5) with the
-    stable window ``0 < tr M < 4`` shaded green and the band grey."""
-    fig, ax = plt.subplots(figsize=(COLUMN_WIDTH, 3.9))
-    _band(ax)
+def _stable_window(ax):
+    """Shade the stable window ``0 < tr M < 4`` (green) on a tr M axis."""
     ax.axhspan(
         0.0,
         4.0,
@@ -48,6 +45,14 @@ def plot_band_traces(curves: Mapping[str, tuple[ArrayLike, ArrayLike]]) -> Figur
         zorder=0,
         label=r"stable window $0 < \mathrm{tr}\,M < 4$",
     )
+
+
+def plot_band_traces(curves: Mapping[str, tuple[ArrayLike, ArrayLike]]) -> Figure:
+    """``curves``: ``{label: (E, trM)}``; tr M on a symmetric-log axis (linear for |tr M| < 5) with the
+    stable window ``0 < tr M < 4`` shaded green and the band grey."""
+    fig, ax = plt.subplots(figsize=(COLUMN_WIDTH, 3.9))
+    _band(ax)
+    _stable_window(ax)
     for lab, (E, tr) in curves.items():
         ax.plot(E, tr, label=family_tex(lab))
     ax.set_yscale("symlog", linthresh=5.0, linscale=3.0)
@@ -152,14 +157,7 @@ def plot_rotational_branches(
     order of magnitude) are not drawn."""
     fig, ax = plt.subplots(figsize=(COLUMN_WIDTH, 3.9))
     _band(ax)
-    ax.axhspan(
-        0.0,
-        4.0,
-        color="C2",
-        alpha=0.15,
-        zorder=0,
-        label=r"stable window $0 < \mathrm{tr}\,M < 4$",
-    )
+    _stable_window(ax)
     for i, b in enumerate(branches):
         tr = np.where(np.abs(b.trace) <= trace_cap, b.trace, np.nan)
         ax.plot(

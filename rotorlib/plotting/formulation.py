@@ -208,10 +208,15 @@ def plot_separatrix_approach(
 def plot_textbook_error(
     eps: ArrayLike,
     err: ArrayLike,
-    label: str = r"textbook $4 \times 4$ (scipy DOP853, rtol $10^{-12}$)",
+    label: str | None = None,
     slope: float | None = -1.0,
 ) -> Figure:
-    """Log-log plot of |error of tr M| against |E - 4|, with a reference line of the given slope."""
+    """Log-log plot of |error of tr M| against |E - 4|, with a reference line of the given slope.
+
+    ``label`` names the curve in the legend (``None``: the textbook 4x4 route, scipy
+    DOP853 at rtol 1e-12)."""
+    if label is None:
+        label = r"textbook $4 \times 4$ (scipy DOP853, rtol $10^{-12}$)"
     eps, err = np.asarray(eps, float), np.asarray(err, float)
     fig, ax = plt.subplots(figsize=(COLUMN_WIDTH, 4.0), constrained_layout=True)
     ax.loglog(eps, err, "o-", label=label)
