@@ -65,7 +65,7 @@ def rotation_number(trace_reduced: Any) -> float:
 @cache
 def rotation_curve() -> tuple[np.ndarray, np.ndarray]:
     """``(E, rho)`` along CG from ``E = 0.02`` to the fold (float64, a continuation with
-    steps four times smaller than :func:`rotorlib.beyond.choreo_family.follow`; ~1 s).
+    steps about ten times smaller than :func:`rotorlib.beyond.choreo_family.follow`; ~1 s).
 
     Examples
     --------
@@ -80,7 +80,7 @@ def rotation_curve() -> tuple[np.ndarray, np.ndarray]:
         start.append(member(p, solve(p, -math.sqrt(E0 / 6), E=E0).x, E0))
     b = continuation(
         p,
-        PALC(ds=0.025, ds_max=0.06, E_ref=0.0),
+        PALC(ds=0.01, ds_max=0.02, E_ref=0.0),
         ContinuationOptions(max_steps=800, E_range=(0.01, 10.0), folds=False),
         start,
     )

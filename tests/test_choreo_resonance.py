@@ -1,0 +1,220 @@
+"""CG's resonances and the choreographies born there (rotorlib.beyond.choreo_rotation,
+rotorlib.beyond.choreo_resonance) against independent computations written here in the
+rotor angles.
+
+The independent route: three rotors ``theta_i`` with ``H = sum p_i^2/2 + sum (1 -
+cos(theta_i - theta_j))``. CG is solved as in ``tests/test_choreo.py`` (start on the
+mirror ``theta = (s, 0, -s)`` with velocity ``-v (1, -2, 1)``; the condition
+``theta_i(T/3) = theta_{i+1}(0)`` imposed; ``least_squares`` on scipy's DOP853 at rtol
+1e-12). Its reduced map over ``T/6`` is ``S^-1 Phi(T/6)`` on the six rotor variables,
+``S`` the rotation of the hexagon (``theta_i -> -theta_{i+2}``, picked here as the one of
+``S^{+-1}`` that maps the start to the state at ``T/6``), whose trace is ``tr DP - 2``
+(the centre of mass adds ``-[[1, t], [0, 1]]``). The resonance ``p/q`` is the root of
+``tr DP - 2 - 2 cos 2 pi p/q`` in ``E`` by ``brentq``. The 30-digit members of the
+families close under heyoka's real128 Taylor method on the rotor equations, and their
+third of a period is a relabelling of the rotors.
+"""
+
+from __future__ import annotations
+
+import math
+
+import mpmath as mp
+import numpy as np
+import pytest
+from scipy.integrate import solve_ivp
+from scipy.optimize import brentq, least_squares
+
+from rotorlib.beyond import choreo_resonance as cr
+from rotorlib.beyond import choreo_rotation as ro
+
+PAIRS = ((0, 1), (1, 2), (2, 0))
+RTOL = 1e-12
+
+
+def _rhs(t, y):
+    th, p = y[:3], y[3:6]
+    f = np.zeros(3)
+    for i, j in PAIRS:
+        s = math.sin(th[i] - th[j])
+        f[i] -= s
+        f[j] += s
+    return np.concatenate([p, f])
+
+
+def _rhs_var(t, y):
+    th = y[:3]
+    out = np.empty_like(y)
+    out[:6] = _rhs(t, y[:6])
+    H = np.zeros((3, 3))
+    for i, j in PAIRS:
+        c = math.cos(th[i] - th[j])
+        H[i, i] += c
+        H[j, j] += c
+        H[i, j] -= c
+        H[j, i] -= c
+    J = np.zeros((6, 6))
+    J[:3, 3:] = np.eye(3)
+    J[3:, :3] = -H
+    out[6:] = (J @ y[6:].reshape(6, 6)).ravel()
+    return out
+
+
+def _start(s, E):
+    V = 3 - 2 * math.cos(s) - math.cos(2 * s)
+    v = -math.sqrt(max(E - V, 0.0) / 3)
+    return np.array([s, 0.0, -s, v, -2 * v, v])
+
+
+def _ivp(f, y0, T):
+    return solve_ivp(f, (0, T), y0, method="DOP853", rtol=RTOL, atol=1e-14).y[:, -1]
+
+
+def _cg_residual(x, E):
+    s, T = x
+    y0 = _start(s, E)
+    y = _ivp(_rhs, y0, T / 3)
+    d_now = np.array([y[0] - y[1], y[1] - y[2]])
+    d_want = np.array([y0[1] - y0[2], y0[2] - y0[0]])
+    dd = (d_now - d_want + math.pi) % (2 * math.pi) - math.pi
+    return np.concatenate([dd, y[3:] - np.roll(y0[3:], -1)])
+
+
+def _hexagon(k):
+    """``theta_i -> -theta_{i+2}`` (k = 1) or its inverse (k = -1) on (theta, p)."""
+    P = np.roll(np.eye(3), -2 if k == 1 else 2, axis=1)
+    S = np.zeros((6, 6))
+    S[:3, :3] = S[3:, 3:] = -P
+    return S
+
+
+def _centred(y):
+    z = y.copy()
+    z[:3] -= z[:3].mean()
+    z[:3] = (z[:3] + math.pi) % (2 * math.pi) - math.pi
+    return z
+
+
+def independent_trace_reduced(E, guess):
+    """``(tr DP, s, T)`` of CG at ``E`` (guess ``(s, T)``)."""
+    sol = least_squares(_cg_residual, guess, args=(E,), xtol=1e-15, ftol=1e-15)
+    s, T = sol.x
+    y0 = _start(s, E)
+    y = _ivp(_rhs_var, np.concatenate([y0, np.eye(6).ravel()]), T / 6)
+    Phi = y[6:].reshape(6, 6)
+    err = {
+        k: np.max(np.abs(_centred(y[:6]) - _centred(_hexagon(k) @ y0))) for k in (1, -1)
+    }
+    k = min(err, key=err.get)
+    assert err[k] < 1e-9, err
+    return float(np.trace(np.linalg.inv(_hexagon(k)) @ Phi)) + 2, s, T
+
+
+@pytest.mark.parametrize("pq", ro.RESONANCES)
+def test_resonance_energy_against_independent_brentq(pq):
+    p, q = pq
+    r = ro.resonance(p, q)
+    assert r.rotation == f"{p}/{q}" and len(r.families) == 2
+    lev = 2 + 2 * math.cos(2 * math.pi * p / q)
+    u = float(r.member.u)  # phi1 = phi2 = u: theta = (u, 0, -u) up to a shift
+    guess = [u, float(r.member.period)]
+
+    def f(E):
+        trp, s, T = independent_trace_reduced(E, guess)
+        guess[:] = [s, T]
+        return trp - lev
+
+    dE = 2e-3
+    E = brentq(f, r.E - dE, r.E + dE, xtol=1e-13, rtol=1e-14)
+    assert abs(E - r.E) < 1e-8
+    assert abs(float(r.member.trace_reduced) - lev) < 1e-10
+
+
+def test_rotation_number_falls_from_one_third_to_zero():
+    E, rho = ro.rotation_curve()
+    assert abs(rho[0] - 1 / 3) < 1e-3 and rho[-1] < 0.05
+    assert np.all(np.diff(rho) < 0)
+    # each resonance sits where the curve passes its level
+    for r in ro.resonances():
+        assert abs(ro.rotation_number(r.member.trace_reduced) - r.p / r.q) < 1e-12
+        i = np.searchsorted(E, r.E)
+        assert rho[i - 1] > r.p / r.q > rho[i]
+    assert math.isnan(ro.rotation_number(4.5)) and math.isnan(ro.rotation_number(-0.1))
+    with pytest.raises(ValueError, match="rotation number"):
+        ro.resonance(1, 3)
+    with pytest.raises(ValueError, match="rotation number"):
+        ro.resonance(1, 2)
+
+
+def test_resonance_digits30_agrees_with_float64():
+    r = ro.resonance(1, 7, digits=30)
+    assert r.refined is not None and r.agreement < 1e-11
+    assert len(r.E_str.replace(".", "")) >= 12
+    assert abs(float(r.E_str) - r.E) < 1e-11
+
+
+def _theta(state_str):
+    with mp.workdps(40):
+        a1, a2, p1, p2 = (mp.mpf(v) for v in state_str)
+        phi1, phi2 = 2 * a1, a2 - a1
+        th = [mp.mpf(0), -phi1, -phi1 - phi2]
+        d1, d2 = p1, 3 * p2 / 2 - p1 / 2
+        w = [mp.mpf(0), -d1, -d1 - d2]
+        mt, mw = sum(th) / 3, sum(w) / 3
+        return [mp.nstr(v - mt, 38) for v in th] + [mp.nstr(v - mw, 38) for v in w]
+
+
+def _real128_states(y0, times):
+    """The rotor states at ``times`` (decimal strings) by heyoka's real128 Taylor method."""
+    hy = pytest.importorskip("heyoka")
+    th = hy.make_vars("t1", "t2", "t3")
+    ps = hy.make_vars("q1", "q2", "q3")
+    f = [0, 0, 0]
+    for i, j in PAIRS:
+        s = hy.sin(th[i] - th[j])
+        f[i], f[j] = f[i] - s, f[j] + s
+    sys = list(zip(th, ps)) + [(ps[k], f[k]) for k in range(3)]
+    R = hy.real128
+    ta = hy.taylor_adaptive(sys, np.array([R(v) for v in y0]), fp_type=R)
+    out = []
+    for t in times:
+        ta.propagate_until(R(t))
+        out.append([mp.mpf(str(v)) for v in ta.state])
+    return out
+
+
+def _shift_error(a, b, k):
+    """``max |state a - relabelled state b|`` (relative angles mod 2 pi, momenta);
+    relabelled: ``theta_i -> theta_{i+k}``."""
+    b = b[k:3] + b[:k] + b[3 + k :] + b[3 : 3 + k]
+    d = [(a[0] - a[1]) - (b[0] - b[1]), (a[1] - a[2]) - (b[1] - b[2])]
+    d = [v - 2 * mp.pi * mp.nint(v / (2 * mp.pi)) for v in d]
+    return float(max(abs(v) for v in d + [a[i] - b[i] for i in range(3, 6)]))
+
+
+def _near_birth(name):
+    lo, hi, why_lo, _ = cr.resonance_range(name)
+    born_above = "born" in why_lo
+    r = ro.resonance(*(int(v) for v in name[2:-1].split("/")))
+    return f"{r.E + (0.01 if born_above else -0.01):.4f}"
+
+
+@pytest.mark.parametrize("name", [n for n in cr.family_names() if n not in cr.ALIASES])
+def test_digits30_member_closes_under_independent_real128(name):
+    E = _near_birth(name)
+    o = cr.resonance_orbit(name, E, digits=30)
+    assert (
+        abs(float(E) - float(ro.resonance(*map(int, name[2:-1].split("/"))).E)) < 0.02
+    )
+    with mp.workdps(40):
+        y0 = [mp.mpf(v) for v in _theta(o.state0_str)]
+        T = mp.mpf(o.period_str)
+        y3, yT = _real128_states(
+            _theta(o.state0_str), [mp.nstr(T / 3, 36), o.period_str]
+        )
+        closure = _shift_error(yT, y0, 0)
+        third = min(_shift_error(y3, y0, k) for k in (1, 2))
+    assert closure < 1e-20, closure
+    assert third < 1e-20, third
+    assert o.extra["choreography"] is not None
+    assert not o.extra["choreography"]["rotating"]
