@@ -66,6 +66,7 @@ from .choreo import (
     amplitude_at_energy,
     cg_problem,
     choreo_branch,
+    choreography_of,
     reduced_orbit,
     reduced_trace,
 )
@@ -85,6 +86,7 @@ __all__ = [
     "resonance_orbits",
     "resonance_orbit",
     "resonance_family",
+    "summary",
 ]
 
 #: The mirrors CG meets, one every ``T/12``, from its start on ``Fix T(12)``.
@@ -211,8 +213,8 @@ def _member(lab: str, m) -> ChoreoMember:
 
 @cache
 def _branch(lab: str) -> tuple[tuple[ChoreoMember, ...], str]:
-    """``(members, why)``: the family from its birth at CG (the first member is the one
-    next to the extremum of ``E`` at CG's resonance) to where its period exceeds
+    """``(members, why)``: the family from its birth at CG (the extremum of ``E`` at
+    CG's resonance, where the engine passes onto the other half, is left out) to where its period exceeds
     :data:`T_BUDGET` or ``|tr DP|`` exceeds 1e10 (float64 shooting exhausted), float64,
     each member a ChoreoMember; ``why`` says which end was reached."""
     s, p = _specs()[lab], family_problem(lab)
@@ -236,7 +238,7 @@ def _branch(lab: str) -> tuple[tuple[ChoreoMember, ...], str]:
         ]
         if ext:
             j = ext[0]
-            out = (list(ms[: j + 1])[::-1] + list(other[1:]), stop)
+            out = (list(ms[:j])[::-1] + list(other[1:]), stop)
             break
     if out is None:
         raise RuntimeError(f"{lab}: the continuation did not reach its birth at CG")
@@ -527,3 +529,53 @@ def resonance_family(
         f"{s['description']}; exists for {e0:.10f} <= E <= {e1:.10f} (below: {why0}; "
         f"above: {why1})",
     )
+
+
+def summary(label: str) -> dict[str, Any]:
+    """The record of a family for chapter 10a (JSON-serialisable): ``E_min``, ``E_max``
+    and why it ends there, ``E_birth`` (CG's resonance), ``period_birth``, its special
+    points (``kind``, ``E``, ``description``), ``stable_windows`` (energy intervals),
+    ``enters_band`` (``E_max > 5.33``) and ``stable_in_band``, ``symmetry`` (the
+    choreography record of a member 0.01 from its birth, with the ``T/3`` closure
+    ``third_error``).
+
+    Examples
+    --------
+    >>> from rotorlib.beyond.choreo_resonance import summary
+    >>> s = summary("CG1/7b")
+    >>> s["enters_band"], s["stable_windows"], s["symmetry"]["power"]
+    (False, [], 1)
+    """
+    lab = _name(label)
+    lo, hi, why_lo, why_hi = resonance_range(lab)
+    s = _specs()[lab]
+    r = resonance(int(s["p"]), int(s["q"]))
+    b = resonance_family(lab, (lo, hi))
+    E_near = r.E + (0.01 if abs(lo - r.E) < 1e-6 else -0.01)
+    o = resonance_orbit(lab, round(E_near, 6))
+    c = choreography_of(o.state0, o.period)
+    band = [w for w in b.stable_windows if w[1] > 5.33]
+    return {
+        "name": lab,
+        "alias": ALIASES.get(lab),
+        "rotation": r.rotation,
+        "E_birth": r.E,
+        "E_min": lo,
+        "E_max": hi,
+        "why_min": why_lo,
+        "why_max": why_hi,
+        "period_birth": float(r.member.period) * r.q / (1 if r.q % 2 else 2),
+        "points": [
+            {"kind": p.kind, "E": float(p.member.E), "description": p.description}
+            for p in b.special_points
+        ],
+        "stable_windows": [[float(a), float(z)] for a, z in b.stable_windows],
+        "enters_band": hi > 5.33,
+        "stable_in_band": bool(band),
+        "symmetry": {
+            "E": round(E_near, 6),
+            "period": float(o.period),
+            **(c.to_dict() if c else {}),
+            "third_error": c.closure if c else None,
+        },
+    }
