@@ -23,35 +23,18 @@ import pathlib
 import numpy as np
 
 from rotorlib.beyond import choreo_resonance as cr
-from rotorlib.beyond.choreo import cg_problem, choreography_of, reduced_trace
+from rotorlib.beyond.choreo import choreography_of, reduced_trace
 from rotorlib.beyond.choreo_family import cg_orbit
 from rotorlib.beyond.choreo_rotation import RESONANCES, resonance
 from rotorlib.core.flow import flow
-from rotorlib.orbits.reversors import targets
-from rotorlib.orbits.shooting import NoConvergence, ShootingProblem, residual, solve
+from rotorlib.orbits.shooting import NoConvergence, residual, solve
 
 OUT = pathlib.Path(__file__).parents[1] / "rotorlib/beyond/data/choreo_resonance.json"
 
 
 def problem(p, q, i0):
-    tg_name = cr.MIRRORS[(i0 + q) % 6]
-    crossing = 1 + sum(1 for j in range(1, q) if (i0 + j) % 6 == (i0 + q) % 6)
-    (tg,) = [f for f in targets() if f.name == tg_name]
-    start = cg_problem().start if i0 == 0 else cr.START_B
-    factor = 12 if q % 2 else 6
-    pr = ShootingProblem(
-        f"CG{p}/{q}",
-        start,
-        tg.section,
-        tg.condition,
-        crossing,
-        factor,
-        (0.0, 0.0),
-        None,
-        None,
-        cr.T_BUDGET + 10,
-    )
-    return pr, tg_name, crossing, factor
+    pr = cr.resonance_problem(q, i0, f"CG{p}/{q}")
+    return pr, cr.MIRRORS[(i0 + q) % 6], pr.crossing, pr.factor
 
 
 def u_cg(E, i0):

@@ -81,6 +81,7 @@ __all__ = [
     "family_names",
     "family_spec",
     "family_problem",
+    "resonance_problem",
     "resonance_range",
     "resonance_points_of",
     "resonance_orbits",
@@ -168,6 +169,38 @@ def family_spec(label: str) -> dict[str, Any]:
     return dict(_specs()[_name(label)])
 
 
+def resonance_problem(q: int, start: int = 0, label: str = "") -> ShootingProblem:
+    """The shooting problem of the symmetric periodic points of period ``q`` of CG's
+    reduced map: from ``Fix T(12)`` (``start=0``, CG's start) or ``Fix T-(12)``
+    (``start=3``, where CG is at ``3 T/12``) to the mirror CG meets ``q`` twelfths of a
+    period later (:data:`MIRRORS`), at the crossing CG makes there; the period is
+    ``2 ord(g^q) t1`` with ``ord(g^q) = 6 / gcd(q, 6)`` (``x(t + qT/6) = g^q x(t)``).
+
+    Examples
+    --------
+    >>> from rotorlib.beyond.choreo_resonance import resonance_problem
+    >>> [resonance_problem(q).factor for q in (4, 5, 6, 9)]
+    [6, 12, 2, 4]
+    """
+    if start not in (0, 3) or int(q) < 1:
+        raise ValueError(f"start must be 0 or 3 and q >= 1, got {start!r}, {q!r}")
+    q = int(q)
+    i = (start + q) % 6
+    (tg,) = [f for f in targets() if f.name == MIRRORS[i]]
+    return ShootingProblem(
+        label or f"period {q}",
+        cg_problem().start if start == 0 else START_B,
+        tg.section,
+        tg.condition,
+        1 + sum(1 for j in range(1, q) if (start + j) % 6 == i),
+        2 * 6 // math.gcd(q, 6),
+        (0.0, 0.0),
+        None,
+        None,
+        T_BUDGET + 10,
+    )
+
+
 @cache
 def family_problem(label: str) -> ShootingProblem:
     """The shooting problem of a family (period ``factor t1``).
@@ -184,20 +217,14 @@ def family_problem(label: str) -> ShootingProblem:
 
         return replace(z3_problem(ALIASES[lab]), label=lab)
     s = _specs()[lab]
-    start = cg_problem().start if s["start"] == MIRRORS[0] else START_B
-    (tg,) = [f for f in targets() if f.name == s["target"]]
-    return ShootingProblem(
-        lab,
-        start,
-        tg.section,
-        tg.condition,
+    p = resonance_problem(int(s["q"]), MIRRORS.index(s["start"]), lab)
+    if (p.section.c, p.crossing, p.factor) != (
+        [f for f in targets() if f.name == s["target"]][0].section.c,
         int(s["crossing"]),
         int(s["factor"]),
-        (0.0, 0.0),
-        None,
-        None,
-        T_BUDGET + 10,
-    )
+    ):
+        raise RuntimeError(f"{lab}: the stored problem is not the one derived")
+    return p
 
 
 def _reduced(lab: str) -> tuple[int, int]:
@@ -515,7 +542,10 @@ def resonance_family(
             b,
             problem=family_problem(lab),
             members=tuple(replace(m, label=lab) for m in b.members),
-            special_points=tuple(replace(q, branch=lab) for q in b.special_points),
+            special_points=tuple(
+                replace(q, branch=lab) if isinstance(q, ChoreoPoint) else q
+                for q in b.special_points
+            ),
             reason=f"{lab} is {ALIASES[lab]}: {b.reason}",
         )
     ms, why = _branch(lab)
@@ -566,7 +596,11 @@ def summary(label: str) -> dict[str, Any]:
         "why_max": why_hi,
         "period_birth": float(r.member.period) * r.q / (1 if r.q % 2 else 2),
         "points": [
-            {"kind": p.kind, "E": float(p.member.E), "description": p.description}
+            {
+                "kind": p.kind,
+                "E": float(p.member.E),
+                "description": getattr(p, "description", ""),
+            }
             for p in b.special_points
         ],
         "stable_windows": [[float(a), float(z)] for a, z in b.stable_windows],

@@ -84,7 +84,8 @@ def rotation_curve() -> tuple[np.ndarray, np.ndarray]:
         ContinuationOptions(max_steps=800, E_range=(0.01, 10.0), folds=False),
         start,
     )
-    Es, rhos = [], []
+    Es: list[float] = []
+    rhos: list[float] = []
     for m in b.members:
         if Es and float(m.E) < Es[-1]:
             break  # past the fold: CT
