@@ -1,18 +1,14 @@
-"""CG's rotation number and the choreographies born from CG at its resonances.
+"""The choreographies born from CG at its resonances ``p/q`` (``q <= 8``, ``3`` not
+dividing ``q``).
 
-CG's reduced map ``P = g^-1 phi_{T/6}`` (``g = -C^2``, :func:`rotorlib.beyond.choreo.reduced_trace`)
-has the multipliers ``1, 1, e^{+-2 pi i rho}`` while CG is stable: ``tr DP = 2 + 2 cos 2 pi
-rho``, and the rotation number ``rho`` falls from ``1/3`` at G to 0 at the fold
-(:func:`rotation_number`, :func:`rotation_curve`). Where ``rho`` passes a rational
-``p/q`` (a resonance, :func:`resonance`: the root of ``tr DP - (2 + 2 cos 2 pi p/q)``
-in CG's amplitude ``u``, by the engine's Illinois method), periodic points of period ``q``
-of ``P`` branch off: ``P^q y = y`` means ``phi_{qT/6}(y) = g^q y``, so the flow orbit
-through ``y`` has ``x(t + qT/6) = g^q x(t)``. With ``q`` prime to 3, ``g^{2q} = C^{q}``
-and ``C^q = C^{+-1}``: ``x(t + T'/3) = C^{+-1} x(t)`` with ``T' = qT`` (``q`` odd;
-``g^q`` of order 6, so also ``x(t + T'/6) = g^{+-1} x(t)``) or ``T' = qT/2`` (``q``
-even; ``g^q = C^{+-1}`` of order 3): **a choreography**. With ``3 | q``, ``g^q = (-1)^{q/3}``
-is ``+-1``: the orbit has ``x(t + qT/6) = +-x(t)``, not a choreography (the chapter's
-1:6 touch and the 2/9 resonance).
+At a resonance of CG's reduced map ``P = g^-1 phi_{T/6}`` (``g = -C^2``;
+:mod:`rotorlib.beyond.choreo_rotation`) periodic points of period ``q`` of ``P`` branch
+off: ``P^q y = y`` means ``phi_{qT/6}(y) = g^q y``, so the flow orbit through ``y`` has
+``x(t + qT/6) = g^q x(t)``. With ``q`` prime to 3, ``g^{2q} = C^{q} = C^{+-1}``:
+``x(t + T'/3) = C^{+-1} x(t)`` with ``T' = qT`` (``q`` odd; ``g^q`` of order 6, so
+also ``x(t + T'/6) = g^{+-1} x(t)``) or ``T' = qT/2`` (``q`` even; ``g^q = C^{+-1}`` of
+order 3): **a choreography**. With ``3 | q``, ``g^q = (-1)^{q/3}``: the orbit has
+``x(t + qT/6) = +-x(t)``, not a choreography (CG's 1:6 touch and the 2/9 resonance).
 
 The periodic orbits of ``P`` near a resonance are symmetric (``P`` is reversible), so each
 new orbit starts on a mirror with its momentum normal to it, like CG: on CG's own
@@ -23,7 +19,7 @@ the mirror CG meets ``q`` twelfths later (``t1 ~ q T/12``; period ``12 t1`` for 
 (:func:`family_problem`) with a seed stored in the package data file
 ``beyond/data/choreo_resonance.json`` (found by ``scripts/choreo_resonance_seeds.py``),
 followed by the engine (pseudo-arclength) from its birth at CG to where its period
-exceeds :data:`T_BUDGET`.
+exceeds :data:`T_BUDGET` or ``|tr DP|`` exceeds 1e10 (float64 shooting exhausted).
 
 Names: ``CG<p>/<q>a`` is the family that is stable next to its birth (the elliptic
 periodic orbit of ``P``), ``CG<p>/<q>b`` the unstable one (hyperbolic). For odd ``q``
@@ -32,8 +28,7 @@ resonance point (on either side of CG's amplitude); for even ``q`` they start on
 two mirrors. At ``1/4`` they are the families found by the census: ``CG1/4a`` is
 ``CZ2``, ``CG1/4b`` is ``CZ1`` (:mod:`rotorlib.beyond.choreo_z3`, which serves them).
 
-Precision: resonances located in float64 to ``|du| < 1e-13`` (``E`` to ~1e-13), in the
-tier of ``digits`` to ``eps^(3/4)``; members ``|r| < 1e-8`` (typically 1e-14; the
+Precision: members ``|r| < 1e-8`` (typically 1e-14; the
 float64 period to ~1e-13 relative); special points as in
 :mod:`rotorlib.beyond.choreo_z3`.
 """

@@ -17,6 +17,7 @@ Precision: float64 ``u`` to ``|du| < 1e-13`` (``E`` to ~1e-13); in the tier of `
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass, replace
 from functools import cache
 from typing import Any
@@ -26,6 +27,7 @@ import numpy as np
 from ..core.precision import FLOAT64, Tier, tier
 from ..core.rounding import difference
 from ..orbits.continuation import PALC, ContinuationOptions, continuation, member
+from ..orbits.family import Branch
 from ..orbits.shooting import solve
 from .choreo import cg_problem, reduced_trace
 from .choreo_family import ChoreoMember, ChoreoPoint, family, fold_energy, locate_member
@@ -39,6 +41,7 @@ __all__ = [
     "resonances",
     "ResonancePoint",
     "resonance_points",
+    "cg_family",
 ]
 
 #: The resonances ``p/q`` of CG with ``q <= 8`` and ``3`` not dividing ``q`` (``rho``
@@ -275,3 +278,30 @@ def resonance_points(
             )
         )
     return tuple(out)
+
+
+def cg_family(E_range: Sequence[float], digits: int | None = None) -> Branch:
+    """The branch ``CG`` of :func:`rotorlib.beyond.choreo_family.family` with CG's
+    resonances in ``E_range`` added to its special points (:func:`resonance_points`,
+    kind ``resonance``; ``index`` counted among the branch's members).
+
+    Examples
+    --------
+    >>> from rotorlib.beyond.choreo_rotation import cg_family
+    >>> b = cg_family((4.0, 5.2))
+    >>> [(p.kind, getattr(p, "rotation", "")) for p in b.special_points]
+    [('touch', ''), ('resonance', '1/4'), ('resonance', '1/5')]
+    """
+    b = family("CG", E_range, digits)
+    lo, hi = b.E_range
+    Es = [float(m.E) for m in b.members]
+    pts = [
+        replace(p, index=sum(E <= float(p.member.E) for E in Es) - 1)
+        for p in resonance_points((lo, hi), digits)
+    ]
+    return replace(
+        b,
+        special_points=tuple(
+            sorted([*b.special_points, *pts], key=lambda p: float(p.member.E))
+        ),
+    )
