@@ -3,7 +3,7 @@ rotorlib.beyond.choreo_resonance) against independent computations written here 
 rotor angles.
 
 The independent route: three rotors ``theta_i`` with ``H = sum p_i^2/2 + sum (1 -
-cos(theta_i - theta_j))``. CG is solved as in ``tests/test_choreo.py`` (start on the
+cos(theta_i - theta_j))``. CG is solved with the rotor equations of ``tests/test_choreo.py`` (start on the
 mirror ``theta = (s, 0, -s)`` with velocity ``-v (1, -2, 1)``; the condition
 ``theta_i(T/3) = theta_{i+1}(0)`` imposed; ``least_squares`` on scipy's DOP853 at rtol
 1e-12). Its reduced map over ``T/6`` is ``S^-1 Phi(T/6)`` on the six rotor variables,
@@ -24,46 +24,12 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq, least_squares
+from test_choreo import PAIRS, _rhs, _rhs_var, _start  # the rotor equations
 
 from rotorlib.beyond import choreo_resonance as cr
 from rotorlib.beyond import choreo_rotation as ro
 
-PAIRS = ((0, 1), (1, 2), (2, 0))
 RTOL = 1e-12
-
-
-def _rhs(t, y):
-    th, p = y[:3], y[3:6]
-    f = np.zeros(3)
-    for i, j in PAIRS:
-        s = math.sin(th[i] - th[j])
-        f[i] -= s
-        f[j] += s
-    return np.concatenate([p, f])
-
-
-def _rhs_var(t, y):
-    th = y[:3]
-    out = np.empty_like(y)
-    out[:6] = _rhs(t, y[:6])
-    H = np.zeros((3, 3))
-    for i, j in PAIRS:
-        c = math.cos(th[i] - th[j])
-        H[i, i] += c
-        H[j, j] += c
-        H[i, j] -= c
-        H[j, i] -= c
-    J = np.zeros((6, 6))
-    J[:3, 3:] = np.eye(3)
-    J[3:, :3] = -H
-    out[6:] = (J @ y[6:].reshape(6, 6)).ravel()
-    return out
-
-
-def _start(s, E):
-    V = 3 - 2 * math.cos(s) - math.cos(2 * s)
-    v = -math.sqrt(max(E - V, 0.0) / 3)
-    return np.array([s, 0.0, -s, v, -2 * v, v])
 
 
 def _ivp(f, y0, T):
@@ -131,7 +97,8 @@ def test_resonance_energy_against_independent_brentq(pq):
 
 
 def test_rotation_number_falls_from_one_third_to_zero():
-    E, rho = ro.rotation_curve()
+    E, rho, T = ro.rotation_curve()
+    assert np.all(np.diff(T) > 0)
     assert abs(rho[0] - 1 / 3) < 1e-3 and rho[-1] < 0.05
     assert np.all(np.diff(rho) < 0)
     # each resonance sits where the curve passes its level

@@ -66,14 +66,14 @@ def rotation_number(trace_reduced: Any) -> float:
 
 
 @cache
-def rotation_curve() -> tuple[np.ndarray, np.ndarray]:
-    """``(E, rho)`` along CG from ``E = 0.02`` to the fold (float64, a continuation with
+def rotation_curve() -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``(E, rho, T)`` (energy, rotation number, period) along CG from ``E = 0.02`` to the fold (float64, a continuation with
     steps about ten times smaller than :func:`rotorlib.beyond.choreo_family.follow`; ~1 s).
 
     Examples
     --------
     >>> from rotorlib.beyond.choreo_rotation import rotation_curve
-    >>> E, rho = rotation_curve()
+    >>> E, rho, T = rotation_curve()
     >>> bool(np.all(np.diff(rho) < 0)), round(float(rho[0]), 3)
     (True, 0.333)
     """
@@ -89,13 +89,15 @@ def rotation_curve() -> tuple[np.ndarray, np.ndarray]:
     )
     Es: list[float] = []
     rhos: list[float] = []
+    Ts: list[float] = []
     for m in b.members:
         if Es and float(m.E) < Es[-1]:
             break  # past the fold: CT
         trp = float(reduced_trace(m.x0, 12 * m.t1)[0])
         Es.append(float(m.E))
         rhos.append(rotation_number(trp))
-    return np.array(Es), np.array(rhos)
+        Ts.append(float(12 * m.t1))
+    return np.array(Es), np.array(rhos), np.array(Ts)
 
 
 def _level(p: int, q: int, t: Tier) -> Any:
