@@ -285,25 +285,32 @@ def resonance_points(
 def cg_family(E_range: Sequence[float], digits: int | None = None) -> Branch:
     """The branch ``CG`` of :func:`rotorlib.beyond.choreo_family.family` with CG's
     resonances in ``E_range`` added to its special points (:func:`resonance_points`,
-    kind ``resonance``; ``index`` counted among the branch's members).
+    kind ``resonance``; ``index`` counted among the branch's members). The touch of
+    ``tr M = 0`` at ``theta = pi/2`` is the resonance ``1/4`` and is listed once, as
+    the resonance (its description says both).
 
     Examples
     --------
     >>> from rotorlib.beyond.choreo_rotation import cg_family
     >>> b = cg_family((4.0, 5.2))
     >>> [(p.kind, getattr(p, "rotation", "")) for p in b.special_points]
-    [('touch', ''), ('resonance', '1/4'), ('resonance', '1/5')]
+    [('resonance', '1/4'), ('resonance', '1/5')]
     """
     b = family("CG", E_range, digits)
     lo, hi = b.E_range
     Es = [float(m.E) for m in b.members]
-    pts = [
-        replace(p, index=sum(E <= float(p.member.E) for E in Es) - 1)
-        for p in resonance_points((lo, hi), digits)
-    ]
+    pts = list(resonance_points((lo, hi), digits))
+    others = []
+    for q in b.special_points:  # a touch at a resonance (1/4: tr M = 0) is that point
+        same = [k for k, r in enumerate(pts) if abs(r.member.E - q.member.E) < 1e-9]
+        if q.kind == "fold" or not same:
+            others.append(q)
+            continue
+        r = pts[same[0]]
+        text = f"{r.description}; {getattr(q, 'description', '')}"
+        pts[same[0]] = replace(r, description=text)
+    pts = [replace(p, index=sum(E <= float(p.member.E) for E in Es) - 1) for p in pts]
     return replace(
         b,
-        special_points=tuple(
-            sorted([*b.special_points, *pts], key=lambda p: float(p.member.E))
-        ),
+        special_points=tuple(sorted([*others, *pts], key=lambda p: float(p.member.E))),
     )
