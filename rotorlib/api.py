@@ -14,58 +14,51 @@ asks for that many significant digits (real128 up to 31, multiprecision beyond).
 result has ``label``, ``E``, ``period``, ``trace``, ``multipliers``, ``stability``,
 ``state0``, ``digits``, the decimal strings ``E_str``, ``period_str``, ``trace_str``,
 ``state0_str``, and ``to_dict()``, the JSON the command line prints.
+
+Which module serves a label is decided here and nowhere else: :data:`REGISTRY` maps each
+label (a kind of labels: ``IS^l_n`` stands for every ``n``) to the functions that give its
+orbit, its family, its transition and, for the choreographies, the periods at an energy
+by which :func:`census` names the orbits it finds (:func:`name_choreography`). The modules
+below know only their own labels.
 """
 
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING, Any
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
 
 import mpmath as mp
 import numpy as np
 
-from .core.precision import Tier, check_digits
+from .beyond import atlas, choreo_family, choreo_z3
+from .beyond.atlas import Atlas
+from .beyond.choreo import Choreography
+from .core.parallel import executor_for
+from .core.precision import Tier, check_digits, tier
 from .orbits.family import Branch, energy_range
 from .orbits.periodic_orbit import PeriodicOrbit
-from .paper.bifurcations import Transition, is_breather_label, parse_label
+from .paper import bifurcations, breathers, newborn, newborn_families
+from .paper.bifurcations import Transition
 
-if TYPE_CHECKING:  # imported when called: import rotorlib stays light
-    from .beyond.atlas import Atlas
-
-__all__ = ["orbit", "family", "transition", "census", "LABELS"]
-
-#: The orbit labels :func:`orbit` accepts, by kind (IS/PD labels take any ``n >= 1``).
-LABELS = {
-    "closed form": ("pendulum", "R", "LG", "LD"),
-    "newborn": ("IS^l_n", "PD^l_n", "IS^r_n", "PD^r_n"),
-    "breather daughter": ("PD^b",),
-    "choreography": ("CG", "CT", "CZ1", "CZ2", "CR1"),
-}
-
-
-def _kind(label: str) -> tuple[str, str]:
-    """``(kind, label)``: the kind in :data:`LABELS` that ``label`` names (``unknown``:
-    none) and its spelling for that kind's module (a newborn label as given: the module
-    reads it with :func:`~rotorlib.paper.bifurcations.parse_label`, as :func:`transition` does)."""
-    lab = str(label).strip()
-    if lab.lower() in ("pendulum", "p"):
-        return "closed form", "pendulum"
-    for kind in ("closed form", "choreography"):
-        if lab.upper() in LABELS[kind]:
-            return kind, lab.upper()
-    if is_breather_label(lab):
-        return "breather daughter", "PD^b"
-    try:
-        parse_label(lab)
-    except ValueError:
-        return "unknown", lab
-    return "newborn", lab
+__all__ = [
+    "orbit",
+    "family",
+    "transition",
+    "census",
+    "LABELS",
+    "REGISTRY",
+    "Served",
+    "resolve",
+    "name_choreography",
+]
 
 
 def _digits(digits: int | Tier | None) -> int | None:
-    if isinstance(digits, Tier):
-        return None if not digits.extended else digits.dps - 8
-    return check_digits(digits)
+    """``digits`` checked; a :class:`Tier`: the digits its working digits keep, less 8."""
+    if_tier = digits.dps - 8 if isinstance(digits, Tier) and digits.extended else None
+    return if_tier if isinstance(digits, Tier) else check_digits(digits)
 
 
 def _closed_form(label: str, E: Any, digits: int | None) -> PeriodicOrbit:
@@ -92,8 +85,11 @@ def _closed_form(label: str, E: Any, digits: int | None) -> PeriodicOrbit:
     try:  # a rotating pendulum's a2 covers the circle: its excursion is pi
         xs = orb.state(np.linspace(0.0, float(m.period), 2001))
         a1m = float(np.max(np.abs(xs[:, 0])))
-        a2m = float(np.max(np.abs(xs[:, 1] - xs[0, 1])))
-        a2m = math.pi if label == "pendulum" and en.phase == "rot" else a2m
+        a2m = (
+            math.pi
+            if label == "pendulum" and en.phase == "rot"
+            else float(np.max(np.abs(xs[:, 1] - xs[0, 1])))
+        )
     except ValueError:  # beyond the float64 range of the closed form
         a1m = a2m = math.nan
     return PeriodicOrbit(
@@ -116,6 +112,154 @@ def _closed_form(label: str, E: Any, digits: int | None) -> PeriodicOrbit:
         trace_str=m.trace_str,
         state0_str=state0_str,
     )
+
+
+# --------------------------------------------------------------------------- the registry
+
+
+def _breather_transition(label: str, digits: Any) -> Transition:
+    """``PD^b`` with the digits rule of the pendulum's transitions: a :class:`Tier`
+    delivers its working digits less 9, ``digits <= 15`` is float64."""
+    t = tier(digits)
+    d = None if not t.extended else (digits if isinstance(digits, int) else t.dps - 9)
+    return breathers.pd_transition(digits=d)
+
+
+@dataclass(frozen=True)
+class Served:
+    """One row of :data:`REGISTRY`: the functions that serve a kind of label, each
+    called with the label as its module spells it (:func:`resolve`).
+
+    Attributes
+    ----------
+    kind : str
+        ``closed form``, ``newborn``, ``breather daughter`` or ``choreography``.
+    orbit : callable
+        ``(label, E, digits, branch) -> PeriodicOrbit``.
+    family, transition : callable or None
+        ``(label, E_range, digits) -> Branch``; ``(label, digits) -> Transition``.
+    periods, rotating : callable or None
+        For naming a census's choreographies: ``(label, E) ->`` the periods of the
+        family's members at ``E``; ``label ->`` whether its orbits rotate.
+    branches : bool
+        Whether the family may have several members at one energy (``branch``).
+    """
+
+    kind: str
+    orbit: Callable[[str, Any, Any, int], PeriodicOrbit]
+    family: Callable[[str, Any, Any], Branch] | None = None
+    transition: Callable[[str, Any], Transition] | None = None
+    periods: Callable[[str, float], list[float]] | None = None
+    rotating: Callable[[str], bool] | None = None
+    branches: bool = False
+
+
+_CLOSED = Served("closed form", lambda lab, E, d, b: _closed_form(lab, E, d))
+_NEWBORN = Served(
+    "newborn",
+    lambda lab, E, d, b: newborn.newborn_orbit(lab, E, digits=d),
+    lambda lab, rng, d: newborn_families.family(lab, rng, digits=d),
+    lambda lab, d: bifurcations.transition(lab, digits=d),
+)
+_CG = Served(
+    "choreography",
+    lambda lab, E, d, b: choreo_family.cg_orbit(E, digits=d, label=lab),
+    lambda lab, rng, d: choreo_family.family(lab, rng, digits=d),
+    periods=choreo_family.periods_at,
+    rotating=lambda lab: False,
+)
+_Z3 = Served(
+    "choreography",
+    lambda lab, E, d, b: choreo_z3.z3_orbit(lab, E, digits=d, branch=b),
+    lambda lab, rng, d: choreo_z3.z3_family(lab, rng, digits=d),
+    periods=lambda lab, E: [float(o.period) for o in choreo_z3.z3_orbits(lab, E)],
+    rotating=lambda lab: choreo_z3.seed_choreography(lab).rotating,
+    branches=True,
+)
+_DAUGHTER = Served(
+    "breather daughter",
+    lambda lab, E, d, b: breathers.breather_daughter(E, digits=d),
+    transition=_breather_transition,
+)
+
+#: Label -> :class:`Served`: the one table of which module serves which label
+#: (``IS^l_n`` and the other newborn rows stand for every ``n >= 1``).
+REGISTRY: dict[str, Served] = {
+    "pendulum": _CLOSED,
+    "R": _CLOSED,
+    "LG": _CLOSED,
+    "LD": _CLOSED,
+    "IS^l_n": _NEWBORN,
+    "PD^l_n": _NEWBORN,
+    "IS^r_n": _NEWBORN,
+    "PD^r_n": _NEWBORN,
+    "PD^b": _DAUGHTER,
+    "CG": _CG,
+    "CT": _CG,
+    "CZ1": _Z3,
+    "CZ2": _Z3,
+    "CR1": _Z3,
+}
+
+#: The orbit labels :func:`orbit` accepts, by kind (IS/PD labels take any ``n >= 1``).
+LABELS = {
+    k: tuple(lab for lab, s in REGISTRY.items() if s.kind == k)
+    for k in ("closed form", "newborn", "breather daughter", "choreography")
+}
+
+
+def resolve(label: str, what: str = "label") -> tuple[str, str]:
+    """``(row, label)``: the row of :data:`REGISTRY` that serves ``label`` and the label
+    as that row's module spells it (a newborn label as given: the module reads it with
+    :func:`~rotorlib.paper.bifurcations.parse_label`).
+
+    Examples
+    --------
+    >>> resolve("ISl2"), resolve("cg"), resolve("PDb"), resolve("p")
+    (('IS^l_n', 'ISl2'), ('CG', 'CG'), ('PD^b', 'PD^b'), ('pendulum', 'pendulum'))
+    >>> resolve("bogus")  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    ValueError: unknown label 'bogus': use one of closed form: pendulum, R, LG, LD; ...
+    """
+    lab = str(label).strip()
+    if lab.lower() in ("pendulum", "p"):
+        return "pendulum", "pendulum"
+    if lab.upper() in REGISTRY:
+        return lab.upper(), lab.upper()
+    if breathers.is_breather_label(lab):
+        return "PD^b", "PD^b"
+    try:
+        kind, phase, _ = bifurcations.parse_label(lab)
+    except ValueError:
+        raise ValueError(
+            f"unknown {what} {label!r}: use one of "
+            + "; ".join(f"{k}: {', '.join(v)}" for k, v in LABELS.items())
+        ) from None
+    return f"{kind}^{phase[0]}_n", lab
+
+
+def name_choreography(E: float, chor: Choreography, period: float) -> str:
+    """The label of the choreography family with a member of this ``period`` (to 1e-7)
+    at ``E`` among the families whose orbits rotate as ``chor`` does (the rows of
+    :data:`REGISTRY` with ``periods``, in order: ``CG``, ``CT`` first), else
+    ``choreography``: how :func:`census` names a census's choreographies (each Z3 family
+    is followed once per process, ~20 s).
+
+    Examples
+    --------
+    >>> from rotorlib.beyond.choreo import choreography_of
+    >>> o = orbit("CG", 5.3)
+    >>> name_choreography(5.3, choreography_of(o.state0, o.period), o.period)
+    'CG'
+    """
+    T = float(period)
+    for lab, s in REGISTRY.items():
+        if s.periods is None or s.rotating is None or s.rotating(lab) != chor.rotating:
+            continue
+        if any(abs(Tk - T) < 1e-7 * T for Tk in s.periods(lab, E)):
+            return lab
+    return "choreography"
 
 
 def orbit(
@@ -167,31 +311,15 @@ def orbit(
     >>> rotorlib.orbit("ISl2", 4.0).stability
     'unstable'
     """
-    d = _digits(digits)
-    kind, lab = _kind(label)
-    if kind == "choreography":
-        from .beyond.choreo_family import choreography_orbit
-
-        return choreography_orbit(lab, E, digits=d, branch=branch)
-    if branch:
+    row, lab = resolve(label, "orbit label")
+    served = REGISTRY[row]
+    if branch and not served.branches:
         raise ValueError(
-            f"branch={branch!r}: only the choreographies CZ1, CZ2, CR1 have more than "
-            "one member at an energy"
+            f"branch={branch!r}: only "
+            f"{', '.join(k for k, s in REGISTRY.items() if s.branches)} have more than "
+            f"one member at an energy ({lab} has one)"
         )
-    if kind == "closed form":
-        return _closed_form(lab, E, d)
-    if kind == "breather daughter":
-        from .paper.breathers import breather_daughter
-
-        return breather_daughter(E, digits=d)
-    if kind == "newborn":
-        from .paper.newborn import newborn_orbit
-
-        return newborn_orbit(lab, E, digits=d)
-    raise ValueError(
-        f"unknown orbit label {label!r}: use one of "
-        + "; ".join(f"{k}: {', '.join(v)}" for k, v in LABELS.items())
-    )
+    return served.orbit(lab, E, _digits(digits), branch)
 
 
 def family(
@@ -211,23 +339,16 @@ def family(
     (True, ['IS'])
     """
     lo, hi = energy_range(E_range)
-    kind, lab = _kind(label)
-    d = _digits(digits)
-    if kind == "choreography":
-        from .beyond import choreo_family
-
-        if lab in ("CG", "CT"):
-            return choreo_family.family(lab, (lo, hi), digits=d)
-        from .beyond.choreo_z3 import z3_family
-
-        return z3_family(lab, (lo, hi), digits=d)
-    if kind == "newborn":
-        from .paper.newborn import family as _family
-
-        return _family(lab, (lo, hi), digits=digits)
-    raise ValueError(
-        f"unknown family label {label!r}: families are the newborn IS^l_n, PD^l_n, "
-        "IS^r_n, PD^r_n and the choreographies CG, CT, CZ1, CZ2, CR1"
+    row, lab = resolve(label, "family label")
+    served = REGISTRY[row]
+    if served.family is None:
+        raise ValueError(
+            f"{label!r} has no family here: families are the newborn IS^l_n, PD^l_n, "
+            "IS^r_n, PD^r_n and the choreographies CG, CT, CZ1, CZ2, CR1"
+        )
+    # a newborn family reads a Tier itself (the tier of its continuation)
+    return served.family(
+        lab, (lo, hi), digits if row in LABELS["newborn"] else _digits(digits)
     )
 
 
@@ -242,9 +363,15 @@ def transition(label: str, *, digits: int | Tier | None = None) -> Transition:
     >>> tr.kind, tr.label
     ('IS', 'IS^l_2')
     """
-    from .paper.bifurcations import transition as _transition
-
-    return _transition(label, digits=digits)
+    row, lab = resolve(label, "transition label")
+    served = REGISTRY[row]
+    if served.transition is None:
+        raise ValueError(
+            f"{label!r} has no transition: the transitions are the pendulum's IS^l_n, "
+            "PD^l_n, IS^r_n, PD^r_n (n >= 1; ASCII 'ISl3', 'PDr2' too) and the "
+            "breather's PD^b ('PDb')"
+        )
+    return served.transition(lab, digits)
 
 
 def census(
@@ -267,8 +394,11 @@ def census(
     >>> [o.label for o in a.orbits][:2]
     ['pendulum', 'CG']
     """
-    from .beyond.atlas import census as _census
-    from .core.parallel import executor_for
-
     with executor_for(workers, scheduler) as ex:  # None: serial
-        return _census(E, t_max, digits=_digits(digits), executor=ex)
+        return atlas.census(
+            E,
+            t_max,
+            digits=_digits(digits),
+            executor=ex,
+            name_choreography=name_choreography,
+        )

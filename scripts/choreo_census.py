@@ -9,13 +9,13 @@ through folds, ``tr M`` of every member, folds and crossings of 4 and 0 located;
 stops where its period exceeds 40) and the reduced trace ``tr DP`` of every member
 is computed (``rotorlib.beyond.choreo.reduced_trace``: order 6 for the D6 rotating waves, 3 for
 the others); the families are labelled CZk (non-rotating, Z3 only), CRk (rotating), CXk
-(other D6 rotating waves). CG and CT are recognised (``rotorlib.beyond.choreo.atlas_name``) and not
+(other D6 rotating waves). CG and CT are recognised (``rotorlib.api.name_choreography``) and not
 followed here: ``rotorlib.beyond.choreo_family`` follows them. Chapter 10 (choreographies) reads
 the file and checks it: CG and CT against its own family, and the census orbit of every
 other family re-integrated (it closes and is a choreography).
 
 Each family labelled CZ1, CZ2 or CR1 also gets its special points located to 30 digits
-(``rotorlib.beyond.choreo_z3.z3_points(label, 30)``: float64 and real128, with their agreement).
+(``rotorlib.beyond.choreo_z3.z3_points(label, 30)``: real128, with its agreement with float64).
 Then the touches of CG (``tr M`` = 4 at theta = pi/3, 0 at theta = pi/6, no change of
 stability): a census just below and just above each (T up to 1 or 2 periods of CG), the
 near-resonant orbits found (``|tr M - 4| < 1e-3``, period within 30 % of T or 2T)
@@ -41,8 +41,9 @@ from pathlib import Path
 
 import numpy as np
 
+from rotorlib.api import name_choreography
 from rotorlib.beyond import atlas
-from rotorlib.beyond.choreo import atlas_name, choreography_of, reduced_trace
+from rotorlib.beyond.choreo import choreography_of, reduced_trace
 from rotorlib.beyond.choreo_family import special_points
 from rotorlib.beyond.choreo_z3 import Z3_FAMILIES, z3_points
 from rotorlib.core.flow import flow
@@ -147,19 +148,19 @@ def _z3_points(label):
     (the birth at CG: of CG's point located again in real128, with CG's float64 ``u``),
     ``E_str`` of the real128 one, their ``agreement`` and the ``check``."""
     out = []
-    for p in z3_points(label, 30):
-        v = p.refined if p.description.startswith("born") else p.member
+    for p, q in zip(z3_points(label), z3_points(label, 30)):  # float64, real128
+        v = q.member if p.description.startswith("born") else p.member
         out.append(
             {
                 "kind": p.description,
                 "branch": p.branch,
                 "E": float(v.E),
-                "E_str": p.E_str,
+                "E_str": q.E_str,
                 "period": float(v.period),
                 "trace_reduced": float(v.trace_reduced),
                 "trace": float(v.trace),
-                "agreement": p.agreement,
-                "check": p.check,
+                "agreement": abs(q.E - p.E),
+                "check": q.located,
                 "u": float(p.member.u),
             }
         )
@@ -285,7 +286,7 @@ def main():
                 c = choreography_of(o.state0, o.period)
                 if c is None:
                     continue
-                label, _ = atlas_name("new", E, o.state0, o.period)
+                label = name_choreography(E, c, o.period)
                 found.append(
                     {
                         "E": E,

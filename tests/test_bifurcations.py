@@ -449,14 +449,24 @@ def test_trace_asymptotics_against_the_80_roots_and_a_deep_fit():
 
 
 def test_one_transition_class_for_pendulum_and_breather():
-    """Pendulum and breather transitions are one class that follows the result protocol,
-    and transition() is the one front door for both (ASCII and paper labels)."""
+    """Pendulum and breather transitions are one class that follows the result protocol
+    (a SpecialPoint too), and rotorlib.transition() is the one front door for both (ASCII
+    and paper labels); bifurcations.transition knows the pendulum's labels only."""
+    from rotorlib.orbits.family import SpecialPoint
     from rotorlib.paper.breathers import pd_transition
 
-    b = bf.transition("PD^b")
-    assert type(b) is bf.Transition
-    assert b.to_dict() == bf.transition("PDb").to_dict() == pd_transition().to_dict()
-    p = bf.transition("ISl2")
+    b = rotorlib.transition("PD^b")
+    assert type(b) is bf.Transition and isinstance(b, SpecialPoint)
+    assert (
+        b.to_dict() == rotorlib.transition("PDb").to_dict() == pd_transition().to_dict()
+    )
+    assert b.member is None and b.families == ("PD^b",) and "tr M = 0" in b.located
+    with pytest.raises(ValueError, match="pendulum's transitions"):
+        bf.transition("PD^b")
+    p = rotorlib.transition("ISl2")
+    assert p.to_dict() == bf.transition("IS^l_2").to_dict() and p.families == (
+        "IS^l_2",
+    )
     for t, fam, level in ((p, "pendulum", 4.0), (b, "R", 0.0)):
         assert t.family == fam and t.trace == level and t.stability == "marginal"
         assert not t.stable and t.digits == 15 and t.precision == "float64"
@@ -474,7 +484,7 @@ def test_one_transition_class_for_pendulum_and_breather():
 
 
 def test_breather_transition_extended_and_bad_labels():
-    b30 = bf.transition("PD^b", digits=30)
+    b30 = rotorlib.transition("PD^b", digits=30)
     assert b30.digits == 25 and b30.precision == "real128"
     assert len(b30.E_str.replace(".", "")) == 25
     with mp.workdps(40):  # tr M at E_str, evaluated independently of the locator
@@ -483,7 +493,7 @@ def test_breather_transition_extended_and_bad_labels():
         assert mp.mpf(b30.state0_str[3]) ** 2 - mp.mpf(b30.E_str) < mp.mpf("1e-23")
     for bad in ("PD^c", "IS^b_1", "XYl1", 3):
         with pytest.raises(ValueError, match="PD\\^b"):
-            bf.transition(bad)
+            rotorlib.transition(bad)
 
 
 def test_locators_agree_with_brent():
@@ -510,7 +520,9 @@ def test_cli_json_is_to_dict_for_both_families(capsys):
         main(["bifurcations", "--family", "breather", "--digits", "30", "--json"]) == 0
     )
     (rec,) = json.loads(capsys.readouterr().out)
-    assert rec == json.loads(json.dumps(bf.transition("PD^b", digits=30).to_dict()))
+    assert rec == json.loads(
+        json.dumps(rotorlib.transition("PD^b", digits=30).to_dict())
+    )
     assert rec["precision"] == "real128" and len(rec["E_str"]) > 20
     assert main(["bifurcations", "--n-max", "1", "--kind", "PD", "--json"]) == 0
     recs = json.loads(capsys.readouterr().out)

@@ -262,7 +262,9 @@ def test_fold_at_band_edge_and_refusal(capsys):
     # the fold re-solved in the 30-digit tier (family --digits 30)
     p30 = special_points("CG", (5.3, 5.4), digits=30)[-1]
     assert len(p30.E_str) >= 20 and abs(float(p30.E_str) - E_f) < 1e-13
-    assert p30.refined.precision == "real128" and p30.agreement < 1e-13
+    p64 = special_points("CG", (5.3, 5.4))[-1]  # the float64 location
+    assert p30.member.precision == "real128" and abs(p30.E - p64.E) < 1e-13
+    assert "agree to" in p30.located and p64.located.startswith("located once")
 
 
 def test_family_stability_kinds():
@@ -314,9 +316,10 @@ def test_relabelling_and_refusals():
 
 
 def test_atlas_names_choreographies():
+    from rotorlib.api import name_choreography
     from rotorlib.beyond.atlas import census
 
-    a = census(5.3, 8.0, known=[])  # the known daughter families are not needed here
+    a = census(5.3, 8.0, known=[], name_choreography=name_choreography)
     named = {o.label: o for o in a.orbits if o.extra["choreography"]}
     assert set(named) == {"CG", "CT"}
     assert named["CG"].stable and not named["CT"].stable
@@ -348,17 +351,19 @@ def test_z3_family_cr1_against_the_census():
     assert isinstance(r, Branch) and r.label == "CR1" and r.stop == "period / period"
     got = {p.kind: p for p in r.special_points}
     assert set(got) == {"PD", "fold"}
+    from rotorlib.beyond.choreo_z3 import z3_points
+
+    got64 = {p.kind: p for p in z3_points("CR1") if 5.65 <= p.E <= 5.75}
     for k in ("PD", "fold"):
         assert abs(got[k].member.E - stored[k]) < 1e-8
-        assert len(got[k].E_str) >= 20 and got[k].agreement < 1e-12
+        assert got[k].member.precision == "real128" and "agree to" in got[k].located
+        assert len(got[k].E_str) >= 20 and abs(got[k].E - got64[k].E) < 1e-12
         assert abs(float(got[k].E_str) - got[k].member.E) < 1e-12
     assert abs(got["PD"].member.trace_reduced) < 1e-12
     assert abs(got["fold"].member.trace_reduced - 4) < 1e-12
-    assert "extremum of E(u)" in got["fold"].check
-    assert r.fold is got["fold"].member and r.E_max == got["fold"].member.E
+    assert "extremum of E(u)" in got["fold"].located
+    assert r.fold is got["fold"].member and r.E_max == got["fold"].E
     # the 20 digits printed at digits=30 (real128) are those of the 40-digit tier (mp)
-    from rotorlib.beyond.choreo_z3 import z3_points
-
     with mp.workdps(40):
         for p40 in z3_points("CR1", 40):
             d = mp.mpf(p40.E_str) - mp.mpf(got[p40.kind].E_str)
@@ -432,10 +437,10 @@ def test_every_choreography_family_is_a_branch(label, E_range):
 
 
 def test_choreography_orbit_z3_against_the_census():
-    """``choreography_orbit`` for CR1 (and CG) against the census's orbits: period and
+    """``rotorlib.orbit`` for CR1 (and CG) against the census's orbits: period and
     tr M, the choreography's symmetry, and the 30-digit member's closure under an
     independent real128 integration of the rotor equations."""
-    from rotorlib.beyond.choreo_family import choreography_orbit
+    from rotorlib import orbit as choreography_orbit
 
     data = _census_data()
     cr1 = sorted(
@@ -459,7 +464,7 @@ def test_choreography_orbit_z3_against_the_census():
 
 def test_choreography_orbit_refusals(capsys):
     """Beyond a family's range, an unknown label or a missing branch: one line, exit 2."""
-    from rotorlib.beyond.choreo_family import choreography_orbit
+    from rotorlib import orbit as choreography_orbit
     from rotorlib.beyond.choreo_z3 import z3_range
 
     lo, hi, _, why_hi = z3_range("CR1")
@@ -477,9 +482,12 @@ def test_choreography_orbit_refusals(capsys):
 
 
 def test_atlas_names_z3_choreographies():
-    """The atlas's name for the census's Z3 choreographies: their families' labels."""
-    from rotorlib.beyond.choreo import atlas_name
+    """The front door's name for the census's Z3 choreographies (the registry's
+    choreography rows): their families' labels."""
+    from rotorlib.api import name_choreography
+    from rotorlib.beyond.choreo import choreography_of
 
     for c in _census_data()["choreographies"]:
-        label, rec = atlas_name("new", c["E"], c["state0"], c["period"])
-        assert label == c["label"] and rec == c["choreography"]
+        chor = choreography_of(c["state0"], c["period"])
+        assert chor is not None and chor.to_dict() == c["choreography"]
+        assert name_choreography(c["E"], chor, c["period"]) == c["label"]

@@ -105,3 +105,43 @@ def test_one_container_for_every_family(capsys):
     (fold,) = rotorlib.family("CT", (5.3, 5.4)).points("fold")
     assert fold.index == -1 and fold.description == "fold (saddle-node)"
     assert abs(float(fold.member.E) - 5.3153239128) < 1e-10
+
+
+def test_one_special_point_type_for_every_family():
+    """``rotorlib.family("CG", ...)`` and ``rotorlib.family("IS^l_1", ...)`` return
+    special points of one type with the same fields, a transition is one too, and each
+    serialises to JSON with the same keys."""
+    import dataclasses
+    import math
+
+    import rotorlib
+    from rotorlib.orbits.family import SpecialPoint
+
+    fields = {"kind", "E", "E_str", "member", "located", "description", "rotation"}
+    pts = [
+        *rotorlib.family("CG", (5, 5.4)).special_points,
+        *rotorlib.family("IS^l_1", (3.99, 4.1)).special_points,
+    ]
+    assert {p.kind for p in pts} >= {"fold", "IS", "PD"}
+    assert {type(p) for p in pts} == {SpecialPoint}
+    names = {f.name for f in dataclasses.fields(SpecialPoint)}
+    assert fields | {"families"} <= names
+    for p in pts:
+        assert (
+            isinstance(p.E, float) and math.isfinite(p.E) and p.E == float(p.member.E)
+        )
+        assert abs(float(p.E_str) - p.E) < 1e-12 and isinstance(p.located, str)
+        assert p.rotation is None and p.families == ()
+        rec = json.loads(json.dumps(p.to_dict(), allow_nan=False))
+        assert set(rec) == {*fields, "families", "branch", "index"} - {"E_str"}
+        assert rec["E"] == p.E and rec["member"]["E"] == p.E
+    t = rotorlib.transition("IS^l_1")
+    assert (
+        isinstance(t, SpecialPoint) and t.member is None and t.families == ("IS^l_1",)
+    )
+    assert {f.name for f in dataclasses.fields(t)} >= names
+    # a point carries a rotation number and the families born there when given them
+    q = SpecialPoint("resonance", pts[0].member, rotation="2/7", families=("X",))
+    assert q.to_dict()["rotation"] == "2/7" and q.to_dict()["families"] == ["X"]
+    assert q.E == pts[0].E  # E and E_str are the member's
+    assert SpecialPoint("fold", None, located=None).to_dict()["member"] is None

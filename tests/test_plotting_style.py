@@ -49,7 +49,11 @@ cf = NS(
     ftles=[x, x, x],
 )
 fam = NS(
-    E=x + 4, trace=x, dE=x - 0.5, label="IS^l_1", special_points=[NS(member=NS(E=4.5))]
+    E=x + 4,
+    trace=x,
+    dE=x - 0.5,
+    label="IS^l_1",
+    special_points=[NS(member=NS(E=4.5), E=4.5)],
 )
 tr = [NS(phase="lib", period=0.5, kind="IS", n=1, label="IS^l_1")]
 shape = dict(label="IS^l_1", a1=x, a2=x, E=4.0)

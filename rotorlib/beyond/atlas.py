@@ -3,16 +3,15 @@
 The grid search for reversible systems (Markellos and coworkers; Tsirogiannis, Perdios and
 Markellos, Celest. Mech. Dyn. Astr. 103, 49 (2009)): a symmetric periodic orbit meets the
 fixed sets of two reversing symmetries half a period apart (:mod:`rotorlib.orbits.reversors`).
-The start points of each class of fixed set (:func:`rotorlib.orbits.reversors.start_sets`), a
-grid of ``grid`` points, are integrated for ``T_max / 2`` and every crossing of every
-fixed set is recorded with the residual of its condition; a sign change between
-neighbours at the same crossing brackets an orbit, refined by the engine (Brent's method
-in the start parameter: :func:`symmetric_roots`) and verified: it must close, modulo the configuration lattice, after ``2 t1`` times the order of the
-symmetry relating the two fixed sets; its primitive period is found; a root closing only
-to ~1e-4 (beside a very unstable orbit) is dropped; orbits related by the symmetry group
-or time reversal are merged (same period and action ``2 (E T - int V dt)``, and an image
-of one start state on the other orbit within ``SAME_ORBIT``); it is named after its known
-family (pendulum, breathers, IS/PD daughters, PD^b, choreographies) or ``new``. :func:`census`
+A grid of ``grid`` start points on each class of fixed set (``start_sets``) is integrated
+for ``T_max / 2``, every crossing of every fixed set recorded with the residual of its
+condition; a sign change between neighbours brackets an orbit, refined by the engine
+(:func:`symmetric_roots`) and verified: it must close, modulo the lattice, after ``2 t1``
+times the order of the symmetry relating the two fixed sets; its primitive period is
+found; a root closing only to ~1e-4 (beside a very unstable orbit) is dropped; orbits
+related by symmetry or time reversal are merged (same period and action, an image of one
+start state on the other within ``SAME_ORBIT``); it is named after its known family
+(pendulum, breathers, IS/PD daughters, PD^b, choreographies) or ``new``. :func:`census`
 runs in two rounds of tasks of similar cost through :func:`rotorlib.core.parallel.pmap`.
 
 Precision: float64 scan and refinement (residual ~1e-13; ``tr M`` to ~1e-15 |tr M|); with
@@ -26,7 +25,7 @@ import contextlib
 import functools
 import itertools
 import math
-from collections.abc import Iterable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from concurrent.futures import Executor
 from dataclasses import dataclass
 from fractions import Fraction
@@ -37,12 +36,12 @@ from numpy.typing import ArrayLike
 from ..core.energy import as_float
 from ..core.flow import SectionNotReached, crossings, monodromy_matrix, sample
 from ..core.parallel import pmap
-from ..core.precision import FLOAT64, tier
+from ..core.precision import FLOAT64, json_number, tier
 from ..core.system import lattice_reduce
 from ..orbits.periodic_orbit import PeriodicOrbit
 from ..orbits.reversors import images, start_sets, targets
 from ..orbits.shooting import ShootingProblem, residual, solve
-from .choreo import atlas_name
+from .choreo import Choreography, choreography_label
 
 __all__ = [
     "Atlas",
@@ -61,9 +60,8 @@ __all__ = [
     "distance_to_orbit",
 ]
 
-#: Energies where the census is validated (``tests/test_atlas.py``). Below ``E = 0.1`` the
-#: normal modes at G (pendulum, breather LG) differ by less than the closure test resolves;
-#: above ``E = 100`` the rotors are nearly free, every resonant torus nearly degenerate.
+#: Energies where the census is validated (``tests/test_atlas.py``): below 0.1 the normal
+#: modes at G differ by less than the closure test resolves; above 100 the rotors are free.
 E_DOMAIN = (0.1, 100.0)
 
 #: Largest accepted cost of one census in CPU seconds (:func:`budget_seconds`, whose
@@ -85,6 +83,8 @@ class Atlas:
     [(3.0612, 'stable'), (4.9378, 'stable'), (5.8151, 'unstable'), (6.8829, 'unstable')]
     >>> len(a.stable), a.orbits[0].extra["fixed_sets"]
     (2, ('Fix T(12)', 'Fix T(12)'))
+    >>> [a.to_dict()[k] for k in ("E", "t_max", "grid")], len(a.to_dict()["orbits"])
+    ([4.3, 7.0, 40], 4)
     """
 
     E: float
@@ -96,6 +96,16 @@ class Atlas:
     def stable(self) -> tuple[PeriodicOrbit, ...]:
         """The linearly stable orbits (``0 < tr M < 4``)."""
         return tuple(o for o in self.orbits if o.stable)
+
+    def to_dict(self) -> dict:
+        """The census as JSON: ``E``, ``t_max``, ``grid``, ``orbits`` (each as the
+        ``orbit`` command prints it)."""
+        return {
+            **json_number("E", self.E),
+            **json_number("t_max", self.t_max),
+            "grid": self.grid,
+            "orbits": [o.to_dict() for o in self.orbits],
+        }
 
 
 def budget_seconds(E_values: Iterable[float], t_max: float, grid: int = 300) -> float:
@@ -119,10 +129,9 @@ def budget_seconds(E_values: Iterable[float], t_max: float, grid: int = 300) -> 
 
 
 def check_census(E_values: Sequence[float], t_max: float, grid: int = 300) -> None:
-    """Refuse a census request before any work is done: every energy in
-    :data:`E_DOMAIN`, ``t_max > 0`` finite, ``grid`` an integer ``>= 20``, and the
-    predicted cost (:func:`budget_seconds`) within :data:`BUDGET`. Raises ValueError
-    saying which.
+    """Refuse a census request before any work is done (ValueError, saying why): every
+    energy in :data:`E_DOMAIN`, ``t_max > 0`` finite, ``grid`` an integer ``>= 20``, and
+    the predicted cost (:func:`budget_seconds`) within :data:`BUDGET`.
 
     Examples
     --------
@@ -594,6 +603,7 @@ def census(
     name: bool = True,
     digits: int | None = None,
     known: list | None = None,
+    name_choreography: Callable[[float, Choreography, float], str] | None = None,
 ) -> Atlas:
     """Every symmetric periodic orbit with period ``<= t_max`` at energy ``E``.
 
@@ -626,6 +636,9 @@ def census(
     known : list, optional
         The known families at ``E``, ``(label, period, action)`` (default: the closed-form
         orbits and the daughter families, followed to ``E`` when ``name``).
+    name_choreography : callable, optional
+        Names a choreography of no known family (:func:`~rotorlib.api.name_choreography`,
+        which the front door passes; else ``choreography``).
 
     Returns
     -------
@@ -679,7 +692,9 @@ def census(
         tr, clo = fin_i[3], fin_i[5]
         if not clo <= max(1e6, 1e2 * abs(tr)) * 10.0**-D:
             continue  # a near-periodic trajectory beside a very unstable orbit, not an orbit
-        label, chor = atlas_name(_name(T, S, known), E, x0, T, name)
+        label, chor = choreography_label(
+            _name(T, S, known), E, x0, T, name_choreography if name else None, name
+        )
         family = label if label != "new" else f"N{i + 1}"
         orbits.append(atlas_orbit(label, family, E, t_half, f, fin_i, chor))
     return Atlas(E, t_max, grid, tuple(orbits))

@@ -241,7 +241,7 @@ def daughters(
     tuple of PeriodicOrbit
         Sorted by ``E``, then period; label ``new``, family ``"<parent family>/<kind>"``.
     """
-    marks = [(p.kind, float(p.member.E), p.position) for p in fam.special_points]
+    marks = [(p.kind, p.E, p.position) for p in fam.special_points]
     if not (0 <= point < len(marks)) or marks[point][0] not in ("IS", "PD"):
         raise ValueError(
             f"point must index an IS or PD point of the family, got {point!r}"
@@ -355,7 +355,7 @@ def cascade(
     """
     if not (isinstance(generations, int) and 1 <= generations <= 6):
         raise ValueError(f"generations must be an integer in 1..6, got {generations!r}")
-    Eb = float(fam.special_points[point].member.E)
+    Eb = fam.special_points[point].E
     near = [w for w in fam.stable_windows if w[0] - 1e-12 <= Eb <= w[1] + 1e-12]
     scale = max(w[1] - w[0] for w in near) if near else 1e-3
     fams, births, periods = [fam], [Eb], []
@@ -376,7 +376,7 @@ def cascade(
         side = 1.0 if d.E > Eb else -1.0
         lo, hi = sorted((Eb, Eb + side * 1.5 * scale))
         (h,) = families([d], (lo, hi), step=scale / 100, du=0.01, executor=None)
-        marks = [(p.kind, float(p.member.E)) for p in h.special_points]
+        marks = [(p.kind, p.E) for p in h.special_points]
         pds = [
             (abs(E - Eb), i, E)
             for i, (k, E) in enumerate(marks)

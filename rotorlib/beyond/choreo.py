@@ -41,7 +41,7 @@ Precision: float64 shooting to ``|r| < 1e-13`` (period to ~1e-14 relative, ``tr 
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 from functools import cache
 from typing import Any
@@ -51,7 +51,8 @@ import numpy as np
 from ..core.flow import Section, flow
 from ..core.precision import FLOAT64, Tier, tier
 from ..orbits.family import Branch, Member, SpecialPoint
-from ..orbits.periodic_orbit import PeriodicOrbit, periodic_orbit, stability_of
+from ..orbits.floquet import stability_of
+from ..orbits.periodic_orbit import PeriodicOrbit, periodic_orbit
 from ..orbits.shooting import ShootingProblem, StartSet, residual, solve
 
 __all__ = [
@@ -59,6 +60,7 @@ __all__ = [
     "relabelling",
     "sixth_map",
     "choreography_of",
+    "choreography_label",
     "Choreography",
     "cg_problem",
     "lindstedt_period",
@@ -67,7 +69,6 @@ __all__ = [
     "amplitude_at_energy",
     "choreo_branch",
     "rotor_angles",
-    "atlas_name",
     "T0",
 ]
 
@@ -366,54 +367,33 @@ def rotor_angles(
     )
 
 
-def atlas_name(
+def choreography_label(
     label: str,
     E: float,
-    state0: Sequence[float] | np.ndarray,
+    state0: Sequence[float],
     period: float,
-    name: bool = True,
-) -> tuple:
-    """The atlas's name for an orbit it found: ``(label, choreography record or None)``.
-
-    A choreography (:func:`choreography_of`) not already named gets the label of the
-    family it lies on at ``E`` (its period that of a member to 1e-7): ``CG`` or ``CT``
-    (:mod:`rotorlib.beyond.choreo_family`), ``CZ1``, ``CZ2`` or ``CR1``
-    (:mod:`rotorlib.beyond.choreo_z3`; only the families with the orbit's rotation are tried,
-    each followed once per process, ~20 s), else ``choreography``. Its record
-    (:meth:`Choreography.to_dict`) is the atlas's ``choreography`` field. With
-    ``name=False`` (an unnamed census) nothing is tested: ``(label, None)``.
+    name_choreography: Callable[[float, Choreography, float], str] | None,
+    test: bool = True,
+) -> tuple[str, dict | None]:
+    """``(label, record)`` of a census orbit: whether it is a choreography
+    (:func:`choreography_of`; ``record`` its :meth:`Choreography.to_dict`, else
+    ``None``), and its label: ``label`` if it is not ``new``, else what
+    ``name_choreography(E, choreography, period)`` calls it (the front door's
+    :func:`rotorlib.api.name_choreography`: ``CG``, ``CT``, ``CZ1``, ...), else
+    ``choreography``. With ``test=False`` nothing is tested: ``(label, None)``.
 
     Examples
     --------
-    >>> from rotorlib.beyond.choreo import atlas_name
     >>> from rotorlib.beyond.choreo_family import cg_orbit
     >>> o = cg_orbit(5.3)
-    >>> atlas_name("new", 5.3, o.state0, o.period)[0]
-    'CG'
+    >>> choreography_label("new", 5.3, o.state0, o.period, None)[0]
+    'choreography'
     """
-    c = choreography_of(state0, period) if name else None
-    if c is None:
-        return label, None
-    if label != "new":
-        return label, c.to_dict()
-    from .choreo_family import branch_range, cg_orbit
-    from .choreo_z3 import Z3_FAMILIES, seed_choreography, z3_orbits
-
-    T = float(period)
-    for lab in ("CG", "CT") if not c.rotating else ():
-        lo, hi = branch_range(lab)
-        if lo < float(E) <= hi:
-            try:
-                if abs(cg_orbit(E, label=lab).period - T) < 1e-7 * T:
-                    return lab, c.to_dict()
-            except ValueError:
-                continue
-    for lab in Z3_FAMILIES:
-        if seed_choreography(lab).rotating != c.rotating:
-            continue
-        if any(abs(o.period - T) < 1e-7 * T for o in z3_orbits(lab, E)):
-            return lab, c.to_dict()
-    return "choreography", c.to_dict()
+    c = choreography_of(state0, period) if test else None
+    if c is None or label != "new":
+        return label, None if c is None else c.to_dict()
+    named = name_choreography(E, c, period) if name_choreography else "choreography"
+    return named, c.to_dict()
 
 
 def amplitude_at_energy(
@@ -462,13 +442,13 @@ def choreo_branch(
     pts = [
         replace(p, index=sum(k <= p.index for k in keep) - 1)
         for p in points
-        if lo <= float(p.member.E) <= hi
+        if lo <= p.E <= hi
     ]
     return Branch(
         problem,
         FLOAT64,
         tuple(members[i] for i in keep),
-        tuple(sorted(pts, key=lambda p: p.member.E)),
+        tuple(sorted(pts, key=lambda p: p.E)),
         stop,
         reason,
         (lo, hi),

@@ -13,7 +13,8 @@ potential (three rotors ``2 pi/3`` apart). Beyond ``E_f`` the family does not ex
 :func:`cg_orbit` (one member, any precision), :func:`special_points` (folds, stability
 changes of the reduced map, and the energies where ``tr M`` touches 4 or 0 without a
 change of stability), :func:`family` (``CG`` or ``CT`` over an energy range as a
-:class:`~rotorlib.orbits.family.Branch` of :class:`ChoreoMember` with :class:`ChoreoPoint`).
+:class:`~rotorlib.orbits.family.Branch` of :class:`ChoreoMember` with its
+special points).
 
 Precision: members ``|r| < 1e-8`` (typically 1e-15); special points located by the
 Illinois method on the amplitude ``u`` (each value solved for ``E``) to ``|du| < 1e-13``,
@@ -27,11 +28,11 @@ import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 from functools import cache
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 
-from ..core.precision import FLOAT64, Tier, json_number, tier
+from ..core.precision import FLOAT64, Tier, tier
 from ..core.rounding import difference
 from ..orbits.continuation import (
     PALC,
@@ -43,7 +44,8 @@ from ..orbits.continuation import (
     member,
 )
 from ..orbits.family import Branch, Member, SpecialPoint, energy_range
-from ..orbits.periodic_orbit import PeriodicOrbit, stability_of
+from ..orbits.floquet import stability_of
+from ..orbits.periodic_orbit import PeriodicOrbit
 from ..orbits.shooting import ShootingProblem, solve
 from .choreo import (
     amplitude_at_energy,
@@ -60,9 +62,8 @@ __all__ = [
     "fold_energy",
     "branch_range",
     "cg_orbit",
-    "choreography_orbit",
+    "periods_at",
     "ChoreoMember",
-    "ChoreoPoint",
     "locate_member",
     "special_points",
     "family",
@@ -180,6 +181,23 @@ def branch_range(label: str) -> tuple:
     """
     lab = _label(label)
     return (0.0 if lab == "CG" else 4.5, fold_energy())
+
+
+def periods_at(label: str, E: float) -> list[float]:
+    """The period of the member of ``CG`` or ``CT`` at ``E`` (a list: empty where the
+    branch has none, or its member is not found).
+
+    Examples
+    --------
+    >>> from rotorlib.beyond.choreo_family import periods_at
+    >>> [round(T, 9) for T in periods_at("CG", 3.0)], periods_at("CT", 4.4)
+    ([4.29745632], [])
+    """
+    lo, hi = branch_range(label)
+    try:
+        return [float(cg_orbit(E, label=label).period)] if lo < E <= hi else []
+    except ValueError:
+        return []
 
 
 def _check_E(label, E):
@@ -329,7 +347,7 @@ class ChoreoMember(Member):
 
     @property
     def stability(self) -> str:
-        """:func:`~rotorlib.orbits.periodic_orbit.stability_of` applied to ``tr DP``."""
+        """:func:`~rotorlib.orbits.floquet.stability_of` applied to ``tr DP``."""
         return stability_of(float(self.trace_reduced), self.digits)
 
     @classmethod
@@ -347,54 +365,8 @@ class ChoreoMember(Member):
         return {**super().to_dict(), "trace_reduced": float(self.trace_reduced)}
 
 
-@dataclass(frozen=True)
-class ChoreoPoint(SpecialPoint):
-    """A special point of a choreography family (a :class:`~rotorlib.orbits.family.SpecialPoint`
-    whose ``member`` is the :class:`ChoreoMember` located in float64): ``kind`` ``fold``,
-    ``IS`` (``tr DP`` or ``tr M`` = 4) or ``PD`` (``tr DP`` or ``tr M`` = 0);
-    ``description`` says which (``stable -> unstable (tr DP = 4)``, ``tr M = 0 (no
-    change: theta = pi/6)``, ...); ``branch`` the branch(es) it lies on; ``refined`` the
-    same point located again in the tier of ``digits`` (``None`` without); ``agreement``
-    the difference of the two energies (nan if located once) and ``check`` which, in
-    words; ``E_str`` the energy with the digits verified.
-
-    Examples
-    --------
-    >>> from rotorlib.beyond.choreo_family import special_points
-    >>> p = special_points("CT")[0]
-    >>> p.kind, p.description, p.E_str
-    ('fold', 'fold (saddle-node)', '5.3153239127509')
-    """
-
-    member: ChoreoMember
-    description: str = ""
-    branch: str = ""
-    refined: ChoreoMember | None = None
-    agreement: float = math.nan
-    check: str = ""
-
-    @property
-    def E_str(self) -> str:
-        """The refined location's ``E_str``, else the float64 energy to 13 decimals."""
-        if self.refined is not None:
-            return self.refined.E_str
-        return f"{float(self.member.E):.13f}"
-
-    def to_dict(self) -> dict[str, Any]:
-        """:meth:`SpecialPoint.to_dict <rotorlib.orbits.family.SpecialPoint.to_dict>` and
-        ``description``, ``branch``, ``E_str`` (when refined), ``agreement``, ``check``."""
-        return {
-            **super().to_dict(),
-            **({"E_str": self.E_str} if self.refined is not None else {}),
-            "description": self.description,
-            "branch": self.branch,
-            **json_number(
-                "agreement",
-                self.agreement,
-                note="located once, in float64 (--digits > 15 locates it again)",
-            ),
-            "check": self.check,
-        }
+#: How a choreography's special point was located without ``digits`` (its ``located``).
+ONCE = "located once, in float64 (digits > 15 locates it again)"
 
 
 def _at_u(
@@ -484,11 +456,15 @@ _LEVELS = (
 
 
 @cache
-def _special_float() -> tuple[ChoreoPoint, ...]:
+def _special_float() -> tuple[SpecialPoint, ...]:
     """Every special point of :func:`follow`, ``index`` that of its members."""
     k_fold = _fold_index()
     ms = _members()
-    out = [ChoreoPoint("fold", _fold(), k_fold, True, "fold (saddle-node)", "CG/CT")]
+    out = [
+        SpecialPoint(
+            "fold", _fold(), k_fold, ONCE, "fold (saddle-node)", branch="CG/CT"
+        )
+    ]
     for i, (a, b) in enumerate(zip(ms, ms[1:])):
         if i == k_fold:
             continue
@@ -507,7 +483,7 @@ def _special_float() -> tuple[ChoreoPoint, ...]:
                 into = (lev == 4.0) == up  # leaves [0, 4] as E grows
                 text = ("stable -> unstable" if into else "unstable -> stable") + text
             branch = "CG" if i < k_fold else "CT"
-            out.append(ChoreoPoint(kind, m, i, True, text, branch))
+            out.append(SpecialPoint(kind, m, i, ONCE, text, branch=branch))
     return tuple(out)
 
 
@@ -515,15 +491,15 @@ def special_points(
     label: str = "CG",
     E_range: tuple[float, float] | None = None,
     digits: int | None = None,
-) -> tuple[ChoreoPoint, ...]:
+) -> tuple[SpecialPoint, ...]:
     """The special points of a branch (``CG`` or ``CT``) within ``E_range``, ordered by
     energy: the fold, the stability changes (``tr DP`` through 4 or 0, ``DP`` the reduced
     map of :func:`rotorlib.beyond.choreo.reduced_trace`) and the energies where ``tr M`` touches
     4 or 0 without one (``6 theta = 0 mod pi`` for the reduced multipliers
     ``e^{+-i theta}``). With ``digits`` (> 15) each is located again in that tier as the
-    root of ``tr DP`` = its level (``refined``; ``agreement``: the difference from the
-    float64 location; the fold's ``check`` adds the engine's own location as the maximum
-    of ``E`` along :func:`follow`). ``index`` counts the members of :func:`follow`.
+    root of ``tr DP`` = its level (``member``; ``located`` gives the difference from the
+    float64 location, and for the fold the engine's own location as the maximum of ``E``
+    along :func:`follow`). ``index`` counts the members of :func:`follow`.
 
     Examples
     --------
@@ -535,18 +511,19 @@ def special_points(
     pts = [p for p in _special_float() if lab in p.branch.split("/")]
     if E_range is not None:
         lo, hi = (float(v) for v in E_range)
-        pts = [p for p in pts if lo <= p.member.E <= hi]
+        pts = [p for p in pts if lo <= p.E <= hi]
     if digits is not None and digits > 15:
         pts = [_refine(p, int(digits)) for p in pts]
-    return tuple(sorted(pts, key=lambda p: p.member.E))
+    return tuple(sorted(pts, key=lambda p: p.E))
 
 
 @cache
-def _refine(p: ChoreoPoint, digits: int) -> ChoreoPoint:
+def _refine(p: SpecialPoint, digits: int) -> SpecialPoint:
     """``p`` located again in the tier of ``digits``: ``E`` to ``D - 10`` digits."""
     t = tier(digits)
     d = max(10, digits - 10)  # u to eps^(3/4); E to the same or, at the fold, ~eps
-    E0, trp0 = float(p.member.E), float(p.member.trace_reduced)
+    m0 = cast(ChoreoMember, p.member)
+    E0, trp0 = float(m0.E), float(m0.trace_reduced)
     if p.kind == "fold":
         m = _fold(digits)
         agree = abs(float(m.E) - E0)
@@ -559,7 +536,7 @@ def _refine(p: ChoreoPoint, digits: int) -> ChoreoPoint:
         )
     else:
         lev = next(v for v, _, _ in _LEVELS if abs(trp0 - v) < 1e-6)
-        u0 = float(p.member.u)
+        u0 = float(m0.u)
         with t.context():
             r3 = t.m.sqrt(3)
             levt = {2 + math.sqrt(3): 2 + r3, 2 - math.sqrt(3): 2 - r3}.get(
@@ -577,7 +554,7 @@ def _refine(p: ChoreoPoint, digits: int) -> ChoreoPoint:
             )
         agree = abs(float(m.E) - E0)
         check = f"root of tr DP = {lev:.6g} in float64 and {t.name} agree to {difference(agree)}"
-    return replace(p, refined=replace(m, digits=d), agreement=agree, check=check)
+    return replace(p, member=replace(m, digits=d), located=check)
 
 
 def family(label: str, E_range: Sequence[float], digits: int | None = None) -> Branch:
@@ -618,44 +595,3 @@ def family(label: str, E_range: Sequence[float], digits: int | None = None) -> B
         "G / fold" if lab == "CG" else "period / fold",
         f"{LABELS[lab]}; exists for {e0:g} < E <= {e1:.12f}",
     )
-
-
-def choreography_orbit(
-    label: str, E: float | str, *, digits: int | None = None, branch: int = 0
-) -> PeriodicOrbit:
-    """The member with energy ``E`` of any choreography family: ``CG``, ``CT``
-    (:func:`cg_orbit`), ``CZ1``, ``CZ2``, ``CR1`` (:func:`rotorlib.beyond.choreo_z3.z3_orbit`).
-
-    ``branch`` numbers the members of a Z3 family at ``E`` by period (a family that
-    folds has two or more there; ``CG`` and ``CT`` are the two branches of the family
-    born at G and take ``branch=0`` only). ``extra`` holds ``trace_reduced`` (``tr DP``
-    of the reduced map: over ``T/6`` for CG and CT, ``T/3`` for the others), ``stable``
-    and ``choreography`` (:meth:`rotorlib.beyond.choreo.Choreography.to_dict`).
-
-    Raises ValueError for an unknown label, or an energy outside the family's range
-    (the message gives the range and why the family ends there).
-
-    Precision: float64, period to ~1e-14 relative (the Z3 families, more unstable, to
-    ~1e-12); ``digits=D`` re-solves the orbit in the tier of ``D`` digits.
-
-    Examples
-    --------
-    >>> from rotorlib.beyond.choreo_family import choreography_orbit
-    >>> round(choreography_orbit("CG", 3).period, 9)
-    4.29745632
-    >>> choreography_orbit("CT", 5.4)  # doctest: +ELLIPSIS
-    Traceback (most recent call last):
-    ...
-    ValueError: CT does not exist at E = 5.4: the family ends at the fold ...
-    """
-    lab = str(label).strip().upper()
-    if lab in LABELS:
-        if int(branch) != 0:
-            raise ValueError(f"{lab} has one member at each energy: branch must be 0")
-        return cg_orbit(E, digits=digits, label=lab)
-    from .choreo_z3 import Z3_FAMILIES, z3_orbit
-
-    if lab not in Z3_FAMILIES:
-        known = ", ".join([*LABELS, *Z3_FAMILIES])
-        raise ValueError(f"unknown choreography family {label!r} (known: {known})")
-    return z3_orbit(lab, E, digits=digits, branch=branch)

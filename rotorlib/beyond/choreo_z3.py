@@ -29,7 +29,7 @@ to ~1e-8). The two halves of CZ1 and CZ2 on either side of that point are images
 other under a symmetry (same ``E`` and period): each of their points is found twice.
 
 Precision: members ``|r| < 1e-8``; special points ``E`` to ~1e-13 in float64 (the
-measured agreement with the real128 location is in each point's ``agreement``), to
+measured agreement with the real128 location is in each point's ``located``), to
 ``~eps^(3/4)`` in an extended tier (the fold, an extremum, to ``~eps``).
 """
 
@@ -39,6 +39,7 @@ import math
 from collections.abc import Sequence
 from dataclasses import replace
 from functools import cache
+from typing import cast
 
 from ..core.precision import FLOAT64, Tier, tier
 from ..core.rounding import difference
@@ -56,8 +57,9 @@ from .choreo import (
     reduced_trace,
 )
 from .choreo_family import (
+    ONCE,
     ChoreoMember,
-    ChoreoPoint,
+    SpecialPoint,
     locate_member,
     special_points,
 )
@@ -253,17 +255,17 @@ def _born(lab: str, m: ChoreoMember) -> ChoreoMember:
 
 
 @cache
-def z3_points(label: str, digits: int | None = None) -> tuple[ChoreoPoint, ...]:
+def z3_points(label: str, digits: int | None = None) -> tuple[SpecialPoint, ...]:
     """The special points of a Z3 family, ordered by energy
-    (:class:`rotorlib.beyond.choreo_family.ChoreoPoint`, ``branch`` the label, ``index`` that of
-    the family's members): folds, ``IS`` and ``PD`` (the stability changes: ``tr DP``
+    (:class:`~rotorlib.orbits.family.SpecialPoint`, ``branch`` the label, ``index`` that
+    of the family's members): folds, ``IS`` and ``PD`` (the stability changes: ``tr DP``
     through 4 or 0) and the end where the family is born at CG (a ``fold``: ``E(u)`` has
     its extremum there, ``tr DP = 4``; ``description`` ``born at CG ...``; its member is
     CG's orbit run twice, with CG's amplitude ``u``). Each is located in float64 and,
-    with ``digits`` > 15, again in that tier (``refined``, ``E_str``; ``agreement`` = the
-    difference of the two); a fold's ``check`` also gives its distance to the extremum of
-    ``E(u)``. Points found on both symmetric halves of a family are listed once
-    (``check`` says so).
+    with ``digits`` > 15, again in that tier (then ``member`` is that location, and
+    ``located`` gives the agreement of the two); a fold's ``located`` also gives its
+    distance to the extremum of ``E(u)``. Points found on both symmetric halves of a
+    family are listed once (``located`` says so).
 
     Precision: float64 ``E`` to ~1e-13 (the agreement measures it), a tier's to
     ``~eps^(3/4)``; ``born at CG`` as CG's point
@@ -291,19 +293,19 @@ def z3_points(label: str, digits: int | None = None) -> tuple[ChoreoPoint, ...]:
                 replace(
                     q,
                     kind="fold",
-                    member=_born(lab, q.member),
+                    member=_born(lab, cast(ChoreoMember, q.member)),
                     index=i,
-                    refined=q.refined and _born(lab, q.refined),
                     description=kind,
                     branch=lab,
-                    check="period, tr DP, tr M: CG's orbit run twice; the family's own "
-                    f"extremum of E differs by {difference(abs(Ez - float(q.member.E)))}",
+                    located=f"{q.located}; period, tr DP, tr M: CG's orbit run twice; "
+                    "the family's own extremum of E differs by "
+                    f"{difference(abs(Ez - float(q.E)))}",
                 )
             )
             continue
         m = _root(lab, lev, float(ms[i].u), float(ms[i + 1].u), float(ms[i].E), FLOAT64)
         u, E = float(m.u), float(m.E)
-        refined, agree, check = None, math.nan, ""
+        refined, check = None, ONCE
         if t.extended:
             h = 1e-7 * max(1.0, abs(u))
             refined = _root(lab, lev, u - h, u + h, E, t)
@@ -316,16 +318,16 @@ def z3_points(label: str, digits: int | None = None) -> tuple[ChoreoPoint, ...]:
             check += (
                 "; " if check else ""
             ) + f"extremum of E(u) {difference(abs(Eb - E))} away"
-        out.append(ChoreoPoint(kind, m, i, True, kind, lab, refined, agree, check))
-    uniq: list[ChoreoPoint] = []
-    for q in sorted(out, key=lambda q: q.member.E):
+        out.append(SpecialPoint(kind, refined or m, i, check, kind, branch=lab))
+    uniq: list[SpecialPoint] = []
+    for q in sorted(out, key=lambda q: q.E):
         if (
             uniq
             and uniq[-1].description == q.description
-            and abs(uniq[-1].member.E - q.member.E) < 1e-9
+            and abs(uniq[-1].E - q.E) < 1e-9
         ):
             note = "found on both symmetric halves"
-            uniq[-1] = replace(uniq[-1], check=f"{uniq[-1].check}; {note}".lstrip("; "))
+            uniq[-1] = replace(uniq[-1], located=f"{uniq[-1].located}; {note}")
             continue
         uniq.append(q)
     return tuple(uniq)
@@ -353,7 +355,7 @@ def z3_range(label: str) -> tuple:
             born = q.description == _BORN
             ends.append(
                 (
-                    float(q.member.E),
+                    q.E,
                     "CG's point tr M = 0, where the family is born"
                     if born
                     else "a fold (saddle-node)",

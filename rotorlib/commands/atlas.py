@@ -50,6 +50,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    from ..api import name_choreography
     from ..beyond.atlas import census, check_census
     from ..core.parallel import executor_for
 
@@ -67,6 +68,7 @@ def run(args: argparse.Namespace) -> int:
                 executor=ex,
                 progress=sys.stderr.isatty() and not args.json,
                 digits=args.digits,
+                name_choreography=name_choreography,  # CG, CT, CZ1, ... (the registry)
             ).orbits
         ]
     if args.json:

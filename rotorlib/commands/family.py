@@ -23,12 +23,12 @@ from __future__ import annotations
 
 import argparse
 import json
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, cast
 
 from ..cli import add_digits_argument
 
 if TYPE_CHECKING:
-    from ..orbits.family import Branch
+    from ..orbits.family import Branch, Member
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -60,9 +60,9 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def _print_branch(b: Branch, lo: float, hi: float) -> None:
     """Any family: its members and special points; a choreography's
-    (:class:`~rotorlib.beyond.choreo_family.ChoreoMember`, ``ChoreoPoint``) also ``tr DP``, and
-    each point's period, description, branch and check."""
-    from ..beyond.choreo_family import ChoreoMember, ChoreoPoint
+    (:class:`~rotorlib.beyond.choreo_family.ChoreoMember`) also ``tr DP``, and each
+    point's period, description, branch and how it was located."""
+    from ..beyond.choreo_family import ChoreoMember
 
     d = max(12, min(30, b.members[0].digits)) if b.members else 12
     reduced = any(  # a choreography: a column of tr DP
@@ -87,13 +87,12 @@ def _print_branch(b: Branch, lo: float, hi: float) -> None:
         "special points:" if b.special_points else "special points: none in the range"
     )
     for p in b.special_points:
-        m = p.member
+        m = cast("Member", p.member)  # a branch's points have their member
         what = f"({_WHAT.get(p.kind, p.kind)}{'' if p.located else ', not located'})"
-        if isinstance(p, ChoreoPoint):
-            m = p.refined or p.member  # the best location
+        if isinstance(m, ChoreoMember):  # the best location, and how it was found
             what = (
                 f"T = {float(m.period):.10f}  tr DP = {float(m.trace_reduced):.10f}  "
-                f"({p.description})  [{p.branch}]" + (f"  {p.check}" if p.check else "")
+                f"({p.description})  [{p.branch}]  {p.located}"
             )
         E_p = m.E_str if m.precision != "float64" else f"{float(m.E):.{d}f}"
         print(f"  {p.kind:4s} E = {E_p}  {what}")

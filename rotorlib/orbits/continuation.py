@@ -484,10 +484,15 @@ def _events(problem, t, branch_members, opts, alg):
                 try:
                     at, vb = _between(problem, t, pal, branch_members, k - 1, k, opts)
                     out.append(
-                        SpecialPoint(kind, illinois(g, at, vb, g(a), g(b), tol), k - 1)
+                        SpecialPoint(
+                            kind,
+                            illinois(g, at, vb, g(a), g(b), tol),
+                            k - 1,
+                            f"Illinois between two members (to {float(tol):.0e}, {t.name})",
+                        )
                     )
                 except (SectionNotReached, ValueError):
-                    out.append(SpecialPoint(kind, b, k - 1, False))
+                    out.append(SpecialPoint(kind, b, k - 1, None))
             if opts.folds and k < len(branch_members) - 1:
                 c = branch_members[k + 1]
                 if not (b.E - a.E) * (c.E - b.E) < 0:
@@ -503,9 +508,16 @@ def _events(problem, t, branch_members, opts, alg):
                         bounds=sorted((0.0, float(vc))),
                         options={"xatol": 1e-10 * abs(float(vc))},
                     )
-                    out.append(SpecialPoint("fold", at(t.num(res.x)), k))
+                    out.append(
+                        SpecialPoint(
+                            "fold",
+                            at(t.num(res.x)),
+                            k,
+                            f"bounded Brent: the extremum of E between members ({t.name})",
+                        )
+                    )
                 except (SectionNotReached, ValueError):
-                    out.append(SpecialPoint("fold", b, k, False))
+                    out.append(SpecialPoint("fold", b, k, None))
     return sorted(out, key=lambda p: p.index)
 
 

@@ -80,7 +80,7 @@ class Member(OrbitResult):
 
     @property
     def stability(self) -> str:
-        """``stable``, ``unstable``, ``marginal`` (:func:`~rotorlib.orbits.periodic_orbit.stability_of`),
+        """``stable``, ``unstable``, ``marginal`` (:func:`~rotorlib.orbits.floquet.stability_of`),
         or ``unknown`` when ``tr M`` was not computed."""
         return super().stability if self.trace == self.trace else "unknown"
 
@@ -143,15 +143,67 @@ class Member(OrbitResult):
 
 @dataclass(frozen=True)
 class SpecialPoint:
-    """An event along a branch: ``kind`` (``fold``, ``E``, ``IS``: ``tr M = 4``, ``PD``:
-    ``tr M = 0``), the located ``member`` and the index of the member after which it
-    lies. ``located`` is False when the location failed (the orbit stops reaching its
-    section there): ``member`` is then the nearest member of the branch."""
+    """A special point: where something happens along a family (the one special-point
+    type of rotorlib: the engine's events, a choreography's stability changes, and,
+    through the subclass :class:`~rotorlib.paper.bifurcations.Transition`, the
+    pendulum's and the breather's transitions).
+
+    Attributes
+    ----------
+    kind : str
+        ``fold`` (of ``E``), ``E`` (a requested energy), ``IS`` (``tr M`` or a reduced
+        map's trace through 4), ``PD`` (through 0), ``touch`` (a trace touching 4 or 0
+        without a change of stability), ``resonance``, ``pitchfork``, ...
+    member : Member or None
+        The member located there (the best location: the one in the tier asked for);
+        ``None`` for a point that is not on a branch (a transition) or, with ``located``
+        ``None``, the nearest member where the location failed.
+    index : int
+        The member of the branch after which the point lies (-1: before the first).
+    located : str or None
+        How the point was located (the method, or the agreement of two locations);
+        ``None`` when the location failed (the orbit stops reaching its section there):
+        ``member`` is then the nearest member of the branch.
+    description : str
+        What happens there, in words (``stable -> unstable (tr DP = 4)``).
+    E, E_str : float, str
+        The energy, and as a decimal with its verified digits: the member's (its
+        ``E_str`` in an extended tier, 13 decimals in float64) when there is one.
+    rotation : str or None
+        A rotation number where one applies (``"2/7"`` at a resonance).
+    families : tuple of str
+        The families born there.
+    branch : str
+        The branch or branches the point lies on (``CG/CT``), where a family has several.
+
+    Examples
+    --------
+    >>> from rotorlib.paper.newborn import family
+    >>> (p,) = family("IS^l_1", (3.9, 4.1)).special_points
+    >>> p.kind, p.E_str, p.located
+    ('IS', '4.0357079207117', 'Illinois between two members (to 1e-14, float64)')
+    >>> sorted(p.to_dict())[:5]
+    ['E', 'branch', 'description', 'families', 'index']
+    """
 
     kind: str
-    member: Member
-    index: int
-    located: bool = True
+    member: Member | None = None
+    index: int = -1
+    located: str | None = "located"
+    description: str = ""
+    E: float = math.nan
+    E_str: str = ""
+    rotation: str | None = None
+    families: tuple[str, ...] = ()
+    branch: str = ""
+
+    def __post_init__(self) -> None:
+        m = self.member
+        if m is not None:  # E and E_str are the member's (frozen: set once, here)
+            self.__dict__.update(
+                E=float(m.E),
+                E_str=m.E_str if Tier(m.precision).extended else f"{float(m.E):.13f}",
+            )
 
     @property
     def position(self) -> float:
@@ -160,12 +212,20 @@ class SpecialPoint:
         return self.index + (0.0 if self.kind == "fold" else 0.5)
 
     def to_dict(self) -> dict[str, Any]:
-        """``kind``, ``index``, ``located`` and the member's JSON."""
+        """The point as JSON: ``kind``, ``E`` (and ``E_str`` when it has more digits,
+        :func:`~rotorlib.core.precision.json_number`), ``located``, ``description``,
+        ``rotation``, ``families``, ``branch``, ``index`` and the ``member``'s JSON (or
+        ``null``)."""
         return {
             "kind": self.kind,
-            "index": self.index,
+            **json_number("E", self.E, self.E_str if len(self.E_str) > 17 else None),
             "located": self.located,
-            **self.member.to_dict(),
+            "description": self.description,
+            "rotation": self.rotation,
+            "families": list(self.families),
+            "branch": self.branch,
+            "index": self.index,
+            "member": None if self.member is None else self.member.to_dict(),
         }
 
 
@@ -259,7 +319,7 @@ class Branch:
     @property
     def E_max(self) -> float:
         """The largest energy on the branch (a located fold where there is one)."""
-        return max([float(p.member.E) for p in self.points("fold")] + list(self.E))
+        return max([p.E for p in self.points("fold")] + list(self.E))
 
     @property
     def stable_windows(self) -> list[tuple[float, float]]:
@@ -280,7 +340,7 @@ class Branch:
         [(3.99059, 4.035708)]
         """
         st = [0 < t < 4 for t in self.trace]
-        marks = [(p.kind, float(p.member.E), p.position) for p in self.special_points]
+        marks = [(p.kind, p.E, p.position) for p in self.special_points]
         E, out, i = self.E, [], 0
         for stable, run in itertools.groupby(st):
             j = i + len(list(run))  # members i .. j - 1

@@ -59,6 +59,7 @@ __all__ = [
     "variational_monodromy",
     "textbook_monodromy",
     "multipliers_from_trace",
+    "stability_of",
 ]
 
 
@@ -74,6 +75,24 @@ def multipliers_from_trace(t: float) -> np.ndarray:
         return np.array([big, 1.0 / big])  # |t| >= 2: big != 0
     r = math.sqrt(-disc)
     return np.array([complex(0.5 * t, 0.5 * r), complex(0.5 * t, -0.5 * r)])
+
+
+def stability_of(trace: float, digits: int = 15) -> str:
+    """``stable`` (``0 < tr M < 4``), ``unstable`` or ``marginal``: ``tr M`` within
+    ``max(1, |tr M|) 10^(7 - digits)`` of 0 or 4, where the computed trace cannot decide.
+
+    Examples
+    --------
+    >>> stability_of(2.0), stability_of(5.0), stability_of(4.0 - 1e-12)
+    ('stable', 'unstable', 'marginal')
+    """
+    tr = float(trace)
+    if not math.isfinite(tr):
+        return "unstable"
+    tol = max(1.0, abs(tr)) * 10.0 ** (7 - int(digits))
+    if min(abs(tr), abs(tr - 4.0)) <= tol:
+        return "marginal"
+    return "stable" if 0.0 < tr < 4.0 else "unstable"
 
 
 @dataclass(frozen=True)
@@ -423,8 +442,6 @@ def variational_monodromy(
             Mv, xT, tr = monodromy_matrix(x0, T, t)
             steps, backend = 0, "heyoka-taylor"
             tr_str = t.text(tr)
-        from .periodic_orbit import stability_of  # the result protocol's rule
-
         # the closure in the working precision: x(T) - x(0) formed before any rounding
         gap = lattice_reduce([a - b for a, b in zip(xT, x0)], t)
         closure = max(abs(float(v)) for v in gap)

@@ -12,37 +12,18 @@ import numpy as np
 
 from ..core.flow import extrema, monodromy_matrix
 from ..core.precision import FLOAT64, Tier, json_number, tier
-from .floquet import multipliers_from_trace
+from .floquet import multipliers_from_trace, stability_of
 from .shooting import ShootingProblem, residual
 
 __all__ = [
     "PeriodicOrbit",
     "OrbitResult",
-    "stability_of",
     "periodic_orbit",
     "orbit_from_state",
 ]
 
 _NO_EXTREMA = "the extrema of a1, a2 are not computed for this orbit (a census)"
 _NO_LOG = "log|E - 4| is not defined here (E = 4 exactly, or an orbit not born of the pendulum)"
-
-
-def stability_of(trace: float, digits: int = 15) -> str:
-    """``stable`` (``0 < tr M < 4``), ``unstable`` or ``marginal``: ``tr M`` within
-    ``max(1, |tr M|) 10^(7 - digits)`` of 0 or 4, where the computed trace cannot decide.
-
-    Examples
-    --------
-    >>> stability_of(2.0), stability_of(5.0), stability_of(4.0 - 1e-12)
-    ('stable', 'unstable', 'marginal')
-    """
-    tr = float(trace)
-    if not math.isfinite(tr):
-        return "unstable"
-    tol = max(1.0, abs(tr)) * 10.0 ** (7 - int(digits))
-    if min(abs(tr), abs(tr - 4.0)) <= tol:
-        return "marginal"
-    return "stable" if 0.0 < tr < 4.0 else "unstable"
 
 
 class OrbitResult:

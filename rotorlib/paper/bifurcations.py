@@ -32,8 +32,7 @@ absolute (>= 13 significant digits for ``|x| > 1``; for ``PD^r_1``, at
 heyoka real128 (~32 digits) and checks a few with the textbook 4x4
 variational equations in 256-bit arithmetic. ``transition(label, digits=30)``
 returns a root refined in real128. The breather's transition ``PD^b``
-(:mod:`rotorlib.paper.breathers`) is a :class:`Transition` too, and
-:func:`transition` returns it.
+(:func:`rotorlib.paper.breathers.pd_transition`) is a :class:`Transition` too.
 """
 
 from __future__ import annotations
@@ -54,13 +53,13 @@ from ..core.energy import BreatherEnergy, PendulumEnergy, pendulum_energy
 from ..core.parallel import pmap
 from ..core.precision import Tier, json_number, tier
 from ..orbits.continuation import illinois
+from ..orbits.family import SpecialPoint
 from ..orbits.hill import hill_problem, solve_hill
 from ..orbits.periodic_orbit import OrbitResult
 
 __all__ = [
     "Transition",
     "parse_label",
-    "is_breather_label",
     "transition",
     "transitions",
     "delta",
@@ -71,7 +70,6 @@ __all__ = [
     "refine_root",
     "locate_root",
     "level_crossings",
-    "BREATHER_LABELS",
     "SQRT3_PI",
     "CLASSES",
     "X_MIN",
@@ -117,13 +115,19 @@ CLASSES = {
 }
 
 
-@dataclass(frozen=True)
-class Transition(OrbitResult):
+@dataclass(frozen=True, kw_only=True)
+class Transition(OrbitResult, SpecialPoint):
     """A stability transition (bifurcation) of the pendulum or of a breather family.
 
-    It follows the result protocol (:class:`~rotorlib.orbits.periodic_orbit.OrbitResult`): at the
-    transition ``tr M`` is exactly 4 (``IS``) or 0 (``PD``), so ``stability`` is
-    ``'marginal'`` and the multipliers are ``(1, 1, 1, 1)`` or ``(1, 1, -1, -1)``.
+    A :class:`~rotorlib.orbits.family.SpecialPoint` (a subclass: the one special-point
+    type, with ``kind``, ``E``, ``E_str``, ``member``, ``located``, ``description``,
+    ``rotation``, ``families``) that is also an orbit: it follows the result protocol
+    (:class:`~rotorlib.orbits.periodic_orbit.OrbitResult`) for the pendulum or breather
+    at the transition, where ``tr M`` is exactly 4 (``IS``) or 0 (``PD``), so
+    ``stability`` is ``'marginal'`` and the multipliers are ``(1, 1, 1, 1)`` or ``(1, 1,
+    -1, -1)``. Its ``member`` is ``None`` (the orbit is the closed form, on no branch),
+    ``families`` the family born there (the newborn ``IS^l_n``, ... or ``PD^b``), and
+    its own fields are keyword-only (a subclass of a dataclass with defaults).
 
     Attributes
     ----------
@@ -224,10 +228,15 @@ class Transition(OrbitResult):
         state0_str = ("0.0", "0.0", *momenta)
         level = 4.0 if kind == "IS" else 0.0
         return cls(
-            label, kind, family, energy.E, E_str, period[0], period[1], level,
-            repr(level), np.array([float(v) for v in state0_str]), state0_str,
-            transition, slope, digits or 15, tier(digits).name, energy=energy,
-            **pendulum_only,
+            label=label, kind=kind, family=family, E=energy.E, E_str=E_str,
+            period=period[0], period_str=period[1], trace=level, trace_str=repr(level),
+            state0=np.array([float(v) for v in state0_str]), state0_str=state0_str,
+            transition=transition, slope=slope, digits=digits or 15,
+            precision=tier(digits).name, energy=energy,
+            located=f"root of tr M = {level:g} ({tier(digits).name})",
+            description=f"{kind} of the {'' if family == 'pendulum' else 'breather '}"
+            f"{family}: {transition}",
+            families=(label,) if label != "IS^b" else (), **pendulum_only,
         )  # fmt: skip
 
     @property
@@ -272,7 +281,12 @@ class Transition(OrbitResult):
         }
         if self.digits > 15:
             rec["state0_str"] = list(self.state0_str)
-        return rec
+        return {
+            **rec,
+            "located": self.located,
+            "description": self.description,
+            "families": list(self.families),
+        }
 
 
 _LABEL_RE = re.compile(
@@ -630,36 +644,20 @@ def refine_mp(
         return x, _mp_pendulum(x, phase, dps).closed_form(dps)["period"]
 
 
-#: The breather transitions that exist (:func:`rotorlib.paper.breathers.breather_transitions`).
-BREATHER_LABELS = ("PD^b",)
-_BREATHER_RE = re.compile(r"^\s*(PD)\s*\^?\s*(\{\s*b\s*\}|b)\s*$", re.IGNORECASE)
-
-
-def is_breather_label(text: Any) -> bool:
-    """Whether ``text`` names the breather's transition (``PD^b``, ``PDb``, ``PD^{b}``), the
-    label of its daughter family too.
-
-    Examples
-    --------
-    >>> is_breather_label("PDb"), is_breather_label("PD^b_1")
-    (True, False)
-    """
-    return isinstance(text, str) and bool(_BREATHER_RE.match(text))
-
-
 def transition(label: str, *, digits: int | Tier | None = None) -> Transition:
-    """One transition by its label: a pendulum's (``'IS^l_3'``, ``'PDr2'``) or the
-    breather's (``'PD^b'``, ``'PDb'``).
+    """One transition of the pendulum by its label (``'IS^l_3'``, ``'PDr2'``); the
+    breather's, ``PD^b``, is :func:`rotorlib.paper.breathers.pd_transition` (the front
+    door's :func:`rotorlib.transition` serves both).
 
     Parameters
     ----------
     label : str
-        ``IS^l_n``, ``PD^l_n``, ``IS^r_n``, ``PD^r_n`` (:func:`parse_label`) or ``PD^b``.
+        ``IS^l_n``, ``PD^l_n``, ``IS^r_n``, ``PD^r_n`` (:func:`parse_label`).
     digits : int or Tier, optional
         ``None`` or <= 15: float64 (pendulum: ~13 significant digits in ``log|E-4|``).
         More: the float64 root re-located in the tier of ``digits`` (heyoka real128 up
         to 31, multiprecision beyond) by :func:`refine_root`; the strings carry
-        ``digits`` significant digits (the breather's ``E_str``: ``digits - 5``).
+        ``digits`` significant digits.
 
     Raises
     ------
@@ -678,17 +676,12 @@ def transition(label: str, *, digits: int | Tier | None = None) -> Transition:
     """
     t = tier(digits)  # a Tier delivers the digits its working digits keep, less 9
     d = None if not t.extended else (digits if isinstance(digits, int) else t.dps - 9)
-    if is_breather_label(label):
-        from .breathers import pd_transition
-
-        return pd_transition(digits=d)
     try:
         kind, phase, n = parse_label(label)
     except ValueError as exc:
         raise ValueError(
-            f"{exc}; the transitions are the pendulum's IS^l_n, PD^l_n, IS^r_n, PD^r_n "
-            f"(n >= 1; ASCII 'ISl3', 'PDr2' too) and the breather's "
-            f"{', '.join(BREATHER_LABELS)} ('PDb')"
+            f"{exc}; the pendulum's transitions are IS^l_n, PD^l_n, IS^r_n, PD^r_n "
+            "(n >= 1; ASCII 'ISl3', 'PDr2' too)"
         ) from None
     _, _, c, x = _roots(phase, (kind,), n)[n - 1]
     if d is not None:  # the float64 root re-located in the tier of d digits

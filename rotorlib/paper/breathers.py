@@ -45,6 +45,7 @@ from __future__ import annotations
 
 import functools
 import math
+import re
 from dataclasses import dataclass, field, replace
 from typing import Any
 
@@ -70,6 +71,7 @@ from ..orbits.shooting import ShootingProblem, StartSet, solve
 from .bifurcations import Transition, level_crossings, refine_root
 
 __all__ = [
+    "is_breather_label",
     "breather_transitions",
     "pd_transition",
     "pd_eigenstructure",
@@ -195,6 +197,21 @@ def _make_transition(
         log_abs_dE=orbit.energy.log_abs_dE,
         delta_target=level - 2.0 if family == "R" else float("nan"),
     )
+
+
+_LABEL_RE = re.compile(r"^\s*(PD)\s*\^?\s*(\{\s*b\s*\}|b)\s*$", re.IGNORECASE)
+
+
+def is_breather_label(text: Any) -> bool:
+    """Whether ``text`` names the breather's transition ``PD^b`` (also ``PDb``,
+    ``PD^{b}``), the label of its daughter family too.
+
+    Examples
+    --------
+    >>> is_breather_label("PDb"), is_breather_label("PD^b_1")
+    (True, False)
+    """
+    return isinstance(text, str) and bool(_LABEL_RE.match(text))
 
 
 def pd_transition(digits: int | None = None) -> Transition:
@@ -406,7 +423,7 @@ def daughter_family(
         E_PD,
         float((pT[-2] / pE[-2]) / parent),
         float(parent),
-        math.nan if leave is None else float(leave.member.E),
+        math.nan if leave is None else leave.E,
         "none" if leave is None else f"tr M = {4 if leave.kind == 'IS' else 0}",
         {"E_fit": pE, "trace_fit": pT, "E_at_birth": pE[-1], "trace_at_birth": pT[-1]},
     )

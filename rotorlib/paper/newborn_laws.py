@@ -53,7 +53,7 @@ import math
 from collections.abc import Mapping, Sequence
 from concurrent.futures import Executor
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, cast
 
 import mpmath as mp
 import numpy as np
@@ -538,7 +538,7 @@ def rotational_member(label: str, dE: float | str, digits: int | None = None) ->
     pts = b.points("E")
     if not pts:
         raise NotReached(spec.label, target, b.E_max - 4, b.stop)
-    m, t = pts[0].member, b.tier
+    m, t = cast(Member, pts[0].member), b.tier
     if t.extended or (pts[0].located and closure(m) < 1e-8):
         return member(b.problem, m.u, m.w, t, traces=True)
     # too unstable for a float64 period (or not located): re-solved at E in real128

@@ -97,7 +97,7 @@ def plot_family_trace(fam: Branch, E_fold: float | None = None) -> Figure:
         fam.E, fam.trace, ".-", color="C3", label=r"$\mathrm{tr}\,M$ along the family"
     )
     for p in fam.special_points:
-        ax.axvline(float(p.member.E), color="0.5", lw=0.8, ls=":")
+        ax.axvline(p.E, color="0.5", lw=0.8, ls=":")
     if E_fold is not None:
         ax.axvline(E_fold, color="k", lw=1, ls="--", label="fold of the family")
     ax.set_xlabel(r"$E$ (units of $g$)")
