@@ -32,7 +32,7 @@ from typing import Any
 import mpmath as mp
 import numpy as np
 
-from .beyond import atlas, choreo_family, choreo_z3
+from .beyond import atlas, choreo_family, choreo_resonance, choreo_rotation, choreo_z3
 from .beyond.atlas import Atlas
 from .beyond.choreo import Choreography
 from .core.parallel import executor_for
@@ -164,7 +164,11 @@ _NEWBORN = Served(
 _CG = Served(
     "choreography",
     lambda lab, E, d, b: choreo_family.cg_orbit(E, digits=d, label=lab),
-    lambda lab, rng, d: choreo_family.family(lab, rng, digits=d),
+    lambda lab, rng, d: (
+        choreo_rotation.cg_family(rng, digits=d)  # with CG's resonances
+        if lab == "CG"
+        else choreo_family.family(lab, rng, digits=d)
+    ),
     periods=choreo_family.periods_at,
     rotating=lambda lab: False,
 )
@@ -174,6 +178,15 @@ _Z3 = Served(
     lambda lab, rng, d: choreo_z3.z3_family(lab, rng, digits=d),
     periods=lambda lab, E: [float(o.period) for o in choreo_z3.z3_orbits(lab, E)],
     rotating=lambda lab: choreo_z3.seed_choreography(lab).rotating,
+    branches=True,
+)
+# The choreographies born from CG at its resonances p/q (CG1/4a, CG1/4b are CZ2, CZ1).
+_RESONANT = Served(
+    "choreography",
+    lambda lab, E, d, b: choreo_resonance.resonance_orbit(lab, E, digits=d, branch=b),
+    lambda lab, rng, d: choreo_resonance.resonance_family(lab, rng, digits=d),
+    periods=choreo_resonance.periods_at,
+    rotating=lambda lab: False,
     branches=True,
 )
 _DAUGHTER = Served(
@@ -199,6 +212,7 @@ REGISTRY: dict[str, Served] = {
     "CZ1": _Z3,
     "CZ2": _Z3,
     "CR1": _Z3,
+    **{name: _RESONANT for name in choreo_resonance.family_names()},
 }
 
 #: The orbit labels :func:`orbit` accepts, by kind (IS/PD labels take any ``n >= 1``).
@@ -227,6 +241,9 @@ def resolve(label: str, what: str = "label") -> tuple[str, str]:
         return "pendulum", "pendulum"
     if lab.upper() in REGISTRY:
         return lab.upper(), lab.upper()
+    resonant = {k.upper(): k for k, s in REGISTRY.items() if s is _RESONANT}
+    if lab.upper() in resonant:  # CG1/5a: the case of its last letter kept
+        return resonant[lab.upper()], resonant[lab.upper()]
     if breathers.is_breather_label(lab):
         return "PD^b", "PD^b"
     try:
@@ -274,7 +291,8 @@ def orbit(
         ``R``, ``LG``, ``LD``; a family born at a pendulum bifurcation, ``IS^l_n``,
         ``PD^l_n``, ``IS^r_n``, ``PD^r_n`` (also ``ISl2``, ``PDr3``); the breather's
         period-doubled daughter ``PD^b``; a choreography ``CG``, ``CT``, ``CZ1``, ``CZ2``,
-        ``CR1`` (:data:`LABELS`).
+        ``CR1``, or one born from CG at its resonance ``p/q``, ``CG2/7a`` ... ``CG1/8b``
+        (:mod:`rotorlib.beyond.choreo_resonance`; :data:`LABELS`).
     E : float or str
         Energy (m = g = r = 1). A decimal string keeps every digit (e.g. ``"4.0000001"``).
     digits : int or Tier, optional
@@ -344,7 +362,7 @@ def family(
     if served.family is None:
         raise ValueError(
             f"{label!r} has no family here: families are the newborn IS^l_n, PD^l_n, "
-            "IS^r_n, PD^r_n and the choreographies CG, CT, CZ1, CZ2, CR1"
+            "IS^r_n, PD^r_n and the choreographies CG, CT, CZ1, CZ2, CR1, CG2/7a ..."
         )
     # a newborn family reads a Tier itself (the tier of its continuation)
     return served.family(

@@ -188,3 +188,47 @@ def test_digits30_member_closes_under_independent_real128(name):
     assert o.extra["choreography"] is not None
     assert not o.extra["choreography"]["rotating"]
     assert o.label == name
+
+
+def test_family_cg_json_lists_resonances_and_touches(capsys):
+    """``family CG --E-range 0.1 5.3153 --json``: the five resonances with ``rotation``,
+    ``E`` (that of ``resonance``, checked independently above) and ``families``; every
+    touch of tr M = 0 or 4 without a change of stability has kind ``touch``."""
+    import json
+
+    from rotorlib import cli
+
+    assert cli.main(["family", "CG", "--E-range", "0.1", "5.3153", "--json"]) == 0
+    rec = json.loads(capsys.readouterr().out)
+    pts = rec["special_points"]
+    res = [p for p in pts if p["kind"] == "resonance"]
+    assert [p["rotation"] for p in res] == ["2/7", "1/4", "1/5", "1/7", "1/8"]
+    for p in res:
+        r = ro.resonance(*map(int, p["rotation"].split("/")))
+        assert abs(p["E"] - r.E) < 1e-12
+        assert p["families"] == list(r.families)
+    for p in pts:
+        if "(no change" in p["description"] and p["kind"] != "resonance":
+            assert p["kind"] == "touch"  # 1/4 is also CG's touch tr M = 0
+        assert p["kind"] not in ("IS", "PD") or "stable" in p["description"]
+    assert {p["kind"] for p in pts} <= {"fold", "IS", "PD", "touch", "resonance"}
+    assert sum(p["kind"] == "touch" for p in pts) >= 2  # 1:6 and 1:12
+
+
+@pytest.mark.parametrize("name", ["CG1/5a", "CG1/8b"])
+def test_orbit_and_family_cli_serve_the_new_families(name, capsys):
+    import json
+
+    from rotorlib import cli
+
+    E = _near_birth(name)
+    assert cli.main(["orbit", name, "--E", E, "--json"]) == 0
+    rec = json.loads(capsys.readouterr().out)
+    assert rec["choreography"] is not None and rec["label"] == name
+    assert cli.main(["family", name.lower(), "--E-range", "4.6", "5.3", "--json"]) == 0
+    b = json.loads(capsys.readouterr().out)
+    kinds = [p["kind"] for p in b["special_points"]]
+    assert "fold" in kinds  # the birth at CG
+    assert cli.main(["orbit", name, "--E", "5.4"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "exists only for" in err[0]

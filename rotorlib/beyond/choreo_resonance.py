@@ -47,7 +47,7 @@ from ..core.flow import SectionNotReached
 from ..core.precision import FLOAT64, Tier, tier
 from ..core.rounding import difference
 from ..orbits.continuation import PALC, ContinuationOptions, continuation, member
-from ..orbits.family import Branch, energy_range
+from ..orbits.family import Branch, SpecialPoint, energy_range
 from ..orbits.periodic_orbit import PeriodicOrbit
 from ..orbits.reversors import targets
 from ..orbits.shooting import (
@@ -65,7 +65,7 @@ from .choreo import (
     reduced_orbit,
     reduced_trace,
 )
-from .choreo_family import ChoreoMember, ChoreoPoint, locate_member
+from .choreo_family import ONCE, ChoreoMember, locate_member
 from .choreo_rotation import RESONANCES, Resonance, resonance
 
 __all__ = [
@@ -83,6 +83,7 @@ __all__ = [
     "resonance_orbit",
     "resonance_family",
     "summary",
+    "periods_at",
 ]
 
 #: The mirrors CG meets, one every ``T/12``, from its start on ``Fix T(12)``.
@@ -318,7 +319,7 @@ def _root(lab: str, lev: float, ua, ub, Ea: float, t: Tier) -> ChoreoMember:
 @cache
 def resonance_points_of(
     label: str, digits: int | None = None
-) -> tuple[ChoreoPoint, ...]:
+) -> tuple[SpecialPoint, ...]:
     """The special points of a family born from CG, by energy: its birth (kind ``fold``:
     ``E(u)`` has its extremum at CG's resonance; ``description`` ``born at CG ...``) and
     every change of stability (``tr DP`` of its reduced map through 4: ``IS`` or ``fold``,
@@ -336,7 +337,7 @@ def resonance_points_of(
         from .choreo_z3 import z3_points
 
         return tuple(
-            replace(q, branch=lab, member=replace(q.member, label=lab))
+            replace(q, branch=lab, member=q.member and replace(q.member, label=lab))
             for q in z3_points(ALIASES[lab], digits)
         )
     s = _specs()[lab]
@@ -344,17 +345,19 @@ def resonance_points_of(
     r = resonance(int(s["p"]), int(s["q"]), digits)
     ms, _ = _branch(lab)
     out = [
-        ChoreoPoint(
+        SpecialPoint(
             "fold",
-            _born(lab, r),
+            _born(lab, r) if r.refined is None else _born(lab, r, r.refined),
             0,
-            True,
+            "CG's resonance (rotorlib.beyond.choreo_rotation.resonance): "
+            + (
+                ONCE
+                if r.refined is None
+                else f"float64 and {t.name} agree to {difference(r.agreement)}"
+            ),
             f"born at CG (CG's resonance {r.rotation}, tr DP = 2 + 2 cos 2 pi "
             f"{r.rotation})",
-            lab,
-            None if r.refined is None else _born(lab, r, r.refined),
-            r.agreement,
-            "CG's resonance (rotorlib.beyond.choreo_resonance.resonance)",
+            branch=lab,
         )
     ]
     for i in range(1, len(ms) - 1):
@@ -370,17 +373,17 @@ def resonance_points_of(
             try:
                 m = _root(lab, lev, float(a.u), float(b.u), float(a.E), FLOAT64)
             except (NoConvergence, SectionNotReached, ValueError):
-                out.append(ChoreoPoint(kind, b, i, False, text + " (not located)", lab))
+                out.append(SpecialPoint(kind, b, i, None, text, branch=lab))
                 continue
-            refined, agree, check = None, math.nan, ""
+            check = ONCE
             if t.extended:
                 h = 1e-7 * max(1.0, abs(float(m.u)))
                 refined = _root(lab, lev, float(m.u) - h, float(m.u) + h, m.E, t)
-                refined = replace(refined, digits=max(10, int(digits or 0) - 10))
                 agree = abs(float(refined.E) - float(m.E))
+                m = replace(refined, digits=max(10, int(digits or 0) - 10))
                 check = f"float64 and {t.name} agree to {difference(agree)}"
-            out.append(ChoreoPoint(kind, m, i, True, text, lab, refined, agree, check))
-    return tuple(sorted(out, key=lambda q: q.member.E))
+            out.append(SpecialPoint(kind, m, i, check, text, branch=lab))
+    return tuple(sorted(out, key=lambda q: q.E))
 
 
 @cache
@@ -537,10 +540,7 @@ def resonance_family(
             b,
             problem=family_problem(lab),
             members=tuple(replace(m, label=lab) for m in b.members),
-            special_points=tuple(
-                replace(q, branch=lab) if isinstance(q, ChoreoPoint) else q
-                for q in b.special_points
-            ),
+            special_points=tuple(replace(q, branch=lab) for q in b.special_points),
             reason=f"{lab} is {ALIASES[lab]}: {b.reason}",
         )
     ms, why = _branch(lab)
@@ -593,8 +593,8 @@ def summary(label: str) -> dict[str, Any]:
         "points": [
             {
                 "kind": p.kind,
-                "E": float(p.member.E),
-                "description": getattr(p, "description", ""),
+                "E": p.E,
+                "description": p.description,
             }
             for p in b.special_points
         ],
@@ -608,3 +608,23 @@ def summary(label: str) -> dict[str, Any]:
             "third_error": c.closure if c else None,
         },
     }
+
+
+def periods_at(label: str, E: float) -> list[float]:
+    """The periods of the family's members at ``E`` (float64; ``[]`` outside its range,
+    and for ``CG1/4a``, ``CG1/4b``, which the census names ``CZ2``, ``CZ1``): how a
+    census names the choreographies it finds.
+
+    Examples
+    --------
+    >>> from rotorlib.beyond.choreo_resonance import periods_at
+    >>> [round(T, 4) for T in periods_at("CG1/8a", 5.29)], periods_at("CG1/8a", 5.4)
+    ([27.6502], [])
+    """
+    lab = _name(label)
+    if lab in ALIASES:
+        return []
+    lo, hi, _, _ = resonance_range(lab)
+    if not lo <= float(E) <= hi:
+        return []
+    return [float(o.period) for o in resonance_orbits(lab, float(E))]

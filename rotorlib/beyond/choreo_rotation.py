@@ -27,10 +27,10 @@ import numpy as np
 from ..core.precision import FLOAT64, Tier, tier
 from ..core.rounding import difference
 from ..orbits.continuation import PALC, ContinuationOptions, continuation, member
-from ..orbits.family import Branch
+from ..orbits.family import Branch, SpecialPoint
 from ..orbits.shooting import solve
 from .choreo import cg_problem, reduced_trace
-from .choreo_family import ChoreoMember, ChoreoPoint, family, fold_energy, locate_member
+from .choreo_family import ONCE, ChoreoMember, family, fold_energy, locate_member
 
 __all__ = [
     "RESONANCES",
@@ -39,7 +39,6 @@ __all__ = [
     "Resonance",
     "resonance",
     "resonances",
-    "ResonancePoint",
     "resonance_points",
     "cg_family",
 ]
@@ -220,31 +219,13 @@ def resonances(digits: int | None = None) -> tuple[Resonance, ...]:
     return tuple(resonance(p, q, digits) for p, q in RESONANCES)
 
 
-@dataclass(frozen=True)
-class ResonancePoint(ChoreoPoint):
-    """A resonance of CG as a special point of the family ``CG`` (kind ``resonance``;
-    no change of CG's stability): ``rotation`` (``"p/q"``) and ``families`` (the names
-    of the families born there).
-    """
-
-    rotation: str = ""
-    families: tuple[str, ...] = ()
-
-    def to_dict(self) -> dict[str, Any]:
-        """:meth:`ChoreoPoint.to_dict` and ``rotation``, ``families``."""
-        return {
-            **super().to_dict(),
-            "rotation": self.rotation,
-            "families": list(self.families),
-        }
-
-
 def resonance_points(
     E_range: tuple[float, float] | None = None, digits: int | None = None
-) -> tuple[ResonancePoint, ...]:
+) -> tuple[SpecialPoint, ...]:
     """The resonances of :data:`RESONANCES` with ``E`` in ``E_range`` as special points
-    of ``CG`` (kind ``resonance``; ``index`` counts the members of
-    :func:`rotorlib.beyond.choreo_family.follow`).
+    of ``CG`` (:class:`~rotorlib.orbits.family.SpecialPoint` of kind ``resonance``, with
+    ``rotation`` and ``families``; ``index`` counts the members of CG's branch,
+    :func:`rotorlib.beyond.choreo_family.family`).
 
     Examples
     --------
@@ -261,22 +242,19 @@ def resonance_points(
         i = sum(float(m.E) <= r.E for m in ms) - 1
         th = f"2 pi {r.rotation}"
         out.append(
-            ResonancePoint(
+            SpecialPoint(
                 "resonance",
-                r.member,
+                r.member if r.refined is None else r.refined,
                 i,
-                True,
-                f"rotation number {r.rotation} (tr DP = 2 + 2 cos {th}; no change of "
-                f"stability): {' and '.join(r.families)} are born here",
-                "CG",
-                r.refined,
-                r.agreement,
-                ""
+                ONCE
                 if r.refined is None
                 else f"root of tr DP = 2 + 2 cos {th} in float64 and "
                 f"{r.refined.precision} agree to {difference(r.agreement)}",
-                r.rotation,
-                tuple(r.families),
+                f"rotation number {r.rotation} (tr DP = 2 + 2 cos {th}; no change of "
+                f"stability): {' and '.join(r.families)} are born here",
+                rotation=r.rotation,
+                families=tuple(r.families),
+                branch="CG",
             )
         )
     return tuple(out)
@@ -302,15 +280,15 @@ def cg_family(E_range: Sequence[float], digits: int | None = None) -> Branch:
     pts = list(resonance_points((lo, hi), digits))
     others = []
     for q in b.special_points:  # a touch at a resonance (1/4: tr M = 0) is that point
-        same = [k for k, r in enumerate(pts) if abs(r.member.E - q.member.E) < 1e-9]
+        same = [k for k, r in enumerate(pts) if abs(r.E - q.E) < 1e-9]
         if q.kind == "fold" or not same:
             others.append(q)
             continue
         r = pts[same[0]]
-        text = f"{r.description}; {getattr(q, 'description', '')}"
+        text = f"{r.description}; {q.description}"
         pts[same[0]] = replace(r, description=text)
-    pts = [replace(p, index=sum(E <= float(p.member.E) for E in Es) - 1) for p in pts]
+    pts = [replace(p, index=sum(E <= p.E for E in Es) - 1) for p in pts]
     return replace(
         b,
-        special_points=tuple(sorted([*others, *pts], key=lambda p: float(p.member.E))),
+        special_points=tuple(sorted([*others, *pts], key=lambda p: p.E)),
     )
