@@ -24,7 +24,7 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq, least_squares
-from test_choreo import PAIRS, _rhs, _rhs_var, _start  # the rotor equations
+from test_choreo import PAIRS, _decimal_theta, _rhs, _rhs_var, _start  # rotors
 
 from rotorlib.beyond import choreo_resonance as cr
 from rotorlib.beyond import choreo_rotation as ro
@@ -121,14 +121,8 @@ def test_resonance_digits30_agrees_with_float64():
 
 
 def _theta(state_str):
-    with mp.workdps(40):
-        a1, a2, p1, p2 = (mp.mpf(v) for v in state_str)
-        phi1, phi2 = 2 * a1, a2 - a1
-        th = [mp.mpf(0), -phi1, -phi1 - phi2]
-        d1, d2 = p1, 3 * p2 / 2 - p1 / 2
-        w = [mp.mpf(0), -d1, -d1 - d2]
-        mt, mw = sum(th) / 3, sum(w) / 3
-        return [mp.nstr(v - mt, 38) for v in th] + [mp.nstr(v - mw, 38) for v in w]
+    th, w = _decimal_theta(state_str)  # the rotor state, 38 digits
+    return th + w
 
 
 def _real128_states(y0, times):

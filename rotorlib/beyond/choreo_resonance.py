@@ -54,15 +54,13 @@ from ..orbits.shooting import (
     NoConvergence,
     ShootingProblem,
     StartSet,
-    residual,
-    solve,
 )
 from .choreo import (
-    amplitude_at_energy,
     cg_problem,
     choreo_branch,
     choreography_of,
-    reduced_orbit,
+    member_number,
+    orbits_at_energy,
     reduced_trace,
 )
 from .choreo_family import ONCE, ChoreoMember, locate_member
@@ -430,29 +428,9 @@ def _check(lab: str, E: Any) -> float:
 
 @cache
 def _orbits(lab: str, E: str, digits: int | None) -> tuple[PeriodicOrbit, ...]:
-    p, ms = family_problem(lab), _branch(lab)[0]
     order, power = _reduced(lab)
-    t = tier(digits) if digits is not None and digits > 15 else FLOAT64
-    Ef = float(E)
-    found: list[tuple[float, Any]] = []
-    for a, b in zip(ms, ms[1:]):
-        if not (float(a.E) - Ef) * (float(b.E) - Ef) <= 0 or a.E == b.E:
-            continue
-        u = amplitude_at_energy(p, float(a.u), float(b.u), float(a.E), float(b.E), Ef)
-        with t.context():
-            w = t.num(E) if t.extended else Ef
-            if t.extended:
-                ut = t.num(u)
-                u = solve(p, ut, ut * (1 + t.num("1e-12")), E=w, digits=t).x
-            T = float(p.factor * residual(p, u, w, t).t1)
-        if any(abs(T - T2) < 1e-8 * T for T2, _ in found):
-            continue
-        found.append((T, u))
-    with t.context():
-        w = t.num(E) if t.extended else Ef
-    return tuple(
-        reduced_orbit(p, u, w, t, lab, digits, order=order, power=power)
-        for _, u in sorted(found, key=lambda v: v[0])
+    return orbits_at_energy(
+        family_problem(lab), _branch(lab)[0], E, digits, lab, order, power
     )
 
 
@@ -493,18 +471,12 @@ def resonance_orbit(
     >>> o.extra["choreography"]["sixth"], o.extra["stable"]
     (True, True)
     """
-    os_ = resonance_orbits(label, E, digits)
-    lab = _name(label)
-    if not os_:
-        raise ValueError(f"{lab} has no member at E = {E} within the period budget")
-    if not 0 <= int(branch) < len(os_):
-        raise ValueError(
-            f"{lab} has {len(os_)} member(s) at E = {E} (branch 0 to {len(os_) - 1}, by "
-            f"period), not branch {branch}"
-        )
-    o = os_[int(branch)]
-    return replace(
-        o, extra={**o.extra, "branch": int(branch), "members_at_E": len(os_)}
+    return member_number(
+        _name(label),
+        resonance_orbits(label, E, digits),
+        E,
+        branch,
+        "none within the period budget",
     )
 
 
