@@ -180,15 +180,6 @@ _Z3 = Served(
     rotating=lambda lab: choreo_z3.seed_choreography(lab).rotating,
     branches=True,
 )
-# The choreographies born from CG at its resonances p/q (CG1/4a, CG1/4b are CZ2, CZ1).
-_RESONANT = Served(
-    "choreography",
-    lambda lab, E, d, b: choreo_resonance.resonance_orbit(lab, E, digits=d, branch=b),
-    lambda lab, rng, d: choreo_resonance.resonance_family(lab, rng, digits=d),
-    periods=choreo_resonance.periods_at,
-    rotating=lambda lab: False,
-    branches=True,
-)
 _DAUGHTER = Served(
     "breather daughter",
     lambda lab, E, d, b: breathers.breather_daughter(E, digits=d),
@@ -212,7 +203,18 @@ REGISTRY: dict[str, Served] = {
     "CZ1": _Z3,
     "CZ2": _Z3,
     "CR1": _Z3,
-    **{name: _RESONANT for name in choreo_resonance.family_names()},
+    # the choreographies born from CG at its resonances p/q (CG1/4a, CG1/4b: CZ2, CZ1)
+    **{
+        name: Served(
+            "choreography",
+            lambda lab, E, d, b: choreo_resonance.resonance_orbit(lab, E, d, b),
+            lambda lab, rng, d: choreo_resonance.resonance_family(lab, rng, d),
+            periods=choreo_resonance.periods_at,
+            rotating=lambda lab: False,
+            branches=True,
+        )
+        for name in choreo_resonance.family_names()
+    },
 }
 
 #: The orbit labels :func:`orbit` accepts, by kind (IS/PD labels take any ``n >= 1``).
@@ -239,11 +241,9 @@ def resolve(label: str, what: str = "label") -> tuple[str, str]:
     lab = str(label).strip()
     if lab.lower() in ("pendulum", "p"):
         return "pendulum", "pendulum"
-    if lab.upper() in REGISTRY:
-        return lab.upper(), lab.upper()
-    resonant = {k.upper(): k for k, s in REGISTRY.items() if s is _RESONANT}
-    if lab.upper() in resonant:  # CG1/5a: the case of its last letter kept
-        return resonant[lab.upper()], resonant[lab.upper()]
+    key = {k.upper(): k for k in REGISTRY}.get(lab.upper())  # CG1/5a keeps its "a"
+    if key:
+        return key, key
     if breathers.is_breather_label(lab):
         return "PD^b", "PD^b"
     try:
