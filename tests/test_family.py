@@ -122,7 +122,7 @@ def test_one_special_point_type_for_every_family():
         *rotorlib.family("CG", (5, 5.4)).special_points,
         *rotorlib.family("IS^l_1", (3.99, 4.1)).special_points,
     ]
-    assert {p.kind for p in pts} >= {"fold", "IS", "PD"}
+    assert {p.kind for p in pts} >= {"fold", "IS", "touch", "resonance"}
     assert {type(p) for p in pts} == {SpecialPoint}
     names = {f.name for f in dataclasses.fields(SpecialPoint)}
     assert fields | {"families"} <= names
@@ -131,7 +131,10 @@ def test_one_special_point_type_for_every_family():
             isinstance(p.E, float) and math.isfinite(p.E) and p.E == float(p.member.E)
         )
         assert abs(float(p.E_str) - p.E) < 1e-12 and isinstance(p.located, str)
-        assert p.rotation is None and p.families == ()
+        if p.kind == "resonance":  # CG's resonances: a rotation number, families born
+            assert p.rotation and p.families
+        else:
+            assert p.rotation is None and p.families == ()
         rec = json.loads(json.dumps(p.to_dict(), allow_nan=False))
         assert set(rec) == {*fields, "families", "branch", "index"} - {"E_str"}
         assert rec["E"] == p.E and rec["member"]["E"] == p.E

@@ -68,6 +68,8 @@ __all__ = [
     "reduced_orbit",
     "amplitude_at_energy",
     "choreo_branch",
+    "orbits_at_energy",
+    "member_number",
     "rotor_angles",
     "T0",
 ]
@@ -452,4 +454,63 @@ def choreo_branch(
         stop,
         reason,
         (lo, hi),
+    )
+
+
+def orbits_at_energy(
+    p: ShootingProblem,
+    members: Sequence[Member],
+    E: str,
+    digits: int | None,
+    label: str,
+    order: int = 6,
+    power: int = 1,
+) -> tuple[PeriodicOrbit, ...]:
+    """Every member at energy ``E`` (a decimal string) of the family of the problem ``p``
+    followed as ``members`` (in order along it), distinct up to symmetry, ordered by
+    period: each the root of ``E(u) = E`` between two members (:func:`amplitude_at_energy`),
+    re-solved at fixed ``E`` in the tier of ``digits`` (> 15), as
+    :func:`reduced_orbit` (``order``, ``power``). Shared by the Z3 families
+    (:mod:`rotorlib.beyond.choreo_z3`) and those born from CG
+    (:mod:`rotorlib.beyond.choreo_resonance`)."""
+    t = tier(digits) if digits is not None and digits > 15 else FLOAT64
+    Ef = float(E)
+    found: list[tuple[float, Any]] = []
+    for a, b in zip(members, members[1:]):
+        if not (float(a.E) - Ef) * (float(b.E) - Ef) <= 0 or a.E == b.E:
+            continue
+        u = amplitude_at_energy(p, float(a.u), float(b.u), float(a.E), float(b.E), Ef)
+        with t.context():
+            w = t.num(str(E)) if t.extended else Ef
+            if t.extended:
+                ut = t.num(u)
+                u = solve(p, ut, ut * (1 + t.num("1e-12")), E=w, digits=t).x
+            T = float(p.factor * residual(p, u, w, t).t1)
+        if any(abs(T - T2) < 1e-8 * T for T2, _ in found):
+            continue  # the same orbit on the other symmetric half
+        found.append((T, u))
+    with t.context():
+        w = t.num(str(E)) if t.extended else Ef
+    return tuple(
+        reduced_orbit(p, u, w, t, label, digits, order=order, power=power)
+        for _, u in sorted(found, key=lambda v: v[0])
+    )
+
+
+def member_number(
+    label: str, orbits: Sequence[PeriodicOrbit], E: Any, branch: int, why_none: str
+) -> PeriodicOrbit:
+    """The member number ``branch`` (by period) of ``orbits``, the members of ``label`` at
+    ``E``; ``extra`` adds ``branch`` and ``members_at_E``. ValueError when there is none
+    (``why_none`` says why) or no member number ``branch``."""
+    if not orbits:
+        raise ValueError(f"{label} has no member at E = {E}: {why_none}")
+    if not 0 <= int(branch) < len(orbits):
+        raise ValueError(
+            f"{label} has {len(orbits)} member(s) at E = {E} (branch 0 to "
+            f"{len(orbits) - 1}, by period), not branch {branch}"
+        )
+    o = orbits[int(branch)]
+    return replace(
+        o, extra={**o.extra, "branch": int(branch), "members_at_E": len(orbits)}
     )

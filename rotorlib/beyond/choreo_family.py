@@ -439,19 +439,19 @@ def _members() -> tuple[ChoreoMember, ...]:
 
 #: ``(level of tr DP = 2 + 2 cos theta, kind, description)``: leaving ``[0, 4]`` changes
 #: the stability; ``6 theta = 0 mod 2 pi`` (``tr M = 4``) and ``6 theta = pi mod 2 pi``
-#: (``tr M = 0``) do not.
+#: (``tr M = 0``) do not: kind ``touch``.
 _LEVELS = (
     (4.0, "IS", " (tr DP = 4)"),
     (0.0, "PD", " (tr DP = 0)"),
-    (3.0, "IS", "tr M = 4 (no change: theta = pi/3)"),
-    (1.0, "IS", "tr M = 4 (no change: theta = 2 pi/3)"),
-    (2.0 + math.sqrt(3), "PD", "tr M = 0 (no change: theta = pi/6)"),
+    (3.0, "touch", "tr M = 4 (no change: theta = pi/3)"),
+    (1.0, "touch", "tr M = 4 (no change: theta = 2 pi/3)"),
+    (2.0 + math.sqrt(3), "touch", "tr M = 0 (no change: theta = pi/6)"),
     (
         2.0,
-        "PD",
+        "touch",
         "tr M = 0 (no change: theta = pi/2; the map over T/3 has multipliers -1)",
     ),
-    (2.0 - math.sqrt(3), "PD", "tr M = 0 (no change: theta = 5 pi/6)"),
+    (2.0 - math.sqrt(3), "touch", "tr M = 0 (no change: theta = 5 pi/6)"),
 )
 
 
@@ -494,9 +494,9 @@ def special_points(
 ) -> tuple[SpecialPoint, ...]:
     """The special points of a branch (``CG`` or ``CT``) within ``E_range``, ordered by
     energy: the fold, the stability changes (``tr DP`` through 4 or 0, ``DP`` the reduced
-    map of :func:`rotorlib.beyond.choreo.reduced_trace`) and the energies where ``tr M`` touches
-    4 or 0 without one (``6 theta = 0 mod pi`` for the reduced multipliers
-    ``e^{+-i theta}``). With ``digits`` (> 15) each is located again in that tier as the
+    map of :func:`rotorlib.beyond.choreo.reduced_trace`: kind ``IS``, ``PD``) and the energies
+    where ``tr M`` touches 4 or 0 without one (kind ``touch``; ``6 theta = 0 mod pi`` for
+    the reduced multipliers ``e^{+-i theta}``). With ``digits`` (> 15) each is located again in that tier as the
     root of ``tr DP`` = its level (``member``; ``located`` gives the difference from the
     float64 location, and for the fold the engine's own location as the maximum of ``E``
     along :func:`follow`). ``index`` counts the members of :func:`follow`.
@@ -505,7 +505,7 @@ def special_points(
     --------
     >>> from rotorlib.beyond.choreo_family import special_points
     >>> [(p.kind, p.description[:8]) for p in special_points("CG")][-2:]
-    [('PD', 'tr M = 0'), ('fold', 'fold (sa')]
+    [('touch', 'tr M = 0'), ('fold', 'fold (sa')]
     """
     lab = _label(label)
     pts = [p for p in _special_float() if lab in p.branch.split("/")]

@@ -50,10 +50,10 @@ from ..orbits.reversors import start_sets, targets
 from ..orbits.shooting import ShootingProblem, residual, solve
 from .choreo import (
     Choreography,
-    amplitude_at_energy,
     choreo_branch,
     choreography_of,
-    reduced_orbit,
+    member_number,
+    orbits_at_energy,
     reduced_trace,
 )
 from .choreo_family import (
@@ -367,29 +367,8 @@ def z3_range(label: str) -> tuple:
 
 @cache
 def _orbits(lab, E, digits):
-    p, ms = z3_problem(lab), _branch(lab)[0]
-    t = tier(digits) if digits is not None and digits > 15 else FLOAT64
-    Ef, k = float(E), seed_choreography(lab).power
-    found = []
-    for a, b in zip(ms, ms[1:]):
-        if not (float(a.E) - Ef) * (float(b.E) - Ef) <= 0 or a.E == b.E:
-            continue
-        u = amplitude_at_energy(p, float(a.u), float(b.u), float(a.E), float(b.E), Ef)
-        with t.context():
-            w = t.num(str(E)) if t.extended else Ef
-            if t.extended:
-                ut = t.num(u)
-                u = solve(p, ut, ut * (1 + t.num("1e-12")), E=w, digits=t).x
-            T = float(6 * residual(p, u, w, t).t1)
-        if any(abs(T - T2) < 1e-8 * T for T2, _ in found):
-            continue  # the same orbit on the other symmetric half
-        found.append((T, u))
-    with t.context():
-        w = t.num(str(E)) if t.extended else Ef
-    return tuple(
-        reduced_orbit(p, u, w, t, lab, digits, order=3, power=k)
-        for _, u in sorted(found, key=lambda v: v[0])
-    )
+    k = seed_choreography(lab).power
+    return orbits_at_energy(z3_problem(lab), _branch(lab)[0], E, digits, lab, 3, k)
 
 
 def z3_orbits(label: str, E: float | str, digits: int | None = None) -> tuple:
@@ -433,19 +412,8 @@ def z3_orbit(
             f"{lab} exists only for {lo:.10f} <= E <= {hi:.10f} (below: {why_lo}; "
             f"above: {why_hi}), not at E = {E}"
         )
-    os_ = z3_orbits(lab, E, digits)
-    if not os_:
-        raise ValueError(
-            f"{lab} has no member at E = {E}: its ends are followed up to T = 40"
-        )
-    if not 0 <= int(branch) < len(os_):
-        raise ValueError(
-            f"{lab} has {len(os_)} member(s) at E = {E} (branch 0 to {len(os_) - 1}, by "
-            f"period), not branch {branch}"
-        )
-    o = os_[int(branch)]
-    return replace(
-        o, extra={**o.extra, "branch": int(branch), "members_at_E": len(os_)}
+    return member_number(
+        lab, z3_orbits(lab, E, digits), E, branch, "its ends are followed up to T = 40"
     )
 
 

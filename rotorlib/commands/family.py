@@ -35,7 +35,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
         "family",
         help="a family (IS^l_n, PD^l_n, IS^r_n, PD^r_n; choreographies CG, CT, CZ1, "
-        "CZ2, CR1, CS) over an energy range: members, folds, stability changes",
+        "CZ2, CR1, CS, CG2/7a ... CG1/8b) over an energy range: members, folds, "
+        "stability changes",
         description="Follow a family of periodic orbits with the continuation engine and "
         "print the members with E in the range and the special points (folds, the "
         "energies where tr M crosses 4 (IS) or 0 (PD), with their kind).",
@@ -43,8 +44,10 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument(
         "label",
         help="a family born at a pendulum bifurcation (IS^l_2, PDr3, ...), CG (born at "
-        "G), CT (its partner beyond the fold), or a Z3 choreography CZ1, CZ2 "
-        "(non-rotating), CR1 (rotating), or CS (the third D6 choreography)",
+        "G), CT (its partner beyond the fold), a Z3 choreography CZ1, CZ2 "
+        "(non-rotating), CR1 (rotating), CS (the third D6 choreography), or a "
+        "choreography born from CG at its resonance p/q: CG<p>/<q>a (stable next to "
+        "its birth) or b, q = 4, 5, 7, 8",
     )
     p.add_argument(
         "--E-range", nargs=2, required=True, metavar=("A", "B"), help="energies A < B"

@@ -27,13 +27,16 @@ def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
         "orbit",
         help="a periodic orbit: pendulum, breathers R/LG/LD, newborn IS^l_n, PD^l_n, "
-        "IS^r_n, PD^r_n, PD^b, choreographies CG, CT, CZ1, CZ2, CR1, CS",
+        "IS^r_n, PD^r_n, PD^b, choreographies CG, CT, CZ1, CZ2, CR1, CS and those "
+        "born from CG at its resonances (CG2/7a ... CG1/8b)",
         description="The periodic orbit LABEL at energy E (rotorlib.orbit): the pendulum or a "
         "breather (closed form, monodromy from the reduced problem), the member with energy "
         "E of the family of periodic orbits born at a pendulum bifurcation (symmetry-reduced shooting + continuation in energy; "
         "paper §6-7), of the breather's period-doubled daughter (PD^b), or of the "
         "choreographies born at G (CG, and CT beyond its fold) or of the Z3 "
-        "choreographies CZ1, CZ2, CR1, or the third D6 choreography CS.",
+        "choreographies CZ1, CZ2, CR1, the third D6 choreography CS, or a choreography "
+        "born from CG at its resonance p/q (CG<p>/<q>a: stable next to its birth, b: "
+        "unstable; q = 4, 5, 7, 8).",
     )
     p.add_argument(
         "label", help="pendulum, R, LG, LD, IS^l_2, ISl2, PD^r_3, PDr3, PD^b, CG ..."
@@ -49,7 +52,8 @@ def register(sub: argparse._SubParsersAction) -> None:
         "--branch",
         type=int,
         default=0,
-        help="choreographies CZ1, CZ2, CR1, CS: which member at E, numbered by period from 0 "
+        help="choreographies CZ1, CZ2, CR1, CS, CG<p>/<q>a|b: which member at E, "
+        "numbered by period from 0 "
         "(a family that folds has several)",
     )
     p.add_argument("--json", action="store_true", help="print one JSON object")
