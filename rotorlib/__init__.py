@@ -54,6 +54,7 @@ from .core.energy import (
     breather_energy,
     pendulum_energy,
 )
+from .core.precision import heyoka_available, precision_tier
 from .core.system import (
     BREATHER_SEPARATRIX_ENERGY,
     SEPARATRIX_ENERGY,
@@ -72,7 +73,6 @@ from .orbits.floquet import (
     trace_monodromy,
     variational_monodromy,
 )
-from .orbits.hill import heyoka_available, precision_tier
 from .orbits.periodic_orbit import PeriodicOrbit
 
 __version__ = "0.1.0"

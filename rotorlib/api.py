@@ -262,6 +262,21 @@ def name_choreography(E: float, chor: Choreography, period: float) -> str:
     return "choreography"
 
 
+def _serving(label: str, what: str) -> tuple[Callable[..., Any], str, str]:
+    """``(function, row, label)``: the ``what`` (``family`` or ``transition``) of the
+    row of :data:`REGISTRY` that serves ``label``; ValueError naming the labels that
+    have one otherwise."""
+    row, lab = resolve(label, f"{what} label")
+    serve = getattr(REGISTRY[row], what)
+    if serve is None:
+        raise ValueError(
+            f"{label!r} has no {what}: the labels with one are "
+            f"{', '.join(k for k, s in REGISTRY.items() if getattr(s, what))} (IS/PD: "
+            "any n >= 1; ASCII 'ISl3', 'PDr2', 'PDb' too)"
+        )
+    return serve, row, lab
+
+
 def orbit(
     label: str, E: float | str, *, digits: int | Tier | None = None, branch: int = 0
 ) -> PeriodicOrbit:
@@ -339,17 +354,9 @@ def family(
     (True, ['IS'])
     """
     lo, hi = energy_range(E_range)
-    row, lab = resolve(label, "family label")
-    served = REGISTRY[row]
-    if served.family is None:
-        raise ValueError(
-            f"{label!r} has no family here: families are the newborn IS^l_n, PD^l_n, "
-            "IS^r_n, PD^r_n and the choreographies CG, CT, CZ1, CZ2, CR1"
-        )
+    serve, row, lab = _serving(label, "family")
     # a newborn family reads a Tier itself (the tier of its continuation)
-    return served.family(
-        lab, (lo, hi), digits if row in LABELS["newborn"] else _digits(digits)
-    )
+    return serve(lab, (lo, hi), digits if row in LABELS["newborn"] else _digits(digits))
 
 
 def transition(label: str, *, digits: int | Tier | None = None) -> Transition:
@@ -363,15 +370,8 @@ def transition(label: str, *, digits: int | Tier | None = None) -> Transition:
     >>> tr.kind, tr.label
     ('IS', 'IS^l_2')
     """
-    row, lab = resolve(label, "transition label")
-    served = REGISTRY[row]
-    if served.transition is None:
-        raise ValueError(
-            f"{label!r} has no transition: the transitions are the pendulum's IS^l_n, "
-            "PD^l_n, IS^r_n, PD^r_n (n >= 1; ASCII 'ISl3', 'PDr2' too) and the "
-            "breather's PD^b ('PDb')"
-        )
-    return served.transition(lab, digits)
+    serve, _, lab = _serving(label, "transition")
+    return serve(lab, digits)
 
 
 def census(

@@ -24,7 +24,7 @@ pytestmark = pytest.mark.skipif(
 
 
 def test_tiers_match_the_hill_tiers():
-    from rotorlib.orbits.hill import precision_tier
+    from rotorlib.core.precision import precision_tier
 
     for d in (None, 5, 15, 16, 31, 32, 60, 200):
         assert tier(d).name == precision_tier(d)[1]

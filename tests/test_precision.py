@@ -13,9 +13,9 @@ import numpy as np
 import pytest
 
 import rotorlib as rl
-from rotorlib.core.precision import Tier, tier
+from rotorlib.core.precision import Tier, precision_tier, tier
 from rotorlib.orbits.floquet import _monodromy
-from rotorlib.orbits.hill import hill_problem, precision_tier, solve_hill
+from rotorlib.orbits.hill import hill_problem, solve_hill
 
 HEYOKA = rl.heyoka_available()
 needs_heyoka = pytest.mark.skipif(not HEYOKA, reason="heyoka not installed")
