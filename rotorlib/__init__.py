@@ -75,7 +75,7 @@ from .orbits.floquet import (
 )
 from .orbits.periodic_orbit import PeriodicOrbit
 
-__version__ = "0.1.0"
+__version__ = "1.0.0"
 
 __all__ = [
     "orbit",

@@ -32,7 +32,7 @@ from typing import Any
 import mpmath as mp
 import numpy as np
 
-from .beyond import atlas, choreo_family, choreo_z3
+from .beyond import atlas, choreo, choreo_family, choreo_z3
 from .beyond.atlas import Atlas
 from .beyond.choreo import Choreography
 from .core.parallel import executor_for
@@ -138,9 +138,10 @@ class Served:
         ``(label, E, digits, branch) -> PeriodicOrbit``.
     family, transition : callable or None
         ``(label, E_range, digits) -> Branch``; ``(label, digits) -> Transition``.
-    periods, rotating : callable or None
-        For naming a census's choreographies: ``(label, E) ->`` the periods of the
-        family's members at ``E``; ``label ->`` whether its orbits rotate.
+    periods : callable or None
+        For naming a census's choreographies: ``(label, E, choreography) ->`` the
+        periods of the family's members at ``E`` (none if the family's orbits do not
+        rotate as ``choreography`` does).
     branches : bool
         Whether the family may have several members at one energy (``branch``).
     """
@@ -149,8 +150,7 @@ class Served:
     orbit: Callable[[str, Any, Any, int], PeriodicOrbit]
     family: Callable[[str, Any, Any], Branch] | None = None
     transition: Callable[[str, Any], Transition] | None = None
-    periods: Callable[[str, float], list[float]] | None = None
-    rotating: Callable[[str], bool] | None = None
+    periods: Callable[[str, float, Choreography], list[float]] | None = None
     branches: bool = False
 
 
@@ -165,15 +165,13 @@ _CG = Served(
     "choreography",
     lambda lab, E, d, b: choreo_family.cg_orbit(E, digits=d, label=lab),
     lambda lab, rng, d: choreo_family.family(lab, rng, digits=d),
-    periods=choreo_family.periods_at,
-    rotating=lambda lab: False,
+    periods=lambda lab, E, c: [] if c.rotating else choreo_family.periods_at(lab, E),
 )
 _Z3 = Served(
     "choreography",
     lambda lab, E, d, b: choreo_z3.z3_orbit(lab, E, digits=d, branch=b),
     lambda lab, rng, d: choreo_z3.z3_family(lab, rng, digits=d),
-    periods=lambda lab, E: [float(o.period) for o in choreo_z3.z3_orbits(lab, E)],
-    rotating=lambda lab: choreo_z3.seed_choreography(lab).rotating,
+    periods=choreo_z3.periods_at,
     branches=True,
 )
 _DAUGHTER = Served(
@@ -253,13 +251,8 @@ def name_choreography(E: float, chor: Choreography, period: float) -> str:
     >>> name_choreography(5.3, choreography_of(o.state0, o.period), o.period)
     'CG'
     """
-    T = float(period)
-    for lab, s in REGISTRY.items():
-        if s.periods is None or s.rotating is None or s.rotating(lab) != chor.rotating:
-            continue
-        if any(abs(Tk - T) < 1e-7 * T for Tk in s.periods(lab, E)):
-            return lab
-    return "choreography"
+    rows = [(lab, s.periods) for lab, s in REGISTRY.items() if s.periods is not None]
+    return choreo.label_by_period(E, chor, period, rows)
 
 
 def _serving(label: str, what: str) -> tuple[Callable[..., Any], str, str]:

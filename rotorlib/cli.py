@@ -3,7 +3,9 @@
 Each command lives in :mod:`rotorlib.commands` as a module with
 ``register(subparsers)``, which adds its parser and sets ``func``. Errors in
 the input (``ValueError``) and in the arguments print one line on stderr and
-exit with status 2; there is never a traceback for bad input.
+exit with status 2; there is never a traceback for bad input. A command that needs
+heyoka where it is not installed is refused the same way, naming the extra
+``rotorlib[fast]`` (:class:`rotorlib.core.precision.HeyokaMissing`).
 """
 
 from __future__ import annotations
@@ -16,7 +18,7 @@ import sys
 from collections.abc import Sequence
 from typing import Any
 
-from .core.precision import DIGITS_RANGE, check_digits
+from .core.precision import DIGITS_RANGE, HeyokaMissing, check_digits
 
 #: Command modules, in help order. A module missing from the package is skipped.
 COMMANDS = ("trace", "bifurcations", "orbit", "family", "atlas", "spectrum")
@@ -142,6 +144,9 @@ def main(argv: list[str] | None = None, prog: str = "python -m rotorlib") -> int
     except ValueError as exc:
         msg = str(exc).splitlines()[0] if str(exc) else exc.__class__.__name__
         print(f"rotorlib: error: {msg}", file=sys.stderr)
+        return 2
+    except HeyokaMissing as exc:  # an optional dependency: a refusal naming the extra
+        print(f"rotorlib: error: {exc}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
         print("rotorlib: interrupted", file=sys.stderr)

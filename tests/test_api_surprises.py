@@ -192,19 +192,23 @@ def test_monodromy_accepts_a_transition():
 
 
 def test_no_module_shares_a_public_functions_name():
-    """``rotorlib.monodromy`` and ``rotorlib.breather`` are functions; no module of
-    rotorlib is ``rotorlib.monodromy`` or ``rotorlib.breather`` (the module of the
-    monodromy routes is ``rotorlib.orbits.floquet``, that of §8
-    ``rotorlib.paper.breathers``)."""
+    """No submodule of ``rotorlib`` itself is called like a public function of the
+    package: importing it would rebind ``rotorlib.<name>`` to the module. Modules of
+    the layers (``rotorlib.orbits.family``, ``rotorlib.core.closed_forms``) bind
+    names in their own package and cannot shadow ``rotorlib.family`` or
+    ``rotorlib.orbit``."""
     import importlib.util
     import pkgutil
 
     import rotorlib
 
-    modules = {m.name for m in pkgutil.iter_modules(rotorlib.__path__)}  # rotorlib.X
-    assert callable(rotorlib.monodromy) and callable(rotorlib.breather)
-    assert not {"monodromy", "breather"} & modules
-    for name in rotorlib.__all__:
-        assert name not in modules or not callable(getattr(rotorlib, name)), name
-    for mod in ("rotorlib.orbits.floquet", "rotorlib.paper.breathers"):
-        assert importlib.util.find_spec(mod) is not None
+    modules = {m.name for m in pkgutil.iter_modules(rotorlib.__path__)}
+    assert {"core", "orbits", "paper", "beyond", "api"} <= modules
+    public = [n for n in dir(rotorlib) if not n.startswith("_")]
+    functions = {n for n in public if callable(getattr(rotorlib, n))}
+    assert {"orbit", "family", "census", "transition"} <= functions
+    assert not functions & modules, functions & modules
+    import rotorlib.orbits.family  # noqa: F401  (binds rotorlib.orbits.family only)
+
+    assert callable(rotorlib.family)
+    assert importlib.util.find_spec("rotorlib.orbits.floquet") is not None

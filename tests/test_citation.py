@@ -29,7 +29,7 @@ ARXIV = "2303.01057"
 @pytest.fixture(scope="module")
 def cff() -> dict:
     assert CFF.is_file(), "CITATION.cff missing"
-    # CFF is YAML 1.2; PyYAML reads 2026-11-23 as a date, 0.1.0 as a string.
+    # CFF is YAML 1.2; PyYAML reads 2026-11-23 as a date, 1.0.0 as a string.
     data = yaml.safe_load(CFF.read_text(encoding="utf-8"))
     assert isinstance(data, dict), "CITATION.cff is not a YAML mapping"
     return data
@@ -66,7 +66,9 @@ def test_citation_cff_describes_this_repository(cff):
     assert cff["authors"] == [{"name": "rotorlib contributors"}]
     assert cff["repository-code"] == "https://github.com/rotorlib/rotor-cascade"
     assert cff["license"] == "MIT"
-    assert str(cff["version"]) == "0.1.0"
+    assert re.fullmatch(r"\d+\.\d+\.\d+", str(cff["version"])), (
+        f"version {cff['version']!r} is not MAJOR.MINOR.PATCH (semantic versioning)"
+    )
     assert isinstance(cff["date-released"], datetime.date), (
         f"date-released must be an ISO date (YYYY-MM-DD), got {cff['date-released']!r}"
     )
@@ -104,3 +106,15 @@ def test_license_is_mit_and_readme_states_licences():
     assert section, "README.md has no '## Licence' section"
     assert "CC-BY-4.0" in section.group(1) or "CC BY 4.0" in section.group(1)
     assert "LICENSE" in section.group(1)
+
+
+def test_version_says_what_it_promises():
+    """From 1.0.0 on the README states what the major version keeps stable."""
+    init = (ROOT / "rotorlib" / "__init__.py").read_text(encoding="utf-8")
+    version = re.search(r'^__version__\s*=\s*"([^"]+)"', init, re.M).group(1)
+    readme = (ROOT / "README.md").read_text(encoding="utf-8")
+    section = re.search(r"^### Versions\n(.*?)(?=^##)", readme, re.M | re.S)
+    if int(version.split(".")[0]) >= 1:
+        assert section, "README.md has no '### Versions' section (what 1.x promises)"
+        for name in ("rotorlib.orbit", "rotorlib.census", "to_dict()", "semantic"):
+            assert name in section.group(1), f"'### Versions' does not name {name}"

@@ -36,7 +36,7 @@ from numpy.typing import ArrayLike
 from ..core.energy import as_float
 from ..core.flow import SectionNotReached, crossings, monodromy_matrix, sample
 from ..core.parallel import pmap
-from ..core.precision import FLOAT64, json_number, tier
+from ..core.precision import FLOAT64, json_number, load_heyoka, tier
 from ..core.system import lattice_reduce
 from ..orbits.periodic_orbit import PeriodicOrbit
 from ..orbits.reversors import images, start_sets, targets
@@ -637,8 +637,7 @@ def census(
         The known families at ``E``, ``(label, period, action)`` (default: the closed-form
         orbits and the daughter families, followed to ``E`` when ``name``).
     name_choreography : callable, optional
-        Names a choreography of no known family (:func:`~rotorlib.api.name_choreography`,
-        which the front door passes; else ``choreography``).
+        Names a choreography of no known family (the front door's: ``CG``, ``CT``, ...).
 
     Returns
     -------
@@ -654,6 +653,7 @@ def census(
     """
     E, t_max = as_float(E, "E"), as_float(t_max, "T_max")
     check_census([E], t_max, grid)
+    load_heyoka()  # the scan integrates the flow: without heyoka, refuse at once
     t_half = t_max / 2 * 1.02
     classes = range(len(start_sets(E)))
     parts = max(4, round(budget_seconds([E], t_max, grid) / 0.25 / len(classes)))

@@ -13,6 +13,12 @@ A :class:`Section` is a hyperplane ``c . x = level`` of the state
 ``direction``. :func:`to_section` integrates to its k-th crossing, located by
 heyoka's event root finder to the working precision.
 
+heyoka is required here: it is a dependency of rotorlib on Linux x86_64 and aarch64,
+the extra ``rotorlib[fast]`` elsewhere. Without it every function below raises
+:class:`~rotorlib.core.precision.HeyokaMissing` (an ``ImportError`` whose one-line
+message names the extra; the command line prints it and exits with status 2): no
+scipy fallback integrates the flow.
+
 Precision: near the separatrix the flow amplifies round-off like ``1/|E - 4|``
 (the book's *Numerical notes*, ``book/numerical_notes.md``, "Where extended
 precision is needed"): a tier keeps about ``digits + log10|E - 4|`` digits.

@@ -27,6 +27,7 @@ import numpy as np
 
 __all__ = ["Tier", "tier", "FLOAT64", "REAL128", "load_heyoka", "HEYOKA_CACHE_MB"]
 __all__ += [
+    "HeyokaMissing",
     "DIGITS_RANGE",
     "check_digits",
     "json_number",
@@ -122,6 +123,14 @@ def json_number(key: str, value: Any, text: str | None = None, note: str = "") -
 HEYOKA_CACHE_MB = 512
 
 
+class HeyokaMissing(ImportError):
+    """heyoka is not installed: its message is the one-line refusal every command prints.
+
+    heyoka is a required dependency where its wheels exist (Linux x86_64 and aarch64);
+    elsewhere install the extra ``rotorlib[fast]`` (or conda-forge's ``heyoka.py``).
+    """
+
+
 @cache
 def load_heyoka() -> Any:
     """heyoka, imported once, with its on-disk cache bounded.
@@ -132,12 +141,22 @@ def load_heyoka() -> Any:
 
     Raises
     ------
-    ImportError
-        heyoka is not installed (callers fall back to scipy/mpmath).
+    HeyokaMissing
+        heyoka is not installed: the Hill integrals fall back to scipy/mpmath
+        (:func:`heyoka_available`); the nonlinear flow
+        (:mod:`rotorlib.core.flow`: shooting, families, the atlas) refuses with it.
     ValueError
         ``ROTORLIB_HEYOKA_CACHE_MB`` is not a non-negative integer.
     """
-    import heyoka as hy
+    try:
+        import heyoka as hy
+    except ImportError as exc:  # one line, naming the extra (the CLI prints it)
+        raise HeyokaMissing(
+            "this computation needs heyoka (the Taylor integrator of the nonlinear "
+            f"flow), which is not installed here ({exc}): pip install "
+            "'rotorlib[fast]' or conda install -c conda-forge heyoka.py",
+            name="heyoka",
+        ) from exc
 
     raw = os.environ.get("ROTORLIB_HEYOKA_CACHE_MB", str(HEYOKA_CACHE_MB))
     if not raw.strip().isdecimal():
@@ -327,7 +346,8 @@ def requested_digits(digits: int | Tier | None) -> int | None:
 
 
 def heyoka_available() -> bool:
-    """True when heyoka imports (Linux wheels; optional)."""
+    """True when heyoka imports (a dependency on Linux x86_64/aarch64, the extra
+    ``rotorlib[fast]`` elsewhere); without it the Hill problem uses scipy/mpmath."""
     try:
         load_heyoka()  # a malformed ROTORLIB_HEYOKA_CACHE_MB raises: never hidden
     except ImportError:
