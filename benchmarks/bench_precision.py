@@ -26,14 +26,9 @@ import mpmath as mp
 
 from rotorlib.core.closed_forms import pendulum
 from rotorlib.core.flow import monodromy_matrix
-from rotorlib.core.precision import FLOAT64, Tier
+from rotorlib.core.precision import FLOAT64, Tier, heyoka_available, precision_tier
 from rotorlib.orbits.floquet import monodromy, textbook_monodromy, variational_monodromy
-from rotorlib.orbits.hill import (
-    heyoka_available,
-    hill_problem,
-    precision_tier,
-    solve_hill,
-)
+from rotorlib.orbits.hill import hill_problem, solve_hill
 
 #: Digits of the reference computation (heyoka multiprecision, ~260 bits).
 REF_DIGITS = 70

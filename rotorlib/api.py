@@ -34,6 +34,7 @@ import numpy as np
 
 from .beyond import (
     atlas,
+    choreo,
     choreo_family,
     choreo_resonance,
     choreo_rotation,
@@ -145,9 +146,10 @@ class Served:
         ``(label, E, digits, branch) -> PeriodicOrbit``.
     family, transition : callable or None
         ``(label, E_range, digits) -> Branch``; ``(label, digits) -> Transition``.
-    periods, rotating : callable or None
-        For naming a census's choreographies: ``(label, E) ->`` the periods of the
-        family's members at ``E``; ``label ->`` whether its orbits rotate.
+    periods : callable or None
+        For naming a census's choreographies: ``(label, E, choreography) ->`` the
+        periods of the family's members at ``E`` (none if the family's orbits do not
+        rotate as ``choreography`` does).
     branches : bool
         Whether the family may have several members at one energy (``branch``).
     """
@@ -156,8 +158,7 @@ class Served:
     orbit: Callable[[str, Any, Any, int], PeriodicOrbit]
     family: Callable[[str, Any, Any], Branch] | None = None
     transition: Callable[[str, Any], Transition] | None = None
-    periods: Callable[[str, float], list[float]] | None = None
-    rotating: Callable[[str], bool] | None = None
+    periods: Callable[[str, float, Choreography], list[float]] | None = None
     branches: bool = False
 
 
@@ -176,15 +177,13 @@ _CG = Served(
         if lab == "CG"
         else choreo_family.family(lab, rng, digits=d)
     ),
-    periods=choreo_family.periods_at,
-    rotating=lambda lab: False,
+    periods=lambda lab, E, c: [] if c.rotating else choreo_family.periods_at(lab, E),
 )
 _Z3 = Served(
     "choreography",
     lambda lab, E, d, b: choreo_z3.z3_orbit(lab, E, digits=d, branch=b),
     lambda lab, rng, d: choreo_z3.z3_family(lab, rng, digits=d),
-    periods=lambda lab, E: [float(o.period) for o in choreo_z3.z3_orbits(lab, E)],
-    rotating=lambda lab: choreo_z3.seed_choreography(lab).rotating,
+    periods=choreo_z3.periods_at,
     branches=True,
 )
 # helper E: the third D6 choreography (rotorlib.beyond.choreo_s)
@@ -192,8 +191,7 @@ _CS = Served(
     "choreography",
     lambda lab, E, d, b: choreo_s.cs_orbit(E, digits=d, branch=b),
     lambda lab, rng, d: choreo_s.cs_family(rng, digits=d),
-    periods=lambda lab, E: choreo_s.cs_periods(E),
-    rotating=lambda lab: False,
+    periods=lambda lab, E, c: [] if c.rotating else choreo_s.cs_periods(E),
     branches=True,
 )
 _DAUGHTER = Served(
@@ -226,8 +224,9 @@ REGISTRY: dict[str, Served] = {
             "choreography",
             lambda lab, E, d, b: choreo_resonance.resonance_orbit(lab, E, d, b),
             lambda lab, rng, d: choreo_resonance.resonance_family(lab, rng, d),
-            periods=choreo_resonance.periods_at,
-            rotating=lambda lab: False,
+            periods=lambda lab, E, c: (
+                [] if c.rotating else choreo_resonance.periods_at(lab, E)
+            ),
             branches=True,
         )
         for name in choreo_resonance.family_names()
@@ -287,13 +286,23 @@ def name_choreography(E: float, chor: Choreography, period: float) -> str:
     >>> name_choreography(5.3, choreography_of(o.state0, o.period), o.period)
     'CG'
     """
-    T = float(period)
-    for lab, s in REGISTRY.items():
-        if s.periods is None or s.rotating is None or s.rotating(lab) != chor.rotating:
-            continue
-        if any(abs(Tk - T) < 1e-7 * T for Tk in s.periods(lab, E)):
-            return lab
-    return "choreography"
+    rows = [(lab, s.periods) for lab, s in REGISTRY.items() if s.periods is not None]
+    return choreo.label_by_period(E, chor, period, rows)
+
+
+def _serving(label: str, what: str) -> tuple[Callable[..., Any], str, str]:
+    """``(function, row, label)``: the ``what`` (``family`` or ``transition``) of the
+    row of :data:`REGISTRY` that serves ``label``; ValueError naming the labels that
+    have one otherwise."""
+    row, lab = resolve(label, f"{what} label")
+    serve = getattr(REGISTRY[row], what)
+    if serve is None:
+        raise ValueError(
+            f"{label!r} has no {what}: the labels with one are "
+            f"{', '.join(k for k, s in REGISTRY.items() if getattr(s, what))} (IS/PD: "
+            "any n >= 1; ASCII 'ISl3', 'PDr2', 'PDb' too)"
+        )
+    return serve, row, lab
 
 
 def orbit(
@@ -374,17 +383,9 @@ def family(
     (True, ['IS'])
     """
     lo, hi = energy_range(E_range)
-    row, lab = resolve(label, "family label")
-    served = REGISTRY[row]
-    if served.family is None:
-        raise ValueError(
-            f"{label!r} has no family here: families are the newborn IS^l_n, PD^l_n, "
-            "IS^r_n, PD^r_n and the choreographies " + ", ".join(LABELS["choreography"])
-        )
+    serve, row, lab = _serving(label, "family")
     # a newborn family reads a Tier itself (the tier of its continuation)
-    return served.family(
-        lab, (lo, hi), digits if row in LABELS["newborn"] else _digits(digits)
-    )
+    return serve(lab, (lo, hi), digits if row in LABELS["newborn"] else _digits(digits))
 
 
 def transition(label: str, *, digits: int | Tier | None = None) -> Transition:
@@ -398,15 +399,8 @@ def transition(label: str, *, digits: int | Tier | None = None) -> Transition:
     >>> tr.kind, tr.label
     ('IS', 'IS^l_2')
     """
-    row, lab = resolve(label, "transition label")
-    served = REGISTRY[row]
-    if served.transition is None:
-        raise ValueError(
-            f"{label!r} has no transition: the transitions are the pendulum's IS^l_n, "
-            "PD^l_n, IS^r_n, PD^r_n (n >= 1; ASCII 'ISl3', 'PDr2' too) and the "
-            "breather's PD^b ('PDb')"
-        )
-    return served.transition(lab, digits)
+    serve, _, lab = _serving(label, "transition")
+    return serve(lab, digits)
 
 
 def census(

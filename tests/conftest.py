@@ -16,9 +16,8 @@ import mpmath as mp
 import pytest
 
 from rotorlib.core.closed_forms import breather, pendulum
-from rotorlib.core.precision import Tier
+from rotorlib.core.precision import Tier, heyoka_available
 from rotorlib.orbits.floquet import textbook_monodromy
-from rotorlib.orbits.hill import heyoka_available
 
 requires_heyoka = pytest.mark.skipif(
     not heyoka_available(), reason="heyoka not installed"

@@ -26,8 +26,8 @@ import numpy as np
 import pytest
 
 from rotorlib.beyond import atlas
+from rotorlib.core.precision import heyoka_available
 from rotorlib.orbits import reversors
-from rotorlib.orbits.hill import heyoka_available
 from rotorlib.paper import chaos
 
 pytestmark = pytest.mark.skipif(not heyoka_available(), reason="heyoka not installed")

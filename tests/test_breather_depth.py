@@ -29,8 +29,8 @@ from independent import textbook_breather_R
 
 from rotorlib.core.closed_forms import breather
 from rotorlib.core.energy import breather_energy
+from rotorlib.core.precision import heyoka_available
 from rotorlib.orbits.floquet import monodromy
-from rotorlib.orbits.hill import heyoka_available
 
 needs_heyoka = pytest.mark.skipif(not heyoka_available(), reason="heyoka not installed")
 

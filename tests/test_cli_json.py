@@ -31,8 +31,10 @@ def _numeric(text: str) -> bool:
 
 
 #: Fields that are not numbers and are null when there is nothing to report (an atlas
-#: orbit that is not a choreography); the null-with-a-note rule is for quantities.
-NULLABLE = {"choreography"}
+#: orbit that is not a choreography; a special point's rotation number where none
+#: applies, its member off a branch, its location where it failed); the
+#: null-with-a-note rule is for quantities.
+NULLABLE = {"choreography", "rotation", "member", "located"}
 
 
 def _check_rule(obj):
@@ -59,6 +61,28 @@ def _check_rule(obj):
         elif isinstance(v, (list, dict)):
             n += _check_rule(v) if isinstance(v, dict) else 0
     return n
+
+
+#: The fields of every special point in ``family --json`` (one type for every family).
+POINT_KEYS = {"kind", "E", "located", "description", "rotation", "families"}
+
+
+@pytest.mark.parametrize(
+    "label, lo, hi", [("IS^l_1", "3.99", "4.1"), ("CG", "5", "5.4")]
+)
+def test_family_special_points_are_one_type(capsys, label, lo, hi):
+    """``family --json``: every special point of a newborn family and of a
+    choreography has the same fields, its member nested, and obeys the rule."""
+    rec = _run(capsys, "family", label, "--E-range", lo, hi, "--json")
+    _check_rule(rec)
+    assert rec["special_points"]
+    for p in rec["special_points"]:
+        assert (
+            POINT_KEYS | {"branch", "index", "member"}
+            <= set(p)
+            <= POINT_KEYS | {"branch", "index", "member", "E_str"}
+        )
+        assert p["member"]["E"] == p["E"] and isinstance(p["located"], str)
 
 
 def test_json_number_rule():

@@ -12,10 +12,9 @@ import pytest
 from scipy.integrate import solve_ivp
 
 from rotorlib.core.flow import Section, SectionNotReached, crossings, to_section
-from rotorlib.core.precision import REAL128, Tier, tier
+from rotorlib.core.precision import REAL128, Tier, heyoka_available, tier
 from rotorlib.core.system import rhs_alpha
 from rotorlib.orbits.floquet import variational_monodromy
-from rotorlib.orbits.hill import heyoka_available
 from rotorlib.orbits.shooting import NoConvergence, residual, secant, solve
 from rotorlib.paper import newborn as nb
 
@@ -23,7 +22,7 @@ pytestmark = pytest.mark.skipif(not heyoka_available(), reason="heyoka not insta
 
 
 def test_tiers_match_the_hill_tiers():
-    from rotorlib.orbits.hill import precision_tier
+    from rotorlib.core.precision import precision_tier
 
     for d in (None, 5, 15, 16, 31, 32, 60, 200):
         assert tier(d).name == precision_tier(d)[1]

@@ -16,8 +16,8 @@ import numpy as np
 import pytest
 
 from rotorlib.core.closed_forms import breather, pendulum
+from rotorlib.core.precision import heyoka_available
 from rotorlib.orbits.floquet import _monodromy, monodromy, variational_monodromy
-from rotorlib.orbits.hill import heyoka_available
 
 HEYOKA = heyoka_available()
 needs_heyoka = pytest.mark.skipif(not HEYOKA, reason="heyoka not installed")

@@ -115,6 +115,18 @@ def test_census_orbits_are_periodic_orbits():
         assert o.period <= 6.0 and math.isclose(o.E, 4.3)
 
 
+def test_census_to_dict():
+    """``Atlas.to_dict()``: the census as JSON (strict: no nan), each orbit as the
+    ``orbit`` command prints it, the labels the registry gave (``CG`` at 4.3)."""
+    a = rotorlib.census(4.3, 6.0)
+    d = a.to_dict()
+    assert json.loads(json.dumps(d, allow_nan=False)) == d
+    assert (d["E"], d["t_max"], d["grid"]) == (4.3, 6.0, a.grid)
+    assert d["orbits"] == [json.loads(json.dumps(o.to_dict())) for o in a.orbits]
+    assert [r["label"] for r in d["orbits"]][:2] == ["pendulum", "CG"]
+    assert d["orbits"][1]["choreography"]["sixth"]
+
+
 def test_readme_ten_lines_is_the_example_file():
     readme = (ROOT / "README.md").read_text()
     block = re.search(

@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 
 from rotorlib.core.closed_forms import pendulum
+from rotorlib.core.precision import heyoka_available
 from rotorlib.orbits.floquet import monodromy
-from rotorlib.orbits.hill import heyoka_available
 from rotorlib.paper import newborn_laws as laws
 from rotorlib.paper.bifurcations import transition
 

@@ -31,9 +31,9 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
+from rotorlib.core.precision import heyoka_available
 from rotorlib.core.system import energy_alpha, lattice_reduce, rhs_alpha
 from rotorlib.orbits.floquet import variational_monodromy
-from rotorlib.orbits.hill import heyoka_available
 
 pytestmark = pytest.mark.skipif(not heyoka_available(), reason="heyoka not installed")
 

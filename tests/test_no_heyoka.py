@@ -34,7 +34,7 @@ def test_scipy_fallback_matches():
         import json
         from rotorlib.core.closed_forms import breather, pendulum
         from rotorlib.orbits.floquet import monodromy
-        from rotorlib.orbits.hill import heyoka_available
+        from rotorlib.core.precision import heyoka_available
         assert not heyoka_available()
         res = []
         for kw in (dict(E=1.0), dict(E=5.0), dict(log_abs_dE=-30.0, phase="lib"), dict(log_abs_dE=-100.0, phase="rot")):
@@ -78,7 +78,7 @@ def test_cli_without_heyoka():
 def test_extended_precision_without_heyoka_uses_mpmath():
     out = run_hidden("""
         import json
-        from rotorlib.orbits.hill import precision_tier
+        from rotorlib.core.precision import precision_tier
         print(json.dumps(list(precision_tier(25))))
     """)
     assert out == ["mpmath", "mp103"]  # mpmath at 30 digits: a name Tier accepts

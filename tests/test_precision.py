@@ -13,19 +13,14 @@ import numpy as np
 import pytest
 
 from rotorlib.core.closed_forms import pendulum
-from rotorlib.core.precision import Tier, tier
+from rotorlib.core.precision import Tier, heyoka_available, precision_tier, tier
 from rotorlib.orbits.floquet import (
     _monodromy,
     monodromy,
     textbook_monodromy,
     variational_monodromy,
 )
-from rotorlib.orbits.hill import (
-    heyoka_available,
-    hill_problem,
-    precision_tier,
-    solve_hill,
-)
+from rotorlib.orbits.hill import hill_problem, solve_hill
 
 HEYOKA = heyoka_available()
 needs_heyoka = pytest.mark.skipif(not HEYOKA, reason="heyoka not installed")

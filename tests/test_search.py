@@ -11,8 +11,7 @@ import math
 import numpy as np
 import pytest
 
-from rotorlib.core.precision import REAL128
-from rotorlib.orbits.hill import heyoka_available
+from rotorlib.core.precision import REAL128, heyoka_available
 from rotorlib.orbits.shooting import residual
 from rotorlib.paper import newborn as nb
 from rotorlib.paper import search as sr

@@ -637,8 +637,7 @@ def census(
         The known families at ``E``, ``(label, period, action)`` (default: the closed-form
         orbits and the daughter families, followed to ``E`` when ``name``).
     name_choreography : callable, optional
-        Names a choreography of no known family (:func:`~rotorlib.api.name_choreography`,
-        which the front door passes; else ``choreography``).
+        Names a choreography of no known family (the front door's: ``CG``, ``CT``, ...).
 
     Returns
     -------

@@ -61,6 +61,7 @@ __all__ = [
     "sixth_map",
     "choreography_of",
     "choreography_label",
+    "label_by_period",
     "Choreography",
     "cg_problem",
     "lindstedt_period",
@@ -367,6 +368,33 @@ def rotor_angles(
     return np.stack(
         [(2 * phi1 + phi2) / 3, (phi2 - phi1) / 3, -(phi1 + 2 * phi2) / 3], axis=1
     )
+
+
+def label_by_period(
+    E: float,
+    chor: Choreography,
+    period: float,
+    families: Sequence[tuple[str, Callable[[str, float, Choreography], list[float]]]],
+) -> str:
+    """The first of ``families`` (``(label, periods)``, ``periods(label, E, chor)`` the
+    periods of its members at ``E`` that rotate as ``chor`` does) with a member of this
+    ``period`` (to 1e-7), else ``choreography``.
+
+    Examples
+    --------
+    >>> from rotorlib.beyond.choreo_family import cg_orbit
+    >>> o = cg_orbit(5.3)
+    >>> c = choreography_of(o.state0, o.period)
+    >>> label_by_period(5.3, c, o.period, [("CX", lambda lab, E, c: [1.0])])
+    'choreography'
+    >>> label_by_period(5.3, c, o.period, [("CG", lambda lab, E, c: [o.period])])
+    'CG'
+    """
+    T = float(period)
+    for lab, periods in families:
+        if any(abs(Tk - T) < 1e-7 * T for Tk in periods(lab, E, chor)):
+            return lab
+    return "choreography"
 
 
 def choreography_label(

@@ -71,6 +71,7 @@ __all__ = [
     "z3_range",
     "z3_orbits",
     "z3_orbit",
+    "periods_at",
     "z3_points",
     "z3_family",
 ]
@@ -387,6 +388,21 @@ def z3_orbits(label: str, E: float | str, digits: int | None = None) -> tuple:
     [13.125659, 15.777029]
     """
     return _orbits(_label(label), str(E), digits)
+
+
+def periods_at(label: str, E: float, chor: Choreography | None = None) -> list[float]:
+    """The periods of the family's members at ``E`` (:func:`z3_orbits`); none if its
+    orbits do not rotate as ``chor`` does.
+
+    Examples
+    --------
+    >>> from rotorlib.beyond.choreo_z3 import periods_at
+    >>> [round(T, 6) for T in periods_at("CR1", 5.6)]  # doctest: +SKIP
+    [13.125659, 15.777029]
+    """
+    if chor is not None and seed_choreography(label).rotating != chor.rotating:
+        return []
+    return [float(o.period) for o in z3_orbits(label, E)]
 
 
 def z3_orbit(

@@ -3,7 +3,7 @@
 A :class:`Tier` is float64 (heyoka's Taylor method at machine epsilon, or scipy),
 heyoka ``real128`` (quadruple precision, ~33 digits) or heyoka multiprecision
 ``mp<bits>`` (MPFR). :func:`tier` maps a requested number of significant digits to
-a tier; :func:`rotorlib.orbits.hill.precision_tier` names its heyoka tier with it, so that a
+a tier; :func:`precision_tier` names its heyoka tier with it, so that a
 result computed with ``digits=D`` names the same tier whatever produced it.
 
 Numbers in a tier are Python floats (float64) or ``mpmath.mpf`` evaluated at
@@ -26,8 +26,16 @@ import mpmath as mp
 import numpy as np
 
 __all__ = ["Tier", "tier", "FLOAT64", "REAL128", "load_heyoka", "HEYOKA_CACHE_MB"]
-__all__ += ["HeyokaMissing"]
-__all__ += ["DIGITS_RANGE", "check_digits", "json_number", "requested_digits"]
+__all__ += [
+    "HeyokaMissing",
+    "DIGITS_RANGE",
+    "check_digits",
+    "json_number",
+    "requested_digits",
+    "heyoka_available",
+    "precision_tier",
+    "integrator_tier",
+]
 
 #: The significant digits every function (``digits=``) and command (``--digits``) accepts.
 DIGITS_RANGE = (1, 1000)
@@ -135,7 +143,7 @@ def load_heyoka() -> Any:
     ------
     HeyokaMissing
         heyoka is not installed: the Hill integrals fall back to scipy/mpmath
-        (:func:`rotorlib.orbits.hill.heyoka_available`); the nonlinear flow
+        (:func:`heyoka_available`); the nonlinear flow
         (:mod:`rotorlib.core.flow`: shooting, families, the atlas) refuses with it.
     ValueError
         ``ROTORLIB_HEYOKA_CACHE_MB`` is not a non-negative integer.
@@ -335,3 +343,61 @@ def requested_digits(digits: int | Tier | None) -> int | None:
     if not t.extended:
         return None
     return t.dps - 9 if isinstance(digits, Tier) else int(digits)  # type: ignore[arg-type]
+
+
+def heyoka_available() -> bool:
+    """True when heyoka imports (a dependency on Linux x86_64/aarch64, the extra
+    ``rotorlib[fast]`` elsewhere); without it the Hill problem uses scipy/mpmath."""
+    try:
+        load_heyoka()  # a malformed ROTORLIB_HEYOKA_CACHE_MB raises: never hidden
+    except ImportError:
+        return False
+    return True
+
+
+def _mpmath_tier(dps: int) -> Tier:
+    """The tier ``mp<bits>`` of mpmath's arithmetic at ``dps`` working digits."""
+    return Tier(f"mp{mp.libmp.dps_to_prec(dps)}")
+
+
+def integrator_tier(
+    digits: int | Tier | None, integrator: str | None = None
+) -> tuple[str, Tier]:
+    """The integrator (``integrator``, else the one :func:`precision_tier` picks) and its
+    tier for ``digits``: mpmath works at ``digits + 5`` digits (20 for float64).
+
+    Examples
+    --------
+    >>> integrator_tier(40, "mpmath")[1].name  # 45 working digits
+    'mp153'
+    """
+    d = requested_digits(digits)
+    if integrator is None:
+        integrator = (
+            "heyoka" if heyoka_available() else "scipy" if d is None else "mpmath"
+        )
+    if integrator == "mpmath":
+        return integrator, _mpmath_tier(d + 5 if d else 20)
+    return integrator, tier(digits)
+
+
+def precision_tier(digits: int | Tier | None = None) -> tuple[str, str]:
+    """The integrator and the tier that :func:`rotorlib.orbits.floquet.monodromy` uses for ``digits``
+    on this machine.
+
+    Returns
+    -------
+    (str, str)
+        Integrator: ``heyoka``, in the tier :func:`rotorlib.core.precision.tier` gives
+        (``float64``, ``real128``, ``mp<bits>``); without heyoka ``scipy`` in float64
+        and ``mpmath`` beyond, at ``digits + 5`` working digits: the tier ``mp<bits>``
+        of that arithmetic. Either name is one :class:`~rotorlib.core.precision.Tier` accepts,
+        and the one ``Monodromy.precision`` records.
+
+    Examples
+    --------
+    >>> precision_tier(None)[1], precision_tier(20)[1], precision_tier(40)[1]
+    ('float64', 'real128', 'mp160')
+    """
+    integrator, t = integrator_tier(digits)
+    return integrator, t.name

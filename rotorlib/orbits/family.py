@@ -198,8 +198,7 @@ class SpecialPoint:
     branch: str = ""
 
     def __post_init__(self) -> None:
-        m = self.member
-        if m is not None:  # E and E_str are the member's (frozen: set once, here)
+        if (m := self.member) is not None:  # E, E_str: the member's (set once, here)
             self.__dict__.update(
                 E=float(m.E),
                 E_str=m.E_str if Tier(m.precision).extended else f"{float(m.E):.13f}",

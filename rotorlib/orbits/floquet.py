@@ -39,7 +39,7 @@ from scipy.linalg import block_diag
 from ..core.closed_forms import BreatherOrbit, PendulumOrbit, breather, pendulum
 from ..core.energy import BreatherEnergy, PendulumEnergy
 from ..core.flow import monodromy_matrix
-from ..core.precision import Tier, requested_digits, tier
+from ..core.precision import Tier, precision_tier, requested_digits, tier
 from ..core.system import (
     beta_to_alpha,
     energy_alpha,
@@ -47,7 +47,7 @@ from ..core.system import (
     lattice_reduce,
     rhs_alpha,
 )
-from .hill import hill_problem, precision_tier, solve_hill
+from .hill import hill_problem, solve_hill
 
 #: Names of the state ``[a1, a2, p1, p2]``: the basis of the variational routes.
 STATE_ORDER = ("a1", "a2", "p1", "p2")

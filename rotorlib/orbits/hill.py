@@ -51,7 +51,7 @@ from typing import TYPE_CHECKING
 import mpmath as mp
 import numpy as np
 
-from ..core.precision import Tier, load_heyoka, requested_digits, tier
+from ..core.precision import Tier, integrator_tier, load_heyoka, requested_digits
 
 if TYPE_CHECKING:
     from ..core.closed_forms import BreatherOrbit, PendulumOrbit
@@ -61,61 +61,7 @@ __all__ = [
     "hill_problem",
     "solve_hill",
     "HillSolution",
-    "heyoka_available",
-    "precision_tier",
 ]
-
-
-def heyoka_available() -> bool:
-    """True when heyoka imports (a dependency on Linux x86_64/aarch64, the extra
-    ``rotorlib[fast]`` elsewhere); without it the Hill problem uses scipy/mpmath."""
-    try:
-        load_heyoka()  # a malformed ROTORLIB_HEYOKA_CACHE_MB raises: never hidden
-    except ImportError:
-        return False
-    return True
-
-
-def _mpmath_tier(dps: int) -> Tier:
-    """The tier ``mp<bits>`` of mpmath's arithmetic at ``dps`` working digits."""
-    return Tier(f"mp{mp.libmp.dps_to_prec(dps)}")
-
-
-def _integrator(
-    digits: int | Tier | None, integrator: str | None = None
-) -> tuple[str, Tier]:
-    """The integrator (``integrator``, else the one :func:`precision_tier` picks) and its
-    tier for ``digits``: mpmath works at ``digits + 5`` digits (20 for float64)."""
-    d = requested_digits(digits)
-    if integrator is None:
-        integrator = (
-            "heyoka" if heyoka_available() else "scipy" if d is None else "mpmath"
-        )
-    if integrator == "mpmath":
-        return integrator, _mpmath_tier(d + 5 if d else 20)
-    return integrator, tier(digits)
-
-
-def precision_tier(digits: int | Tier | None = None) -> tuple[str, str]:
-    """The integrator and the tier that :func:`rotorlib.orbits.floquet.monodromy` uses for ``digits``
-    on this machine.
-
-    Returns
-    -------
-    (str, str)
-        Integrator: ``heyoka``, in the tier :func:`rotorlib.core.precision.tier` gives
-        (``float64``, ``real128``, ``mp<bits>``); without heyoka ``scipy`` in float64
-        and ``mpmath`` beyond, at ``digits + 5`` working digits: the tier ``mp<bits>``
-        of that arithmetic. Either name is one :class:`~rotorlib.core.precision.Tier` accepts,
-        and the one ``Monodromy.precision`` records.
-
-    Examples
-    --------
-    >>> precision_tier(None)[1], precision_tier(20)[1], precision_tier(40)[1]
-    ('float64', 'real128', 'mp160')
-    """
-    integrator, t = _integrator(digits)
-    return integrator, t.name
 
 
 @dataclass(frozen=True)
@@ -400,16 +346,18 @@ def solve_hill(
     prob : HillProblem
         From :func:`hill_problem` (with the same ``digits``, or more).
     digits : int or Tier, optional
-        The integrator and tier of :func:`precision_tier`: heyoka in the tier of
-        ``digits``; without heyoka scipy (float64) or mpmath's Taylor integrator.
+        The integrator and tier of :func:`~rotorlib.core.precision.precision_tier`:
+        heyoka in the tier of ``digits``; without heyoka scipy (float64) or mpmath's
+        Taylor integrator.
     tol : float, optional
         Loosens or tightens the integrator: scipy's ``rtol`` (default 1e-13, absolute
         tolerances scaled alike) or heyoka's ``tol`` (default: the machine epsilon of
         the tier). The defaults are the verified tiers; other values serve
         work-precision studies (``benchmarks/bench_precision.py``). Ignored by mpmath.
     integrator : {None, 'heyoka', 'scipy', 'mpmath'}, optional
-        Which integrator solves the problem: ``None`` the one :func:`precision_tier`
-        picks; a name forces it, to check one integrator against another (the precision
+        Which integrator solves the problem: ``None`` the one
+        :func:`~rotorlib.core.precision.precision_tier` picks; a name forces it, to
+        check one integrator against another (the precision
         is still ``digits``: scipy integrates in float64 only, mpmath at ``digits + 5``
         working digits, 20 for float64).
 
@@ -430,7 +378,7 @@ def solve_hill(
     >>> round(sol.delta, 10), sol.precision, sol.psi_end < 1e-13
     (-0.1396851546, 'float64', True)
     """
-    integrator, t = _integrator(digits, integrator)
+    integrator, t = integrator_tier(digits, integrator)
     if t.name == "real128" and mp.mpf(prob.m1) < mp.mpf(REAL128_MIN_M1):
         raise ValueError(
             f"m1 = {mp.nstr(mp.mpf(prob.m1), 3)} is below the real128 range (m1 >= {REAL128_MIN_M1}, "
