@@ -33,6 +33,7 @@ def main(argv=None) -> int:
     p.add_argument("--workers", type=int, default=None)
     p.add_argument("--scheduler", default=None)
     p.add_argument("--no-write", action="store_true")
+    p.add_argument("--max-steps", type=int, default=600)
     p.add_argument("--no-names", action="store_true", help="unnamed censuses (tests)")
     a = p.parse_args(argv)
     t0, c0 = time.time(), time.process_time()
@@ -46,6 +47,7 @@ def main(argv=None) -> int:
             refine=a.refine,
             digits=a.digits,
             name=not a.no_names,
+            max_steps=a.max_steps,
             executor=ex,
             progress=sys.stderr.isatty(),
             log=lambda s: print(s, file=sys.stderr, flush=True),

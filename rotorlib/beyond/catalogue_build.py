@@ -298,7 +298,18 @@ def follow_task(args: dict) -> dict:
 def polish_task(args: dict) -> dict:
     """A stored member re-solved at ``args['digits']`` digits at the energy
     ``args['E_str']`` from ``args['u']``: the decimal strings of ``E``, the period,
-    ``state0`` and ``tr M`` (5 digits fewer), the multipliers, the closure error."""
+    ``state0`` and ``tr M`` (5 digits fewer), the multipliers, the closure error; or
+    ``{'failed': reason}`` when the re-solve does not converge."""
+    from ..core.flow import SectionNotReached
+    from ..orbits.shooting import NoConvergence
+
+    try:
+        return _polish(args)
+    except (NoConvergence, SectionNotReached, ValueError, ZeroDivisionError) as exc:
+        return {"failed": f"{type(exc).__name__}: {exc}"[:300]}
+
+
+def _polish(args: dict) -> dict:
     from ..core.flow import monodromy_matrix
     from ..core.precision import tier
     from ..core.system import lattice_reduce
@@ -372,6 +383,7 @@ def build(
     refine: int = 1,
     digits: int = 30,
     name: bool = True,
+    max_steps: int = 600,
     executor: Executor | None = None,
     progress: bool = False,
     log=None,
@@ -418,6 +430,7 @@ def build(
                     "t_max": t_max,
                     "step": step,
                     "energies": grid_E,
+                    **({} if max_steps == 600 else {"max_steps": max_steps}),
                 }
                 for o in todo
             ],
@@ -567,12 +580,16 @@ def write(cat: dict, out: str | os.PathLike) -> dict:
         f["id"] = f"F{i + 1:03d}"
     _links(fams)
     rows, index = [], []
+    failed: list[tuple] = []
     for f in fams:
         names = sorted({o["label"] for o in f["census"] if o["label"] != "new"})
         Es = [m["E"] for m in f["path"]]
         members = []
         for m in f["stored"]:
             p = m["polish"]
+            if "failed" in p:
+                failed.append((f["id"], m["kind"], m["E"], p["failed"]))
+                continue
             members.append(
                 {
                     "kind": m["kind"],
@@ -650,6 +667,7 @@ def write(cat: dict, out: str | os.PathLike) -> dict:
         "census_energies": sorted(cat["censuses"]),
         "census_counts": [len(cat["censuses"][E]) for E in sorted(cat["censuses"])],
         "orphans": len(cat["orphans"]),
+        "unpolished": [list(x) for x in failed],
         "families": index,
     }
     _write_json(out / "index.json", idx)
