@@ -40,7 +40,7 @@ parallel              --      sweeps on a process pool or a Dask cluster (pmap)
 ====================  ======  ======================================================================
 """
 
-from .api import LABELS, census, family, orbit, transition
+from .api import LABELS, catalogue, census, family, orbit, transition
 from .core.closed_forms import (
     BreatherOrbit,
     PendulumOrbit,
@@ -82,6 +82,7 @@ __all__ = [
     "family",
     "transition",
     "census",
+    "catalogue",
     "LABELS",
     "PeriodicOrbit",
     "BreatherEnergy",

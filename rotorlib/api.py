@@ -24,6 +24,7 @@ from typing import TYPE_CHECKING, Any
 import mpmath as mp
 import numpy as np
 
+from .beyond.catalogue import catalogue
 from .core.precision import Tier, check_digits
 from .orbits.family import Branch, energy_range
 from .orbits.periodic_orbit import PeriodicOrbit
@@ -32,7 +33,7 @@ from .paper.bifurcations import Transition, is_breather_label, parse_label
 if TYPE_CHECKING:  # imported when called: import rotorlib stays light
     from .beyond.atlas import Atlas
 
-__all__ = ["orbit", "family", "transition", "census", "LABELS"]
+__all__ = ["orbit", "family", "transition", "census", "catalogue", "LABELS"]
 
 #: The orbit labels :func:`orbit` accepts, by kind (IS/PD labels take any ``n >= 1``).
 LABELS = {
