@@ -79,7 +79,7 @@ def task_key(kind: str, args: dict) -> str:
     """The hash of a task's inputs (sha256 of its canonical JSON, with :data:`VERSION`).
 
     >>> task_key("census", {"E": 5.45, "t_max": 8.0, "grid": 300})[:12]
-    '86b5f62dd4cc'
+    'c9c757c3cccf'
     """
     text = json.dumps({"v": VERSION, "kind": kind, "args": args}, sort_keys=True)
     return hashlib.sha256(text.encode()).hexdigest()[:32]
@@ -538,7 +538,13 @@ def _stable_windows(f: dict) -> list[list[float]]:
             ]
             out.append([min(ends), max(ends)])
         i = j
-    return out
+    merged: list[list[float]] = []  # overlapping windows (through a fold) merged
+    for w in sorted(out):
+        if merged and w[0] <= merged[-1][1]:
+            merged[-1][1] = max(merged[-1][1], w[1])
+        else:
+            merged.append(w)
+    return merged
 
 
 def _links(fams: list[dict]) -> None:
@@ -578,6 +584,17 @@ def write(cat: dict, out: str | os.PathLike) -> dict:
     lo, hi = cat["window"]
     for i, f in enumerate(fams):
         f["id"] = f"F{i + 1:03d}"
+        # a point located from both directions (beside the seed) is kept once
+        seen, keep = set(), []
+        for p in f["special"]:
+            key = (p["kind"], round(p["E"], 10), round(p["period"], 7))
+            if key not in seen:
+                seen.add(key)
+                keep.append(p)
+        f["special"] = keep
+        f["stored"] = [m for m in f["stored"] if any(m is p for p in keep)] + [
+            m for m in f["stored"] if m["kind"] == "seed"
+        ]
     _links(fams)
     rows, index = [], []
     failed: list[tuple] = []
