@@ -68,7 +68,11 @@ def run(args: argparse.Namespace) -> int:
     t_max = None if args.t_max is None else as_float(args.t_max, "--t-max")
     recs = []
     for f in catalogue(E=E, path=args.path):
-        m = f.at(args.E, args.digits)
+        try:
+            m = f.at(args.E, args.digits)
+        except ValueError as exc:  # the shot from the nearest member failed: say so
+            recs.append({"id": f.id, "name": f.name, "error": str(exc)})
+            continue
         if t_max is not None and float(m.period) > t_max:
             continue
         if args.stable and m.stability != "stable":
