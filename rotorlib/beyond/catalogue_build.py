@@ -11,12 +11,11 @@ The build is a set of tasks of three kinds, each a pure function of its inputs:
 * ``polish``: one stored member re-solved at ``digits = 30`` (heyoka real128): ``E``,
   period, ``state0`` and ``tr M`` as decimal strings, the multipliers, the closure.
 
-Every task is keyed by a hash of its inputs (:func:`task_key`) and its result is written,
-as soon as it finishes, to ``<cache>/<key>.json`` (written to a temporary file and
-renamed: a file is complete or absent). :func:`run_tasks` skips the tasks whose file
-exists, so a build killed at any point (a worker, or the client) resumes without redoing
-a finished task. Tasks run serially, on a process pool or on a Dask cluster
-(:func:`rotorlib.core.parallel.executor_for`), with a progress bar on stderr.
+Every task is keyed by a hash of its inputs (:func:`task_key`); its result is written,
+as it finishes, to ``<cache>/<key>.json`` (a temporary file renamed: complete or absent).
+:func:`run_tasks` skips the tasks whose file exists: a build killed at any point (a
+worker, or the client) resumes without redoing a finished task. Tasks run serially, on
+a process pool or on a Dask cluster (:func:`rotorlib.core.parallel.executor_for`).
 
 :func:`build` runs the census round, refines the energy grid where the number of census
 orbits changes between neighbours (a family born or dying between them), follows the
@@ -65,8 +64,7 @@ __all__ = [
 #: The version of the task functions and of the file format (part of every task's key).
 VERSION = 1
 
-#: Why a family's record ends, from the engine's stop code (``E range`` is split into the
-#: ends of the energy axis, ``E = 0`` / ``8``, and the end of the built window).
+#: Why a family's record ends, from the engine's stop code (``E range``: see ``_end``).
 END_KINDS = {
     "period": "leaves T <= T_max",
     "stuck": "engine stopped (a critical point, a cusp or a sharp turn)",
@@ -619,7 +617,7 @@ def write(cat: dict, out: str | os.PathLike) -> dict:
                     "trace": m["trace"],
                     "trace_str": p["trace_str"],
                     "multipliers": p["multipliers"],
-                    "stability": _stability(m["trace"]),
+                    "stability": "stable" if 0 < m["trace"] < 4 else "unstable",
                     "action": m.get("action"),
                     "maslov": None,
                     "u": m["u"],
@@ -699,7 +697,3 @@ def write(cat: dict, out: str | os.PathLike) -> dict:
         )
         w.writerows(rows)
     return idx
-
-
-def _stability(tr: float) -> str:
-    return "stable" if 0 < tr < 4 else "unstable"
