@@ -59,6 +59,8 @@ __all__ = [
     "distinct_orbits",
     "orbit_samples",
     "distance_to_orbit",
+    "shooting_problem",
+    "orbit_action",
 ]
 
 #: Energies where the census is validated (``tests/test_atlas.py``). Below ``E = 0.1`` the
@@ -684,3 +686,7 @@ def census(
         family = label if label != "new" else f"N{i + 1}"
         orbits.append(atlas_orbit(label, family, E, t_half, f, fin_i, chor))
     return Atlas(E, t_max, grid, tuple(orbits))
+
+
+#: Public names for the catalogue (:mod:`rotorlib.beyond.catalogue_build`).
+shooting_problem, orbit_action = _problem, _action

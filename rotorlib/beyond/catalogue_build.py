@@ -177,11 +177,11 @@ def problem_of(spec: dict):
     """The shooting problem of a census orbit from its names: ``start`` (a start set),
     ``target`` (a fixed set), ``crossing``, ``t_half``, ``E`` (and ``label``, ``factor``)."""
     from ..orbits.reversors import start_sets, targets
-    from .atlas import _problem
+    from .atlas import shooting_problem
 
     si = [s.name for s in start_sets(spec["E"])].index(spec["start"])
     j = [t.name for t in targets()].index(spec["target"])
-    prob = _problem(si, j, spec["crossing"], spec["E"], spec["t_half"])
+    prob = shooting_problem(si, j, spec["crossing"], spec["E"], spec["t_half"])
     if "factor" in spec:
         prob = replace(prob, label=spec["label"], factor=spec["factor"])
     return prob
@@ -238,7 +238,7 @@ def follow_task(args: dict) -> dict:
     from ..core.flow import states_at
     from ..orbits.continuation import PALC, ContinuationOptions, continuation, member
     from ..orbits.shooting import residual
-    from .atlas import _action
+    from .atlas import orbit_action
 
     o = args["seed"]
     prob = problem_of(o)
@@ -273,10 +273,10 @@ def follow_task(args: dict) -> dict:
         rec = _member_rec(p.member, p.kind)
         rec["index"] = idx
         T = rec["period"]
-        rec["action"] = float(_action(rec["x0"], T, rec["E"]))
+        rec["action"] = float(orbit_action(rec["x0"], T, rec["E"]))
         special.append(rec)
     seed = _member_rec(m0, "seed")
-    seed["action"] = float(_action(seed["x0"], seed["period"], seed["E"]))
+    seed["action"] = float(orbit_action(seed["x0"], seed["period"], seed["E"]))
     x = states_at(seed["x0"], [0.0, seed["period"]])
     winding = [float(v) / (2 * math.pi) for v in (x[1] - x[0])[:2]]
     return {
