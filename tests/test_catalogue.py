@@ -226,3 +226,12 @@ def test_run_tasks_reads_back_without_running(tmp_path):
     jobs = [("census", {"E": 4.3, "t_max": 3.5, "grid": 40, "name": False})]
     (r1, n1), (r2, n2) = (run_tasks(jobs, tmp_path) for _ in range(2))
     assert (n1, n2) == (1, 0) and r1 == r2
+
+
+def test_cli_verify_and_stable(capsys):
+    small = min(RECORDS, key=lambda r: len(r["members"]))
+    assert main(["catalogue", "--verify", small["id"]]) == 0
+    assert ": ok (" in capsys.readouterr().out
+    assert main(["catalogue", "--E", "5.9", "--stable", "--json"]) == 0
+    recs = json.loads(capsys.readouterr().out)
+    assert recs and all(r.get("stability") == "stable" for r in recs)
