@@ -49,7 +49,7 @@ front door  ``api`` (``orbit``, ``family``, ``transition``, ``census``), ``cli``
 ==========  =============================================================================
 """
 
-from .api import LABELS, census, family, orbit, transition
+from .api import LABELS, catalogue, census, family, orbit, transition
 from .beyond.atlas import Atlas
 from .orbits.family import Branch, Member, SpecialPoint
 from .orbits.periodic_orbit import PeriodicOrbit
@@ -62,6 +62,7 @@ __all__ = [
     "family",
     "transition",
     "census",
+    "catalogue",
     "LABELS",
     "PeriodicOrbit",
     "Branch",

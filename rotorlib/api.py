@@ -42,6 +42,7 @@ from .beyond import (
     choreo_z3,
 )
 from .beyond.atlas import Atlas
+from .beyond.catalogue import catalogue
 from .beyond.choreo import Choreography
 from .core.parallel import executor_for
 from .core.precision import Tier, check_digits, tier
@@ -55,6 +56,7 @@ __all__ = [
     "family",
     "transition",
     "census",
+    "catalogue",
     "LABELS",
     "REGISTRY",
     "Served",

@@ -21,7 +21,15 @@ from typing import Any
 from .core.precision import DIGITS_RANGE, HeyokaMissing, check_digits
 
 #: Command modules, in help order. A module missing from the package is skipped.
-COMMANDS = ("trace", "bifurcations", "orbit", "family", "atlas", "spectrum")
+COMMANDS = (
+    "trace",
+    "bifurcations",
+    "orbit",
+    "family",
+    "atlas",
+    "spectrum",
+    "catalogue",
+)
 
 
 #: A negative number in any notation (-5, -1.5, -.5, -1e6, -1E+3, -inf, -nan). argparse's own matcher

@@ -32,12 +32,13 @@ from fractions import Fraction
 
 import numpy as np
 from numpy.typing import ArrayLike
+from scipy.integrate import simpson
 
 from ..core.energy import as_float
 from ..core.flow import SectionNotReached, crossings, monodromy_matrix, sample
 from ..core.parallel import pmap
 from ..core.precision import FLOAT64, json_number, load_heyoka, tier
-from ..core.system import lattice_reduce
+from ..core.system import lattice_reduce, potential_alpha
 from ..orbits.periodic_orbit import PeriodicOrbit
 from ..orbits.reversors import images, start_sets, targets
 from ..orbits.shooting import ShootingProblem, residual, solve
@@ -58,6 +59,8 @@ __all__ = [
     "distinct_orbits",
     "orbit_samples",
     "distance_to_orbit",
+    "shooting_problem",
+    "orbit_action",
 ]
 
 #: Energies where the census is validated (``tests/test_atlas.py``): below 0.1 the normal
@@ -291,20 +294,13 @@ def _roots(si, E, t_half, a, ra, b, rb, width, depth) -> list:
     return [r for r in roots if r is not None]
 
 
-def _problem(si, j, k, E, t_half):
+def shooting_problem(si, j, k, E, t_half):
+    """The census's shooting problem from start set ``si`` to target ``j`` at its
+    ``k``-th crossing, energy ``E``, half period about ``t_half`` (float64 or a tier)."""
     start, tg = start_sets(E)[si], targets()[j]
-    name = f"{start.name} -> {tg.name} ({k})"
+    name, sec, cond = f"{start.name} -> {tg.name} ({k})", tg.section, tg.condition
     return ShootingProblem(
-        name,
-        start,
-        tg.section,
-        tg.condition,
-        k,
-        2,
-        (0.0, 0.0),
-        None,
-        None,
-        2 * t_half + 1,
+        name, start, sec, cond, k, 2, (0.0, 0.0), None, None, 2 * t_half + 1
     )
 
 
@@ -342,14 +338,10 @@ def _period(x0, t1, t_max):
     return T
 
 
-def _action(x0, T, E):
+def orbit_action(x0, T, E):
     """The action ``oint p dq = 2 (E T - int V dt)`` of the orbit from ``x0`` of period
     ``T`` (Simpson on 801 samples): the same for every image of the orbit under the group
     and time reversal."""
-    from scipy.integrate import simpson
-
-    from ..core.system import potential_alpha
-
     st, ts = sample(x0, T, 801)
     return 2 * (E * T - simpson(potential_alpha(st[:, 0], st[:, 1]), x=ts))
 
@@ -398,7 +390,7 @@ def _refine_bracket(si, j, k, E, t_half, ua, ub) -> tuple | None:
     """One bracket: the root in ``u`` (Brent), its verification and invariants, or ``None``."""
     from scipy.optimize import brentq
 
-    prob = _problem(si, j, k, E, t_half)
+    prob = shooting_problem(si, j, k, E, t_half)
 
     try:
         f = lambda u: float(residual(prob, u, E).r)  # noqa: E731
@@ -410,7 +402,7 @@ def _refine_bracket(si, j, k, E, t_half, ua, ub) -> tuple | None:
         return None
     x0 = [float(v) for v in s.x0]
     T = _period(x0, float(s.t1), 2 * t_half)
-    return None if T is None else (si, j, k, u, x0, T, _action(x0, T, E))
+    return None if T is None else (si, j, k, u, x0, T, orbit_action(x0, T, E))
 
 
 def finish_orbit(args: tuple) -> tuple:
@@ -429,7 +421,7 @@ def finish_orbit(args: tuple) -> tuple:
             M,
             None,
         )
-    t, prob = tier(int(digits)), _problem(si, j, k, E, t_half)
+    t, prob = tier(int(digits)), shooting_problem(si, j, k, E, t_half)
     with t.context():
         u0, u1 = t.num(u), t.num(u) * (1 + t.num("1e-12"))
         u = solve(prob, u0, u1, E=str(E), digits=t, r_max=t.eps**0.6).x
@@ -475,7 +467,7 @@ def atlas_orbit(
         "fixed_sets": (start_sets(E)[si].name, targets()[j].name),
         "action": float(S),
         "u": float(u),
-        "problem": _problem(si, j, k, E, t_half),
+        "problem": shooting_problem(si, j, k, E, t_half),
         "choreography": choreography,
     }
     x = np.array(x0, dtype=float)
@@ -520,7 +512,7 @@ def _known_family(args):
     if not located:
         return None
     T = float(b.problem.factor * located[-1].t1)
-    return spec.label, T, _action(list(b.state(located[-1])), T, E)
+    return spec.label, T, orbit_action(list(b.state(located[-1])), T, E)
 
 
 def _known_tasks(E) -> list:
@@ -547,7 +539,7 @@ def _known(E, t_max, followed) -> list:
     if DAUGHTER_E_MIN <= E < 8.968:
         closed.append(("PD^b", breather_daughter(E)))
     return [
-        (lab, o.period, _action(list(o.state0), o.period, E))
+        (lab, o.period, orbit_action(list(o.state0), o.period, E))
         for lab, o in closed
         if o.period <= t_max * 1.001
     ] + [f for f in followed if f is not None and f[1] <= t_max * 1.001]

@@ -1,0 +1,450 @@
+"""The catalogue of symmetric periodic-orbit families: load, filter, re-solve, verify.
+
+The files (built by ``scripts/build_catalogue.py`` with :mod:`rotorlib.beyond.catalogue_build`,
+stored in ``rotorlib/data/catalogue/``): ``index.json`` (the build's scope: the energy
+window, ``T_max``, the census energies and counts; one summary per family),
+``F<nnn>.json`` per family, ``members.csv`` (every stored member, one line each, the
+decimal strings to 30 digits) and ``schema.json`` (:data:`SCHEMA`, the JSON Schema of a
+family file). Read them without rotorlib; in Python :func:`catalogue` returns
+:class:`Family` objects, each with its :class:`~rotorlib.orbits.family.Branch`
+(:meth:`Family.branch`) and its member at any energy of its range solved to any
+``digits`` (:meth:`Family.at`); :func:`verify` re-solves the stored members.
+
+A family record: ``id``, ``name`` (the atlas's name of its census orbits, e.g.
+``pendulum``, ``breather R``, ``PD^b``, ``CG``; ``null`` for a family the book does not
+name), ``symmetry`` (the pairs of fixed sets its census orbits meet half a period apart,
+``choreography``, ``rotating`` with the net ``winding`` of the two angles over a period,
+in turns), ``E_range``, ``ends`` (each end's energy, period and why the record stops
+there: ``leaves T <= T_max``, ``end of the built window``, ``engine stopped ...``,
+``E = 0 or 8``), ``special_points`` (folds, ``IS``: tr M = 4, ``PD``: tr M = 0, located
+to ~1e-14), ``stable_windows``, ``parents`` / ``daughters`` (``{id, kind, E}``),
+``census_orbits`` (the census orbits it contains), ``members`` (the stored members:
+``E_str``, ``period_str``, ``state0_str`` to 30 digits, ``trace_str`` to 25, the
+multipliers, the action ``S = oint p.dq``; ``maslov`` is ``null``: not computed yet)
+and ``branch`` (every continuation member in float64: ``[E, u, t1, tr M, a1, a2, p1,
+p2]``, the shooting problem and the period factor).
+
+Precision: stored members to 30 digits (real128, closure < 1e-28); path members float64
+(residual < 1e-8); the action to ~1e-9 relative.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+from collections.abc import Iterator
+from dataclasses import dataclass
+from functools import cached_property
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+__all__ = ["DATA", "SCHEMA", "Family", "Catalogue", "catalogue", "load", "verify"]
+
+#: The stored catalogue (package data).
+DATA = Path(__file__).resolve().parent.parent / "data" / "catalogue"
+
+_num = {"type": "number"}
+_str = {"type": "string"}
+_member = {
+    "type": "object",
+    "required": [
+        "kind",
+        "E",
+        "E_str",
+        "period",
+        "period_str",
+        "state0",
+        "state0_str",
+        "trace",
+        "trace_str",
+        "multipliers",
+        "stability",
+        "action",
+        "maslov",
+        "u",
+        "closure",
+        "digits",
+    ],
+    "properties": {
+        "kind": {"enum": ["E", "IS", "PD", "fold", "seed"]},
+        "E": _num,
+        "E_str": _str,
+        "period": {"type": "number", "exclusiveMinimum": 0},
+        "period_str": _str,
+        "state0": {"type": "array", "items": _num, "minItems": 4, "maxItems": 4},
+        "state0_str": {"type": "array", "items": _str, "minItems": 4, "maxItems": 4},
+        "trace": _num,
+        "trace_str": _str,
+        "multipliers": {
+            "type": "array",
+            "minItems": 4,
+            "maxItems": 4,
+            "items": {"type": "array", "items": _num, "minItems": 2, "maxItems": 2},
+        },
+        "stability": {"enum": ["stable", "unstable"]},
+        "action": _num,
+        "maslov": {"type": ["integer", "null"]},
+        "u": _num,
+        "closure": {"type": "number", "minimum": 0},
+        "digits": {"type": "integer", "minimum": 16},
+    },
+}
+_link = {
+    "type": "object",
+    "required": ["id", "kind", "E"],
+    "properties": {"id": _str, "kind": {"enum": ["IS", "PD"]}, "E": _num},
+}
+_pair = {"type": "array", "items": _num, "minItems": 2, "maxItems": 2}
+
+#: The JSON Schema (draft 2020-12) of a family file ``F<nnn>.json``.
+SCHEMA: dict[str, Any] = {
+    "$schema": "https://json-schema.org/draft/2020-12/schema",
+    "title": "rotorlib catalogue: one family of symmetric periodic orbits of the 3-rotor",
+    "type": "object",
+    "required": [
+        "id",
+        "name",
+        "names",
+        "t_max",
+        "window",
+        "symmetry",
+        "E_range",
+        "period_range",
+        "ends",
+        "special_points",
+        "stable_windows",
+        "parents",
+        "daughters",
+        "census_orbits",
+        "members",
+        "branch",
+    ],
+    "properties": {
+        "id": {"type": "string", "pattern": "^F[0-9]{3}$"},
+        "name": {"type": ["string", "null"]},
+        "names": {"type": "array", "items": _str},
+        "t_max": _num,
+        "window": _pair,
+        "symmetry": {
+            "type": "object",
+            "required": ["fixed_sets", "choreography", "rotating", "winding"],
+            "properties": {
+                "fixed_sets": {
+                    "type": "array",
+                    "items": {"type": "array", "items": _str},
+                },
+                "choreography": {"type": "boolean"},
+                "rotating": {"type": "boolean"},
+                "winding": {"type": "array", "items": _num},
+            },
+        },
+        "E_range": _pair,
+        "period_range": _pair,
+        "ends": {
+            "type": "array",
+            "minItems": 2,
+            "maxItems": 2,
+            "items": {
+                "type": "object",
+                "required": ["side", "E", "period", "kind", "stop", "reason"],
+                "properties": {"side": {"enum": ["backward", "forward"]}},
+            },
+        },
+        "special_points": {
+            "type": "array",
+            "items": {
+                "type": "object",
+                "required": ["kind", "E", "period", "trace", "index"],
+                "properties": {"kind": {"enum": ["IS", "PD", "fold"]}},
+            },
+        },
+        "stable_windows": {"type": "array", "items": _pair},
+        "parents": {"type": "array", "items": _link},
+        "daughters": {"type": "array", "items": _link},
+        "census_orbits": {"type": "array", "minItems": 1},
+        "members": {"type": "array", "items": _member, "minItems": 1},
+        "branch": {
+            "type": "object",
+            "required": ["factor", "problem", "path"],
+            "properties": {
+                "path": {
+                    "type": "array",
+                    "minItems": 2,
+                    "items": {"type": "array", "items": _num, "minItems": 8},
+                }
+            },
+        },
+    },
+}
+
+
+@dataclass(frozen=True)
+class Family:
+    """One catalogued family: its record (the family file's JSON) and accessors.
+
+    Examples
+    --------
+    >>> from rotorlib.beyond.catalogue import catalogue
+    >>> f = catalogue(name="pendulum")[0]
+    >>> f.id, f.name, f.symmetry["rotating"]
+    ('F001', 'pendulum', True)
+    >>> b = f.branch()
+    >>> b.label, len(b.members) == len(f.record["branch"]["path"])
+    ('pendulum', True)
+    """
+
+    record: dict
+
+    @property
+    def id(self) -> str:
+        return self.record["id"]
+
+    @property
+    def name(self) -> str | None:
+        return self.record["name"]
+
+    @property
+    def symmetry(self) -> dict:
+        return self.record["symmetry"]
+
+    @property
+    def E_range(self) -> tuple[float, float]:
+        lo, hi = self.record["E_range"]
+        return float(lo), float(hi)
+
+    @property
+    def stable_windows(self) -> list[tuple[float, float]]:
+        return [(float(a), float(b)) for a, b in self.record["stable_windows"]]
+
+    def exists_at(self, E: float) -> bool:
+        """Whether the family has a member at ``E`` (within its path's energies)."""
+        return self.E_range[0] <= E <= self.E_range[1]
+
+    def stable_at(self, E: float) -> bool:
+        return any(a <= E <= b for a, b in self.stable_windows)
+
+    @cached_property
+    def problem(self):
+        from .catalogue_build import problem_of
+
+        br = self.record["branch"]
+        lab = self.name or self.id
+        return problem_of({**br["problem"], "label": lab, "factor": br["factor"]})
+
+    def branch(self):
+        """The family as a :class:`~rotorlib.orbits.family.Branch` (float64 path
+        members; special points as :class:`~rotorlib.orbits.family.SpecialPoint`)."""
+        from ..core.precision import tier
+        from ..orbits.family import Branch, Member, SpecialPoint
+
+        prob = self.problem
+
+        def mem(E, u, t1, tr, x0):
+            return Member(u, E, E, t1, 0.0, tr, (), prob.label, prob.factor, tuple(x0))
+
+        ms = tuple(mem(*row[:4], row[4:8]) for row in self.record["branch"]["path"])
+        pts = []
+        for p in self.record["special_points"]:
+            x = (p["E"], 0.0, p["period"] / prob.factor, p["trace"], [math.nan] * 4)
+            pts.append(SpecialPoint(p["kind"], mem(*x[:4], x[4]), int(p["index"])))
+        ends = self.record["ends"]
+        return Branch(
+            prob,
+            tier(None),
+            ms,
+            tuple(pts),
+            " / ".join(e["stop"] for e in ends),
+            "; ".join(f"{e['side']}: {e['kind']}" for e in ends),
+            tuple(self.record["window"]),
+        )
+
+    def nearest(self, E: float) -> list:
+        """The path member nearest in ``E`` (``[E, u, t1, tr M, a1, a2, p1, p2]``)."""
+        path = self.record["branch"]["path"]
+        return min(path, key=lambda r: abs(r[0] - E))
+
+    def at(self, E: Any, digits: int | None = None):
+        """The family's member at ``E`` solved from the nearest stored path member, to
+        ``digits`` (a :class:`~rotorlib.orbits.family.Member`, ``tr M`` computed).
+
+        Raises ValueError when ``E`` is outside the family's range or the shot does not
+        converge to a member with the family's period (2e-3 relative)."""
+        from ..core.energy import as_float
+        from ..core.precision import tier
+        from ..orbits.continuation import member
+        from ..orbits.shooting import NoConvergence, solve
+
+        Ef = as_float(E, "E")
+        if not self.exists_at(Ef):
+            raise ValueError(
+                f"{self.id} has no member at E = {Ef!r}: range {self.E_range}"
+            )
+        # the path members on either side of E: the one with the nearest period
+        path = self.record["branch"]["path"]
+        i = int(np.argmin([abs(r[0] - Ef) for r in path]))
+        row = path[i]
+        t = tier(digits)
+        with t.context():
+            u0 = t.num(repr(row[1]))
+            try:
+                u = solve(self.problem, u0, u0 * (1 + t.num("1e-9")), E=E, digits=t).x
+            except NoConvergence as exc:
+                raise ValueError(
+                    f"{self.id}: no member at E = {Ef!r} ({exc})"
+                ) from None
+            m = member(self.problem, u, str(E) if t.extended else Ef, t, traces=True)
+        T0 = self.problem.factor * row[2]
+        if abs(float(m.period) - T0) > 0.05 * T0:
+            raise ValueError(f"{self.id}: the shot at E = {Ef!r} left the family")
+        return m
+
+    def to_dict(self) -> dict:
+        return self.record
+
+
+@dataclass(frozen=True)
+class Catalogue:
+    """The loaded catalogue: ``index`` (``index.json``) and ``families``."""
+
+    index: dict
+    families: tuple[Family, ...]
+
+    def __iter__(self) -> Iterator[Family]:
+        return iter(self.families)
+
+    def __len__(self) -> int:
+        return len(self.families)
+
+    def family(self, fid: str) -> Family:
+        for f in self.families:
+            if f.id == fid:
+                return f
+        raise ValueError(
+            f"no family {fid!r} in the catalogue (ids F001..F{len(self.families):03d})"
+        )
+
+
+def load(path: str | os.PathLike | None = None) -> Catalogue:
+    """The catalogue stored in ``path`` (default :data:`DATA`)."""
+    p = Path(path) if path is not None else DATA
+    if not (p / "index.json").exists():
+        raise ValueError(f"no catalogue in {p} (index.json missing)")
+    index = json.loads((p / "index.json").read_text())
+    fams = tuple(
+        Family(json.loads((p / f"{r['id']}.json").read_text()))
+        for r in index["families"]
+    )
+    return Catalogue(index, fams)
+
+
+def catalogue(
+    E: float | None = None,
+    t_max: float | None = None,
+    stable: bool | None = None,
+    symmetry: str | None = None,
+    name: str | None = None,
+    path: str | os.PathLike | None = None,
+) -> list[Family]:
+    """The catalogued families, filtered.
+
+    Parameters
+    ----------
+    E : float, optional
+        Only families with a member at ``E``.
+    t_max : float, optional
+        Only families with a member of period ``<= t_max`` (at ``E`` if given, from
+        the path members nearest it).
+    stable : bool, optional
+        Only families linearly stable (or unstable) at ``E`` (or somewhere, without ``E``).
+    symmetry : str, optional
+        ``choreography``, ``rotating``, ``librating`` or the name of a fixed set the
+        family meets.
+    name : str, optional
+        The family's name (``pendulum``, ``breather R``, ...) or id (``F001``).
+    path : path, optional
+        Another catalogue directory.
+
+    Examples
+    --------
+    >>> from rotorlib.beyond.catalogue import catalogue
+    >>> fams = catalogue(E=5.45)
+    >>> all(f.exists_at(5.45) for f in fams), len(fams) >= 5
+    (True, True)
+    """
+    out = []
+    for f in load(path):
+        if E is not None and not f.exists_at(E):
+            continue
+        if t_max is not None:
+            if E is None:
+                T = f.record["period_range"][0]
+            else:
+                row = f.nearest(E)
+                T = f.record["branch"]["factor"] * row[2]
+            if T > t_max:
+                continue
+        if stable is not None:
+            st = f.stable_at(E) if E is not None else bool(f.stable_windows)
+            if st != stable:
+                continue
+        if symmetry is not None:
+            sy = f.symmetry
+            flags = {
+                "choreography": sy["choreography"],
+                "rotating": sy["rotating"],
+                "librating": not sy["rotating"],
+            }
+            sets = {s for pair in sy["fixed_sets"] for s in pair}
+            if not flags.get(symmetry, symmetry in sets):
+                continue
+        if name is not None and name not in (f.id, f.name, *f.record["names"]):
+            continue
+        out.append(f)
+    return out
+
+
+def verify(fid: str, path: str | os.PathLike | None = None, digits: int = 30) -> dict:
+    """Re-solve every stored member of family ``fid`` at its ``E_str`` from its ``u``
+    (:func:`rotorlib.beyond.catalogue_build.polish_task`) and compare: the largest
+    relative difference of the period and of ``tr M``, the largest difference of
+    ``state0``, the largest closure; ``ok`` when they are below ``1e-20`` (period,
+    state), ``1e-15 max(1, |tr M|)`` (trace) and the closure below ``1e-20``."""
+    from mpmath import mp, mpf
+
+    from .catalogue_build import polish_task
+
+    f = load(path).family(fid)
+    br = f.record["branch"]
+    worst = {"period": 0.0, "state0": 0.0, "trace": 0.0, "closure": 0.0}
+    with mp.workdps(40):
+        for m in f.record["members"]:
+            r = polish_task(
+                {
+                    "problem": br["problem"],
+                    "factor": br["factor"],
+                    "u": m["u"],
+                    "E_str": m["E_str"],
+                    "digits": digits,
+                }
+            )
+            dT = abs(mpf(r["period_str"]) / mpf(m["period_str"]) - 1)
+            dx = max(
+                abs(mpf(a) - mpf(b)) for a, b in zip(r["state0_str"], m["state0_str"])
+            )
+            dtr = abs(mpf(r["trace_str"]) - mpf(m["trace_str"])) / max(
+                1, abs(mpf(m["trace_str"]))
+            )
+            worst["period"] = max(worst["period"], float(dT))
+            worst["state0"] = max(worst["state0"], float(dx))
+            worst["trace"] = max(worst["trace"], float(dtr))
+            worst["closure"] = max(worst["closure"], r["closure"])
+    ok = (
+        worst["period"] < 1e-20
+        and worst["state0"] < 1e-20
+        and worst["trace"] < 1e-15
+        and worst["closure"] < 1e-20
+    )
+    return {"id": fid, "members": len(f.record["members"]), **worst, "ok": ok}
