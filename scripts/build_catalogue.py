@@ -16,6 +16,7 @@ import sys
 import time
 from pathlib import Path
 
+from rotorlib.beyond.catalogue import SCHEMA
 from rotorlib.beyond.catalogue_build import build, write
 from rotorlib.core.parallel import executor_for
 
@@ -60,7 +61,7 @@ def main(argv=None) -> int:
         "families": len(cat["families"]),
     }
     if not a.no_write:
-        write(cat, a.out)
+        write(cat, a.out, SCHEMA)
         Path(a.out, "build.json").write_text(json.dumps(cost, indent=1))
     print(json.dumps(cost))
     return 0

@@ -570,8 +570,9 @@ def _links(fams: list[dict]) -> None:
                     g["parents"].append({"id": f["id"], **link})
 
 
-def write(cat: dict, out: str | os.PathLike) -> dict:
-    """Write one JSON per family, ``index.json`` and ``members.csv`` into ``out``; returns
+def write(cat: dict, out: str | os.PathLike, schema: dict) -> dict:
+    """Write one JSON per family, ``index.json``, ``schema.json`` (``schema``: the loader's
+    :data:`rotorlib.beyond.catalogue.SCHEMA`) and ``members.csv`` into ``out``; returns
     the index."""
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
@@ -686,9 +687,7 @@ def write(cat: dict, out: str | os.PathLike) -> dict:
         "families": index,
     }
     _write_json(out / "index.json", idx)
-    from .catalogue import SCHEMA
-
-    _write_json(out / "schema.json", SCHEMA)
+    _write_json(out / "schema.json", schema)
     with open(out / "members.csv", "w", newline="") as fh:
         w = csv.writer(fh)
         w.writerow(
