@@ -31,7 +31,10 @@ def test_census_finds_cr1_and_cs_in_the_band():
     assert [
         lab
         for lab in ("CG", "CT", "CS")
-        if any(abs(T - cs.period) < 1e-7 * T for T in REGISTRY[lab].periods(lab, 5.45))
+        if any(
+            abs(T - cs.period) < 1e-7 * T
+            for T in REGISTRY[lab].periods(lab, 5.45, chor)
+        )
     ] == ["CS"]
     assert all(o.stability == "unstable" for o in c)
 
