@@ -297,15 +297,41 @@ def berry_robnik_pdf(s: ArrayLike, rho: float) -> np.ndarray:
     ) * np.exp(-rho * s)
 
 
-def _br_mle(s):
-    def nll(rho):
-        return -np.sum(np.log(np.maximum(berry_robnik_pdf(s, rho), 1e-300)))
+def _br_nll(s, rho):
+    return -float(np.sum(np.log(np.maximum(berry_robnik_pdf(s, rho), 1e-300))))
 
-    return float(
-        minimize_scalar(
-            nll, bounds=(0.0, 1.0), method="bounded", options={"xatol": 1e-5}
-        ).x
+
+def _br_mle(s):
+    res = minimize_scalar(
+        lambda r: _br_nll(s, r),
+        bounds=(0.0, 1.0),
+        method="bounded",
+        options={"xatol": 1e-5},
     )
+    # the bounded search never evaluates the end points themselves
+    return min((float(res.x), 0.0, 1.0), key=lambda r: _br_nll(s, r))
+
+
+def _br_profile(s, rho):
+    """Half-width of the profile-likelihood interval ``NLL <= NLL(rho) + 1/2`` (one-sided
+    at a bound of [0, 1])."""
+    from scipy.optimize import brentq
+
+    f0 = _br_nll(s, rho) + 0.5
+    ends = []
+    for end in (0.0, 1.0):
+        if end == rho or _br_nll(s, end) <= f0:
+            ends.append(end)
+        else:
+            ends.append(
+                brentq(
+                    lambda r: _br_nll(s, r) - f0,
+                    min(rho, end),
+                    max(rho, end),
+                    xtol=1e-6,
+                )
+            )
+    return 0.5 * (ends[1] - ends[0])
 
 
 @dataclass(frozen=True)
@@ -317,7 +343,9 @@ class BerryRobnikFit:
     rho : float
         The fitted regular fraction.
     error : float
-        Its block-bootstrap standard error.
+        Its standard error: the block-bootstrap standard deviation, or half the width of
+        the profile-likelihood interval (``Delta NLL = 1/2``) when that is larger (at the
+        bounds 0 and 1 the bootstrap collapses).
     count : int
         Number of spacings.
     """
@@ -364,7 +392,8 @@ def fit_berry_robnik(
             st = rng.integers(0, n, size=-(-n // b))
             parts.append(s[((st[:, None] + np.arange(b)) % n).ravel()[:n]])
         boots.append(_br_mle(np.concatenate(parts)))
-    return BerryRobnikFit(rho, float(np.std(boots, ddof=1)), int(len(allx)))
+    err = max(float(np.std(boots, ddof=1)), _br_profile(allx, rho))
+    return BerryRobnikFit(rho, err, int(len(allx)))
 
 
 def number_variance(x: ArrayLike, L: ArrayLike, n_starts: int = 4000) -> np.ndarray:
