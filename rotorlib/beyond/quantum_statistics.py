@@ -104,13 +104,15 @@ def _block_means(seqs, block, n_boot, rng):
     total = sum(len(s) for s in seqs)
     acc = np.zeros(n_boot)
     for s in seqs:
-        n = len(s)
-        b = min(block, n)
-        k = -(-n // b)
-        starts = rng.integers(0, n, size=(n_boot, k))
-        idx = (starts[:, :, None] + np.arange(b)) % n
-        acc += s[idx.reshape(n_boot, -1)[:, :n]].sum(axis=1)
+        acc += s[_block_index(len(s), block, n_boot, rng)].sum(axis=1)
     return acc / total
+
+
+def _block_index(n, block, n_boot, rng):
+    """``n_boot`` circular-block resamplings of ``range(n)`` (rows of length ``n``)."""
+    b = min(block, n)
+    starts = rng.integers(0, n, size=(n_boot, -(-n // b)))
+    return ((starts[:, :, None] + np.arange(b)) % n).reshape(n_boot, -1)[:, :n]
 
 
 def block_bootstrap(
@@ -384,14 +386,11 @@ def fit_berry_robnik(
         raise ValueError("need at least 10 spacings")
     rho = _br_mle(allx)
     rng = np.random.default_rng(seed)
-    boots = []
-    for _ in range(int(n_boot)):
-        parts = []
-        for s in seqs:
-            n, b = len(s), min(block, len(s))
-            st = rng.integers(0, n, size=-(-n // b))
-            parts.append(s[((st[:, None] + np.arange(b)) % n).ravel()[:n]])
-        boots.append(_br_mle(np.concatenate(parts)))
+    idx = [_block_index(len(s), block, int(n_boot), rng) for s in seqs]
+    boots = [
+        _br_mle(np.concatenate([s[ix[k]] for s, ix in zip(seqs, idx)]))
+        for k in range(int(n_boot))
+    ]
     err = max(float(np.std(boots, ddof=1)), _br_profile(allx, rho))
     return BerryRobnikFit(rho, err, int(len(allx)))
 
