@@ -151,3 +151,20 @@ def test_regular_fraction_extremes():
     assert mu[0] == 1.0 and 0 <= mu[1] <= 1
     with pytest.raises(ValueError):
         r.at(9.0)
+
+
+def test_stored_products_are_complete():
+    """The data products the chapter reads: mu_reg at >= 12 energies from 1 to 8, and the
+    window statistics of every stored hbar with the predicted fraction beside them."""
+    import json
+    from pathlib import Path
+
+    data = Path(__file__).resolve().parents[1] / "book" / "data"
+    rf = qs.load_regular_fraction(data / "regular_fraction.json")
+    assert len(rf.E) >= 12 and rf.E[0] <= 1.0 and rf.E[-1] >= 8.0
+    assert np.all((rf.mu >= 0) & (rf.mu <= 1)) and np.all(rf.error > 0)
+    rec = json.loads((data / "quantum_statistics.json").read_text())
+    for r in rec["statistics"]:
+        assert 0 <= r["rho"] <= 1 and r["r_error"] > 0 and np.isfinite(r["mu"])
+    with pytest.raises(ValueError):
+        qs.load_regular_fraction(data / "quantum_statistics.json")

@@ -16,7 +16,12 @@ from matplotlib.figure import Figure
 if TYPE_CHECKING:
     from ..beyond.quantum_statistics import RegularFraction
 
-__all__ = ["plot_regular_fraction", "plot_number_variance", "plot_trends"]
+__all__ = [
+    "plot_regular_fraction",
+    "plot_number_variance",
+    "plot_trends",
+    "plot_spacings",
+]
 
 BAND = (5.33, 5.6)
 
@@ -89,5 +94,30 @@ def plot_trends(
         ax.set_xlabel("ħ (units g = m r² = 1)")
         ax.set_xlim(0, None)
     a1.legend(fontsize=7, ncol=2)
+    fig.tight_layout()
+    return fig
+
+
+def plot_spacings(
+    panels: Sequence[tuple[str, np.ndarray, float, float]], berry_robnik
+) -> Figure:
+    """One panel per window: ``(title, spacings, rho_fitted, mu_predicted)``; the histogram
+    of the unfolded spacings with Poisson, Wigner and ``berry_robnik(s, rho)`` at the fitted
+    and the predicted fraction."""
+    fig, axes = plt.subplots(1, len(panels), figsize=(3.4 * len(panels), 3.0))
+    axes = np.atleast_1d(axes)
+    s = np.linspace(0, 4, 300)
+    for ax, (title, sp, rho, mu) in zip(axes, panels):
+        ax.hist(sp, bins=np.linspace(0, 4, 41), density=True, color="0.8")
+        ax.plot(s, np.exp(-s), "k:", lw=1, label="Poisson")
+        ax.plot(s, berry_robnik(s, 0.0), "k--", lw=1, label="Wigner")
+        ax.plot(
+            s, berry_robnik(s, rho), "C3-", lw=1.2, label=f"BR, ρ = {rho:.2f} (fit)"
+        )
+        ax.plot(s, berry_robnik(s, mu), "C0-", lw=1.2, label=f"BR, μ_reg = {mu:.2f}")
+        ax.set_title(title, fontsize=9)
+        ax.set_xlabel("unfolded spacing s (mean spacings)")
+        ax.legend(fontsize=6)
+    axes[0].set_ylabel("P(s)")
     fig.tight_layout()
     return fig
