@@ -53,8 +53,12 @@ OUT = ROOT / "book" / "data" / "quantum_statistics.json"
 def stored_spectra() -> dict[float, tuple[float, dict]]:
     """``{hbar: (E_max, {sector: levels})}`` of every stored spectrum."""
     try:
-        from rotorlib.beyond import quantum_data as qd  # type: ignore[attr-defined]
+        from rotorlib.beyond import quantum_data as qd
+
+        hbars = qd.stored_hbars()
     except ImportError:
+        hbars = ()
+    if not hbars:  # the sparse spectra are not stored: the two dense ones
         d = np.load(ROOT / "book" / "data" / "quantum_spectra.npz")
         out = {}
         for tag in ("h0.03", "h0.02"):
@@ -62,7 +66,7 @@ def stored_spectra() -> dict[float, tuple[float, dict]]:
             out[h] = (E_max, {s: d[f"{tag}_{s}"] for s in SECTORS})
         return out
     out = {}
-    for h in qd.stored_hbars():
+    for h in hbars:
         sp = qd.stored_spectrum(h)
         out[float(h)] = (float(sp.E_max), {x.sector: x.levels for x in sp.sectors})
     return out
