@@ -8,9 +8,9 @@ Writes book/data/quantum_statistics.json: for every stored hbar and every energy
 iid errors and lag-1 correlation (pooled and per sector), the Berry-Robnik fraction
 fitted to the spacings unfolded with the library's Weyl law, Sigma^2(L), and the
 classical regular fraction predicted from book/data/regular_fraction.json. The spectra
-are read with ``rotorlib.beyond.quantum_data`` when it exists (hbar = 0.03, 0.02, 0.014,
-0.01 below E = 8), else from book/data/quantum_spectra.npz. Chapter 11 reads the file
-and recomputes one window.
+are book/data/quantum_spectra.npz (hbar = 0.03 below E = 8, 0.02 below 6.5), replaced or
+joined by every spectrum stored for ``rotorlib.beyond.quantum_data`` (hbar = 0.03, 0.02,
+0.014, 0.01 below E = 8). Chapter 11 reads the file and recomputes one window.
 """
 
 from __future__ import annotations
@@ -51,25 +51,21 @@ OUT = ROOT / "book" / "data" / "quantum_statistics.json"
 
 
 def stored_spectra() -> dict[float, tuple[float, dict]]:
-    """``{hbar: (E_max, {sector: levels})}`` of every stored spectrum."""
+    """``{hbar: (E_max, {sector: levels})}``: the dense spectra of
+    book/data/quantum_spectra.npz, replaced or joined by every sparse spectrum stored."""
+    d = np.load(ROOT / "book" / "data" / "quantum_spectra.npz")
+    out = {}
+    for tag in ("h0.03", "h0.02"):
+        h, E_max = (float(x) for x in d[f"{tag}_meta"])
+        out[h] = (E_max, {s: d[f"{tag}_{s}"] for s in SECTORS})
     try:
         from rotorlib.beyond import quantum_data as qd
-
-        hbars = qd.stored_hbars()
     except ImportError:
-        hbars = ()
-    if not hbars:  # the sparse spectra are not stored: the two dense ones
-        d = np.load(ROOT / "book" / "data" / "quantum_spectra.npz")
-        out = {}
-        for tag in ("h0.03", "h0.02"):
-            h, E_max = (float(x) for x in d[f"{tag}_meta"])
-            out[h] = (E_max, {s: d[f"{tag}_{s}"] for s in SECTORS})
         return out
-    out = {}
-    for h in hbars:
+    for h in qd.stored_hbars():
         sp = qd.stored_spectrum(h)
         out[float(h)] = (float(sp.E_max), {x.sector: x.levels for x in sp.sectors})
-    return out
+    return dict(sorted(out.items(), reverse=True))
 
 
 def _task(args):
