@@ -57,6 +57,11 @@ BLOCK = 8
 RESIDUAL_TOL = 1e-11
 
 
+def krylov_columns(count: int) -> int:
+    """Largest Krylov space of a window of ``count`` levels (then it is halved)."""
+    return max(6 * count + 4 * BLOCK, 64)
+
+
 class SlicingFailed(RuntimeError):
     """A window's accepted levels do not match its inertia count."""
 
@@ -104,6 +109,30 @@ class WindowLevels:
 
     def __init__(self, levels, residuals, tails):
         self.levels, self.residuals, self.tails = levels, residuals, tails
+
+
+def _bounds(E, res, count, lo, hi):
+    """Rigorous error bounds of the ``count`` Ritz values with the smallest residuals,
+    or None. If their intervals ``[E - r, E + r]`` lie in ``[lo, hi)`` and are disjoint,
+    each holds at least one eigenvalue (a unit vector with residual r), and as the
+    window holds exactly ``count``, one each and no other: between the neighbouring
+    intervals (or the window's edges) ``a < E < b`` lies one eigenvalue, within
+    ``r^2 / min(E - a, b - E)`` of ``E`` (Kato-Temple)."""
+    if len(E) < count:
+        return None
+    pick = np.sort(np.argsort(res)[:count])
+    order = np.argsort(E[pick])
+    e, r = E[pick][order], res[pick][order]
+    top, bottom = e + r, e - r
+    if bottom[0] < lo or top[-1] >= hi or np.any(bottom[1:] <= top[:-1]):
+        return None
+    a = np.concatenate([[lo], top[:-1]])
+    b = np.concatenate([bottom[1:], [hi]])
+    gap = np.minimum(e - a, b - e)
+    bound = np.minimum(r, r * r / np.maximum(gap, 1e-300))
+    out = np.empty(count)
+    out[order] = bound  # back to the order of pick
+    return out
 
 
 def _tails(Hs_QQ, outer, X, E):
@@ -171,7 +200,7 @@ def window_levels(
     lu, below_mid = factor(Hs, sigma)
     rng = np.random.default_rng(seed)
     b = min(BLOCK, N)
-    m_max = min(N - b, max(8 * count + 8 * b, 64))
+    m_max = min(N - b, krylov_columns(count))
     Q = np.empty((N, m_max + b))
     S = np.empty((N, m_max + b))  # (Hs - sigma)^-1 Q
     T = np.empty((m_max + b, m_max + b))  # Q^T (Hs - sigma)^-1 Q
@@ -207,20 +236,13 @@ def window_levels(
             if settled >= count:
                 Yi = Y[:, inside]
                 X = Q[:, :m] @ Yi
-                E = E_all[inside]
-                res = np.linalg.norm(Hs @ X - X * E, axis=0)
-                gap = np.full(len(E), np.inf)
-                if len(E_all) > 1:
-                    srt = np.sort(E_all)
-                    j = np.searchsorted(srt, E)
-                    lower = srt[np.maximum(j - 1, 0)]
-                    upper = srt[np.minimum(j + 1, len(srt) - 1)]
-                    gap = np.minimum(np.abs(E - lower), np.abs(upper - E))
-                    gap[gap == 0] = np.inf
-                bound = np.minimum(res, res**2 / np.maximum(gap - res, 1e-300))
-                bound[gap <= res] = res[gap <= res]
-                good = bound < RESIDUAL_TOL
-                if np.count_nonzero(good) == count:
+                X /= np.linalg.norm(X, axis=0)
+                HX = Hs @ X
+                E = np.einsum("ij,ij->j", X, HX)  # Rayleigh quotients
+                res = np.linalg.norm(HX - X * E, axis=0)
+                bound = _bounds(E, res, count, lo, hi)
+                if bound is not None and bound.max() < RESIDUAL_TOL:
+                    good = np.sort(np.argsort(res)[:count])
                     E = E[good]
                     if np.count_nonzero(E < sigma) != below_mid - n_lo:
                         raise SlicingFailed(
@@ -229,7 +251,7 @@ def window_levels(
                         )
                     order = np.argsort(E)
                     tails = _tails(Hs_QQ, outer, X[:, good], E)
-                    return WindowLevels(E[order], bound[good][order], tails[order])
+                    return WindowLevels(E[order], bound[order], tails[order])
         if m + b > m_max:
             raise SlicingFailed(
                 f"window [{lo}, {hi}): {count} levels not converged in {m} vectors"
