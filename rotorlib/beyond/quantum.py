@@ -36,7 +36,7 @@ Precision: float64 throughout. The basis is every plane wave with kinetic energy
 interlacing) and each level carries its change when the cut-off is lowered by
 ``cutoff_step(hbar)`` (``errors``; ``convergence`` is the largest, typically < 1e-11).
 Blocks of up to ``DENSE_MAX`` functions are diagonalized by LAPACK ``dsyevr`` (both
-bases); larger ones by spectrum slicing (:mod:`.quantum_solver`: windows counted by
+bases); larger ones by spectrum slicing (:mod:`rotorlib.beyond.quantum_solver`: windows counted by
 Sylvester inertia, shift-and-invert block Krylov, residual bounds per level). Checked
 against independent diagonalizations in the rotor wave numbers (``tests/test_quantum.py``).
 """
@@ -287,7 +287,7 @@ class SectorSpectrum:
         The solver used.
     errors : numpy.ndarray
         Per level, its change when the cut-off is lowered by ``cutoff_step(hbar)``:
-        measured for dense blocks, the eigenvector estimate of :mod:`.quantum_solver`
+        measured for dense blocks, the eigenvector estimate of :mod:`rotorlib.beyond.quantum_solver`
         for sliced ones.
     residuals : numpy.ndarray
         Per level, the bound on its distance to an eigenvalue of the block

@@ -8,8 +8,8 @@ peak memory of each run. Keys of the npz: ``hbar``, ``E_max`` and, per sector ``
 ``S_levels``, ``S_errors``, ``S_residuals`` and ``S_info`` = ``[cutoff, cutoff_step,
 basis_size, plane_waves, convergence, top_check]``.
 
-:func:`stored_spectrum` returns them as the :class:`.quantum.Spectrum` /
-:class:`.quantum.SectorSpectrum` that :func:`.quantum.spectrum` computes, and
+:func:`stored_spectrum` returns them as the :class:`rotorlib.beyond.quantum.Spectrum` /
+:class:`rotorlib.beyond.quantum.SectorSpectrum` that :func:`rotorlib.beyond.quantum.spectrum` computes, and
 :func:`recheck` recomputes one window of a stored sector (what the tests do for each
 product, instead of recomputing everything). Precision: the stored float64 values, as
 computed (levels to ~1e-12, see ``errors`` and ``residuals``).
@@ -78,8 +78,8 @@ def _sector(data, hbar: float, sector: str) -> q.SectorSpectrum:
 def stored_spectrum(
     hbar: float, sector: str | None = None
 ) -> q.Spectrum | q.SectorSpectrum:
-    """The stored spectrum at ``hbar``: all six sectors (a :class:`.quantum.Spectrum`),
-    or one (a :class:`.quantum.SectorSpectrum`).
+    """The stored spectrum at ``hbar``: all six sectors (a :class:`rotorlib.beyond.quantum.Spectrum`),
+    or one (a :class:`rotorlib.beyond.quantum.SectorSpectrum`).
 
     Raises ``ValueError`` for an ``hbar`` not stored (the message lists those that are)
     or an unknown sector.

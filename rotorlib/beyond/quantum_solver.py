@@ -1,4 +1,4 @@
-"""Sparse spectrum slicing for the blocks of the quantum 3-rotor (:mod:`.quantum`).
+"""Sparse spectrum slicing for the blocks of the quantum 3-rotor (:mod:`rotorlib.beyond.quantum`).
 
 A block ``Hs`` (real symmetric, sparse: each plane wave couples to six neighbours) is
 cut into energy windows ``(lo, hi]`` of about :data:`WINDOW` levels. In each window:

@@ -3,7 +3,7 @@
 The group acts on the rotor wave numbers ``k = (n1, n2 - n1, -n2)`` by signed
 permutations (rotor permutations and the reflection ``theta -> -theta``; the point group
 C6v of the hexagonal lattice of ``k``); its six irreducible representations are the
-sectors of :mod:`.quantum` (see its table). :func:`symmetry_basis` builds, orbit by
+sectors of :mod:`rotorlib.beyond.quantum` (see its table). :func:`symmetry_basis` builds, orbit by
 orbit of the lattice, orthonormal functions of one row of one irrep (exact: the
 coefficients are those of a 12 x 12 projector, rank decided at 1e-9).
 """
