@@ -90,6 +90,26 @@ def reference(hbar: float, sigma: float, count: int, E_top: float) -> np.ndarray
     return np.sort(w)
 
 
+def direct(hbar: float, low: int, E0: float) -> np.ndarray:
+    """The library's A1 levels, in the basis ``spectrum --E-max 8`` uses, from its own
+    windows: every level up to just above the ``low``-th, and those in E0 +- 0.05
+    (NaN between; only these are compared)."""
+    from rotorlib.beyond import quantum as q
+    from rotorlib.beyond import quantum_solver as qs
+
+    K = q.default_cutoff(hbar, 8.0) + q.cutoff_step(hbar)
+    Hs = q._block(hbar, "A1", K, 0)[0]
+    x = 0.0
+    while qs.count_below(Hs, x) <= low + 2:
+        x += 0.05
+    w_low, _ = qs.sliced_levels(Hs, np.linspace(0.0, x, 9))
+    w_win, c = qs.sliced_levels(Hs, np.linspace(E0 - 0.05, E0 + 0.05, 5))
+    out = np.full(c[0] + len(w_win.levels), np.nan)
+    out[: len(w_low.levels)] = w_low.levels
+    out[c[0] :] = w_win.levels
+    return out
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--hbar", type=float, default=0.01)
@@ -98,8 +118,19 @@ def main(argv=None) -> int:
     ap.add_argument("--count", type=int, default=60)
     ap.add_argument("--levels", type=Path, default=None)
     ap.add_argument("--out", type=Path, default=OUT)
+    ap.add_argument(
+        "--direct",
+        action="store_true",
+        help="the library's levels from windows of the E_max = 8 basis (no stored file)",
+    )
     args = ap.parse_args(argv)
-    if args.levels is not None:
+    if args.direct:
+        lev = direct(args.hbar, args.low, args.window)
+        source = (
+            f"library windows in the basis of spectrum --hbar {args.hbar:g} --sector A1 "
+            "--E-max 8 (its cut-off), the lowest levels and E0 +- 0.05"
+        )
+    elif args.levels is not None:
         rec = json.loads(args.levels.read_text())
         lev = np.array(rec["levels"], dtype=float)
         source = f"spectrum --hbar {args.hbar:g} --sector A1 --E-max 8 --json"
@@ -116,6 +147,8 @@ def main(argv=None) -> int:
     inner = win[1:-1]  # the two outermost may sit next to unlisted neighbours
     lo, hi = 0.5 * (win[0] + win[1]), 0.5 * (win[-2] + win[-1])
     mine = lev[(lev > lo) & (lev < hi)]
+    if args.direct and not (lo > args.window - 0.05 and hi < args.window + 0.05):
+        raise SystemExit("the reference window is wider than the library's")
     result = {
         "hbar": args.hbar,
         "sector": "A1",
