@@ -141,10 +141,9 @@ def recheck(hbar: float, sector: str, E0: float, n: int = 50) -> tuple[int, floa
     i = int(np.clip(np.searchsorted(lev, E0) - n // 2, 1, len(lev) - n - 1))
     lo, hi = 0.5 * (lev[i - 1] + lev[i]), 0.5 * (lev[i + n - 1] + lev[i + n])
     Hs = q._block(s.hbar, sector, s.cutoff, 0)[0]
-    n_lo, n_hi = qs.count_below(Hs, lo), qs.count_below(Hs, hi)
+    w, (n_lo, n_hi) = qs.sliced_levels(Hs, np.array([lo, hi]))
     if n_lo != i or n_hi != i + n:
         raise ValueError(
             f"inertia counts {n_lo}, {n_hi} at the window's edges; stored: {i}, {i + n}"
         )
-    w = qs.window_levels(Hs, lo, hi, n_lo, n_hi)
     return len(w.levels), float(np.max(np.abs(w.levels - lev[i : i + n])))

@@ -59,7 +59,7 @@ RESIDUAL_TOL = 1e-11
 
 def krylov_columns(count: int) -> int:
     """Largest Krylov space of a window of ``count`` levels (then it is halved)."""
-    return max(6 * count + 4 * BLOCK, 64)
+    return max(6 * count + 4 * BLOCK, 128)
 
 
 class SlicingFailed(RuntimeError):
