@@ -83,6 +83,11 @@ def test_sliced_equals_dense_and_error_estimates(monkeypatch):
     assert np.isfinite(sliced.top_check) and sliced.top_check < 2 * dense.convergence
 
 
+def test_library_refuses_a_basis_too_large():
+    with pytest.raises(ValueError, match="would not fit in memory"):
+        q.sector_spectrum(1e-5, "A1", 6.0)
+
+
 def test_spectrum_progress_off_by_default(capsys):
     q.spectrum(0.3, 3.0, progress=True)  # not a terminal: no bar
     assert capsys.readouterr().err == ""

@@ -410,6 +410,12 @@ CHUNK = 6  # windows per task
 
 
 def _compute(hbar, E_max, names, cutoff, row, executor, progress):
+    need, have = memory_estimate(hbar, E_max, cutoff), available_memory()
+    if need > have:  # refused before anything is built
+        raise ValueError(
+            f"the basis would not fit in memory: {basis_size(hbar, cutoff):,} plane "
+            f"waves, ~{need / 2**30:.3g} GiB needed, {have / 2**30:.3g} GiB available"
+        )
     plans = pmap(
         _plan_task, [(hbar, s, E_max, cutoff, row) for s in names], executor=executor
     )
