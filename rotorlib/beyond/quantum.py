@@ -33,15 +33,12 @@ the levels of E1 and E2 are doubly degenerate in the full spectrum.
 
 Precision: float64 throughout. The basis is every plane wave with kinetic energy
 ``hbar^2 |k|^2/2 <= cutoff``; the levels converge from above (nested bases, Cauchy
-interlacing) and :func:`spectrum` states their change when the cut-off is lowered by
-``cutoff_step(hbar)`` (``convergence``, typically < 1e-11 with the default cut-off).
-Blocks of up to ``DENSE_MAX`` functions are diagonalized by LAPACK ``dsyevr``; larger
-ones by spectrum slicing: Sylvester inertia counts from a sparse factorization of
-``H - x`` (SuperLU, symmetric ordering, no pivoting) cut ``[0, E_max]`` into slices of at
-most ``SLICE`` levels, each solved by shift-and-invert Lanczos (ARPACK) at its midpoint
-and checked against its count (dense ``dsyevr`` if a count fails). Both are backward
-stable: absolute error ~1e-15 ||H|| ~ 1e-13 at E ~ 8. Checked against independent
-diagonalizations in the rotor wave numbers (``tests/test_quantum.py``).
+interlacing) and each level carries its change when the cut-off is lowered by
+``cutoff_step(hbar)`` (``errors``; ``convergence`` is the largest, typically < 1e-11).
+Blocks of up to ``DENSE_MAX`` functions are diagonalized by LAPACK ``dsyevr`` (both
+bases); larger ones by spectrum slicing (:mod:`rotorlib.beyond.quantum_solver`: windows counted by
+Sylvester inertia, shift-and-invert block Krylov, residual bounds per level). Checked
+against independent diagonalizations in the rotor wave numbers (``tests/test_quantum.py``).
 """
 
 from __future__ import annotations
@@ -49,16 +46,17 @@ from __future__ import annotations
 import math
 import os
 from concurrent.futures import Executor
-from dataclasses import dataclass
-from functools import cache
+from dataclasses import dataclass, field
+from functools import lru_cache
 
 import numpy as np
 import scipy.linalg as sla
 import scipy.sparse as sp
-import scipy.sparse.linalg as spla
 
 from ..core.parallel import pmap
 from ..core.precision import tier
+from . import quantum_solver as qs
+from .quantum_symmetry import DIMENSIONS, SECTORS, symmetry_basis
 
 __all__ = [
     "SECTORS",
@@ -77,16 +75,8 @@ __all__ = [
     "spectrum",
 ]
 
-#: The six irreducible representations of S3 x Z2 (C6v), in the order used throughout.
-SECTORS = ("A1", "A2", "B1", "B2", "E1", "E2")
-#: Their dimensions (the multiplicity of a sector's levels in the full spectrum).
-DIMENSIONS = {"A1": 1, "A2": 1, "B1": 1, "B2": 1, "E1": 2, "E2": 2}
-#: Levels compared with the smaller basis when the block is solved by slicing.
-TOP_CHECK = 40
 #: Blocks up to this size use dense ``dsyevr``; larger ones spectrum slicing.
 DENSE_MAX = 1500
-#: Largest number of levels per shift-and-invert slice.
-SLICE = 80
 
 
 def _check(hbar, E_max=None, sector=None, digits=None):
@@ -113,54 +103,6 @@ def _check(hbar, E_max=None, sector=None, digits=None):
             f"unknown sector {sector!r}: choose one of {', '.join(SECTORS)}"
         )
     return hbar, E_max
-
-
-# ---------------------------------------------------------------- the group
-@cache
-def _group():
-    """The 12 signed permutation matrices acting on ``k``, their permutations and signs."""
-    import itertools
-
-    mats, perms, signs = [], [], []
-    for p in itertools.permutations(range(3)):
-        P = np.zeros((3, 3), dtype=np.int64)
-        P[list(p), range(3)] = 1  # e_j -> e_{p(j)}
-        for s in (1, -1):
-            mats.append(s * P)
-            perms.append(P)
-            signs.append(s)
-    mats = np.array(mats)
-    n = len(mats)
-    mult = np.empty((n, n), dtype=np.int64)
-    for a in range(n):
-        for b in range(n):
-            prod = mats[a] @ mats[b]
-            mult[a, b] = next(c for c in range(n) if np.array_equal(mats[c], prod))
-    return mats, np.array(perms), np.array(signs), mult
-
-
-@cache
-def _rep(sector: str, row: int):
-    """``D_{row,row}(g)`` of the irrep ``sector`` for the 12 group elements (real)."""
-    mats, perms, signs, _ = _group()
-    det = np.rint(np.linalg.det(perms)).astype(int)  # sign of the permutation
-    if sector in ("A1", "A2", "B1", "B2"):
-        if row != 0:
-            raise ValueError(f"sector {sector} is one-dimensional: row must be 0")
-        return {
-            "A1": np.ones(12),
-            "A2": det.astype(float),
-            "B1": signs.astype(float),
-            "B2": (signs * det).astype(float),
-        }[sector]
-    if row not in (0, 1):
-        raise ValueError(f"row must be 0 or 1, not {row}")
-    # orthonormal basis of the plane sum(x) = 0: the standard representation of S3
-    U = np.array([[1.0, -1.0, 0.0], [1.0, 1.0, -2.0]]).T
-    U /= np.linalg.norm(U, axis=0)
-    D = np.einsum("ia,gij,jb->gab", U, perms.astype(float), U)
-    d = D[:, row, row]
-    return d * signs if sector == "E1" else d
 
 
 # ---------------------------------------------------------------- the basis
@@ -253,90 +195,6 @@ def hamiltonian(hbar: float, cutoff: float) -> tuple[sp.csr_matrix, np.ndarray]:
     return H, n
 
 
-@cache
-def _orbit_vectors(pattern: tuple, sector: str, row: int):
-    """Orthonormal symmetry-adapted vectors on one lattice orbit (by its pattern)."""
-    _, _, _, mult = _group()
-    D = _rep(sector, row)
-    slots = sorted(set(pattern))
-    where = {s: i for i, s in enumerate(slots)}
-    S = np.zeros((12, len(slots)))
-    for h in range(12):
-        for g in range(12):
-            S[h, where[pattern[mult[g, h]]]] += D[g]
-    u, s, vt = np.linalg.svd(S)
-    rank = int(np.sum(s > 1e-9 * max(s.max(), 1.0)))
-    return slots, vt[:rank]
-
-
-def symmetry_basis(n: np.ndarray, sector: str, row: int = 0) -> sp.csc_matrix:
-    """Symmetry-adapted orthonormal basis of ``sector`` (row ``row`` of a 2D irrep).
-
-    Parameters
-    ----------
-    n : array (N, 2)
-        A basis of plane waves closed under the group (e.g. :func:`plane_waves`).
-    sector : str
-        One of :data:`SECTORS`.
-    row : int
-        0, or 1 for the second row of E1 and E2 (the same levels: a check).
-
-    Returns
-    -------
-    scipy.sparse.csc_matrix, shape (N, N_sector)
-        Orthonormal columns spanning the functions of that row of the irrep.
-
-    Examples
-    --------
-    >>> n = plane_waves(1.0, 1.0)
-    >>> [symmetry_basis(n, s).shape[1] for s in SECTORS]
-    [2, 0, 0, 1, 1, 1]
-    """
-    _check(1.0, sector=sector)
-    mats, _, _, _ = _group()
-    n = np.asarray(n)
-    k = np.stack([n[:, 0], n[:, 1] - n[:, 0], -n[:, 1]], axis=1)
-    img = np.einsum("gij,nj->ngi", mats, k)  # (N, 12, 3)
-    r = int(np.abs(k).max()) + 1
-    w = 2 * r + 1
-    key = ((img[..., 0] + r) * w + (img[..., 1] + r)) * w + (img[..., 2] + r)
-    canon = key.max(axis=1)
-    mine = key[:, 0] == canon  # the canonical representative of each orbit
-    reps = np.nonzero(mine)[0]
-    kr = key[reps]  # (n_orb, 12): key of g . rep
-    first = np.argmax(kr[:, :, None] == kr[:, None, :], axis=2)  # first equal slot
-    lookup = np.argsort(key[:, 0])
-    sorted_keys = key[lookup, 0]
-    rows, cols, vals = [], [], []
-    col = 0
-    patterns, inverse = np.unique(first, axis=0, return_inverse=True)
-    inverse = np.asarray(inverse).ravel()
-    for p_idx, pat in enumerate(patterns):
-        slots, vecs = _orbit_vectors(tuple(int(x) for x in pat), sector, row)
-        if len(vecs) == 0:
-            continue
-        orbits = np.nonzero(inverse == p_idx)[0]
-        pts = lookup[np.searchsorted(sorted_keys, kr[orbits][:, slots])]  # (m_o, len)
-        for v in vecs:
-            m = len(orbits)
-            rows.append(pts.ravel())
-            cols.append(np.repeat(np.arange(col, col + m), len(slots)))
-            vals.append(np.tile(v, m))
-            col += m
-    if col == 0:
-        return sp.csc_matrix((len(n), 0))
-    B = sp.csc_matrix(
-        (np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
-        shape=(len(n), col),
-    )
-    # order the columns by the kinetic energy of their orbit (smaller bandwidth)
-    q = (n[:, 0] ** 2 - n[:, 0] * n[:, 1] + n[:, 1] ** 2).astype(float)
-    first_row = B.indices[B.indptr[:-1]]
-    B = B[:, np.argsort(q[first_row], kind="stable")]
-    B.eliminate_zeros()
-    return B
-
-
 def sector_hamiltonian(
     hbar: float, sector: str, cutoff: float, row: int = 0
 ) -> sp.csr_matrix:
@@ -359,87 +217,6 @@ def sector_hamiltonian(
     return Hs
 
 
-class SlicingFailed(RuntimeError):
-    """Shift-and-invert Lanczos found a different number of levels than the inertia."""
-
-
-def _factor(Hs, x):
-    """Sparse LDL^T-like factorization of ``Hs - x`` (SuperLU, symmetric ordering, no
-    pivoting): the number of negative pivots is the number of levels below ``x``
-    (Sylvester's law of inertia)."""
-    A = (Hs - x * sp.identity(Hs.shape[0], format="csc")).tocsc()
-    lu = spla.splu(
-        A,
-        permc_spec="MMD_AT_PLUS_A",
-        diag_pivot_thresh=0.0,
-        options=dict(SymmetricMode=True),
-    )
-    return lu, int(np.count_nonzero(lu.U.diagonal() < 0))
-
-
-def _slice(Hs, a, b, k):
-    """The ``k`` levels in ``(a, b]``: the ``k + 8`` nearest ``(a + b)/2`` by ARPACK in
-    shift-and-invert mode (every level inside is nearer the midpoint than any outside)."""
-    N = Hs.shape[0]
-    sigma = 0.5 * (a + b)
-    lu, _ = _factor(Hs, sigma)
-    op = spla.LinearOperator((N, N), matvec=lu.solve, dtype=float)
-    m = min(k + 8, N - 2)
-    w = spla.eigsh(
-        Hs,
-        k=m,
-        sigma=sigma,
-        OPinv=op,
-        which="LM",
-        return_eigenvectors=False,
-        tol=0.0,
-        ncv=min(N - 1, max(2 * m + 1, m + 40)),
-    )
-    w = np.sort(w[(w > a) & (w <= b)])
-    if len(w) != k:
-        raise SlicingFailed(f"found {len(w)} levels in ({a}, {b}], inertia says {k}")
-    return w
-
-
-def _eigenvalues_below(Hs, E_max: float) -> tuple[np.ndarray, str]:
-    """Eigenvalues of the symmetric sparse ``Hs`` in ``(-1, E_max]`` (H >= 0)."""
-    N = Hs.shape[0]
-    if N == 0:
-        return np.empty(0), "none"
-    if N > DENSE_MAX:
-        try:
-            return _sliced(Hs, E_max), "shift-invert Lanczos slices (ARPACK, SuperLU)"
-        except SlicingFailed:
-            pass
-    w = sla.eigh(
-        Hs.toarray(), eigvals_only=True, subset_by_value=(-1.0, E_max), driver="evr"
-    )
-    return np.sort(w), "dense dsyevr"
-
-
-def _sliced(Hs, E_max):
-    """Spectrum slicing: cut ``(-1, E_max]`` by inertia counts into slices of at most
-    ``SLICE`` levels, each solved by :func:`_slice`; the total is checked against the
-    inertia at ``E_max``."""
-    counts = {-1.0: 0, E_max: _factor(Hs, E_max)[1]}
-    stack, out = [(-1.0, E_max)], []
-    while stack:
-        a, b = stack.pop()
-        k = counts[b] - counts[a]
-        if k == 0:
-            continue
-        if k > SLICE and b - a > 1e-6:
-            c = 0.5 * (a + b)
-            counts[c] = _factor(Hs, c)[1]
-            stack += [(c, b), (a, c)]
-            continue
-        out.append(_slice(Hs, a, b, k))
-    w = np.sort(np.concatenate(out)) if out else np.empty(0)
-    if len(w) != counts[E_max]:
-        raise SlicingFailed("slices do not add up")
-    return w
-
-
 # ---------------------------------------------------------------- sizes and memory
 def basis_size(hbar: float, cutoff: float) -> int:
     """Number of plane waves below ``cutoff``: ``(2 pi / sqrt 3) cutoff / hbar^2`` (Weyl's
@@ -458,9 +235,9 @@ def memory_estimate(hbar: float, E_max: float, cutoff: float | None = None) -> i
 
     The full sparse H (7 entries per plane wave), the group images of the lattice
     (12 x 3 integers per plane wave), and the sparse factorization of the largest block
-    (a row of E1 or E2, ~N/6 functions, ~100 nonzeros per row after fill-in), plus the
-    interpreter. ``benchmarks/bench_quantum.py`` prints the measured peak (114 MiB at
-    hbar = 0.03, E_max = 6.5, where this gives 91 MB).
+    (a row of E1 or E2, ~N/6 functions, ~100 nonzeros per row after fill-in), the two
+    Krylov arrays of a window (``N/6`` x ``qs.krylov_columns(1.5 WINDOW)``), plus the
+    interpreter. ``benchmarks/bench_quantum.py`` prints the measured peak against it.
 
     Examples
     --------
@@ -471,7 +248,8 @@ def memory_estimate(hbar: float, E_max: float, cutoff: float | None = None) -> i
     K = default_cutoff(hbar, E_max) + cutoff_step(hbar) if cutoff is None else cutoff
     N = basis_size(hbar, K)
     nb = N / 6.0
-    return int(N * (7 * 12 * 2 + 12 * 3 * 8 + 96) + nb * 100 * 12 * 3 + 5e7)
+    krylov = 2 * 8 * nb * qs.krylov_columns(int(1.5 * qs.WINDOW))
+    return int(N * (7 * 12 * 2 + 12 * 3 * 8 + 96) + nb * 100 * 12 * 3 + krylov + 5e7)
 
 
 def available_memory() -> int:
@@ -503,9 +281,20 @@ class SectorSpectrum:
         Plane waves in the larger basis.
     convergence : float
         ``max |E(cutoff) - E(cutoff - cutoff_step(hbar))|`` over the levels (a level that
-        crossed ``E_max`` between the two counts as ``inf``).
+        crossed ``E_max`` between the two counts as ``inf``); for sliced blocks the
+        larger of the per-level estimates and the change measured in the top window.
     method : str
-        The LAPACK driver used.
+        The solver used.
+    errors : numpy.ndarray
+        Per level, its change when the cut-off is lowered by ``cutoff_step(hbar)``:
+        measured for dense blocks, the eigenvector estimate of :mod:`rotorlib.beyond.quantum_solver`
+        for sliced ones.
+    residuals : numpy.ndarray
+        Per level, the bound on its distance to an eigenvalue of the block
+        (``min(r, r^2/gap)`` of the Ritz pair; ``10 eps ||H||`` for dense LAPACK).
+    top_check : float
+        Sliced blocks: the largest change, measured by solving the basis with the
+        lowered cut-off, of the levels of the top window (NaN for dense blocks).
     """
 
     hbar: float
@@ -518,6 +307,9 @@ class SectorSpectrum:
     plane_waves: int
     convergence: float
     method: str
+    errors: np.ndarray = field(default_factory=lambda: np.empty(0))
+    residuals: np.ndarray = field(default_factory=lambda: np.empty(0))
+    top_check: float = math.nan
 
     @property
     def multiplicity(self) -> int:
@@ -526,47 +318,129 @@ class SectorSpectrum:
 
 
 def _block(hbar, sector, cutoff, row):
+    """The block (CSC), the number of plane waves and each column's kinetic energy."""
     H, n = hamiltonian(hbar, cutoff)
     B = symmetry_basis(n, sector, row)
     Hs = (B.T @ H @ B).tocsc()
     Hs.data[np.abs(Hs.data) < 1e-14] = 0.0
     Hs.eliminate_zeros()
-    return Hs, len(n)
+    q = (n[:, 0] ** 2 - n[:, 0] * n[:, 1] + n[:, 1] ** 2).astype(float)
+    kin = hbar * hbar * q[B.indices[B.indptr[:-1]]] if B.shape[1] else np.empty(0)
+    return Hs, len(n), kin
 
 
-def _sector_task(args):
-    hbar, sector, E_max, cutoff, row = args
-    Hs, npw = _block(hbar, sector, cutoff, row)
-    w1, method = _eigenvalues_below(Hs, E_max)
-    # the check: the basis with the cut-off lowered by cutoff_step(hbar). Levels converge
-    # from the top down (the highest reach furthest in momentum), so beyond the dense
-    # range only the count and the top TOP_CHECK levels are compared.
-    Hs0, _ = _block(hbar, sector, cutoff - cutoff_step(hbar), row)
-    if Hs0.shape[0] <= DENSE_MAX or len(w1) <= TOP_CHECK:
-        w0, _ = _eigenvalues_below(Hs0, E_max)
-        same = len(w0) == len(w1)
-        conv = float(np.max(np.abs(w1 - w0))) if same and len(w1) else 0.0
-    else:
-        a = 0.5 * (w1[-TOP_CHECK - 1] + w1[-TOP_CHECK])
-        ca, cb = _factor(Hs0, a)[1], _factor(Hs0, E_max)[1]
-        same = cb == len(w1) and cb - ca == TOP_CHECK
-        if same:
-            w0 = _slice(Hs0, a, E_max, TOP_CHECK)
-            conv = float(np.max(np.abs(w1[-TOP_CHECK:] - w0)))
-    if not same:
-        conv = math.inf
-    return SectorSpectrum(
-        hbar=hbar,
-        sector=sector,
-        row=row,
-        E_max=E_max,
-        levels=w1,
-        cutoff=cutoff,
-        basis_size=Hs.shape[0],
-        plane_waves=npw,
-        convergence=conv,
-        method=method,
+@lru_cache(maxsize=2)
+def _cached_block(hbar, sector, cutoff, row):
+    return _block(hbar, sector, cutoff, row)
+
+
+def _dense(Hs, E_max):
+    if Hs.shape[0] == 0:
+        return np.empty(0)
+    w = sla.eigh(
+        Hs.toarray(), eigvals_only=True, subset_by_value=(-1.0, E_max), driver="evr"
     )
+    return np.sort(w)
+
+
+def _plan_task(args):
+    """One sector: solved whole when dense, else its windows (sliced later)."""
+    hbar, sector, E_max, cutoff, row = args
+    Hs, npw, kin = _cached_block(hbar, sector, cutoff, row)
+    common = dict(hbar=hbar, sector=sector, row=row, E_max=E_max, cutoff=cutoff)
+    common.update(basis_size=Hs.shape[0], plane_waves=npw)
+    if Hs.shape[0] > DENSE_MAX:
+        return common, qs.plan_windows(Hs, E_max)
+    w1 = _dense(Hs, E_max)
+    # the check: the basis with the cut-off lowered by cutoff_step(hbar)
+    w0 = _dense(_block(hbar, sector, cutoff - cutoff_step(hbar), row)[0], E_max)
+    err = np.abs(w1 - w0) if len(w0) == len(w1) else np.full(len(w1), math.inf)
+    eps = np.finfo(float).eps * (abs(Hs).sum(axis=0).max() if Hs.nnz else 0.0)
+    conv = float(err.max()) if len(err) else 0.0
+    return SectorSpectrum(
+        **common,
+        levels=w1,
+        convergence=conv,
+        method="dense dsyevr",
+        errors=err,
+        residuals=np.full(len(w1), 10 * eps),
+    ), None
+
+
+def _window_task(args):
+    """Consecutive windows of one sector (``edges``), or with ``lower`` the top window in
+    the basis with the cut-off lowered (the check of the per-level estimates)."""
+    hbar, sector, cutoff, row, edges, lower = args
+    step = cutoff_step(hbar)
+    if lower:
+        Hs = _block(hbar, sector, cutoff - step, row)[0]
+        w, counts = qs.sliced_levels(Hs, edges, None, seed=1)
+        return w.levels, w.residuals, w.tails, counts
+    Hs, _, kin = _cached_block(hbar, sector, cutoff, row)
+    outer = np.nonzero(kin > (cutoff - step) * (1 + 1e-12))[0]
+    w, counts = qs.sliced_levels(Hs, edges, outer)
+    return w.levels, w.residuals, w.tails, counts
+
+
+def _assemble(common, edges, parts, check):
+    """A sliced sector from its chunks of windows, checked against the inertia counts."""
+    for a, b in zip(parts, parts[1:]):
+        if a[3][-1] != b[3][0]:
+            raise qs.SlicingFailed("inertia counts of adjacent chunks differ")
+    lev = np.concatenate([p[0] for p in parts])
+    if len(lev) != parts[-1][3][-1] or np.any(np.diff(lev) < 0):
+        raise qs.SlicingFailed("the windows do not add up to the inertia count")
+    err = np.concatenate([p[2] for p in parts])
+    top = lev[lev >= edges[-2]]
+    same = len(check[0]) == len(top) and check[3][-1] == len(lev)
+    measured = float(np.max(np.abs(check[0] - top), initial=0.0)) if same else math.inf
+    conv = max(float(err.max(initial=0.0)), measured)
+    return SectorSpectrum(
+        **common,
+        levels=lev,
+        convergence=conv,
+        method="shift-invert block Krylov windows (SuperLU inertia counts)",
+        errors=err,
+        residuals=np.concatenate([p[1] for p in parts]),
+        top_check=measured,
+    )
+
+
+CHUNK = 6  # windows per task
+
+
+def _compute(hbar, E_max, names, cutoff, row, executor, progress):
+    need, have = memory_estimate(hbar, E_max, cutoff), available_memory()
+    if need > have:  # refused before anything is built
+        raise ValueError(
+            f"the basis would not fit in memory: {basis_size(hbar, cutoff):,} plane "
+            f"waves, ~{need / 2**30:.3g} GiB needed, {have / 2**30:.3g} GiB available"
+        )
+    plans = pmap(
+        _plan_task, [(hbar, s, E_max, cutoff, row) for s in names], executor=executor
+    )
+    tasks, where = [], {}
+    for (common, edges), s in zip(plans, names):
+        if edges is None:
+            continue
+        idx = []
+        for i in range(0, len(edges) - 1, CHUNK):
+            idx.append(len(tasks))
+            tasks.append((hbar, s, cutoff, row, edges[i : i + CHUNK + 1], False))
+        idx.append(len(tasks))
+        tasks.append((hbar, s, cutoff, row, edges[-2:], True))
+        where[s] = idx
+    out = pmap(
+        _window_task, tasks, executor=executor, progress=progress, desc="windows"
+    )
+    res = {}
+    for (common, edges), s in zip(plans, names):
+        if edges is None:
+            res[s] = common
+        else:
+            parts = [out[i] for i in where[s]]
+            res[s] = _assemble(common, edges, parts[:-1], parts[-1])
+    return res
 
 
 def sector_spectrum(
@@ -615,7 +489,7 @@ def sector_spectrum(
             f"cutoff {cutoff} must exceed E_max + cutoff_step = "
             f"{E_max + cutoff_step(hbar)}"
         )
-    return _sector_task((hbar, sector, E_max, float(cutoff), row))
+    return _compute(hbar, E_max, (sector,), float(cutoff), row, None, False)[sector]
 
 
 @dataclass(frozen=True)
@@ -667,11 +541,14 @@ def spectrum(
     cutoff: float | None = None,
     executor: Executor | None = None,
     digits: int | None = None,
+    progress: bool = False,
 ) -> Spectrum:
     """The levels below ``E_max`` of the given sectors (``"all"``: the six).
 
-    Each sector is one task of :func:`rotorlib.core.parallel.pmap` (serial, a process pool
-    or a Dask cluster via ``executor``), largest first.
+    Each sector is planned in one task of :func:`rotorlib.core.parallel.pmap` (serial, a
+    process pool or a Dask cluster via ``executor``), largest first; a small block is
+    solved there (dense), a large one is cut into windows, solved in chunks of
+    ``CHUNK`` windows, one task each (``progress``: a bar on a terminal).
 
     Examples
     --------
@@ -690,11 +567,6 @@ def spectrum(
         hbar, E_max = _check(hbar, E_max, s, digits)
     if cutoff is None:
         cutoff = default_cutoff(hbar, E_max) + cutoff_step(hbar)
-    order = sorted(names, key=lambda s: -DIMENSIONS[s])
-    res = pmap(
-        _sector_task,
-        [(hbar, s, E_max, float(cutoff), 0) for s in order],
-        executor=executor,
-    )
-    by = {r.sector: r for r in res}
+    order = tuple(sorted(names, key=lambda s: -DIMENSIONS[s]))
+    by = _compute(hbar, E_max, order, float(cutoff), 0, executor, progress)
     return Spectrum(hbar=hbar, E_max=E_max, sectors=tuple(by[s] for s in names))

@@ -83,7 +83,7 @@ def run(args: argparse.Namespace) -> int:
             f"waves, ~{need / 2**30:.3g} GiB needed, {have / 2**30:.3g} GiB available"
         )
     with executor_for(args.workers, args.scheduler) as ex:
-        s = quantum.spectrum(hbar, E_max, args.sector, executor=ex)
+        s = quantum.spectrum(hbar, E_max, args.sector, executor=ex, progress=True)
     d = decimals(s.convergence)
     rows = sorted(
         (float(E), x.sector, x.multiplicity) for x in s.sectors for E in x.levels
