@@ -98,7 +98,7 @@ def direct(hbar: float, low: int, E0: float) -> np.ndarray:
     from rotorlib.beyond import quantum_solver as qs
 
     K = q.default_cutoff(hbar, 8.0) + q.cutoff_step(hbar)
-    Hs = q._block(hbar, "A1", K, 0)[0]
+    Hs = q.sector_block(hbar, "A1", K, 0)[0]
     x = 0.0
     while qs.count_below(Hs, x) <= low + 2:
         x += 0.05

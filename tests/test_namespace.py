@@ -14,7 +14,7 @@ import pytest
 
 import rotorlib
 
-FRONT_DOOR = ["orbit", "family", "transition", "census", "LABELS"]
+FRONT_DOOR = ["orbit", "family", "transition", "census", "catalogue", "LABELS"]
 TYPES = {
     "PeriodicOrbit": "rotorlib.orbits.periodic_orbit",
     "Branch": "rotorlib.orbits.family",

@@ -60,6 +60,7 @@ from .quantum_symmetry import DIMENSIONS, SECTORS, symmetry_basis
 
 __all__ = [
     "SECTORS",
+    "sector_block",
     "DIMENSIONS",
     "cutoff_step",
     "SectorSpectrum",
@@ -317,8 +318,10 @@ class SectorSpectrum:
         return DIMENSIONS[self.sector]
 
 
-def _block(hbar, sector, cutoff, row):
-    """The block (CSC), the number of plane waves and each column's kinetic energy."""
+def sector_block(hbar, sector, cutoff, row):
+    """The Hamiltonian of one row of sector ``sector`` (CSC, in the symmetry-adapted
+    plane waves with ``hbar^2 |k|^2 <= cutoff``), the number of plane waves and each
+    column's kinetic energy (float64, exact up to rounding)."""
     H, n = hamiltonian(hbar, cutoff)
     B = symmetry_basis(n, sector, row)
     Hs = (B.T @ H @ B).tocsc()
@@ -331,7 +334,7 @@ def _block(hbar, sector, cutoff, row):
 
 @lru_cache(maxsize=2)
 def _cached_block(hbar, sector, cutoff, row):
-    return _block(hbar, sector, cutoff, row)
+    return sector_block(hbar, sector, cutoff, row)
 
 
 def _dense(Hs, E_max):
@@ -353,7 +356,7 @@ def _plan_task(args):
         return common, qs.plan_windows(Hs, E_max)
     w1 = _dense(Hs, E_max)
     # the check: the basis with the cut-off lowered by cutoff_step(hbar)
-    w0 = _dense(_block(hbar, sector, cutoff - cutoff_step(hbar), row)[0], E_max)
+    w0 = _dense(sector_block(hbar, sector, cutoff - cutoff_step(hbar), row)[0], E_max)
     err = np.abs(w1 - w0) if len(w0) == len(w1) else np.full(len(w1), math.inf)
     eps = np.finfo(float).eps * (abs(Hs).sum(axis=0).max() if Hs.nnz else 0.0)
     conv = float(err.max()) if len(err) else 0.0
@@ -373,7 +376,7 @@ def _window_task(args):
     hbar, sector, cutoff, row, edges, lower = args
     step = cutoff_step(hbar)
     if lower:
-        Hs = _block(hbar, sector, cutoff - step, row)[0]
+        Hs = sector_block(hbar, sector, cutoff - step, row)[0]
         w, counts = qs.sliced_levels(Hs, edges, None, seed=1)
         return w.levels, w.residuals, w.tails, counts
     Hs, _, kin = _cached_block(hbar, sector, cutoff, row)

@@ -140,7 +140,7 @@ def recheck(hbar: float, sector: str, E0: float, n: int = 50) -> tuple[int, floa
         raise ValueError(f"only {len(lev)} stored levels in {sector}")
     i = int(np.clip(np.searchsorted(lev, E0) - n // 2, 1, len(lev) - n - 1))
     lo, hi = 0.5 * (lev[i - 1] + lev[i]), 0.5 * (lev[i + n - 1] + lev[i + n])
-    Hs = q._block(s.hbar, sector, s.cutoff, 0)[0]
+    Hs = q.sector_block(s.hbar, sector, s.cutoff, 0)[0]
     w, (n_lo, n_hi) = qs.sliced_levels(Hs, np.array([lo, hi]))
     if n_lo != i or n_hi != i + n:
         raise ValueError(
