@@ -285,7 +285,8 @@ def berry_robnik_pdf(s: ArrayLike, rho: float) -> np.ndarray:
 
     Examples
     --------
-    >>> round(float(berry_robnik_pdf(1.0, 1.0)[0]), 6), round(float(berry_robnik_pdf(0.0, 0.0)[0]), 6)
+    >>> poisson, wigner = berry_robnik_pdf(1.0, 1.0), berry_robnik_pdf(0.0, 0.0)
+    >>> round(float(poisson[0]), 6), round(float(wigner[0]), 6)
     (0.367879, 0.0)
     """
     if not (0.0 <= rho <= 1.0):

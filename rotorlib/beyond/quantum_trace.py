@@ -3,8 +3,8 @@
 For a periodic orbit ``p`` of period ``T_p`` at energy ``E`` the oscillating level density
 of the whole spectrum (every sector, with multiplicities) is
 
-    rho_osc(E) = (1/pi hbar) sum_p sum_{r >= 1} g_p T_p / sqrt|det(M_p^r - 1)|
-                 * cos(r S_p / hbar - sigma_{p,r} pi/2)
+    rho_osc(E) = (1/pi hbar) sum_p sum_(r >= 1) g_p T_p / sqrt|det(M_p^r - 1)|
+                 * cos(r S_p / hbar - sigma_(p,r) pi/2)
 
 with ``S_p = oint p . dq`` (:func:`orbit_action`), ``sigma_{p,r}`` the Maslov index of the
 ``r``-th repetition (:func:`maslov_index`), ``M_p`` the 2x2 reduced monodromy
