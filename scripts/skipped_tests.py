@@ -14,7 +14,6 @@ import sys
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
-
 #: Skip reasons that do not mean the test did not run.
 EXPECTED = ("a redirect page",)
 
