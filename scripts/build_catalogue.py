@@ -17,7 +17,8 @@ import time
 from pathlib import Path
 
 from rotorlib.beyond.catalogue import SCHEMA
-from rotorlib.beyond.catalogue_build import build, write
+from rotorlib.beyond.catalogue_build import build
+from rotorlib.beyond.catalogue_files import write
 from rotorlib.core.parallel import executor_for
 
 

@@ -17,7 +17,8 @@ import pytest
 from mpmath import mp, mpf
 
 from rotorlib.beyond import catalogue as cat
-from rotorlib.beyond.catalogue_build import build, covers, follow_task, run_tasks
+from rotorlib.beyond.catalogue_build import build, covers
+from rotorlib.beyond.catalogue_tasks import follow_task, run_tasks
 from rotorlib.cli import main
 
 ROOT = Path(__file__).resolve().parent.parent

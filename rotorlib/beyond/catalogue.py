@@ -228,7 +228,7 @@ class Family:
 
     @cached_property
     def problem(self):
-        from .catalogue_build import problem_of
+        from .catalogue_members import problem_of
 
         br = self.record["branch"]
         lab = self.name or self.id
@@ -408,13 +408,13 @@ def catalogue(
 
 def verify(fid: str, path: str | os.PathLike | None = None, digits: int = 30) -> dict:
     """Re-solve every stored member of family ``fid`` at its ``E_str`` from its ``u``
-    (:func:`rotorlib.beyond.catalogue_build.polish_task`) and compare: the largest
+    (:func:`rotorlib.beyond.catalogue_members.polish_task`) and compare: the largest
     relative difference of the period and of ``tr M``, the largest difference of
     ``state0``, the largest closure; ``ok`` when they are below ``1e-20`` (period,
     state), ``1e-15 max(1, |tr M|)`` (trace) and the closure below ``1e-20``."""
     from mpmath import mp, mpf
 
-    from .catalogue_build import polish_task
+    from .catalogue_members import polish_task
 
     f = load(path).family(fid)
     br = f.record["branch"]

@@ -1,0 +1,274 @@
+"""The tasks of the catalogue build (:mod:`rotorlib.beyond.catalogue_build`) and their store.
+
+Three kinds of task, each a pure function of its inputs:
+
+* ``census``: :func:`rotorlib.beyond.atlas.census` at one energy (float64, named);
+* ``follow``: one census orbit continued with the engine
+  (:func:`rotorlib.orbits.continuation.continuation`, pseudo-arclength, through folds) in
+  both directions until it leaves the built energy window or ``T <= T_max``, or the engine
+  stops (step too small, section lost), with ``tr M`` of every member, its folds and its
+  ``IS`` / ``PD`` points located, and a member located at every census energy it crosses;
+* ``polish``: one stored member re-solved at ``digits = 30``
+  (:func:`rotorlib.beyond.catalogue_members.polish_task`).
+
+Every task is keyed by a hash of its inputs (:func:`task_key`); its result is written,
+as it finishes, to ``<cache>/<key>.json`` (a temporary file renamed: complete or absent).
+:func:`run_tasks` skips the tasks whose file exists: a build killed at any point (a
+worker, or the client) resumes without redoing a finished task. Tasks run serially, on
+a process pool or on a Dask cluster (:func:`rotorlib.core.parallel.executor_for`).
+
+Precision: float64 continuation (members to residual < 1e-8; folds to ~1e-15 in ``E``,
+IS/PD to ~1e-14 in the local parameter).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import math
+import os
+import sys
+import time
+from collections.abc import Sequence
+from concurrent.futures import Executor, as_completed
+from dataclasses import replace
+from fractions import Fraction
+from pathlib import Path
+from typing import Any
+
+from .catalogue_members import polish_task, problem_of
+
+__all__ = [
+    "VERSION",
+    "task_key",
+    "run_tasks",
+    "census_task",
+    "follow_task",
+    "TASKS",
+    "near",
+    "write_json",
+]
+
+#: The version of the task functions and of the file format (part of every task's key).
+VERSION = 1
+
+#: Why a family's record ends, from the engine's stop code (``E range``: see ``_end``).
+
+
+def near(a: float, b: float, rel: float) -> bool:
+    """Whether ``|a - b| <= rel * max(1, |b|)``.
+
+    >>> near(1.0, 1.0 + 1e-9, 1e-8), near(1.0, 1.1, 1e-8)
+    (True, False)
+    """
+    return abs(a - b) <= rel * max(1.0, abs(b))
+
+
+def task_key(kind: str, args: dict) -> str:
+    """The hash of a task's inputs (sha256 of its canonical JSON, with :data:`VERSION`).
+
+    >>> task_key("census", {"E": 5.45, "t_max": 8.0, "grid": 300})[:12]
+    'c9c757c3cccf'
+    """
+    text = json.dumps({"v": VERSION, "kind": kind, "args": args}, sort_keys=True)
+    return hashlib.sha256(text.encode()).hexdigest()[:32]
+
+
+def write_json(path: Path, obj: Any) -> None:
+    """Write ``obj`` as JSON to ``path`` atomically (a temporary file renamed)."""
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+    tmp.write_text(json.dumps(obj, indent=1))
+    os.replace(tmp, path)  # atomic: the file is complete or absent
+
+
+def _execute(job: tuple) -> Any:
+    """One task: compute, then store ``{kind, args, result, cpu_s}`` under its key
+    (``cpu_s``: the task's CPU seconds in its process)."""
+    kind, args, cache = job
+    c0 = time.process_time()
+    result = TASKS[kind](args)
+    cpu = time.process_time() - c0
+    if cache is not None:
+        p = Path(cache) / f"{task_key(kind, args)}.json"
+        write_json(p, {"kind": kind, "args": args, "result": result, "cpu_s": cpu})
+    return result
+
+
+def _bar(total: int, desc: str, progress: bool):
+    if not progress or os.environ.get("TQDM_DISABLE"):
+        return None
+    try:
+        from tqdm.auto import tqdm
+    except ImportError:
+        return None
+    return tqdm(total=total, desc=desc, file=sys.stderr)
+
+
+def run_tasks(
+    jobs: Sequence[tuple[str, dict]],
+    cache: str | os.PathLike | None,
+    executor: Executor | None = None,
+    progress: bool = False,
+    desc: str = "tasks",
+) -> tuple[list, int]:
+    """``([result of each job], number of jobs run)``: the jobs ``(kind, args)`` whose
+    result is not stored in ``cache`` are run (serially, or submitted all at once to
+    ``executor``) and stored as each finishes; the others are read back.
+
+    >>> run_tasks([], None)
+    ([], 0)
+    """
+    keys = [task_key(k, a) for k, a in jobs]
+    done: dict[str, Any] = {}
+    if cache is not None:
+        Path(cache).mkdir(parents=True, exist_ok=True)
+        for key in keys:
+            p = Path(cache) / f"{key}.json"
+            if p.exists():
+                done[key] = json.loads(p.read_text())["result"]
+    todo = {key: job for key, job in zip(keys, jobs) if key not in done}
+    bar = _bar(len(todo), desc, progress)
+    c = None if cache is None else str(cache)
+    try:
+        if executor is None:
+            for key, (k, a) in todo.items():
+                done[key] = _execute((k, a, c))
+                if bar is not None:
+                    bar.update()
+        else:
+            futs = {
+                executor.submit(_execute, (k, a, c)): key
+                for key, (k, a) in todo.items()
+            }
+            try:
+                for f in as_completed(futs):
+                    key = futs[f]
+                    done[key] = f.result()
+                    if c is not None and not (Path(c) / f"{key}.json").exists():
+                        kind, args = todo[key]  # a remote worker: store it here
+                        write_json(
+                            Path(c) / f"{key}.json",
+                            {"kind": kind, "args": args, "result": done[key]},
+                        )
+                    if bar is not None:
+                        bar.update()
+            except BaseException:
+                for f in futs:
+                    f.cancel()
+                raise
+    finally:
+        if bar is not None:
+            bar.close()
+    return [done[k] for k in keys], len(todo)
+
+
+# --------------------------------------------------------------------------- tasks
+
+
+def census_task(args: dict) -> list[dict]:
+    """The census at ``args['E']`` as records (float64; named after the atlas unless
+    ``args['name']`` is False)."""
+    from .atlas import census
+
+    a = census(args["E"], args["t_max"], args["grid"], name=args.get("name", True))
+    out = []
+    for o in a.orbits:
+        p = o.extra["problem"]
+        out.append(
+            {
+                "E": float(o.E),
+                "label": o.label,
+                "family": o.family,
+                "period": float(o.period),
+                "trace": float(o.trace),
+                "state0": [float(v) for v in o.state0],
+                "u": float(o.extra["u"]),
+                "start": p.start.name,
+                "target": o.extra["fixed_sets"][1],
+                "crossing": int(p.crossing),
+                "t_half": float(a.t_max / 2 * 1.02),
+                "action": float(o.extra["action"]),
+                "fixed_sets": list(o.extra["fixed_sets"]),
+                "choreography": o.extra.get("choreography") is not None,
+            }
+        )
+    return out
+
+
+def _member_rec(m, kind: str = "path") -> dict:
+    return {
+        "kind": kind,
+        "E": float(m.E),
+        "u": float(m.u),
+        "w": float(m.w),
+        "t1": float(m.t1),
+        "period": float(m.period),
+        "trace": float(m.trace),
+        "x0": [float(v) for v in m.x0],
+        "r": float(m.r),
+    }
+
+
+def follow_task(args: dict) -> dict:
+    """One census orbit (``args['seed']``) continued both ways in ``args['E_range']``
+    (steps of at most ``args['step']`` in ``E``, ``T <= args['t_max']``), with a member
+    located at each of ``args['energies']``; the action of every located member."""
+    from ..core.flow import states_at
+    from ..orbits.continuation import PALC, ContinuationOptions, continuation, member
+    from ..orbits.shooting import residual
+    from .atlas import orbit_action
+
+    o = args["seed"]
+    prob = problem_of(o)
+    s = residual(prob, o["u"], o["E"])
+    factor = float(Fraction(o["period"] / float(s.t1)).limit_denominator(48))
+    prob = replace(prob, label="catalogue", factor=factor)
+    m0 = member(prob, o["u"], o["E"], traces=True)
+    lo, hi = args["E_range"]
+    opts = ContinuationOptions(
+        max_steps=args.get("max_steps", 600),
+        E_range=(lo, hi),
+        t_max=args["t_max"],
+        jump=0.05,
+        traces=True,
+        folds=True,
+        energies=tuple(e for e in args["energies"] if lo <= e <= hi),
+    )
+    ds = args["step"] / max(hi, 1.0)
+    alg = PALC(ds=ds, ds_max=ds, ds_min=1e-10, u_floor=1.0)
+    back, fwd = (
+        continuation(prob, replace(alg, direction=d), opts, [m0]) for d in (-1, 1)
+    )
+    n = len(back.members)
+    path = [_member_rec(m) for m in back.members[::-1] + fwd.members[1:]]
+    points = [
+        (p, n - 1 - p.index - (p.kind != "fold")) for p in back.special_points
+    ] + [(p, n - 1 + p.index) for p in fwd.special_points]
+    special = []
+    for p, idx in sorted(points, key=lambda v: v[1]):
+        if not p.located:
+            continue
+        rec = _member_rec(p.member, p.kind)
+        rec["index"] = idx
+        T = rec["period"]
+        rec["action"] = float(orbit_action(rec["x0"], T, rec["E"]))
+        special.append(rec)
+    seed = _member_rec(m0, "seed")
+    seed["action"] = float(orbit_action(seed["x0"], seed["period"], seed["E"]))
+    x = states_at(seed["x0"], [0.0, seed["period"]])
+    winding = [float(v) / (2 * math.pi) for v in (x[1] - x[0])[:2]]
+    return {
+        "factor": factor,
+        "problem": {k: o[k] for k in ("start", "target", "crossing", "t_half", "E")},
+        "path": path,
+        "special": special,
+        "seed": seed,
+        "winding": winding,
+        "ends": [
+            {"side": "backward", "stop": back.stop, "reason": back.reason},
+            {"side": "forward", "stop": fwd.stop, "reason": fwd.reason},
+        ],
+    }
+
+
+TASKS = {"census": census_task, "follow": follow_task, "polish": polish_task}
