@@ -164,6 +164,13 @@ class Served:
     branches: bool = False
 
 
+def _non_rotating(
+    periods: Callable[[str, float], list[float]],
+) -> Callable[[str, float, Choreography], list[float]]:
+    """The periods a census names a choreography by, for the non-rotating ones only."""
+    return lambda lab, E, c: [] if c.rotating else periods(lab, E)
+
+
 _CLOSED = Served("closed form", lambda lab, E, d, b: _closed_form(lab, E, d))
 _NEWBORN = Served(
     "newborn",
@@ -179,7 +186,7 @@ _CG = Served(
         if lab == "CG"
         else choreo_family.family(lab, rng, digits=d)
     ),
-    periods=lambda lab, E, c: [] if c.rotating else choreo_family.periods_at(lab, E),
+    periods=_non_rotating(choreo_family.periods_at),
 )
 _Z3 = Served(
     "choreography",
@@ -188,12 +195,12 @@ _Z3 = Served(
     periods=choreo_z3.periods_at,
     branches=True,
 )
-# helper E: the third D6 choreography (rotorlib.beyond.choreo_s)
+# the third D6 choreography (rotorlib.beyond.choreo_s)
 _CS = Served(
     "choreography",
     lambda lab, E, d, b: choreo_s.cs_orbit(E, digits=d, branch=b),
     lambda lab, rng, d: choreo_s.cs_family(rng, digits=d),
-    periods=lambda lab, E, c: [] if c.rotating else choreo_s.cs_periods(E),
+    periods=_non_rotating(lambda lab, E: choreo_s.cs_periods(E)),
     branches=True,
 )
 _DAUGHTER = Served(
@@ -226,9 +233,7 @@ REGISTRY: dict[str, Served] = {
             "choreography",
             lambda lab, E, d, b: choreo_resonance.resonance_orbit(lab, E, d, b),
             lambda lab, rng, d: choreo_resonance.resonance_family(lab, rng, d),
-            periods=lambda lab, E, c: (
-                [] if c.rotating else choreo_resonance.periods_at(lab, E)
-            ),
+            periods=_non_rotating(choreo_resonance.periods_at),
             branches=True,
         )
         for name in choreo_resonance.family_names()

@@ -18,6 +18,7 @@ import math
 import mpmath as mp
 import numpy as np
 import pytest
+from independent import PAIRS, decimal_theta, real128_closure
 from scipy.integrate import solve_ivp
 from scipy.optimize import least_squares
 
@@ -34,8 +35,6 @@ from rotorlib.beyond.choreo_family import (
 from rotorlib.commands.orbit import record
 from rotorlib.orbits.family import Branch
 from rotorlib.orbits.shooting import residual, solve
-
-PAIRS = ((0, 1), (1, 2), (2, 0))
 
 
 def _rhs(t, y):
@@ -126,55 +125,16 @@ def test_orbit_cg_against_independent_shooting(E):
     assert 0 < rec["trace_reduced"] < 4 and rec["stable"]
 
 
-def _real128_closure(x0, w0, T):
-    """``max |x(T) - x(0)|`` (relative angles, momenta) by heyoka's real128 Taylor method
-    on the rotor equations (``x0``, ``w0``, ``T`` decimal strings or floats)."""
-    hy = pytest.importorskip("heyoka")
-    th = hy.make_vars("t1", "t2", "t3")
-    ps = hy.make_vars("q1", "q2", "q3")
-    f = [0, 0, 0]
-    for i, j in PAIRS:
-        s = hy.sin(th[i] - th[j])
-        f[i] = f[i] - s
-        f[j] = f[j] + s
-    sys = list(zip(th, ps)) + [(ps[k], f[k]) for k in range(3)]
-    R = hy.real128
-    y0 = np.array([R(str(v)) for v in list(x0) + list(w0)])
-    ta = hy.taylor_adaptive(sys, y0, fp_type=R)
-    ta.propagate_until(R(str(T)))
-    y = ta.state
-    with mp.workdps(40):
-        a = [mp.mpf(str(v)) for v in y]
-        b = [mp.mpf(str(v)) for v in y0]
-        d = [(a[0] - a[1]) - (b[0] - b[1]), (a[1] - a[2]) - (b[1] - b[2])]
-        two_pi = 2 * mp.pi
-        d = [v - two_pi * mp.nint(v / two_pi) for v in d]
-        d += [a[k] - b[k] for k in range(3, 6)]
-        return float(max(abs(v) for v in d))
-
-
-def _decimal_theta(state_str):
-    """The rotor state of a ``[a1, a2, p1, p2]`` given as decimal strings, at 40 digits."""
-    with mp.workdps(40):
-        a1, a2, p1, p2 = (mp.mpf(v) for v in state_str)
-        phi1, phi2 = 2 * a1, a2 - a1
-        th = [mp.mpf(0), -phi1, -phi1 - phi2]
-        d1, d2 = p1, 3 * p2 / 2 - p1 / 2
-        w = [mp.mpf(0), -d1, -d1 - d2]
-        mt, mw = sum(th) / 3, sum(w) / 3
-        return [mp.nstr(v - mt, 38) for v in th], [mp.nstr(v - mw, 38) for v in w]
-
-
 @pytest.mark.parametrize("E", ["3", "5.3"])
 def test_closure_under_independent_real128(E):
     # the float64 orbit closes to its own precision (tr M amplifies ~1e-16)
     rec = record("CG", E)
     th, w = _theta_state(rec["state0"])
-    assert _real128_closure(th, w, repr(rec["period"])) < 1e-12
+    assert real128_closure(th, w, repr(rec["period"])) < 1e-12
     # the 30-digit orbit closes to ~30 digits
     rec30 = record("CG", E, digits=30)
-    th, w = _decimal_theta(rec30["state0_str"])
-    assert _real128_closure(th, w, rec30["period_str"]) < 1e-25
+    th, w = decimal_theta(rec30["state0_str"])
+    assert real128_closure(th, w, rec30["period_str"]) < 1e-25
 
 
 def test_digits30_period_against_independent_real128_newton():
@@ -460,8 +420,8 @@ def test_choreography_orbit_z3_against_the_census():
     assert abs(choreography_orbit("CG", cg["E"]).period - cg["period"]) < 1e-9
     o30 = choreography_orbit("CR1", "5.6", digits=30)
     assert abs(float(o30.period_str) - cr1[0]["period"]) < 1e-10
-    th, w = _decimal_theta(o30.state0_str)
-    assert _real128_closure(th, w, o30.period_str) < 1e-18
+    th, w = decimal_theta(o30.state0_str)
+    assert real128_closure(th, w, o30.period_str) < 1e-18
 
 
 def test_choreography_orbit_refusals(capsys):

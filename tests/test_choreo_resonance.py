@@ -22,9 +22,10 @@ import math
 import mpmath as mp
 import numpy as np
 import pytest
+from independent import decimal_theta, real128_states
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq, least_squares
-from test_choreo import PAIRS, _decimal_theta, _rhs, _rhs_var, _start  # rotors
+from test_choreo import _rhs, _rhs_var, _start  # rotors
 
 from rotorlib.beyond import choreo_resonance as cr
 from rotorlib.beyond import choreo_rotation as ro
@@ -121,27 +122,8 @@ def test_resonance_digits30_agrees_with_float64():
 
 
 def _theta(state_str):
-    th, w = _decimal_theta(state_str)  # the rotor state, 38 digits
+    th, w = decimal_theta(state_str)  # the rotor state, 38 digits
     return th + w
-
-
-def _real128_states(y0, times):
-    """The rotor states at ``times`` (decimal strings) by heyoka's real128 Taylor method."""
-    hy = pytest.importorskip("heyoka")
-    th = hy.make_vars("t1", "t2", "t3")
-    ps = hy.make_vars("q1", "q2", "q3")
-    f = [0, 0, 0]
-    for i, j in PAIRS:
-        s = hy.sin(th[i] - th[j])
-        f[i], f[j] = f[i] - s, f[j] + s
-    sys = list(zip(th, ps)) + [(ps[k], f[k]) for k in range(3)]
-    R = hy.real128
-    ta = hy.taylor_adaptive(sys, np.array([R(v) for v in y0]), fp_type=R)
-    out = []
-    for t in times:
-        ta.propagate_until(R(t))
-        out.append([mp.mpf(str(v)) for v in ta.state])
-    return out
 
 
 def _shift_error(a, b, k):
@@ -172,7 +154,7 @@ def test_digits30_member_closes_under_independent_real128(name):
     with mp.workdps(40):
         y0 = [mp.mpf(v) for v in _theta(o.state0_str)]
         T = mp.mpf(o.period_str)
-        y3, yT = _real128_states(
+        y3, yT = real128_states(
             _theta(o.state0_str), [mp.nstr(T / 3, 36), o.period_str]
         )
         closure = _shift_error(yT, y0, 0)

@@ -21,13 +21,14 @@ import math
 
 import numpy as np
 import pytest
-from scipy.integrate import solve_ivp
-from scipy.optimize import brentq
 
 # the rotor equations (scipy; real128 by heyoka) written in test_choreo, independent of
 # rotorlib, and its reading of a state [a1, a2, p1, p2] into rotor angles
-from test_choreo import _decimal_theta, _real128_closure, _rhs_var
+from independent import decimal_theta, real128_closure
+from scipy.integrate import solve_ivp
+from scipy.optimize import brentq
 from test_choreo import _rhs as _rhs6
+from test_choreo import _rhs_var
 
 from rotorlib import cli
 from rotorlib.beyond.choreo_s import cs_family, cs_orbit, cs_orbits, cs_points
@@ -161,11 +162,11 @@ def test_orbit_cs_digits30_closes_under_independent_real128():
     o = cs_orbit("5.4", digits=30)
     assert rec["state0_str"] == list(o.state0_str)
     assert abs(float(o.period_str) - cs_orbit(5.4).period) < 1e-11
-    th, w = _decimal_theta(o.state0_str)
-    assert _real128_closure(th, w, o.period_str) < 1e-20
+    th, w = decimal_theta(o.state0_str)
+    assert real128_closure(th, w, o.period_str) < 1e-20
     # and the float64 state does not close to that: the test can fail
-    th64, w64 = _decimal_theta([repr(float(v)) for v in o.state0_str])
-    assert _real128_closure(th64, w64, o.period_str) > 1e-14
+    th64, w64 = decimal_theta([repr(float(v)) for v in o.state0_str])
+    assert real128_closure(th64, w64, o.period_str) > 1e-14
 
 
 def test_family_json_and_members():

@@ -426,6 +426,44 @@ def locate_member(
     return illinois(g, at, ub - ua, fa, fb, tol)
 
 
+def level_member(
+    p: ShootingProblem | None,
+    level: float,
+    ua: Any,
+    ub: Any,
+    Ea: Any,
+    digits: int | Tier | None = None,
+    order: int = 6,
+    power: int = 1,
+) -> ChoreoMember:
+    """The member with ``u`` in ``(ua, ub)`` where ``tr DP`` (of the reduced map over
+    ``1/order`` of the period, raised to ``power``) equals ``level`` (4: IS or fold, 0: PD),
+    by :func:`locate_member` to ``|du| < 1e-13`` in float64 and ``eps**0.75`` in an
+    extended tier.
+
+    Examples
+    --------
+    >>> from rotorlib.beyond.choreo_family import level_member
+    >>> round(float(level_member(None, 4.0, -1.46, -1.50, 5.3).E), 9)  # CG's fold
+    5.315323913
+    """
+    t = tier(digits)
+    tol = 1e-13 if not t.extended else t.num(t.eps) ** t.num(0.75)
+    with t.context():
+        lev = t.num(level)
+        return locate_member(
+            lambda m: m.trace_reduced - lev,
+            t.num(ua),
+            t.num(ub),
+            Ea,
+            t,
+            tol,
+            p,
+            order,
+            power,
+        )
+
+
 @cache
 def _members() -> tuple[ChoreoMember, ...]:
     """The members of :func:`follow` with ``tr M`` and ``tr DP``."""

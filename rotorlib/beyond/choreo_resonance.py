@@ -63,7 +63,7 @@ from .choreo import (
     orbits_at_energy,
     reduced_trace,
 )
-from .choreo_family import ONCE, ChoreoMember, locate_member
+from .choreo_family import ONCE, ChoreoMember, level_member
 from .choreo_rotation import RESONANCES, Resonance, resonance
 
 __all__ = [
@@ -297,23 +297,6 @@ def _born(lab: str, r: Resonance, m: ChoreoMember | None = None) -> ChoreoMember
     )
 
 
-def _root(lab: str, lev: float, ua, ub, Ea: float, t: Tier) -> ChoreoMember:
-    order, power = _reduced(lab)
-    tol = 1e-13 if not t.extended else t.num(t.eps) ** t.num(0.75)
-    with t.context():
-        return locate_member(
-            lambda m: m.trace_reduced - lev,
-            t.num(ua),
-            t.num(ub),
-            Ea,
-            t,
-            tol,
-            family_problem(lab),
-            order,
-            power,
-        )
-
-
 @cache
 def resonance_points_of(
     label: str, digits: int | None = None
@@ -369,14 +352,30 @@ def resonance_points_of(
                 f" as E grows (tr DP = {lev:g})"
             )
             try:
-                m = _root(lab, lev, float(a.u), float(b.u), float(a.E), FLOAT64)
+                m = level_member(
+                    family_problem(lab),
+                    lev,
+                    float(a.u),
+                    float(b.u),
+                    float(a.E),
+                    FLOAT64,
+                    *_reduced(lab),
+                )
             except (NoConvergence, SectionNotReached, ValueError):
                 out.append(SpecialPoint(kind, b, i, None, text, branch=lab))
                 continue
             check = ONCE
             if t.extended:
                 h = 1e-7 * max(1.0, abs(float(m.u)))
-                refined = _root(lab, lev, float(m.u) - h, float(m.u) + h, m.E, t)
+                refined = level_member(
+                    family_problem(lab),
+                    lev,
+                    float(m.u) - h,
+                    float(m.u) + h,
+                    m.E,
+                    t,
+                    *_reduced(lab),
+                )
                 agree = abs(float(refined.E) - float(m.E))
                 m = replace(refined, digits=max(10, int(digits or 0) - 10))
                 check = f"float64 and {t.name} agree to {difference(agree)}"

@@ -38,7 +38,7 @@ from collections.abc import Sequence
 from dataclasses import replace
 from functools import cache
 
-from ..core.precision import FLOAT64, Tier, tier
+from ..core.precision import FLOAT64, tier
 from ..core.rounding import difference
 from ..orbits.continuation import PALC, ContinuationOptions, continuation, member
 from ..orbits.family import Branch, SpecialPoint, energy_range
@@ -51,7 +51,7 @@ from .choreo import (
     reduced_orbit,
     reduced_trace,
 )
-from .choreo_family import ONCE, ChoreoMember, locate_member
+from .choreo_family import ONCE, ChoreoMember, level_member
 
 __all__ = [
     "CS_LABEL",
@@ -126,23 +126,6 @@ def cs_members() -> tuple:
     return tuple(ms), (back.stop, fwd.stop)
 
 
-def _root(lev, ua, ub, Ea, t: Tier) -> ChoreoMember:
-    tol = 1e-13 if not t.extended else t.num(t.eps) ** t.num(0.75)
-    with t.context():
-        levt = t.num(lev)
-        return locate_member(
-            lambda m: m.trace_reduced - levt,
-            t.num(ua),
-            t.num(ub),
-            Ea,
-            t,
-            tol,
-            cs_problem(),
-            6,
-            1,
-        )
-
-
 def _extremum(j: int) -> float:
     """``E`` at the extremum of ``E(u)`` next to the member ``j`` (bounded Brent on
     ``(u_{j-1}, u_{j+1})``, each ``u`` solved for ``E``; float64)."""
@@ -186,7 +169,9 @@ def cs_points(digits: int | None = None) -> tuple[SpecialPoint, ...]:
         for lev in (4.0, 0.0):
             if not (a.trace_reduced - lev) * (b.trace_reduced - lev) < 0:
                 continue
-            m = _root(lev, float(a.u), float(b.u), float(a.E), FLOAT64)
+            m = level_member(
+                cs_problem(), lev, float(a.u), float(b.u), float(a.E), FLOAT64
+            )
             up = (b.trace_reduced > a.trace_reduced) == (b.E > a.E)  # tr DP up with E
             into = (lev == 4.0) == up  # leaves [0, 4] as E grows
             change = "stable -> unstable" if into else "unstable -> stable"
@@ -204,7 +189,9 @@ def cs_points(digits: int | None = None) -> tuple[SpecialPoint, ...]:
             best, check = m, ONCE
             if t.extended:
                 h = 1e-7 * max(1.0, abs(float(m.u)))
-                r = _root(lev, float(m.u) - h, float(m.u) + h, float(m.E), t)
+                r = level_member(
+                    cs_problem(), lev, float(m.u) - h, float(m.u) + h, float(m.E), t
+                )
                 best = replace(r, digits=max(10, int(digits or 0) - 10))
                 agree = abs(float(r.E) - float(m.E))
                 check = (

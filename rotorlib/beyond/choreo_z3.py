@@ -60,7 +60,7 @@ from .choreo_family import (
     ONCE,
     ChoreoMember,
     SpecialPoint,
-    locate_member,
+    level_member,
     special_points,
 )
 
@@ -184,23 +184,6 @@ def _branch(lab: str) -> tuple:
     return tuple(ms), (back.stop, fwd.stop)
 
 
-def _root(lab: str, lev: float, ua, ub, Ea: float, t: Tier) -> ChoreoMember:
-    k = seed_choreography(lab).power
-    tol = 1e-13 if not t.extended else t.num(t.eps) ** t.num(0.75)
-    with t.context():
-        return locate_member(
-            lambda m: m.trace_reduced - lev,
-            t.num(ua),
-            t.num(ub),
-            Ea,
-            t,
-            tol,
-            z3_problem(lab),
-            3,
-            k,
-        )
-
-
 def _extremum(lab: str, j: int) -> float:
     """``E`` at the extremum of ``E(u)`` next to the member ``j`` of the branch (bounded
     Brent on ``(u_{j-1}, u_{j+1})``, each ``u`` solved for ``E``; float64)."""
@@ -304,12 +287,22 @@ def z3_points(label: str, digits: int | None = None) -> tuple[SpecialPoint, ...]
                 )
             )
             continue
-        m = _root(lab, lev, float(ms[i].u), float(ms[i + 1].u), float(ms[i].E), FLOAT64)
+        k = seed_choreography(lab).power
+        m = level_member(
+            z3_problem(lab),
+            lev,
+            float(ms[i].u),
+            float(ms[i + 1].u),
+            float(ms[i].E),
+            FLOAT64,
+            3,
+            k,
+        )
         u, E = float(m.u), float(m.E)
         refined, check = None, ONCE
         if t.extended:
             h = 1e-7 * max(1.0, abs(u))
-            refined = _root(lab, lev, u - h, u + h, E, t)
+            refined = level_member(z3_problem(lab), lev, u - h, u + h, E, t, 3, k)
             refined = replace(refined, digits=max(10, int(digits or 0) - 10))
             agree = abs(float(refined.E) - E)
             check = f"float64 and {t.name} agree to {difference(agree)}"
