@@ -69,10 +69,9 @@ def textbook_breather_R(x: str, bits: int = 384):
 PAIRS = ((0, 1), (1, 2), (2, 0))
 
 
-def real128_states(y0, times):
-    """The rotor states ``(theta_1..3, p_1..3)`` at ``times`` (decimal strings or floats)
-    from ``y0`` by heyoka's real128 Taylor method on the rotor equations written here
-    (``theta_i' = p_i``, ``p_i' = -sum_j sin(theta_i - theta_j)``), as mpf numbers."""
+def rotor_system():
+    """heyoka's ODE system of the rotor equations written here: ``theta_i' = p_i``,
+    ``p_i' = -sum_j sin(theta_i - theta_j)``."""
     hy = pytest.importorskip("heyoka")
     th = hy.make_vars("t1", "t2", "t3")
     ps = hy.make_vars("q1", "q2", "q3")
@@ -80,9 +79,18 @@ def real128_states(y0, times):
     for i, j in PAIRS:
         s = hy.sin(th[i] - th[j])
         f[i], f[j] = f[i] - s, f[j] + s
-    sys = list(zip(th, ps)) + [(ps[k], f[k]) for k in range(3)]
+    return list(zip(th, ps)) + [(ps[k], f[k]) for k in range(3)]
+
+
+def real128_states(y0, times):
+    """The rotor states ``(theta_1..3, p_1..3)`` at ``times`` (decimal strings or floats)
+    from ``y0`` by heyoka's real128 Taylor method on the rotor equations written here
+    (``theta_i' = p_i``, ``p_i' = -sum_j sin(theta_i - theta_j)``), as mpf numbers."""
+    hy = pytest.importorskip("heyoka")
     R = hy.real128
-    ta = hy.taylor_adaptive(sys, np.array([R(str(v)) for v in y0]), fp_type=R)
+    ta = hy.taylor_adaptive(
+        rotor_system(), np.array([R(str(v)) for v in y0]), fp_type=R
+    )
     out = []
     for t in times:
         ta.propagate_until(R(str(t)))

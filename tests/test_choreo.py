@@ -18,7 +18,7 @@ import math
 import mpmath as mp
 import numpy as np
 import pytest
-from independent import PAIRS, decimal_theta, real128_closure
+from independent import PAIRS, decimal_theta, real128_closure, rotor_system
 from scipy.integrate import solve_ivp
 from scipy.optimize import least_squares
 
@@ -144,14 +144,7 @@ def test_digits30_period_against_independent_real128_newton():
     hy = pytest.importorskip("heyoka")
     rec = record("CG", "3", digits=30)
     R = hy.real128
-    th = hy.make_vars("t1", "t2", "t3")
-    ps = hy.make_vars("q1", "q2", "q3")
-    f = [0, 0, 0]
-    for i, j in PAIRS:
-        s = hy.sin(th[i] - th[j])
-        f[i], f[j] = f[i] - s, f[j] + s
-    sys = list(zip(th, ps)) + [(ps[k], f[k]) for k in range(3)]
-    ta = hy.taylor_adaptive(sys, [R(0)] * 6, fp_type=R)
+    ta = hy.taylor_adaptive(rotor_system(), [R(0)] * 6, fp_type=R)
     mp.mp.dps = 40
     E = mp.mpf(3)
 
