@@ -205,7 +205,7 @@ def plot_shapes(orbits: Sequence[Mapping[str, Any]]) -> Figure:
     fig, axes = plt.subplots(1, n, figsize=(COLUMN_WIDTH, 2.75), squeeze=False)
     g = np.linspace(-math.pi, math.pi, 181)
     P1, P2 = np.meshgrid(g, g)
-    V = potential_phi(P1, P2)
+    V = np.asarray(potential_phi(P1, P2))
     for ax, o in zip(axes[0], orbits):
         s = np.asarray(o["states"], dtype=float)
         x, y = _wrap(2 * s[:, 0]), _wrap(s[:, 1] - s[:, 0])
