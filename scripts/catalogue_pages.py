@@ -118,8 +118,27 @@ def window_text(w) -> str:
 
 
 # ---------------------------------------------------------------- the page
-def page(rec: dict, known: set[str], figures: dict[str, str] | None = None) -> str:
-    """The Markdown page of one family record (its JSON as stored)."""
+def shown_width(png: Path) -> str:
+    """The width to show a PNG at: 2 pixels per CSS pixel of the 688 px column
+    (figures are drawn at 200 dpi, 6.88 in wide at most)."""
+    from PIL import Image
+
+    try:
+        with Image.open(png) as img:
+            px = img.size[0]
+    except OSError:
+        return "100%"
+    return f"{min(100, round(100 * px / 1376))}%"
+
+
+def page(
+    rec: dict,
+    known: set[str],
+    figures: dict[str, str] | None = None,
+    fig_dir: Path = OUT,
+) -> str:
+    """The Markdown page of one family record (its JSON as stored); ``figures`` names
+    its PNGs (keys ``branch``, ``shape``) in ``fig_dir``."""
     fid = rec["id"]
     name = rec.get("name")
     sym = rec.get("symmetry") or {}
@@ -172,8 +191,12 @@ def page(rec: dict, known: set[str], figures: dict[str, str] | None = None) -> s
         ["census orbits it contains", len(rec.get("census_orbits") or [])],
     ]
     for key, value in sorted(rec.items()):  # fields of later builds, shown as they are
-        if "interp" in key and isinstance(value, int | float):
-            rows.append([esc(key.replace("_", " ")), sig(value, 2)])
+        if "interp" not in key:
+            continue
+        items = value.items() if isinstance(value, dict) else [("", value)]
+        for sub, v in items:
+            if isinstance(v, int | float) and not isinstance(v, bool):
+                rows.append([esc(f"{key} {sub}".replace("_", " ").strip()), sig(v, 2)])
     lines += [table(["quantity", "value"], rows), ""]
     sets = sym.get("fixed_sets") or []
     if sets:
@@ -212,7 +235,7 @@ def page(rec: dict, known: set[str], figures: dict[str, str] | None = None) -> s
             f"```{{figure}} {figures['branch']}",
             f":alt: {fid}: period T and the trace of the monodromy tr M against "
             "energy E along the family; thick green where stable",
-            ":width: 100%",
+            f":width: {shown_width(fig_dir / figures['branch'])}",
             "",
             f"{fid}: (a) the period and (b) $\\mathrm{{tr}}\\,M$ against the energy "
             "along the continuation path (float64), thick where the family is "
@@ -228,7 +251,7 @@ def page(rec: dict, known: set[str], figures: dict[str, str] | None = None) -> s
                 f"```{{figure}} {figures['shape']}",
                 f":alt: {fid}: the orbit on the configuration torus (phi1, phi2) at "
                 "up to three energies of the family",
-                ":width: 100%",
+                f":width: {shown_width(fig_dir / figures['shape'])}",
                 "",
                 f"{fid} on the configuration torus "
                 "($\\varphi_1 = \\theta_1 - \\theta_2$, "
@@ -261,7 +284,8 @@ def page(rec: dict, known: set[str], figures: dict[str, str] | None = None) -> s
             "",
             "Folds are turning points of the family in E; IS: "
             "$\\mathrm{tr}\\,M = 4$ (a pair of multipliers leaves the unit circle at 1), "
-            "PD: $\\mathrm{tr}\\,M = 0$ (at $-1$). Energies to their located digits "
+            "PD: $\\mathrm{tr}\\,M = 0$ (at $-1$); touch: $\\mathrm{tr}\\,M$ reaches 4 "
+            "or 0 without a change of stability. Energies to their located digits "
             "(float64 root finding).",
             "",
         ]
@@ -370,7 +394,13 @@ def shape_orbits(rec: dict, n: int = 3) -> list[dict]:
     for i in pick:
         m = ms[i]
         T = float(m["period"])
-        states, _ = sample([float(v) for v in m["state0"]], T, n=700)
+        try:
+            states, _ = sample([float(v) for v in m["state0"]], T, n=700)
+        except Exception as exc:  # an orbit the float64 flow cannot follow: no panel
+            print(
+                f"catalogue_pages: {rec['id']} at E = {m['E']}: {exc}", file=sys.stderr
+            )
+            continue
         out.append(
             {
                 "states": states,
@@ -439,10 +469,8 @@ def write_te_diagram(index: dict, records: list[dict], out: Path) -> int:
 
     svg = svg.replace(' target="_blank"', "")  # links open in the same tab
     svg = re.sub(r'<a xlink:href="(catalogue/(F\d+)\.html)">', title, svg)
-    # coordinates to 0.01 pt (the file is inlined in the page: keep it small)
-    svg = re.sub(
-        r' d="[^"]*"', lambda m: re.sub(r"(\.\d\d)\d+", r"\1", m.group(0)), svg
-    )
+    # coordinates to 0.1 pt (the file is inlined in the page: keep it small)
+    svg = re.sub(r' d="[^"]*"', lambda m: re.sub(r"(\.\d)\d+", r"\1", m.group(0)), svg)
     svg = svg[svg.index("<svg") :]  # drop the XML prolog and DOCTYPE: inline HTML
     # scale to the text column (the viewBox keeps the aspect ratio)
     svg = re.sub(
@@ -528,7 +556,7 @@ def main(argv: list[str] | None = None) -> int:
             if shapes:
                 size += save_png(pcat.plot_shapes(shapes), out / f"{fid}-shape.png")
                 figs["shape"] = f"{fid}-shape.png"
-        (out / f"{fid}.md").write_text(page(r, known, figs))
+        (out / f"{fid}.md").write_text(page(r, known, figs, out))
         print(f"catalogue_pages: {fid}", file=sys.stderr)
     (out / "gallery.md").write_text(gallery(C.index, records))
     if not args.no_figures:
