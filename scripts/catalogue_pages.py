@@ -334,7 +334,9 @@ def page(
     return "\n".join(lines)
 
 
-def gallery(index: dict, records: list[dict]) -> str:
+def gallery(index: dict, records: list[dict], fig_dir: Path = OUT) -> str:
+    """The gallery page: a summary table, then a thumbnail of each family's orbit (its
+    shape figure, else its branch figure) beside its description, linked to its page."""
     lo, hi = index.get("window", [math.nan, math.nan])
     lines = [
         "# The catalogued families",
@@ -363,6 +365,54 @@ def gallery(index: dict, records: list[dict]) -> str:
         ),
         "",
     ]
+    rows = []
+    for r in records:
+        fid = r["id"]
+        thumb = next(
+            (
+                f"{fid}-{k}.png"
+                for k in ("shape", "branch")
+                if (fig_dir / f"{fid}-{k}.png").is_file()
+            ),
+            None,
+        )
+        if thumb is None:
+            continue
+        what = "its orbit on the configuration torus" if "shape" in thumb else "T(E)"
+        windows = r.get("stable_windows") or []
+        rows += [
+            f"* - ![{fid}: {what}]({thumb})",
+            f"  - **[{fid}]({fid}.md)**"
+            + (f" {name_md(r.get('name'))}" if r.get("name") else "")
+            + f": {symmetry_class(r)}; "
+            + " ≤ E ≤ ".join(sig(v, 4) for v in r.get("E_range", []))
+            + "; "
+            + " ≤ T ≤ ".join(sig(v, 4) for v in r.get("period_range", []))
+            + "; "
+            + (
+                "stable in " + ", ".join(window_text(w) for w in windows)
+                if windows
+                else "unstable throughout"
+            ),
+        ]
+    if rows:
+        lines += [
+            "## The orbits",
+            "",
+            "Each family's orbit on the configuration torus at up to three energies "
+            "(its page shows it larger).",
+            "",
+            "```{list-table}",
+            ":header-rows: 1",
+            ":class: gallery-table",
+            ":widths: 45 55",
+            "",
+            "* - orbit",
+            "  - family",
+            *rows,
+            "```",
+            "",
+        ]
     return "\n".join(lines)
 
 
@@ -558,7 +608,7 @@ def main(argv: list[str] | None = None) -> int:
                 figs["shape"] = f"{fid}-shape.png"
         (out / f"{fid}.md").write_text(page(r, known, figs, out))
         print(f"catalogue_pages: {fid}", file=sys.stderr)
-    (out / "gallery.md").write_text(gallery(C.index, records))
+    (out / "gallery.md").write_text(gallery(C.index, records, out))
     if not args.no_figures:
         size += write_te_diagram(C.index, records, out)
     toc = Path(args.toc)

@@ -74,9 +74,16 @@ def test_page_is_what_the_script_writes(fid):
     )
 
 
+def test_gallery_is_what_the_script_writes():
+    C = cat.load()
+    assert (PAGES / "gallery.md").read_text() == cp.gallery(
+        C.index, [f.record for f in C]
+    ), "book/catalogue/gallery.md is stale: run scripts/catalogue_pages.py"
+
+
 def test_links_reach_pages():
     for p in [*PAGES.glob("F*.md"), PAGES / "gallery.md"]:
-        for target in re.findall(r"\]\(([^)#]+)", p.read_text()):
+        for target in re.findall(r"\]\(([^)#]+)", p.read_text()):  # links, images
             assert (p.parent / target).resolve().is_file(), f"{p.name} -> {target}"
     svg = (PAGES / "te_diagram.svg").read_text()
     hrefs = set(re.findall(r'xlink:href="catalogue/(F\d+)\.html"', svg))
