@@ -10,6 +10,7 @@
 
 from __future__ import annotations
 
+import functools
 import importlib.util
 import io
 import json
@@ -41,6 +42,11 @@ INDEX = json.loads((cat.DATA / "index.json").read_text())
 IDS = [r["id"] for r in INDEX["families"]]
 
 
+@functools.cache
+def catalogue():
+    return cat.load()
+
+
 def _chapter_entry():
     toc = yaml.safe_load((ROOT / "_toc.yml").read_text())
     for ch in toc["chapters"]:
@@ -62,7 +68,7 @@ def test_every_family_has_a_page_in_the_toc():
 
 @pytest.mark.parametrize("fid", IDS)
 def test_page_is_what_the_script_writes(fid):
-    rec = cat.load().family(fid).record
+    rec = catalogue().family(fid).record
     figs = {
         k: f"{fid}-{k}.png"
         for k in ("branch", "shape")
@@ -75,7 +81,7 @@ def test_page_is_what_the_script_writes(fid):
 
 
 def test_gallery_is_what_the_script_writes():
-    C = cat.load()
+    C = catalogue()
     assert (PAGES / "gallery.md").read_text() == cp.gallery(
         C.index, [f.record for f in C]
     ), "book/catalogue/gallery.md is stale: run scripts/catalogue_pages.py"
@@ -94,7 +100,7 @@ def test_links_reach_pages():
 def test_links_both_ways_on_the_pages():
     """A daughter's page names its parent, and the parent's page names the daughter."""
     for fid in IDS:
-        rec = cat.load().family(fid).record
+        rec = catalogue().family(fid).record
         for d in rec["daughters"]:
             assert f"[{fid}]({fid}.md)" in (PAGES / f"{d['id']}.md").read_text()
 
