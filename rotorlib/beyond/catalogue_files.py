@@ -9,6 +9,7 @@ import csv
 import os
 from pathlib import Path
 
+from ..core.system import BREATHER_SEPARATRIX_ENERGY, SEPARATRIX_ENERGY
 from .catalogue_tasks import VERSION, near, write_json
 
 __all__ = ["END_KINDS", "write"]
@@ -16,32 +17,99 @@ __all__ = ["END_KINDS", "write"]
 #: Why a family's record ends, from the engine's stop code (``E range``: see ``_end``).
 END_KINDS = {
     "period": "leaves T <= T_max",
-    "stuck": "engine stopped (a critical point, a cusp or a sharp turn)",
-    "section lost": "engine stopped (the orbit no longer reaches its section)",
-    "steps": "step budget",
+    "stuck": "engine stopped",
+    "section lost": "engine stopped",
+    "steps": "engine stopped",
+    "fold": "fold",
+    "parent": "bifurcation from a parent",
+    "separatrix": "collision with a separatrix",
+    "critical": "a critical point",
+    "axis": "E = 0 or E = 8",
+    "window": "end of the built window",
 }
+
+#: The separatrix energies (the saddles of the potential: the pendulum's E = 4, the
+#: breather's E = 4.5) and the critical energies (the equilibria: 0, 4, 4.5).
+SEPARATRICES = (SEPARATRIX_ENERGY, BREATHER_SEPARATRIX_ENERGY)
+
+
+def _extreme(f: dict, side: int) -> int:
+    """The path member where the family's energy is lowest (``side`` 0) or highest (1)."""
+    Es = [m["E"] for m in f["path"]]
+    return (min if side == 0 else max)(range(len(Es)), key=lambda i: Es[i])
 
 
 def _end(f: dict, side: int, lo: float, hi: float) -> dict:
-    """The record of one end of a family: where and why it stops."""
-    m = f["path"][0 if side == 0 else -1]
-    e = f["ends"][side]
-    stop = e["stop"]
-    if stop == "E range":
-        outside = m["E"] < lo or m["E"] > hi
-        at_axis = (m["E"] <= 0 and lo <= 0.01) or (m["E"] >= 8 and hi >= 8)
-        kind = "E = 0 or 8" if at_axis else "end of the built window"
-        if not outside:
-            kind = "end of the built window"
+    """The record of the family's low-energy (``side`` 0) or high-energy (1) end: where
+    and why its energy range stops.
+
+    At an interior member of the path (the engine went on): a ``fold``, or, where the fold
+    lies on a parent's located IS/PD point (within 1e-6 in ``E``; the links of
+    :func:`_links`), a ``bifurcation from a parent``. At an end of the path, from the
+    engine's stop: ``E = 0 or E = 8``, or ``end of the built window`` (``E range``);
+    ``collision with a separatrix`` (the period grows past ``T_max`` as ``E`` approaches
+    4 or 4.5, within 0.05, the period rising over the last members) or ``leaves T <=
+    T_max`` (``period``); ``a critical point`` (the engine stops within 0.05 of
+    ``E = 0``, 4 or 4.5: an equilibrium) or ``engine stopped`` with the engine's reason
+    (``stuck``, ``section lost``, ``steps``). ``side`` names the path's direction
+    (``backward``/``forward`` from the seed) where the end lies."""
+    path = f["path"]
+    i = _extreme(f, side)
+    m = path[i]
+    seed = next(
+        (
+            k
+            for k, q in enumerate(path)
+            if q["E"] == f["seed"]["E"] and q["u"] == f["seed"]["u"]
+        ),
+        0,
+    )
+    direction = "backward" if i < seed or (i == seed and seed == 0) else "forward"
+    e = f["ends"][0 if direction == "backward" else 1]
+    stop, reason = e["stop"], e["reason"]
+    near_sep = [s for s in (0.0, *SEPARATRICES) if abs(m["E"] - s) < 0.05]
+    if 0 < i < len(path) - 1:
+        stop = "fold"
+        parent = next(
+            (
+                p
+                for p in f.get("parents", ())
+                if abs(p["E"] - m["E"]) < 1e-6 * max(1.0, abs(m["E"]))
+            ),
+            None,
+        )
+        if parent is not None:
+            kind = END_KINDS["parent"]
+            reason = f"born at the {parent['kind']} point of {parent['id']} at E = {parent['E']:.10g}"
+        else:
+            kind = END_KINDS["fold"]
+            reason = f"fold at E = {m['E']:.10g} (the engine went on past it)"
+    elif stop == "E range":
+        at_axis = (m["E"] <= 0.01 and lo <= 0.01) or (m["E"] >= 8 and hi >= 8)
+        kind = END_KINDS["axis"] if at_axis else END_KINDS["window"]
+    elif stop == "period":
+        k = max(0, i - 3) if i > 0 else min(len(path) - 1, 3)
+        rising = m["period"] > path[k]["period"]
+        sep = [s for s in near_sep if s > 0]
+        if sep and rising:
+            kind = END_KINDS["separatrix"]
+            reason = (
+                f"T -> infinity as E -> {sep[0]:g} (the separatrix energy); {reason}"
+            )
+        else:
+            kind = END_KINDS["period"]
+    elif near_sep:
+        kind = END_KINDS["critical"]
+        reason = f"E -> {near_sep[0]:g} (an equilibrium's energy); {reason}"
     else:
-        kind = END_KINDS.get(stop, stop)
+        kind = END_KINDS.get(stop, "engine stopped")
     return {
-        "side": e["side"],
+        "side": direction,
         "E": m["E"],
         "period": m["period"],
         "kind": kind,
         "stop": stop,
-        "reason": e["reason"],
+        "reason": reason,
     }
 
 
@@ -79,9 +147,27 @@ def _stable_windows(f: dict) -> list[list[float]]:
     return merged
 
 
+def _at(g: dict, E: float) -> list[tuple[float, float]]:
+    """``(period, tr M)`` of family ``g`` at energy ``E``: interpolated (linearly) on each
+    pair of consecutive path members that bracket ``E``, and its located points there."""
+    path, out = g["path"], []
+    for a, b in zip(path, path[1:]):
+        if min(a["E"], b["E"]) <= E <= max(a["E"], b["E"]) and a["E"] != b["E"]:
+            t = (E - a["E"]) / (b["E"] - a["E"])
+            T = a["period"] + t * (b["period"] - a["period"])
+            out.append((T, a["trace"] + t * (b["trace"] - a["trace"])))
+    out += [(p["period"], p["trace"]) for p in g["special"] if abs(p["E"] - E) < 1e-9]
+    return out
+
+
 def _links(fams: list[dict]) -> None:
-    """Parent -> daughter links: a family with a member within 1e-6 in E of a parent's
-    located IS (PD) point, with the parent's period (twice it) to 1e-5, is its daughter."""
+    """Parent -> daughter links at the genuine ``IS`` / ``PD`` points (folds and touches
+    are classified before: :func:`rotorlib.beyond.catalogue_build.special_points`): a
+    family that exists at the point's energy ``E_b`` (a member there, interpolated
+    between the path members around it, or located) with ``n T_b`` (``n = 1`` at IS, 2
+    at PD; to 1e-4 relative, the interpolation's error at steps of 0.01) and
+    ``tr M`` within 0.05 of 4 (the daughter is born with a multiplier 1) is its daughter.
+    Each link ``{id, kind, E}`` is recorded on both sides."""
     for f in fams:
         f["parents"], f["daughters"] = [], []
     for f in fams:
@@ -90,15 +176,14 @@ def _links(fams: list[dict]) -> None:
                 continue
             n = 2 if p["kind"] == "PD" else 1
             for g in fams:
-                if g is f:
+                if g is f or any(
+                    d["id"] == g["id"] and d["E"] == p["E"] for d in f["daughters"]
+                ):
                     continue
-                near = [
-                    m
-                    for m in g["path"] + g["special"]
-                    if abs(m["E"] - p["E"]) < 2 * 0.01
-                    and near(m["period"], n * p["period"], 2e-3)
-                ]
-                if near:
+                if any(
+                    near(T, n * p["period"], 1e-4) and abs(tr - 4) < 0.05
+                    for T, tr in _at(g, p["E"])
+                ):
                     link = {"kind": p["kind"], "E": p["E"]}
                     f["daughters"].append({"id": g["id"], **link})
                     g["parents"].append({"id": f["id"], **link})
