@@ -170,12 +170,50 @@ def test_links_only_at_genuine_points_and_both_ways():
     assert parent["daughters"] == [] and daughter["parents"] == []
 
 
+def test_a_family_the_engine_cannot_carry_across_an_energy_is_joined():
+    from rotorlib.beyond.catalogue_files import _end, _links
+
+    x = [2.59, 7.77, -2.34, 0.78]
+    a = {
+        "id": "F002",
+        "path": [
+            {
+                "E": 4.2,
+                "period": 4.9,
+                "trace": 1.0,
+                "u": 0.0,
+                "x0": [2.6, 7.9, -2.3, 0.8],
+            },
+            {"E": 4.5, "period": 5.1, "trace": 1.0, "u": 0.1, "x0": x},
+        ],
+        "special": [],
+        "seed": {"E": 4.2, "u": 0.0},
+        "ends": _ends("E range", "stuck"),
+    }
+    b = {
+        "id": "F003",
+        "path": [
+            {"E": 4.51, "period": 5.11, "trace": 1.0, "u": 0.0, "x0": x},
+            {"E": 4.5 + 1e-9, "period": 5.1, "trace": 1.0, "u": 0.1, "x0": x},
+        ],
+        "special": [],
+        "seed": {"E": 4.51, "u": 0.0},
+        "ends": _ends("E range", "stuck"),
+    }
+    _links([a, b])
+    assert a["joins"] == [{"id": "F003", "E": 4.5, "side": 1}]
+    end = _end(a, 1, 4.2, 4.6)
+    assert end["kind"] == "engine stopped" and "goes on as F003" in end["reason"]
+
+
 def test_ends_say_why():
     from rotorlib.beyond.catalogue_files import END_KINDS, _end
 
     # born at a parent's PD (a fold at the parent's point), window edge at the top
     f = {
-        "path": _path([5.1, 5.0, 5.1, 5.2], [4.01, 4.0, 3.99, 3.98], [3.9, 4.0, 3.9, 3.8]),
+        "path": _path(
+            [5.1, 5.0, 5.1, 5.2], [4.01, 4.0, 3.99, 3.98], [3.9, 4.0, 3.9, 3.8]
+        ),
         "seed": {"E": 5.1, "u": 0.0},
         "ends": _ends(),
         "parents": [{"id": "F001", "kind": "PD", "E": 5.0}],
@@ -200,6 +238,11 @@ def test_ends_say_why():
     g["path"][0]["E"] = 0.02  # the engine stops at E -> 0: a critical point
     g["ends"] = _ends("stuck", "stuck")
     assert _end(g, 0, 0.01, 5.0)["kind"] == END_KINDS["critical"]
+    g["path"][-1]["x0"] = [0.1, 0.2, 0.01, -0.02]  # shrinks to the saddle at E = 4
+    g["path"][3]["E"], g["path"][-1]["E"] = 3.995, 4.01
+    assert _end(g, 1, 0.01, 5.0)["kind"] == END_KINDS["critical"]
+    g["path"][-1]["x0"] = [0.1, 0.2, 1.0, -0.02]  # stuck at 4, not an equilibrium
+    assert _end(g, 1, 0.01, 5.0)["kind"] == "engine stopped"
     g["path"][-1]["E"] = 8.0  # the axis
     g["ends"] = _ends("stuck", "E range")
     assert _end(g, 1, 0.01, 8.0)["kind"] == END_KINDS["axis"]

@@ -152,82 +152,83 @@ def wavefront(
     """
     n, slots, c = len(seeds), _slots(executor), None if cache is None else str(cache)
     args = [args_of(o) for o in seeds]
+    keys = [task_key("follow", a) for a in args]
     results: dict[int, dict] = {}
     running: dict[Any, int] = {}
     checked: set[int] = set()
-    ran = 0
+    # shadow[j]: a finished follow of an earlier seed covers seed j (not run ahead)
+    shadow = [any(covers(f, o) for f in known) for o in seeds]
+    state = {"pos": 0, "ran": 0}
+    chosen: list[int] = []
 
-    def decide() -> tuple[list[int], int | None]:
-        chosen: list[int] = []
-        for i, o in enumerate(seeds):
-            if any(covers(f, o) for f in known) or any(
-                covers(results[j], o) for j in chosen
+    def first_undecided() -> int | None:
+        """Advance the decided prefix (the serial rule; decisions there are final)."""
+        while state["pos"] < n:
+            i = state["pos"]
+            if not (
+                any(covers(f, seeds[i]) for f in known)
+                or any(covers(results[j], seeds[i]) for j in chosen)
             ):
-                continue
-            if i not in results:
-                return chosen, i
-            chosen.append(i)
-        return chosen, None
+                if i not in results:
+                    return i
+                chosen.append(i)
+            state["pos"] += 1
+        return None
+
+    def add(j: int, out: tuple[Any, float], run: bool) -> None:
+        results[j] = out[0]
+        if cpu is not None:
+            cpu[keys[j]] = out[1]
+        for k in range(j + 1, n):
+            if not shadow[k] and covers(results[j], seeds[k]):
+                shadow[k] = True
+        if run:
+            state["ran"] += 1
+            if bar is not None:
+                bar.update()
 
     try:
-        while True:
-            chosen, first = decide()
-            if first is None:
-                break
+        while (first := first_undecided()) is not None:
             busy = set(running.values())
-            cands = [
-                j
-                for j in range(first, n)
-                if j not in results
-                and j not in busy
-                and (
-                    j == first
-                    or not any(covers(f, seeds[j]) for f in known)
-                    and not any(covers(results[k], seeds[j]) for k in results if k < j)
-                )
-            ]
+            free = 1 if executor is None else max(0, slots - len(running))
+            todo: list[int] = []
             hit = False
-            for j in cands:
+            for j in range(first, n):
+                if len(todo) >= free:
+                    break
+                if j in results or j in busy or (j != first and shadow[j]):
+                    continue
                 if j not in checked:
                     checked.add(j)
                     got = stored("follow", args[j], c)
                     if got is not None:
-                        results[j], hit = got[0], True
-                        if cpu is not None:
-                            cpu[task_key("follow", args[j])] = got[1]
+                        add(j, got, False)
+                        hit = True
+                        continue
+                todo.append(j)
             if hit:
                 continue
             if executor is None:
-                out = _execute(("follow", args[first], c))
-                results[first], ran = out[0], ran + 1
-                if cpu is not None:
-                    cpu[task_key("follow", args[first])] = out[1]
-                if bar is not None:
-                    bar.update()
+                add(first, _execute(("follow", args[first], c)), True)
                 continue
-            for j in cands[: max(0, slots - len(running))]:
+            for j in todo:
                 running[executor.submit(_execute, ("follow", args[j], c))] = j
             done, _ = wait(list(running), return_when=FIRST_COMPLETED)
             for fut in done:
                 j = running.pop(fut)
                 out = fut.result()
                 finished("follow", args[j], c, out)
-                results[j], ran = out[0], ran + 1
-                if cpu is not None:
-                    cpu[task_key("follow", args[j])] = out[1]
-                if bar is not None:
-                    bar.update()
+                add(j, out, True)
     finally:
         for fut in running:  # speculative follows no longer needed
             fut.cancel()
     fams = []
-    for i in decide()[0]:
+    for i in chosen:
         f = results[i]
-        f.pop("_by_E", None)
         f["seed_orbit"] = seeds[i]
-        f["task"] = task_key("follow", args[i])
+        f["task"] = keys[i]
         fams.append(f)
-    return fams, ran
+    return fams, state["ran"]
 
 
 def _refine(censuses: dict, depth: int) -> list[float]:

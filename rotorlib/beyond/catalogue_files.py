@@ -44,14 +44,17 @@ def _end(f: dict, side: int, lo: float, hi: float) -> dict:
     and why its energy range stops.
 
     At an interior member of the path (the engine went on): a ``fold``, or, where the fold
-    lies on a parent's located IS/PD point (within 1e-6 in ``E``; the links of
-    :func:`_links`), a ``bifurcation from a parent``. At an end of the path, from the
+    lies on a parent's located IS/PD point (within 1e-4 in ``E``, as the path's turning
+    member is where the engine did not locate the fold; the links of :func:`_links`), a
+    ``bifurcation from a parent``. At an end of the path, from the
     engine's stop: ``E = 0 or E = 8``, or ``end of the built window`` (``E range``);
     ``collision with a separatrix`` (the period grows past ``T_max`` as ``E`` approaches
     4 or 4.5, within 0.05, the period rising over the last members) or ``leaves T <=
     T_max`` (``period``); ``a critical point`` (the engine stops within 0.05 of
-    ``E = 0``, 4 or 4.5: an equilibrium) or ``engine stopped`` with the engine's reason
-    (``stuck``, ``section lost``, ``steps``). ``side`` names the path's direction
+    ``E = 0``, or of 4 or 4.5 with the momenta of ``state0`` below 0.05: the orbit shrinks
+    to an equilibrium) or ``engine stopped`` with the engine's reason (``stuck``,
+    ``section lost``, ``steps``; where another family goes on from the same orbit,
+    :func:`_joins`, it is named). ``side`` names the path's direction
     (``backward``/``forward`` from the seed) where the end lies."""
     path = f["path"]
     i = _extreme(f, side)
@@ -74,7 +77,7 @@ def _end(f: dict, side: int, lo: float, hi: float) -> dict:
             (
                 p
                 for p in f.get("parents", ())
-                if abs(p["E"] - m["E"]) < 1e-6 * max(1.0, abs(m["E"]))
+                if abs(p["E"] - m["E"]) < 1e-4 * max(1.0, abs(m["E"]))
             ),
             None,
         )
@@ -98,9 +101,17 @@ def _end(f: dict, side: int, lo: float, hi: float) -> dict:
             )
         else:
             kind = END_KINDS["period"]
-    elif near_sep:
+    elif joined := [j for j in f.get("joins", ()) if j["side"] == (0 if i == 0 else 1)]:
+        kind = END_KINDS["stuck"]
+        reason = (
+            f"{reason}; the family goes on as {joined[0]['id']} (the same orbit at "
+            f"E = {m['E']:.10g}: the engine does not carry it across this energy)"
+        )
+    elif near_sep and (
+        m["E"] < 0.05 or max(abs(v) for v in m.get("x0", [1.0] * 4)[2:]) < 0.05
+    ):
         kind = END_KINDS["critical"]
-        reason = f"E -> {near_sep[0]:g} (an equilibrium's energy); {reason}"
+        reason = f"E -> {near_sep[0]:g}, momenta -> 0 (an equilibrium); {reason}"
     else:
         kind = END_KINDS.get(stop, "engine stopped")
     return {
@@ -147,27 +158,57 @@ def _stable_windows(f: dict) -> list[list[float]]:
     return merged
 
 
-def _at(g: dict, E: float) -> list[tuple[float, float]]:
+def _at(g: dict, E: float, dE: float = 1e-3) -> list[tuple[float, float]]:
     """``(period, tr M)`` of family ``g`` at energy ``E``: interpolated (linearly) on each
-    pair of consecutive path members that bracket ``E``, and its located points there."""
+    pair of consecutive path members that bracket ``E``, and at its path members and
+    located points within ``dE`` of ``E`` (a daughter born at a fold that the engine did
+    not locate has its nearest member ``~ (du)^2`` away)."""
     path, out = g["path"], []
     for a, b in zip(path, path[1:]):
         if min(a["E"], b["E"]) <= E <= max(a["E"], b["E"]) and a["E"] != b["E"]:
             t = (E - a["E"]) / (b["E"] - a["E"])
             T = a["period"] + t * (b["period"] - a["period"])
             out.append((T, a["trace"] + t * (b["trace"] - a["trace"])))
-    out += [(p["period"], p["trace"]) for p in g["special"] if abs(p["E"] - E) < 1e-9]
+    out += [
+        (p["period"], p["trace"]) for p in path + g["special"] if abs(p["E"] - E) < dE
+    ]
     return out
+
+
+def _joins(fams: list[dict]) -> None:
+    """``f['joins']``: the families whose path ends where one of ``f``'s ends (an engine
+    stop) with the same orbit (``E`` to 1e-6, the period to 1e-6 relative, ``state0``
+    to 1e-5): one family that the engine could not carry across an energy (its
+    shooting problem's start set changes at 4 and 4.5)."""
+    for f in fams:
+        f["joins"] = []
+    for f in fams:
+        for side in (0, 1) if "ends" in f else ():
+            if f["ends"][side]["stop"] not in ("stuck", "section lost"):
+                continue
+            m = f["path"][0 if side == 0 else -1]
+            for g in fams:
+                if g is f:
+                    continue
+                for q in (g["path"][0], g["path"][-1]):
+                    if (
+                        abs(q["E"] - m["E"]) < 1e-6
+                        and near(q["period"], m["period"], 1e-6)
+                        and max(abs(a - b) for a, b in zip(q["x0"], m["x0"])) < 1e-5
+                    ):
+                        f["joins"].append({"id": g["id"], "E": m["E"], "side": side})
 
 
 def _links(fams: list[dict]) -> None:
     """Parent -> daughter links at the genuine ``IS`` / ``PD`` points (folds and touches
     are classified before: :func:`rotorlib.beyond.catalogue_build.special_points`): a
     family that exists at the point's energy ``E_b`` (a member there, interpolated
-    between the path members around it, or located) with ``n T_b`` (``n = 1`` at IS, 2
-    at PD; to 1e-4 relative, the interpolation's error at steps of 0.01) and
+    between the path members around it, or a member or located point within 1e-3 of it)
+    with ``n T_b`` (``n = 1`` at IS, 2 at PD; to 1e-3 relative) and
     ``tr M`` within 0.05 of 4 (the daughter is born with a multiplier 1) is its daughter.
-    Each link ``{id, kind, E}`` is recorded on both sides."""
+    Each link ``{id, kind, E}`` is recorded on both sides. Also records the families
+    that join at an engine stop (:func:`_joins`)."""
+    _joins(fams)
     for f in fams:
         f["parents"], f["daughters"] = [], []
     for f in fams:
@@ -181,7 +222,7 @@ def _links(fams: list[dict]) -> None:
                 ):
                     continue
                 if any(
-                    near(T, n * p["period"], 1e-4) and abs(tr - 4) < 0.05
+                    near(T, n * p["period"], 1e-3) and abs(tr - 4) < 0.05
                     for T, tr in _at(g, p["E"])
                 ):
                     link = {"kind": p["kind"], "E": p["E"]}
