@@ -246,3 +246,45 @@ def test_ends_say_why():
     g["path"][-1]["E"] = 8.0  # the axis
     g["ends"] = _ends("stuck", "E range")
     assert _end(g, 1, 0.01, 8.0)["kind"] == END_KINDS["axis"]
+
+
+def test_switch_finds_the_pd_daughter_on_its_side_only():
+    """The pendulum's PD point at E_b = 4.4773509830 (T_b = 2.78091194; located by the
+    engine): the census beside it, restricted to periods near 2 T_b, finds PD^r_2's
+    member above E_b (born there with tr M = 4) and nothing below."""
+    T2 = 2 * 2.7809119399520856
+    below, above = 4.474371432046, 4.480330533973
+    args = {"period": T2, "rel": 0.03, "t_max": 1.05 * T2, "grid": 100}
+    (o,) = ct.switch_task(dict(args, energies=[below, above]))
+    assert o["E"] == above
+    assert abs(o["period"] / T2 - 1) < 0.01 and abs(o["trace"] - 4) < 0.05
+
+
+def test_a_small_build_is_the_same_serially_and_on_2_workers(tmp_path):
+    """A real build (E = 4.3, 4.4, 4.5, T <= 3.5, coarse): the same families, special
+    points and paths from an empty cache serially and on a pool of 2 processes."""
+    from rotorlib.beyond.catalogue_build import build
+    from rotorlib.core.parallel import executor_for
+
+    def fams(workers):
+        with executor_for(workers) as ex:
+            cat = build(
+                [4.3, 4.4, 4.5],
+                3.5,
+                tmp_path / str(workers),
+                grid=40,
+                refine=0,
+                digits=16,
+                name=False,
+                max_steps=15,
+                executor=ex,
+                switch=0,
+            )
+        assert not cat["orphans"]
+        return [
+            (f["task"], [(p["kind"], p["E"]) for p in f["special"]], f["path"])
+            for f in cat["families"]
+        ]
+
+    serial = fams(1)
+    assert len(serial) >= 2 and fams(2) == serial
