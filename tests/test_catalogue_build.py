@@ -223,6 +223,15 @@ def test_ends_say_why():
     assert high["kind"] == END_KINDS["window"] and high["E"] == 5.2
     f["parents"] = []
     assert _end(f, 0, 4.8, 5.2)["kind"] == "fold"
+    # the engine stuck 3e-4 short of the parent's point: born there all the same
+    f["path"] = f["path"][1:]
+    f["path"][0]["E"] = 5.0003
+    f["ends"] = _ends("stuck", "E range")
+    f["parents"] = [{"id": "F001", "kind": "PD", "E": 5.0}]
+    low = _end(f, 0, 4.8, 5.2)
+    assert low["kind"] == END_KINDS["parent"] and "3.0e-04" in low["reason"]
+    f["path"][0]["E"] = 5.003  # too far: the engine's stop
+    assert _end(f, 0, 4.8, 5.2)["kind"] == "engine stopped"
     # T -> infinity at the pendulum separatrix; an engine stop away from critical points
     g = {
         "path": _path([3.97, 3.98, 3.99, 4.1, 4.2], [9.0, 8.0, 7.0, 6.0, 5.0], [1] * 5),

@@ -35,6 +35,7 @@ from collections.abc import Callable, Sequence
 from concurrent.futures import FIRST_COMPLETED, Executor, wait
 from typing import Any
 
+from .atlas import E_DOMAIN
 from .catalogue_members import stored_members
 from .catalogue_tasks import (
     _bar,
@@ -298,7 +299,9 @@ def _switch_args(f: dict, p: dict, lo: float, hi: float, t_max: float, grid: int
     dE = min(max(0.3 * step, 1e-3), 1e-2)
     Es = [round(p["E"] + s * dE, 12) for s in (-1, 1)]
     return {
-        "energies": [e for e in Es if 0 < e <= 8],
+        # inside the window (a seed outside would give a stub of a family cut there)
+        # and the census's domain
+        "energies": [e for e in Es if max(lo, E_DOMAIN[0]) <= e <= hi],
         "period": n * p["period"],
         "rel": 0.03,
         "t_max": min(t_max, 1.05 * n * p["period"]),
@@ -402,7 +405,10 @@ def build(
                         owners.append((f["task"], p["kind"], p["E"]))
         found = []
         for own, orbs in zip(owners, run("switch", jobs, f"switch {rnd + 1}")):
-            found += [dict(o, via=list(own)) for o in orbs]
+            # the census's section search bound for the build's T_max (as a grid seed)
+            found += [
+                dict(o, via=list(own), t_half=float(t_max / 2 * 1.02)) for o in orbs
+            ]
         found.sort(key=lambda o: (o["E"], o["period"], o["trace"]))
         fresh = [
             o

@@ -46,8 +46,10 @@ def _end(f: dict, side: int, lo: float, hi: float) -> dict:
     At an interior member of the path (the engine went on): a ``fold``, or, where the fold
     lies on a parent's located IS/PD point (within 1e-4 in ``E``, as the path's turning
     member is where the engine did not locate the fold; the links of :func:`_links`), a
-    ``bifurcation from a parent``. At an end of the path, from the
-    engine's stop: ``E = 0 or E = 8``, or ``end of the built window`` (``E range``);
+    ``bifurcation from a parent``. At an end of the path: a ``bifurcation from a parent``
+    too where the engine stopped (``stuck``, ``section lost``) within 1e-3 in ``E`` of a
+    parent's point (the distance is given: the engine may stop short of a pitchfork's
+    point on the daughter's side); otherwise, from the engine's stop: ``E = 0 or E = 8``, or ``end of the built window`` (``E range``);
     ``collision with a separatrix`` (the period grows past ``T_max`` as ``E`` approaches
     4 or 4.5, within 0.05, the period rising over the last members) or ``leaves T <=
     T_max`` (``period``); ``a critical point`` (the engine stops within 0.05 of
@@ -101,6 +103,15 @@ def _end(f: dict, side: int, lo: float, hi: float) -> dict:
             )
         else:
             kind = END_KINDS["period"]
+    elif stop in ("stuck", "section lost") and (
+        born := [p for p in f.get("parents", ()) if abs(p["E"] - m["E"]) < 1e-3]
+    ):
+        kind = END_KINDS["parent"]
+        reason = (
+            f"born at the {born[0]['kind']} point of {born[0]['id']} at E = "
+            f"{born[0]['E']:.10g}; the engine stopped {abs(born[0]['E'] - m['E']):.1e} "
+            f"from it ({reason})"
+        )
     elif joined := [j for j in f.get("joins", ()) if j["side"] == (0 if i == 0 else 1)]:
         kind = END_KINDS["stuck"]
         reason = (
