@@ -2,16 +2,23 @@
 
 ``python scripts/build_catalogue.py --E 5.40 5.45 5.50 --t-max 16 --workers 2``
 ``  --cache build/catalogue-cache --out book/data/catalogue``
+``python scripts/build_catalogue.py --E-grid 0.1 8 0.1 --t-max 8 --workers 2``
+
+``--E-grid LO HI STEP``: census energies LO, LO + STEP, ... up to HI (rounded to 12
+decimals; with ``--E`` the union).
 
 Every task's result is stored in ``--cache`` as it finishes: run the same command again
 after a kill and the finished tasks are read back, not redone. Prints the measured cost
-(wall and per task kind) as JSON on the last line and writes it to ``OUT/build.json``.
+(wall, task CPU per kind: total, number run, mean and largest, and the CPU of each
+family) as JSON on the last line and writes it to ``OUT/build.json``.
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+import math
+import os
 import sys
 import time
 from pathlib import Path
@@ -24,7 +31,8 @@ from rotorlib.core.parallel import executor_for
 
 def main(argv=None) -> int:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    p.add_argument("--E", nargs="+", type=float, required=True)
+    p.add_argument("--E", nargs="+", type=float, default=[])
+    p.add_argument("--E-grid", nargs=3, type=float, metavar=("LO", "HI", "STEP"))
     p.add_argument("--t-max", type=float, default=16.0)
     p.add_argument("--grid", type=int, default=300)
     p.add_argument("--step", type=float, default=0.01)
@@ -35,13 +43,25 @@ def main(argv=None) -> int:
     p.add_argument("--workers", type=int, default=None)
     p.add_argument("--scheduler", default=None)
     p.add_argument("--no-write", action="store_true")
-    p.add_argument("--max-steps", type=int, default=600)
+    p.add_argument(
+        "--max-steps", type=int, default=None, help="default: the whole window"
+    )
+    p.add_argument("--switch", type=int, default=2, help="branch-switching rounds")
     p.add_argument("--no-names", action="store_true", help="unnamed censuses (tests)")
     a = p.parse_args(argv)
+    energies = set(a.E)
+    if a.E_grid:
+        lo, hi, st = a.E_grid
+        if not (st > 0 and lo <= hi):
+            p.error("--E-grid needs LO <= HI and STEP > 0")
+        n = int(math.floor((hi - lo) / st + 1e-9))
+        energies |= {round(lo + k * st, 12) for k in range(n + 1)}
+    if not energies:
+        p.error("give --E or --E-grid")
     t0, c0 = time.time(), time.process_time()
     with executor_for(a.workers, a.scheduler) as ex:
         cat = build(
-            a.E,
+            sorted(energies),
             a.t_max,
             a.cache,
             grid=a.grid,
@@ -50,6 +70,7 @@ def main(argv=None) -> int:
             digits=a.digits,
             name=not a.no_names,
             max_steps=a.max_steps,
+            switch=a.switch,
             executor=ex,
             progress=sys.stderr.isatty(),
             log=lambda s: print(s, file=sys.stderr, flush=True),
@@ -58,13 +79,43 @@ def main(argv=None) -> int:
         "wall_s": round(time.time() - t0, 1),
         "client_cpu_s": round(time.process_time() - c0, 1),
         "workers": a.workers or 1,
-        "tasks": cat["tasks"],
+        "load_average": round(os.getloadavg()[0], 1),
+        "max_steps": cat["max_steps"],
+        "tasks": {
+            k: {
+                "n": n,
+                "run": r,
+                "cpu_s": round(cat["cpu"][k], 1),
+                "mean_s": round(cat["cpu"][k] / n, 2) if n else 0.0,
+                "max_s": round(cat["cpu_max"][k], 1),
+            }
+            for k, (n, r) in cat["tasks"].items()
+        },
         "families": len(cat["families"]),
     }
+    cost["task_cpu_s"] = round(sum(v["cpu_s"] for v in cost["tasks"].values()), 1)
     if not a.no_write:
-        write(cat, a.out, SCHEMA)
+        write(cat, a.out, SCHEMA)  # gives each family its id
+        cost["per_family"] = [
+            {
+                "id": f["id"],
+                "E_range": [
+                    min(m["E"] for m in f["path"]),
+                    max(m["E"] for m in f["path"]),
+                ],
+                "members": len(f["path"]),
+                "cpu_s": {k: round(v, 2) for k, v in f["cpu_s"].items()},
+            }
+            for f in sorted(cat["families"], key=lambda f: f["id"])
+        ]
         Path(a.out, "build.json").write_text(json.dumps(cost, indent=1))
-    print(json.dumps(cost))
+    for k, v in cost["tasks"].items():
+        print(
+            f"{k}: {v['n']} tasks ({v['run']} run), CPU {v['cpu_s']} s, "
+            f"mean {v['mean_s']} s, largest {v['max_s']} s",
+            file=sys.stderr,
+        )
+    print(json.dumps({k: v for k, v in cost.items() if k != "per_family"}))
     return 0
 
 

@@ -1,12 +1,26 @@
 """Building the catalogue of periodic-orbit families (:mod:`rotorlib.beyond.catalogue`).
 
 :func:`build` runs the census round, refines the energy grid where the number of census
-orbits changes between neighbours (a family born or dying between them), follows the
-census orbits energy by energy (an orbit whose family is already catalogued is not
-followed again: each census orbit belongs to exactly one family), polishes the stored
-members and returns the catalogue in memory; :func:`rotorlib.beyond.catalogue_files.write`
-links parents and daughters and writes the files. The tasks and their resumable store:
-:mod:`rotorlib.beyond.catalogue_tasks`.
+orbits changes between neighbours (a family born or dying between them), then:
+
+* **follows** the census orbits as a wavefront (:func:`wavefront`): in ``(E, index)``
+  order, each orbit that no family followed from an earlier one covers is continued; the
+  free workers follow the next orbits ahead while the first undecided one runs, and a
+  family found twice (two seeds of one family in flight) is kept from the seed that comes
+  first, so that the families do not depend on timing or on the number of workers; each
+  census orbit belongs to exactly one family (the first that covers it);
+* classifies the special points (:func:`special_points`: a fold's own ``tr M = 4`` is the
+  fold; ``tr M`` reaching 4 or 0 without a change of stability is a ``touch``);
+* **switches branches** at every located ``IS`` (``PD``) point of period ``T_b`` inside the
+  window with ``n T_b <= T_max``: censuses at ``E_b -+ dE`` restricted to periods within
+  3 % of ``n T_b`` (the ``switch`` task); each orbit found that no family covers
+  (:func:`on_family`) is followed as a new seed, for ``switch`` rounds (daughters of
+  daughters). The class covered: daughters that are symmetric orbits (they meet two
+  fixed sets, as the census finds them), existing at ``E_b - dE`` or ``E_b + dE``;
+* polishes the stored members and returns the catalogue in memory, with the CPU seconds
+  of every task kind and of every family; :func:`rotorlib.beyond.catalogue_files.write`
+  links parents and daughters, records the ends and writes the files. The tasks and their
+  resumable store: :mod:`rotorlib.beyond.catalogue_tasks`.
 
 Precision: as the tasks (float64 continuation, members re-solved to 30 digits); the
 action ``S = oint p.dq = 2 (E T - int V dt)`` by Simpson's rule on 801 samples (~1e-9
@@ -15,26 +29,207 @@ relative). The Maslov index is not computed (its field is ``null``).
 
 from __future__ import annotations
 
+import math
 import os
-from collections.abc import Sequence
-from concurrent.futures import Executor
+from collections.abc import Callable, Sequence
+from concurrent.futures import FIRST_COMPLETED, Executor, wait
+from typing import Any
 
+from .atlas import E_DOMAIN
 from .catalogue_members import stored_members
-from .catalogue_tasks import near, run_tasks
+from .catalogue_tasks import (
+    _bar,
+    _execute,
+    finished,
+    near,
+    run_tasks,
+    stored,
+    task_key,
+)
 
-__all__ = ["covers", "build"]
+__all__ = ["covers", "on_family", "wavefront", "special_points", "build"]
 
 
 def covers(fam: dict, orb: dict) -> bool:
     """Whether a followed family has a member at the census orbit's energy with its
-    period (1e-7 relative) and ``tr M`` (1e-5 relative, at least absolute)."""
-    pts = [fam["seed"], *fam["special"], *fam["path"]]
-    return any(
-        near(m["E"], orb["E"], 1e-10)
-        and near(m["period"], orb["period"], 1e-7)
-        and near(m["trace"], orb["trace"], 1e-5)
-        for m in pts
-    )
+    period (1e-7 relative) and ``tr M`` (1e-5 relative, at least absolute). An orbit found
+    by a ``switch`` task (off the census energies, key ``via``) is tested with
+    :func:`on_family` instead."""
+    if "via" in orb:
+        return on_family(fam, orb)
+    for m in _at_energies(fam).get(round(orb["E"], 9), ()):
+        if (
+            near(m["E"], orb["E"], 1e-10)
+            and near(m["period"], orb["period"], 1e-7)
+            and near(m["trace"], orb["trace"], 1e-5)
+        ):
+            return True
+    return False
+
+
+def _at_energies(fam: dict) -> dict:
+    """The family's members by energy (rounded to 1e-9; cached in the record)."""
+    idx = fam.get("_by_E")
+    if idx is None:
+        idx = {}
+        for m in [fam["seed"], *fam["special"], *fam["path"]]:
+            idx.setdefault(round(m["E"], 9), []).append(m)
+        fam["_by_E"] = idx
+    return idx
+
+
+def _interp(pts: list[dict], i: int, E: float, key: str) -> float:
+    """``key`` at ``E`` by the parabola through path members ``i-1, i, i+1`` (or ``i, i+1``
+    as a line where ``E`` is not monotone across them: beside a fold)."""
+    tri = pts[max(0, i - 1) : i + 2]
+    Es = [m["E"] for m in tri]
+    if len(tri) == 3 and (Es[0] - Es[1]) * (Es[1] - Es[2]) > 0:
+        out = 0.0
+        for j, m in enumerate(tri):
+            w = 1.0
+            for k, e in enumerate(Es):
+                if k != j:
+                    w *= (E - e) / (Es[j] - e)
+            out += w * m[key]
+        return out
+    a, b = pts[i], pts[i + 1]
+    t = (E - a["E"]) / (b["E"] - a["E"]) if b["E"] != a["E"] else 0.0
+    return a[key] + t * (b[key] - a[key])
+
+
+def on_family(fam: dict, orb: dict, rel_T: float = 2e-6, tol_tr: float = 2e-3) -> bool:
+    """Whether the orbit lies on the family's path: between two members that bracket its
+    energy, the period interpolated (a parabola in ``E``) agrees to ``rel_T`` and ``tr M`` to
+    ``tol_tr`` (absolute, times ``max(1, |tr M|)``). With path steps of ~0.01 in ``E`` the
+    interpolation error is ~1e-7 in ``T``; a daughter next to its parent (``|E - E_b| =
+    dE``) differs by ~``dE`` in ``T`` and by ~``3 dE |d tr M / dE|`` in ``tr M``."""
+    pts = fam["path"]
+    E = orb["E"]
+    for i in range(len(pts) - 1):
+        a, b = pts[i]["E"], pts[i + 1]["E"]
+        if not min(a, b) <= E <= max(a, b):
+            continue
+        T = _interp(pts, i, E, "period")
+        tr = _interp(pts, i, E, "trace")
+        if near(T, orb["period"], rel_T) and abs(tr - orb["trace"]) <= tol_tr * max(
+            1.0, abs(tr)
+        ):
+            return True
+    return False
+
+
+def _slots(executor: Executor | None) -> int:
+    """How many tasks keep ``executor`` busy (its processes, or a Dask cluster's threads)."""
+    if executor is None:
+        return 1
+    n = getattr(executor, "_max_workers", None)
+    if n:
+        return int(n)
+    client = getattr(executor, "_client", None)
+    if client is not None:
+        return max(1, sum(client.nthreads().values()))
+    return 2
+
+
+def wavefront(
+    seeds: Sequence[dict],
+    args_of: Callable[[dict], dict],
+    cache,
+    executor: Executor | None = None,
+    cpu: dict | None = None,
+    bar=None,
+    known: Sequence[dict] = (),
+) -> tuple[list[dict], int]:
+    """``(families, follows run)``: the seeds followed in order, each that no family
+    followed from an earlier seed (or in ``known``) covers (:func:`covers`).
+
+    The result is that of the serial rule whatever the timing or the number of workers:
+    the families are the follows of the seeds that no earlier *chosen* family covers.
+    While the first undecided seed runs, the free workers follow the next seeds (in
+    order) that no finished follow of an earlier seed covers; a speculative follow whose
+    seed turns out covered (two seeds of one family in flight at once) is dropped, the
+    family of the seed that comes first being kept. Results are stored in ``cache``
+    (:func:`~rotorlib.beyond.catalogue_tasks.run_tasks`' files) as each finishes.
+    """
+    n, slots, c = len(seeds), _slots(executor), None if cache is None else str(cache)
+    args = [args_of(o) for o in seeds]
+    keys = [task_key("follow", a) for a in args]
+    results: dict[int, dict] = {}
+    running: dict[Any, int] = {}
+    checked: set[int] = set()
+    # shadow[j]: a finished follow of an earlier seed covers seed j (not run ahead)
+    shadow = [any(covers(f, o) for f in known) for o in seeds]
+    state = {"pos": 0, "ran": 0}
+    chosen: list[int] = []
+
+    def first_undecided() -> int | None:
+        """Advance the decided prefix (the serial rule; decisions there are final)."""
+        while state["pos"] < n:
+            i = state["pos"]
+            if not (
+                any(covers(f, seeds[i]) for f in known)
+                or any(covers(results[j], seeds[i]) for j in chosen)
+            ):
+                if i not in results:
+                    return i
+                chosen.append(i)
+            state["pos"] += 1
+        return None
+
+    def add(j: int, out: tuple[Any, float], run: bool) -> None:
+        results[j] = out[0]
+        if cpu is not None:
+            cpu[keys[j]] = out[1]
+        for k in range(j + 1, n):
+            if not shadow[k] and covers(results[j], seeds[k]):
+                shadow[k] = True
+        if run:
+            state["ran"] += 1
+            if bar is not None:
+                bar.update()
+
+    try:
+        while (first := first_undecided()) is not None:
+            busy = set(running.values())
+            free = 1 if executor is None else max(0, slots - len(running))
+            todo: list[int] = []
+            hit = False
+            for j in range(first, n):
+                if len(todo) >= free:
+                    break
+                if j in results or j in busy or (j != first and shadow[j]):
+                    continue
+                if j not in checked:
+                    checked.add(j)
+                    got = stored("follow", args[j], c)
+                    if got is not None:
+                        add(j, got, False)
+                        hit = True
+                        continue
+                todo.append(j)
+            if hit:
+                continue
+            if executor is None:
+                add(first, _execute(("follow", args[first], c)), True)
+                continue
+            for j in todo:
+                running[executor.submit(_execute, ("follow", args[j], c))] = j
+            done, _ = wait(list(running), return_when=FIRST_COMPLETED)
+            for fut in done:
+                j = running.pop(fut)
+                out = fut.result()
+                finished("follow", args[j], c, out)
+                add(j, out, True)
+    finally:
+        for fut in running:  # speculative follows no longer needed
+            fut.cancel()
+    fams = []
+    for i in chosen:
+        f = results[i]
+        f["seed_orbit"] = seeds[i]
+        f["task"] = keys[i]
+        fams.append(f)
+    return fams, state["ran"]
 
 
 def _refine(censuses: dict, depth: int) -> list[float]:
@@ -47,6 +242,73 @@ def _refine(censuses: dict, depth: int) -> list[float]:
     ]
 
 
+def special_points(f: dict) -> list[dict]:
+    """The located special points of a followed family, classified: an ``IS`` point at a
+    fold of the same family (within 1e-6 in ``E`` and one member: ``tr M = 4`` at a
+    saddle-node is generic) is the fold, not an ``IS``; two crossings of one level (4 or
+    0) by ``tr M`` within two members, with ``|tr M - level| < 1e-6`` on the members
+    between, are one ``touch`` (the level reached without a change of stability, as
+    :func:`rotorlib.beyond.choreo_family.special_points` reports the choreographies'
+    touches; the engine sees a touch only as a pair of crossings at rounding level)."""
+    pts = [dict(p) for p in f["special"]]
+    folds = [p for p in pts if p["kind"] == "fold"]
+    out = []
+    for p in pts:
+        if p["kind"] == "IS" and any(
+            abs(p["E"] - q["E"]) < 1e-6 * max(1.0, abs(q["E"]))
+            and abs(p["index"] - q["index"]) <= 1
+            for q in folds
+        ):
+            continue  # the fold's own tr M = 4
+        out.append(p)
+    path, i, kept = f["path"], 0, []
+    while i < len(out):
+        p = out[i]
+        q = next(
+            (
+                q
+                for q in out[i + 1 :]
+                if q["kind"] == p["kind"]
+                and p["kind"] in ("IS", "PD")
+                and 0 <= q["index"] - p["index"] <= 2
+            ),
+            None,
+        )
+        if q is not None:
+            lev = 4.0 if p["kind"] == "IS" else 0.0
+            between = path[p["index"] + 1 : q["index"] + 1]
+            if all(abs(m["trace"] - lev) < 1e-6 for m in between):
+                kept.append(dict(p, kind="touch", level=lev))
+                out.remove(q)
+                i += 1
+                continue
+        kept.append(p)
+        i += 1
+    return kept
+
+
+def _switch_args(f: dict, p: dict, lo: float, hi: float, t_max: float, grid: int):
+    """The ``switch`` task of a located ``IS`` / ``PD`` point ``p`` of family ``f``, or
+    ``None`` (outside the window, or ``n T_b > t_max``)."""
+    n = 2 if p["kind"] == "PD" else 1
+    if not lo <= p["E"] <= hi or n * p["period"] > t_max:
+        return None
+    # dE: 0.3 of the family's local step in E (its speed), within [1e-3, 1e-2]
+    k = min(max(p["index"], 0), len(f["path"]) - 2)
+    step = abs(f["path"][k + 1]["E"] - f["path"][k]["E"])
+    dE = min(max(0.3 * step, 1e-3), 1e-2)
+    Es = [round(p["E"] + s * dE, 12) for s in (-1, 1)]
+    return {
+        # inside the window (a seed outside would give a stub of a family cut there)
+        # and the census's domain
+        "energies": [e for e in Es if max(lo, E_DOMAIN[0]) <= e <= hi],
+        "period": n * p["period"],
+        "rel": 0.03,
+        "t_max": min(t_max, 1.05 * n * p["period"]),
+        "grid": grid,
+    }
+
+
 def build(
     energies: Sequence[float],
     t_max: float,
@@ -56,23 +318,34 @@ def build(
     refine: int = 1,
     digits: int = 30,
     name: bool = True,
-    max_steps: int = 600,
+    max_steps: int | None = None,
     executor: Executor | None = None,
     progress: bool = False,
     log=None,
+    switch: int = 2,
 ) -> dict:
     """The catalogue of the families met by censuses at ``energies`` (the build window is
     their range), ``T <= t_max``: ``{'families': [...], 'censuses': {E: [...]},
-    'window': (lo, hi), 'tasks': {kind: (total, run)}}``. See the module docstring."""
+    'window': (lo, hi), 'tasks': {kind: (total, run)}, 'cpu': {kind: s}}``.
+
+    ``max_steps`` (per direction; default: enough for a family that spans the window in
+    steps of ``step`` in ``E``, the engine's steps being relative to ``E``);
+    ``switch``: rounds of branch switching (``0``: none). See the module docstring."""
     energies = sorted(float(e) for e in energies)
     if not energies or energies[0] <= 0 or energies[-1] > 8:
         raise ValueError(f"energies must lie in 0 < E <= 8, got {energies!r}")
     lo, hi = energies[0], energies[-1]
+    if max_steps is None:
+        max_steps = default_max_steps(lo, hi, step)
     say = log or (lambda s: None)
-    ran: dict[str, list[int]] = {"census": [0, 0], "follow": [0, 0], "polish": [0, 0]}
+    kinds = ("census", "follow", "switch", "polish")
+    ran: dict[str, list[int]] = {k: [0, 0] for k in kinds}
+    cpu: dict[str, dict[str, float]] = {k: {} for k in kinds}
 
     def run(kind, argss, desc):
-        res, n = run_tasks([(kind, a) for a in argss], cache, executor, progress, desc)
+        res, n = run_tasks(
+            [(kind, a) for a in argss], cache, executor, progress, desc, cpu[kind]
+        )
         ran[kind][0] += len(argss)
         ran[kind][1] += n
         return res
@@ -91,30 +364,74 @@ def build(
         say(f"refine {level + 1}: census at {extra}")
         censuses.update(do_census(extra))
     grid_E = sorted(censuses)
-    fams: list[dict] = []
-    for E in grid_E:
-        todo = [o for o in censuses[E] if not any(covers(f, o) for f in fams)]
-        res = run(
-            "follow",
-            [
-                {
-                    "seed": o,
-                    "E_range": [lo, hi],
-                    "t_max": t_max,
-                    "step": step,
-                    "energies": grid_E,
-                    **({} if max_steps == 600 else {"max_steps": max_steps}),
-                }
-                for o in todo
-            ],
-            f"follow E={E:g}",
-        )
-        for o, f in zip(todo, res):
-            if not any(covers(g, o) for g in fams):
-                fams.append(f)
+
+    def follow_args(o):
+        return {
+            "seed": o,
+            "E_range": [lo, hi],
+            "t_max": t_max,
+            "step": step,
+            "energies": grid_E,
+            **({} if max_steps == 600 else {"max_steps": max_steps}),
+        }
+
+    def follow(seeds, known, desc):
+        bar = _bar(len(seeds), desc, progress)
+        try:
+            got, n = wavefront(
+                seeds, follow_args, cache, executor, cpu["follow"], bar, known
+            )
+        finally:
+            if bar is not None:
+                bar.close()
+        ran["follow"][0] += len(got)
+        ran["follow"][1] += n
+        return got
+
+    seeds = [o for E in grid_E for o in censuses[E]]
+    fams = follow(seeds, (), "follow")
+    for f in fams:
+        f["special"] = special_points(f)
+    say(f"{len(seeds)} census orbits, {len(fams)} families")
+    new = fams
+    for rnd in range(switch):
+        jobs, owners = [], []
+        for f in new:
+            for p in f["special"]:
+                if p["kind"] in ("IS", "PD"):
+                    a = _switch_args(f, p, lo, hi, t_max, grid)
+                    if a is not None and a["energies"]:
+                        jobs.append(a)
+                        owners.append((f["task"], p["kind"], p["E"]))
+        found = []
+        for own, orbs in zip(owners, run("switch", jobs, f"switch {rnd + 1}")):
+            # the census's section search bound for the build's T_max (as a grid seed)
+            found += [
+                dict(o, via=list(own), t_half=float(t_max / 2 * 1.02)) for o in orbs
+            ]
+        found.sort(key=lambda o: (o["E"], o["period"], o["trace"]))
+        fresh = [
+            o
+            for o in found
+            if not any(covers(f, o) for f in fams)
+            and not any(
+                on_family(f, dict(o, period=o["period"] / r), 1e-6, math.inf)
+                for f in fams
+                for r in (2, 3)
+            )  # a parent traversed twice (three times) is not a daughter
+        ]
+        new = follow(fresh, fams, f"daughters {rnd + 1}") if fresh else []
+        for f in new:
+            f["special"] = special_points(f)
         say(
-            f"E = {E:g}: {len(censuses[E])} orbits, {len(todo)} followed, {len(fams)} families"
+            f"switch {rnd + 1}: {len(jobs)} points, {len(fresh)} new orbits, "
+            f"{len(new)} new families"
         )
+        fams += new
+        if not new:
+            break
+    for f in fams:
+        f.pop("_by_E", None)
     # each census orbit in exactly one family: the first that covers it
     for f in fams:
         f["census"] = []
@@ -123,8 +440,10 @@ def build(
         for o in censuses[E]:
             f = next((f for f in fams if covers(f, o)), None)
             (orphans if f is None else f["census"]).append(o)
+    for f in fams:
+        f.pop("_by_E", None)
     # stored members: the located energies of the grid, the special points, the seed
-    jobs = []
+    jobs, owner = [], []
     for f in fams:
         f["stored"] = stored_members(f)
         for m in f["stored"]:
@@ -141,10 +460,17 @@ def build(
                     "digits": digits,
                 }
             )
+            owner.append(f)
     pol = iter(run("polish", jobs, "polish"))
     for f in fams:
         for m in f["stored"]:
             m["polish"] = next(pol)
+    # the cost of each family: its follow, its share of the switch tasks, its polishes
+    for f in fams:
+        f["cpu_s"] = {"follow": cpu["follow"].get(f["task"], 0.0)}
+    keys = [task_key("polish", a) for a in jobs]
+    for k, f in zip(keys, owner):
+        f["cpu_s"]["polish"] = f["cpu_s"].get("polish", 0.0) + cpu["polish"][k]
     return {
         "families": fams,
         "censuses": censuses,
@@ -153,5 +479,25 @@ def build(
         "t_max": t_max,
         "grid": grid,
         "step": step,
+        "max_steps": max_steps,
         "tasks": {k: tuple(v) for k, v in ran.items()},
+        "cpu": {k: sum(v.values()) for k, v in cpu.items()},
+        "cpu_max": {k: max(v.values(), default=0.0) for k, v in cpu.items()},
     }
+
+
+def default_max_steps(lo: float, hi: float, step: float) -> int:
+    """Steps per direction for a family spanning ``[lo, hi]``: the engine's steps are
+    ``step / max(hi, 1)`` relative to ``E`` (and to ``u``), so crossing ``[lo, hi]`` takes
+    ``~ max(hi, 1) / step * ln(hi / lo)`` of them; twice that, plus the steps of a crossing
+    at the floor ``E ~ 1`` (``(hi - lo) / step``), and at least 600.
+
+    >>> default_max_steps(5.3, 6.2, 0.01), default_max_steps(0.05, 8.0, 0.01)
+    (600, 8916)
+    """
+    if not (0 < lo <= hi and step > 0):
+        raise ValueError(
+            f"need 0 < lo <= hi and step > 0, got {lo!r}, {hi!r}, {step!r}"
+        )
+    s = max(hi, 1.0) / step
+    return max(600, math.ceil(2 * s * math.log(hi / lo) + (hi - lo) / step))

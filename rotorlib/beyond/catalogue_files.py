@@ -9,6 +9,7 @@ import csv
 import os
 from pathlib import Path
 
+from ..core.system import BREATHER_SEPARATRIX_ENERGY, SEPARATRIX_ENERGY
 from .catalogue_tasks import VERSION, near, write_json
 
 __all__ = ["END_KINDS", "write"]
@@ -16,32 +17,121 @@ __all__ = ["END_KINDS", "write"]
 #: Why a family's record ends, from the engine's stop code (``E range``: see ``_end``).
 END_KINDS = {
     "period": "leaves T <= T_max",
-    "stuck": "engine stopped (a critical point, a cusp or a sharp turn)",
-    "section lost": "engine stopped (the orbit no longer reaches its section)",
-    "steps": "step budget",
+    "stuck": "engine stopped",
+    "section lost": "engine stopped",
+    "steps": "engine stopped",
+    "fold": "fold",
+    "parent": "bifurcation from a parent",
+    "separatrix": "collision with a separatrix",
+    "critical": "a critical point",
+    "axis": "E = 0 or E = 8",
+    "window": "end of the built window",
 }
+
+#: The separatrix energies (the saddles of the potential: the pendulum's E = 4, the
+#: breather's E = 4.5) and the critical energies (the equilibria: 0, 4, 4.5).
+SEPARATRICES = (SEPARATRIX_ENERGY, BREATHER_SEPARATRIX_ENERGY)
+
+
+def _extreme(f: dict, side: int) -> int:
+    """The path member where the family's energy is lowest (``side`` 0) or highest (1)."""
+    Es = [m["E"] for m in f["path"]]
+    return (min if side == 0 else max)(range(len(Es)), key=lambda i: Es[i])
 
 
 def _end(f: dict, side: int, lo: float, hi: float) -> dict:
-    """The record of one end of a family: where and why it stops."""
-    m = f["path"][0 if side == 0 else -1]
-    e = f["ends"][side]
-    stop = e["stop"]
-    if stop == "E range":
-        outside = m["E"] < lo or m["E"] > hi
-        at_axis = (m["E"] <= 0 and lo <= 0.01) or (m["E"] >= 8 and hi >= 8)
-        kind = "E = 0 or 8" if at_axis else "end of the built window"
-        if not outside:
-            kind = "end of the built window"
+    """The record of the family's low-energy (``side`` 0) or high-energy (1) end: where
+    and why its energy range stops.
+
+    At an interior member of the path (the engine went on): a ``fold``, or, where the fold
+    lies on a parent's located IS/PD point (within 1e-4 in ``E``, as the path's turning
+    member is where the engine did not locate the fold; the links of :func:`_links`), a
+    ``bifurcation from a parent``. At an end of the path: a ``bifurcation from a parent``
+    too where the engine stopped (``stuck``, ``section lost``) within 1e-3 in ``E`` of a
+    parent's point (the distance is given: the engine may stop short of a pitchfork's
+    point on the daughter's side); otherwise, from the engine's stop: ``E = 0 or E = 8``, or ``end of the built window`` (``E range``);
+    ``collision with a separatrix`` (the period grows past ``T_max`` as ``E`` approaches
+    4 or 4.5, within 0.05, the period rising over the last members) or ``leaves T <=
+    T_max`` (``period``); ``a critical point`` (the engine stops within 0.05 of
+    ``E = 0``, or of 4 or 4.5 with the momenta of ``state0`` below 0.05: the orbit shrinks
+    to an equilibrium) or ``engine stopped`` with the engine's reason (``stuck``,
+    ``section lost``, ``steps``; where another family goes on from the same orbit,
+    :func:`_joins`, it is named). ``side`` names the path's direction
+    (``backward``/``forward`` from the seed) where the end lies."""
+    path = f["path"]
+    i = _extreme(f, side)
+    m = path[i]
+    seed = next(
+        (
+            k
+            for k, q in enumerate(path)
+            if q["E"] == f["seed"]["E"] and q["u"] == f["seed"]["u"]
+        ),
+        0,
+    )
+    direction = "backward" if i < seed or (i == seed and seed == 0) else "forward"
+    e = f["ends"][0 if direction == "backward" else 1]
+    stop, reason = e["stop"], e["reason"]
+    near_sep = [s for s in (0.0, *SEPARATRICES) if abs(m["E"] - s) < 0.05]
+    if 0 < i < len(path) - 1:
+        stop = "fold"
+        parent = next(
+            (
+                p
+                for p in f.get("parents", ())
+                if abs(p["E"] - m["E"]) < 1e-4 * max(1.0, abs(m["E"]))
+            ),
+            None,
+        )
+        if parent is not None:
+            kind = END_KINDS["parent"]
+            reason = f"born at the {parent['kind']} point of {parent['id']} at E = {parent['E']:.10g}"
+        else:
+            kind = END_KINDS["fold"]
+            reason = f"fold at E = {m['E']:.10g} (the engine went on past it)"
+    elif stop == "E range":
+        at_axis = (m["E"] <= 0.01 and lo <= 0.01) or (m["E"] >= 8 and hi >= 8)
+        kind = END_KINDS["axis"] if at_axis else END_KINDS["window"]
+    elif stop == "period":
+        k = max(0, i - 3) if i > 0 else min(len(path) - 1, 3)
+        rising = m["period"] > path[k]["period"]
+        sep = [s for s in near_sep if s > 0]
+        if sep and rising:
+            kind = END_KINDS["separatrix"]
+            reason = (
+                f"T -> infinity as E -> {sep[0]:g} (the separatrix energy); {reason}"
+            )
+        else:
+            kind = END_KINDS["period"]
+    elif stop in ("stuck", "section lost") and (
+        born := [p for p in f.get("parents", ()) if abs(p["E"] - m["E"]) < 1e-3]
+    ):
+        kind = END_KINDS["parent"]
+        reason = (
+            f"born at the {born[0]['kind']} point of {born[0]['id']} at E = "
+            f"{born[0]['E']:.10g}; the engine stopped {abs(born[0]['E'] - m['E']):.1e} "
+            f"from it ({reason})"
+        )
+    elif joined := [j for j in f.get("joins", ()) if j["side"] == (0 if i == 0 else 1)]:
+        kind = END_KINDS["stuck"]
+        reason = (
+            f"{reason}; the family goes on as {joined[0]['id']} (the same orbit at "
+            f"E = {m['E']:.10g}: the engine does not carry it across this energy)"
+        )
+    elif near_sep and (
+        m["E"] < 0.05 or max(abs(v) for v in m.get("x0", [1.0] * 4)[2:]) < 0.05
+    ):
+        kind = END_KINDS["critical"]
+        reason = f"E -> {near_sep[0]:g}, momenta -> 0 (an equilibrium); {reason}"
     else:
-        kind = END_KINDS.get(stop, stop)
+        kind = END_KINDS.get(stop, "engine stopped")
     return {
-        "side": e["side"],
+        "side": direction,
         "E": m["E"],
         "period": m["period"],
         "kind": kind,
         "stop": stop,
-        "reason": e["reason"],
+        "reason": reason,
     }
 
 
@@ -79,9 +169,57 @@ def _stable_windows(f: dict) -> list[list[float]]:
     return merged
 
 
+def _at(g: dict, E: float, dE: float = 1e-3) -> list[tuple[float, float]]:
+    """``(period, tr M)`` of family ``g`` at energy ``E``: interpolated (linearly) on each
+    pair of consecutive path members that bracket ``E``, and at its path members and
+    located points within ``dE`` of ``E`` (a daughter born at a fold that the engine did
+    not locate has its nearest member ``~ (du)^2`` away)."""
+    path, out = g["path"], []
+    for a, b in zip(path, path[1:]):
+        if min(a["E"], b["E"]) <= E <= max(a["E"], b["E"]) and a["E"] != b["E"]:
+            t = (E - a["E"]) / (b["E"] - a["E"])
+            T = a["period"] + t * (b["period"] - a["period"])
+            out.append((T, a["trace"] + t * (b["trace"] - a["trace"])))
+    out += [
+        (p["period"], p["trace"]) for p in path + g["special"] if abs(p["E"] - E) < dE
+    ]
+    return out
+
+
+def _joins(fams: list[dict]) -> None:
+    """``f['joins']``: the families whose path ends where one of ``f``'s ends (an engine
+    stop) with the same orbit (``E`` to 1e-6, the period to 1e-6 relative, ``state0``
+    to 1e-5): one family that the engine could not carry across an energy (its
+    shooting problem's start set changes at 4 and 4.5)."""
+    for f in fams:
+        f["joins"] = []
+    for f in fams:
+        for side in (0, 1) if "ends" in f else ():
+            if f["ends"][side]["stop"] not in ("stuck", "section lost"):
+                continue
+            m = f["path"][0 if side == 0 else -1]
+            for g in fams:
+                if g is f:
+                    continue
+                for q in (g["path"][0], g["path"][-1]):
+                    if (
+                        abs(q["E"] - m["E"]) < 1e-6
+                        and near(q["period"], m["period"], 1e-6)
+                        and max(abs(a - b) for a, b in zip(q["x0"], m["x0"])) < 1e-5
+                    ):
+                        f["joins"].append({"id": g["id"], "E": m["E"], "side": side})
+
+
 def _links(fams: list[dict]) -> None:
-    """Parent -> daughter links: a family with a member within 1e-6 in E of a parent's
-    located IS (PD) point, with the parent's period (twice it) to 1e-5, is its daughter."""
+    """Parent -> daughter links at the genuine ``IS`` / ``PD`` points (folds and touches
+    are classified before: :func:`rotorlib.beyond.catalogue_build.special_points`): a
+    family that exists at the point's energy ``E_b`` (a member there, interpolated
+    between the path members around it, or a member or located point within 1e-3 of it)
+    with ``n T_b`` (``n = 1`` at IS, 2 at PD; to 1e-3 relative) and
+    ``tr M`` within 0.05 of 4 (the daughter is born with a multiplier 1) is its daughter.
+    Each link ``{id, kind, E}`` is recorded on both sides. Also records the families
+    that join at an engine stop (:func:`_joins`)."""
+    _joins(fams)
     for f in fams:
         f["parents"], f["daughters"] = [], []
     for f in fams:
@@ -90,15 +228,14 @@ def _links(fams: list[dict]) -> None:
                 continue
             n = 2 if p["kind"] == "PD" else 1
             for g in fams:
-                if g is f:
+                if g is f or any(
+                    d["id"] == g["id"] and d["E"] == p["E"] for d in f["daughters"]
+                ):
                     continue
-                near = [
-                    m
-                    for m in g["path"] + g["special"]
-                    if abs(m["E"] - p["E"]) < 2 * 0.01
-                    and near(m["period"], n * p["period"], 2e-3)
-                ]
-                if near:
+                if any(
+                    near(T, n * p["period"], 1e-3) and abs(tr - 4) < 0.05
+                    for T, tr in _at(g, p["E"])
+                ):
                     link = {"kind": p["kind"], "E": p["E"]}
                     f["daughters"].append({"id": g["id"], **link})
                     g["parents"].append({"id": f["id"], **link})

@@ -1,6 +1,6 @@
 """The tasks of the catalogue build (:mod:`rotorlib.beyond.catalogue_build`) and their store.
 
-Three kinds of task, each a pure function of its inputs:
+Four kinds of task, each a pure function of its inputs:
 
 * ``census``: :func:`rotorlib.beyond.atlas.census` at one energy (float64, named);
 * ``follow``: one census orbit continued with the engine
@@ -8,6 +8,8 @@ Three kinds of task, each a pure function of its inputs:
   both directions until it leaves the built energy window or ``T <= T_max``, or the engine
   stops (step too small, section lost), with ``tr M`` of every member, its folds and its
   ``IS`` / ``PD`` points located, and a member located at every census energy it crosses;
+* ``switch``: the censuses beside a located ``IS`` / ``PD`` point, restricted to the
+  periods of its daughters (:func:`switch_task`);
 * ``polish``: one stored member re-solved at ``digits = 30``
   (:func:`rotorlib.beyond.catalogue_members.polish_task`).
 
@@ -44,6 +46,9 @@ __all__ = [
     "run_tasks",
     "census_task",
     "follow_task",
+    "switch_task",
+    "stored",
+    "finished",
     "TASKS",
     "near",
     "write_json",
@@ -81,9 +86,9 @@ def write_json(path: Path, obj: Any) -> None:
     os.replace(tmp, path)  # atomic: the file is complete or absent
 
 
-def _execute(job: tuple) -> Any:
+def _execute(job: tuple) -> tuple[Any, float]:
     """One task: compute, then store ``{kind, args, result, cpu_s}`` under its key
-    (``cpu_s``: the task's CPU seconds in its process)."""
+    (``cpu_s``: the task's CPU seconds in its process); returns ``(result, cpu_s)``."""
     kind, args, cache = job
     c0 = time.process_time()
     result = TASKS[kind](args)
@@ -91,7 +96,27 @@ def _execute(job: tuple) -> Any:
     if cache is not None:
         p = Path(cache) / f"{task_key(kind, args)}.json"
         write_json(p, {"kind": kind, "args": args, "result": result, "cpu_s": cpu})
-    return result
+    return result, cpu
+
+
+def stored(kind: str, args: dict, cache) -> tuple[Any, float] | None:
+    """``(result, cpu_s)`` of a task stored in ``cache``, or ``None``."""
+    if cache is None:
+        return None
+    p = Path(cache) / f"{task_key(kind, args)}.json"
+    if not p.exists():
+        return None
+    rec = json.loads(p.read_text())
+    return rec["result"], float(rec.get("cpu_s", 0.0))
+
+
+def finished(kind: str, args: dict, cache, out: tuple[Any, float]) -> None:
+    """Store a task's ``(result, cpu_s)`` here if its (remote) worker did not."""
+    if cache is not None:
+        p = Path(cache) / f"{task_key(kind, args)}.json"
+        if not p.exists():
+            rec = {"kind": kind, "args": args, "result": out[0], "cpu_s": out[1]}
+            write_json(p, rec)
 
 
 def _bar(total: int, desc: str, progress: bool):
@@ -110,22 +135,24 @@ def run_tasks(
     executor: Executor | None = None,
     progress: bool = False,
     desc: str = "tasks",
+    cpu: dict[str, float] | None = None,
 ) -> tuple[list, int]:
     """``([result of each job], number of jobs run)``: the jobs ``(kind, args)`` whose
     result is not stored in ``cache`` are run (serially, or submitted all at once to
-    ``executor``) and stored as each finishes; the others are read back.
+    ``executor``) and stored as each finishes; the others are read back. ``cpu``, if
+    given, receives the CPU seconds of each job by its key (stored or measured).
 
     >>> run_tasks([], None)
     ([], 0)
     """
     keys = [task_key(k, a) for k, a in jobs]
-    done: dict[str, Any] = {}
+    done: dict[str, tuple[Any, float]] = {}
     if cache is not None:
         Path(cache).mkdir(parents=True, exist_ok=True)
-        for key in keys:
-            p = Path(cache) / f"{key}.json"
-            if p.exists():
-                done[key] = json.loads(p.read_text())["result"]
+    for key, (k, a) in zip(keys, jobs):
+        got = stored(k, a, cache)
+        if got is not None:
+            done[key] = got
     todo = {key: job for key, job in zip(keys, jobs) if key not in done}
     bar = _bar(len(todo), desc, progress)
     c = None if cache is None else str(cache)
@@ -144,12 +171,7 @@ def run_tasks(
                 for f in as_completed(futs):
                     key = futs[f]
                     done[key] = f.result()
-                    if c is not None and not (Path(c) / f"{key}.json").exists():
-                        kind, args = todo[key]  # a remote worker: store it here
-                        write_json(
-                            Path(c) / f"{key}.json",
-                            {"kind": kind, "args": args, "result": done[key]},
-                        )
+                    finished(*todo[key], c, done[key])  # a remote worker: store here
                     if bar is not None:
                         bar.update()
             except BaseException:
@@ -159,7 +181,9 @@ def run_tasks(
     finally:
         if bar is not None:
             bar.close()
-    return [done[k] for k in keys], len(todo)
+    if cpu is not None:
+        cpu.update({k: done[k][1] for k in keys})
+    return [done[k][0] for k in keys], len(todo)
 
 
 # --------------------------------------------------------------------------- tasks
@@ -271,4 +295,29 @@ def follow_task(args: dict) -> dict:
     }
 
 
-TASKS = {"census": census_task, "follow": follow_task, "polish": polish_task}
+def switch_task(args: dict) -> list[dict]:
+    """The daughters' candidates beside a located ``IS`` / ``PD`` point of period
+    ``T_b``: the census (:func:`rotorlib.beyond.atlas.census`, float64, unnamed) at each of
+    ``args['energies']`` (``E_b -+ dE``) to ``T <= args['t_max']`` (a little above
+    ``args['period'] = n T_b``, ``n = 1`` at ``IS``, 2 at ``PD``), keeping the orbits whose
+    period is within ``args['rel']`` of ``n T_b``.
+
+    Covers the daughters that are symmetric orbits (they meet two fixed sets, as the
+    census finds them) and exist at ``E_b - dE`` or ``E_b + dE``; a daughter born
+    asymmetric, or one whose period differs from ``n T_b`` by more than ``rel`` at
+    ``dE``, is not found here."""
+    out = []
+    for E in args["energies"]:
+        rec = census_task(
+            {"E": E, "t_max": args["t_max"], "grid": args["grid"], "name": False}
+        )
+        out += [o for o in rec if near(o["period"], args["period"], args["rel"])]
+    return out
+
+
+TASKS = {
+    "census": census_task,
+    "follow": follow_task,
+    "switch": switch_task,
+    "polish": polish_task,
+}

@@ -1,0 +1,299 @@
+"""The catalogue build engine (rotorlib.beyond.catalogue_build): the wavefront's result
+does not depend on timing or on the number of workers, the special points are classified
+(fold, touch), coverage off the census energies, the build's cost records and the ends."""
+
+from __future__ import annotations
+
+import random
+import time
+from concurrent.futures import ThreadPoolExecutor
+
+import pytest
+
+from rotorlib.beyond import catalogue_tasks as ct
+from rotorlib.beyond.catalogue_build import (
+    covers,
+    default_max_steps,
+    on_family,
+    special_points,
+    wavefront,
+)
+
+GRID = [4.0 + 0.1 * k for k in range(8)]
+#: three synthetic families T = a + b E, tr M = c E: a follow from a seed at E0 reaches
+#: only E0 - 0.25 .. E0 + 0.25 (so which seed is followed first changes the result)
+LINES = [(1.0, 0.5, 0.1), (2.0, -0.3, 0.2), (3.0, 0.1, -0.1)]
+
+
+def _orbit(k: int, E: float) -> dict:
+    a, b, c = LINES[k]
+    return {"E": E, "period": a + b * E, "trace": c * E, "k": k}
+
+
+def _fake_follow(args: dict) -> dict:
+    o = args["seed"]
+    time.sleep(random.uniform(0.0, 0.02))  # the order of completion varies
+    path = [
+        dict(_orbit(o["k"], E), kind="path")
+        for E in GRID
+        if abs(E - o["E"]) <= 0.25 + 1e-9
+    ]
+    return {"seed": dict(o), "special": [], "path": path, "from": o["E"]}
+
+
+def _seeds() -> list[dict]:
+    out = []
+    for E in GRID:
+        for k in range(3):
+            if k != 2 or E < 4.45:  # the third family dies inside the grid
+                out.append(_orbit(k, E))
+    return out
+
+
+def _run(executor) -> list[tuple]:
+    fams, _ = wavefront(_seeds(), lambda o: {"seed": o}, None, executor)
+    return [(f["seed"]["k"], f["from"], len(f["path"])) for f in fams]
+
+
+def test_wavefront_is_the_serial_rule_on_any_number_of_workers(monkeypatch):
+    monkeypatch.setitem(ct.TASKS, "follow", _fake_follow)
+    serial = _run(None)
+    # the serial rule by hand: a seed is followed iff no earlier family covers it
+    fams: list[dict] = []
+    for o in _seeds():
+        if not any(covers(f, o) for f in fams):
+            fams.append(_fake_follow({"seed": o}))
+    assert serial == [(f["seed"]["k"], f["from"], len(f["path"])) for f in fams]
+    assert len(serial) > 3  # each family followed from several seeds (cut paths)
+    for n in (2, 3, 5):
+        for _ in range(3):
+            with ThreadPoolExecutor(n) as ex:
+                assert _run(ex) == serial
+
+
+def test_wavefront_counts_speculative_follows_and_reads_the_cache(
+    monkeypatch, tmp_path
+):
+    monkeypatch.setitem(ct.TASKS, "follow", _fake_follow)
+    with ThreadPoolExecutor(3) as ex:
+        fams, ran = wavefront(_seeds(), lambda o: {"seed": o}, tmp_path, ex)
+    assert ran >= len(fams)
+    again, ran2 = wavefront(_seeds(), lambda o: {"seed": o}, tmp_path, None)
+    assert ran2 == 0 and [f["from"] for f in again] == [f["from"] for f in fams]
+
+
+def test_on_family_interpolates_between_members():
+    fam = {"seed": {}, "special": [], "path": [_orbit(0, E) for E in GRID]}
+    o = dict(_orbit(0, 4.333), via=["x", "IS", 4.3])
+    assert on_family(fam, o) and covers(fam, o)
+    assert not on_family(fam, dict(o, period=o["period"] * (1 + 1e-4)))
+    assert not on_family(fam, dict(o, trace=o["trace"] + 0.1))
+    assert not on_family(fam, dict(o, E=3.9))  # outside the path
+
+
+def _fam(traces, kinds):
+    path = [
+        {"E": 1.0 + 0.01 * i, "period": 2.0, "trace": t} for i, t in enumerate(traces)
+    ]
+    special = [
+        {"kind": k, "E": 1.0 + 0.01 * i + 0.005, "index": i, "period": 2.0, "trace": v}
+        for k, i, v in kinds
+    ]
+    return {"path": path, "special": special}
+
+
+def test_special_points_fold_and_touch():
+    # an IS beside a fold of the same family is the fold
+    f = _fam([3.9, 3.99, 4.01], [("IS", 1, 4.0), ("fold", 1, 4.0)])
+    f["special"][1]["E"] = f["special"][0]["E"] + 1e-9
+    assert [p["kind"] for p in special_points(f)] == ["fold"]
+    # tr M reaching 4 and back at rounding level: one touch
+    f = _fam([3.9, 4.0 + 1e-9, 4.0 + 2e-9, 3.9], [("IS", 0, 4.0), ("IS", 2, 4.0)])
+    (p,) = special_points(f)
+    assert p["kind"] == "touch" and p["level"] == 4.0
+    # a genuine unstable window, however short: two IS points
+    f = _fam([3.9, 4.1, 4.2, 3.9], [("IS", 0, 4.0), ("IS", 2, 4.0)])
+    assert [p["kind"] for p in special_points(f)] == ["IS", "IS"]
+    # an IS far from the fold stays
+    f = _fam([3.9, 4.1, 4.2], [("IS", 0, 4.0), ("fold", 1, 4.0)])
+    assert [p["kind"] for p in special_points(f)] == ["IS", "fold"]
+
+
+def test_default_max_steps_covers_the_axis():
+    n = default_max_steps(0.05, 8.0, 0.01)
+    # steps of step / 8 relative to E from 0.05 to 8 number ln(160) * 800 ~ 4060
+    assert n >= 2 * 4060
+    assert default_max_steps(5.3, 6.2, 0.01) == 600
+    with pytest.raises(ValueError):
+        default_max_steps(0.0, 8.0, 0.01)
+
+
+def _path(Es, Ts, trs):
+    return [
+        {"E": E, "period": T, "trace": tr, "u": 0.1 * i}
+        for i, (E, T, tr) in enumerate(zip(Es, Ts, trs))
+    ]
+
+
+def _ends(stop0="E range", stop1="E range"):
+    return [
+        {"side": "backward", "stop": stop0, "reason": f"{stop0}: ..."},
+        {"side": "forward", "stop": stop1, "reason": f"{stop1}: ..."},
+    ]
+
+
+def test_links_only_at_genuine_points_and_both_ways():
+    from rotorlib.beyond.catalogue_files import _links
+
+    # parent: a PD at E = 5.0 (T_b = 2); daughter: born there (a fold) with 2 T_b
+    parent = {
+        "id": "F001",
+        "path": _path([4.9, 4.95, 5.0, 5.05], [2.0] * 4, [0.2, 0.1, 0.0, -0.1]),
+        "special": [{"kind": "PD", "E": 5.0, "period": 2.0, "trace": 0.0}],
+    }
+    daughter = {
+        "id": "F002",
+        "path": _path([5.1, 5.0, 5.1], [4.01, 4.0, 3.99], [3.9, 4.0, 3.9]),
+        "special": [{"kind": "fold", "E": 5.0, "period": 4.0, "trace": 4.0}],
+    }
+    other = {  # the period, not born there (tr M far from 4)
+        "id": "F003",
+        "path": _path([4.9, 5.1], [4.0, 4.0], [1.0, 1.0]),
+        "special": [],
+    }
+    _links([parent, daughter, other])
+    assert parent["daughters"] == [{"id": "F002", "kind": "PD", "E": 5.0}]
+    assert daughter["parents"] == [{"id": "F001", "kind": "PD", "E": 5.0}]
+    assert other["parents"] == [] and other["daughters"] == []
+    parent["special"][0]["kind"] = "touch"  # not a bifurcation: no link
+    _links([parent, daughter, other])
+    assert parent["daughters"] == [] and daughter["parents"] == []
+
+
+def test_a_family_the_engine_cannot_carry_across_an_energy_is_joined():
+    from rotorlib.beyond.catalogue_files import _end, _links
+
+    x = [2.59, 7.77, -2.34, 0.78]
+    a = {
+        "id": "F002",
+        "path": [
+            {
+                "E": 4.2,
+                "period": 4.9,
+                "trace": 1.0,
+                "u": 0.0,
+                "x0": [2.6, 7.9, -2.3, 0.8],
+            },
+            {"E": 4.5, "period": 5.1, "trace": 1.0, "u": 0.1, "x0": x},
+        ],
+        "special": [],
+        "seed": {"E": 4.2, "u": 0.0},
+        "ends": _ends("E range", "stuck"),
+    }
+    b = {
+        "id": "F003",
+        "path": [
+            {"E": 4.51, "period": 5.11, "trace": 1.0, "u": 0.0, "x0": x},
+            {"E": 4.5 + 1e-9, "period": 5.1, "trace": 1.0, "u": 0.1, "x0": x},
+        ],
+        "special": [],
+        "seed": {"E": 4.51, "u": 0.0},
+        "ends": _ends("E range", "stuck"),
+    }
+    _links([a, b])
+    assert a["joins"] == [{"id": "F003", "E": 4.5, "side": 1}]
+    end = _end(a, 1, 4.2, 4.6)
+    assert end["kind"] == "engine stopped" and "goes on as F003" in end["reason"]
+
+
+def test_ends_say_why():
+    from rotorlib.beyond.catalogue_files import END_KINDS, _end
+
+    # born at a parent's PD (a fold at the parent's point), window edge at the top
+    f = {
+        "path": _path(
+            [5.1, 5.0, 5.1, 5.2], [4.01, 4.0, 3.99, 3.98], [3.9, 4.0, 3.9, 3.8]
+        ),
+        "seed": {"E": 5.1, "u": 0.0},
+        "ends": _ends(),
+        "parents": [{"id": "F001", "kind": "PD", "E": 5.0}],
+    }
+    low, high = _end(f, 0, 4.8, 5.2), _end(f, 1, 4.8, 5.2)
+    assert low["kind"] == END_KINDS["parent"] and "F001" in low["reason"]
+    assert high["kind"] == END_KINDS["window"] and high["E"] == 5.2
+    f["parents"] = []
+    assert _end(f, 0, 4.8, 5.2)["kind"] == "fold"
+    # the engine stuck 3e-4 short of the parent's point: born there all the same
+    f["path"] = f["path"][1:]
+    f["path"][0]["E"] = 5.0003
+    f["ends"] = _ends("stuck", "E range")
+    f["parents"] = [{"id": "F001", "kind": "PD", "E": 5.0}]
+    low = _end(f, 0, 4.8, 5.2)
+    assert low["kind"] == END_KINDS["parent"] and "3.0e-04" in low["reason"]
+    f["path"][0]["E"] = 5.003  # too far: the engine's stop
+    assert _end(f, 0, 4.8, 5.2)["kind"] == "engine stopped"
+    # T -> infinity at the pendulum separatrix; an engine stop away from critical points
+    g = {
+        "path": _path([3.97, 3.98, 3.99, 4.1, 4.2], [9.0, 8.0, 7.0, 6.0, 5.0], [1] * 5),
+        "seed": {"E": 4.2, "u": 0.4},
+        "ends": _ends("period", "stuck"),
+    }
+    low, high = _end(g, 0, 3.0, 5.0), _end(g, 1, 3.0, 5.0)
+    assert low["kind"] == END_KINDS["separatrix"] and "E -> 4" in low["reason"]
+    assert low["side"] == "backward"
+    assert high["kind"] == "engine stopped" and "stuck" in high["reason"]
+    g["path"][0]["E"] = 3.5  # far from a separatrix: leaves T <= T_max
+    assert _end(g, 0, 3.0, 5.0)["kind"] == END_KINDS["period"]
+    g["path"][0]["E"] = 0.02  # the engine stops at E -> 0: a critical point
+    g["ends"] = _ends("stuck", "stuck")
+    assert _end(g, 0, 0.01, 5.0)["kind"] == END_KINDS["critical"]
+    g["path"][-1]["x0"] = [0.1, 0.2, 0.01, -0.02]  # shrinks to the saddle at E = 4
+    g["path"][3]["E"], g["path"][-1]["E"] = 3.995, 4.01
+    assert _end(g, 1, 0.01, 5.0)["kind"] == END_KINDS["critical"]
+    g["path"][-1]["x0"] = [0.1, 0.2, 1.0, -0.02]  # stuck at 4, not an equilibrium
+    assert _end(g, 1, 0.01, 5.0)["kind"] == "engine stopped"
+    g["path"][-1]["E"] = 8.0  # the axis
+    g["ends"] = _ends("stuck", "E range")
+    assert _end(g, 1, 0.01, 8.0)["kind"] == END_KINDS["axis"]
+
+
+def test_switch_finds_the_pd_daughter_on_its_side_only():
+    """The pendulum's PD point at E_b = 4.4773509830 (T_b = 2.78091194; located by the
+    engine): the census beside it, restricted to periods near 2 T_b, finds PD^r_2's
+    member above E_b (born there with tr M = 4) and nothing below."""
+    T2 = 2 * 2.7809119399520856
+    below, above = 4.474371432046, 4.480330533973
+    args = {"period": T2, "rel": 0.03, "t_max": 1.05 * T2, "grid": 100}
+    (o,) = ct.switch_task(dict(args, energies=[below, above]))
+    assert o["E"] == above
+    assert abs(o["period"] / T2 - 1) < 0.01 and abs(o["trace"] - 4) < 0.05
+
+
+def test_a_small_build_is_the_same_serially_and_on_2_workers(tmp_path):
+    """A real build (E = 4.3, 4.4, 4.5, T <= 3.5, coarse): the same families, special
+    points and paths from an empty cache serially and on a pool of 2 processes."""
+    from rotorlib.beyond.catalogue_build import build
+    from rotorlib.core.parallel import executor_for
+
+    def fams(workers):
+        with executor_for(workers) as ex:
+            cat = build(
+                [4.3, 4.4, 4.5],
+                3.5,
+                tmp_path / str(workers),
+                grid=40,
+                refine=0,
+                digits=16,
+                name=False,
+                max_steps=15,
+                executor=ex,
+                switch=0,
+            )
+        assert not cat["orphans"]
+        return [
+            (f["task"], [(p["kind"], p["E"]) for p in f["special"]], f["path"])
+            for f in cat["families"]
+        ]
+
+    serial = fams(1)
+    assert len(serial) >= 2 and fams(2) == serial
