@@ -51,7 +51,8 @@ def run(args: argparse.Namespace) -> int:
             print(
                 f"{rec['id']}: {rec['members']} members re-solved: {ok} (period "
                 f"{rec['period']:.1e}, state0 {rec['state0']:.1e}, tr M "
-                f"{rec['trace']:.1e} relative; closure {rec['closure']:.1e})"
+                f"{rec['trace']:.1e} relative; closure {rec['closure']:.1e}; action "
+                f"{rec['action']:.1e}; Maslov indices differing: {rec['maslov']})"
             )
         return 0 if rec["ok"] else 1
     if args.family:
