@@ -159,7 +159,7 @@ def pieces(E, u) -> list[tuple[int, int, str]]:
     cuts = [0]
     for i in range(1, len(E) - 1):
         x = E if use[cuts[-1]] else u
-        turn = (x[i + 1] - x[i]) * (x[i] - x[i - 1]) <= 0
+        turn = (x[i + 1] - x[i]) * (x[i] - x[i - 1]) < 0
         if use[i] != use[cuts[-1]] or turn:
             cuts.append(i)
     cuts.append(len(E) - 1)
@@ -222,7 +222,7 @@ def interpolation_errors(x, Y, nodes, degree: int = DEGREE) -> np.ndarray:
 def _nodes(x, Y, tol: float, degree: int) -> tuple[list[int], float]:
     """Greedy: the piece's ends, then the point of largest error, until all are within
     ``tol``; returns the nodes and the largest error left."""
-    nodes = [0, len(x) - 1] if len(x) > 1 else [0]
+    nodes = [0, len(x) - 1] if x[-1] != x[0] else [0]
     while True:
         e = interpolation_errors(x, Y, nodes, degree).max(axis=1)
         e[nodes] = 0.0
