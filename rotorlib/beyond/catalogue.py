@@ -394,7 +394,10 @@ class Family:
         :meth:`interpolate`), each solved to ``digits`` from its interpolated ``u``
         (:class:`~rotorlib.orbits.family.Member`, ``tr M`` computed). A branch whose
         shot does not converge, or converges to a period more than 1e-6 (relative) from
-        the interpolated one, is left out; ValueError when none is left."""
+        the interpolated one, is left out; so is a member with the period (1e-12) and
+        ``tr M`` (1e-9) of one already found: one orbit met twice, by a path that
+        passes an image of it again (as the census counts it: once). ValueError when
+        none is left."""
         from ..core.precision import tier
         from ..orbits.continuation import member
         from ..orbits.shooting import NoConvergence, solve
@@ -419,6 +422,13 @@ class Family:
                 m = member(self.problem, u, Ex, t, traces=True)
             if abs(float(m.period) / r["period"] - 1) > 1e-6:
                 errors.append(f"period {float(m.period)!r} != {r['period']!r}")
+                continue
+            T, tr = float(m.period), float(m.trace)
+            if any(  # one orbit met twice (its image: the path passes it again)
+                abs(float(o.period) / T - 1) < 1e-12
+                and abs(float(o.trace) - tr) < 1e-9 * max(1.0, abs(tr))
+                for o in out
+            ):
                 continue
             out.append(m)
         if not out:
