@@ -408,7 +408,8 @@ class Family:
                 f"{self.id} has no member at E = {E!r}: range {self.E_range}"
             )
         t = tier(digits)
-        out, errors = [], []
+        out: list[Any] = []
+        errors: list[str] = []
         for r in found:
             with t.context():
                 u0 = t.num(repr(r["u"]))
