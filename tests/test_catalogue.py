@@ -332,8 +332,15 @@ def test_build_killed_midway_resumes_without_redoing_tasks(tmp_path):
     for p, t in stamps.items():  # no finished task was redone
         assert p.stat().st_mtime_ns == t
     assert cat2["families"] and not cat2["orphans"]
-    # the files of any build: written, valid, each family interpolated at its seed
+    # the files of any build: written, valid, each family interpolated at its seed;
+    # a polish stored before the action and index were computed gets them at write
+    old = cat2["families"][0]["stored"][0]["polish"]
+    kept = {k: old.pop(k) for k in ("action", "maslov", "maslov_reason")}
     write(cat2, tmp_path / "out2", cat.SCHEMA)
+    m0 = [m for f in cat.load(tmp_path / "out2") for m in f.record["members"]]
+    assert any(
+        m["maslov"] == kept["maslov"] and m["action"] == kept["action"] for m in m0
+    )
     assert validate(tmp_path / "out2") == []
     for f in cat.load(tmp_path / "out2"):
         seed = next(m for m in f.record["members"] if m["kind"] == "seed")
