@@ -12,7 +12,7 @@
    record's (E to 1e-8); the record's points it does not locate are listed.
 3. ``rotorlib catalogue --E V --digits 30 --json``: each member's ``state0_str`` closes
    after its ``period_str`` under an independent real128 integration (heyoka, the
-   rotor equations written in ``tests/test_choreo.py``) to < 1e-20 (the pendulum's to
+   rotor equations written in the tests) to < 1e-20 (the pendulum's to
    < 1e-15: a known defect of its 30-digit solve, printed apart).
 4. Every family file against the schema; the links both ways.
 
@@ -35,7 +35,11 @@ ROOT = Path(__file__).resolve().parent.parent
 def closure(E: str, path: str | None) -> list[tuple[str, float, float]]:
     """``(id, period, closure)`` of each member ``catalogue --E E --digits 30`` gives."""
     sys.path.insert(0, str(ROOT / "tests"))
-    from test_choreo import _decimal_theta, _real128_closure
+    try:  # the tests' independent rotor equations (tests/independent.py)
+        from independent import decimal_theta as _decimal_theta
+        from independent import real128_closure as _real128_closure
+    except ImportError:  # before they moved there from tests/test_choreo.py
+        from test_choreo import _decimal_theta, _real128_closure
 
     from rotorlib.cli import main
 
