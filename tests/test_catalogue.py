@@ -13,11 +13,15 @@ import time
 from pathlib import Path
 
 import jsonschema
+import numpy as np
 import pytest
 from mpmath import mp, mpf
 
 from rotorlib.beyond import catalogue as cat
 from rotorlib.beyond.catalogue_build import build, covers
+from rotorlib.beyond.catalogue_checks import held_back, named_special_points, validate
+from rotorlib.beyond.catalogue_files import COLUMNS, write
+from rotorlib.beyond.catalogue_members import local_interpolant, stored_members
 from rotorlib.beyond.catalogue_tasks import follow_task, run_tasks
 from rotorlib.cli import main
 
@@ -78,25 +82,129 @@ def test_members_are_30_digit_orbits():
             assert abs(mpf(m["period_str"]) - m["period"]) < 1e-6 * m["period"]
 
 
-def test_an_energy_slice_rebuilt_lies_in_the_catalogue():
-    """A fresh census at E = 5.45 (T <= 6.5, a coarser grid than the build's): every
-    orbit it finds is a stored member of one family, period to 1e-8 and tr M."""
+def test_a_held_back_energy_lies_in_the_catalogue():
+    """A fresh census at E = 5.8, off the build's census grid (T <= 6.5, a coarser grid
+    than the build's): every orbit it finds is a member of a catalogued family there
+    (solved from the interpolant of the stored members), period to 1e-8 and tr M."""
+    E = 5.8
+    assert all(abs(E - e) > 0.01 for e in CAT.index["census_energies"])
+    r = held_back(E, t_max=6.5, grid=100)
+    assert r["in_window"] and not r["on_grid"]
+    assert r["reference"] >= 4 and not r["unmatched"] and not r["errors"], r
+    # the check can fail: an orbit of another energy is in no family here
     from rotorlib.beyond.atlas import census
 
-    E = 5.45
-    assert E in CAT.index["census_energies"]
-    a = census(E, 6.5, grid=100, name=False)
-    assert len(a.orbits) >= 4
-    for o in a.orbits:
-        hits = [
-            r["id"]
-            for r in RECORDS
-            for m in r["members"]
-            if abs(m["E"] - E) < 1e-12
-            and abs(m["period"] - o.period) < 1e-8 * o.period
-            and abs(m["trace"] - o.trace) < 1e-6 * max(1, abs(o.trace))
-        ]
-        assert len(hits) == 1, (o.period, hits)
+    other = census(5.45, 6.5, grid=100, name=False)
+    assert held_back(E, t_max=6.5, census=other)["unmatched"]
+
+
+def _path_errors(rec: dict) -> tuple[float, int]:
+    """The largest error, over the path members the record does not store, of the
+    interpolant of its stored members (recomputed here from the file), and their
+    number."""
+    info, ms = rec["interpolation"], rec["members"]
+    fac = rec["branch"]["factor"]
+    path = [
+        {"E": r[0], "u": r[1], "period": fac * r[2], "trace": r[3]}
+        for r in rec["branch"]["path"]
+    ]
+    stored = {(m["E"], m["u"]) for m in ms}
+    worst, n = 0.0, 0
+    for pc in info["pieces"]:
+        key = pc["param"]
+        nodes = [ms[i] for i in pc["members"]]
+        xs = np.array([m[key] for m in nodes])
+        Y = np.array([[m["period"], m["trace"]] for m in nodes])
+        a, b = pc["path"]
+        held = [m for m in path[a : b + 1] if (m["E"], m["u"]) not in stored]
+        if not held:
+            continue
+        y = local_interpolant(xs, Y, [m[key] for m in held], info["degree"])
+        T = np.array([m["period"] for m in held])
+        tr = np.array([m["trace"] for m in held])
+        e = np.maximum(
+            np.abs(y[:, 0] - T) / T, np.abs(y[:, 1] - tr) / np.maximum(1, np.abs(tr))
+        )
+        worst, n = max(worst, float(e.max())), n + len(held)
+    return worst, n
+
+
+def test_stored_members_interpolate_the_path_to_1e_8():
+    """Every path member a family does not store is reproduced by the interpolant of
+    its stored members: period to 1e-8 relative, tr M to 1e-8 max(1, |tr M|); fewer
+    members stored than the path holds; the record's max_error is the one measured."""
+    held_total, inaccurate = 0, 0
+    for r in RECORDS:
+        worst, n = _path_errors(r)
+        held_total += n
+        assert worst <= 1e-8, (r["id"], worst)
+        assert abs(worst - r["interpolation"]["max_error"]) <= 1e-12, r["id"]
+        # the float64 path against the 30-digit members: where it is less accurate
+        # than the tolerance, the record says so
+        acc, tol = r["interpolation"]["path_accuracy"], r["interpolation"]["tolerance"]
+        off = []
+        for m in r["members"]:
+            tr = float(m["trace_str"])
+            d = max(
+                abs(float(m["period_str"]) / m["period"] - 1),
+                abs(tr - m["trace"]) / max(1, abs(tr)),
+            )
+            if m["pieces"] and d > tol:
+                off.append(m["E"])
+        assert off == [e[0] for e in acc["above_tolerance"]], r["id"]
+        inaccurate += len(off)
+    paths = sum(len(r["branch"]["path"]) for r in RECORDS)
+    assert held_total > paths / 2  # most path members are held out
+    assert inaccurate < 0.02 * paths  # the path is accurate to 1e-8 almost everywhere
+    # the measure can fail: the members of one piece thinned to every other node
+    r = max(RECORDS, key=lambda r: len(r["members"]))
+    pc = r["interpolation"]["pieces"][0]
+    thin = {**r["interpolation"], "pieces": [{**pc, "members": pc["members"][::2]}]}
+    assert _path_errors({**r, "interpolation": thin})[0] > 1e-8
+
+
+def test_interpolation_held_out_and_at_E():
+    """Nodes chosen on every other member of the pendulum's path reproduce the members
+    between them to 1e-8; Family.interpolate(E) at a path member's energy gives its
+    period to 1e-8 (E pieces) and finds both branches beside a fold."""
+    f = cat.catalogue(name="pendulum")[0]
+    rec = f.record
+    fac = rec["branch"]["factor"]
+    path = [
+        {"E": r[0], "u": r[1], "period": fac * r[2], "trace": r[3], "x0": r[4:8]}
+        for r in rec["branch"]["path"]
+    ]
+    even = path[::2]
+    fam = {"path": even, "special": [], "seed": {**even[0], "kind": "seed"}}
+    st = sorted((m for m in stored_members(fam) if m["pieces"]), key=lambda m: m["E"])
+    assert len(st) < len(even) / 2
+    odd = path[1::2][: len(even) - 1]
+    xs = [m["E"] for m in st]
+    y = local_interpolant(
+        xs, [[m["period"], m["trace"]] for m in st], [m["E"] for m in odd]
+    )
+    assert np.max(np.abs(y[:, 0] / [m["period"] for m in odd] - 1)) < 1e-8
+    # interpolate(E) on E pieces: every held-out member
+    worst = 0.0
+    for r in RECORDS:
+        fam = cat.Family(r)
+        for pc in r["interpolation"]["pieces"]:
+            if pc["param"] != "E":
+                continue
+            a, b = pc["path"]
+            for row in r["branch"]["path"][a + 1 : b : 7]:
+                got = fam.interpolate(row[0])
+                T = r["branch"]["factor"] * row[2]
+                worst = max(worst, min(abs(g["period"] / T - 1) for g in got))
+    assert worst < 1e-8
+    # a family with a fold: two members at an energy beside it
+    r = next(
+        r for r in RECORDS if any(p["kind"] == "fold" for p in r["special_points"])
+    )
+    i = next(p["index"] for p in r["special_points"] if p["kind"] == "fold")
+    E = r["branch"]["path"][max(i - 3, 0)][0]
+    assert len(cat.Family(r).interpolate(E)) >= 2
+    assert f.interpolate(f.E_range[1] + 1) == []
 
 
 def test_a_family_rebuilt_is_the_stored_one():
@@ -144,22 +252,29 @@ def test_loader_filters_and_branch():
         CAT.family("F999")
 
 
-def test_cli_members_close_under_real128(capsys):
-    """``catalogue --E 5.45 --t-max 4 --digits 30 --json``: each member's ``state0_str``
-    closes after its ``period_str`` under a real128 integration to < 1e-25."""
-    from rotorlib.core.flow import states_at
-    from rotorlib.core.system import lattice_reduce
+def test_cli_members_close_under_independent_real128(capsys):
+    """``catalogue --E 5.8 --t-max 4 --digits 30 --json`` (an energy off the census
+    grid): each member's ``state0_str`` closes after its ``period_str`` to < 1e-20 under
+    heyoka's real128 Taylor method on the rotor equations written in the tests."""
+    try:  # the tests' independent rotor equations (tests/independent.py)
+        from independent import decimal_theta as _decimal_theta
+        from independent import real128_closure as _real128_closure
+    except ImportError:  # before they moved there from tests/test_choreo.py
+        from test_choreo import _decimal_theta, _real128_closure
 
-    assert (
-        main(["catalogue", "--E", "5.45", "--t-max", "4", "--digits", "30", "--json"])
-        == 0
-    )
+    argv = ["catalogue", "--E", "5.8", "--t-max", "4", "--digits", "30", "--json"]
+    assert main(argv) == 0
     recs = json.loads(capsys.readouterr().out)
     assert recs and all(r["period"] <= 4 for r in recs)
     for r in recs:
-        x = states_at(r["state0_str"], [0, r["period_str"]], 30)
-        d = lattice_reduce(list(x[1] - x[0]))
-        assert max(abs(v) for v in d) < 1e-9  # float64 states of a real128 integration
+        th, w = _decimal_theta(r["state0_str"])
+        # the pendulum's 30-digit members close to ~4e-16 only (its lattice shift is
+        # reduced with a float64 pi in the shooting: an open defect of the record)
+        tol = 1e-15 if r["name"] == "pendulum" else 1e-20
+        assert _real128_closure(th, w, r["period_str"]) < tol, r["id"]
+    # the check can fail: the period 1e-12 off
+    T = str(float(recs[0]["period_str"]) * (1 + 1e-12))
+    assert _real128_closure(*_decimal_theta(recs[0]["state0_str"]), T) > 1e-20
 
 
 def test_cli_family_and_errors(capsys):
@@ -221,6 +336,23 @@ def test_build_killed_midway_resumes_without_redoing_tasks(tmp_path):
     for p, t in stamps.items():  # no finished task was redone
         assert p.stat().st_mtime_ns == t
     assert cat2["families"] and not cat2["orphans"]
+    # the files of any build: written, valid, each family interpolated at its seed;
+    # a polish stored before the action and index were computed gets them at write
+    old = cat2["families"][0]["stored"][0]["polish"]
+    kept = {k: old.pop(k) for k in ("action", "maslov", "maslov_reason")}
+    write(cat2, tmp_path / "out2", cat.SCHEMA)
+    m0 = [m for f in cat.load(tmp_path / "out2") for m in f.record["members"]]
+    assert any(
+        m["maslov"] == kept["maslov"] and m["action"] == kept["action"] for m in m0
+    )
+    assert validate(tmp_path / "out2") == []
+    for f in cat.load(tmp_path / "out2"):
+        seed = next(m for m in f.record["members"] if m["kind"] == "seed")
+        got = f.interpolate(seed["E"])
+        assert min(abs(g["period"] / seed["period"] - 1) for g in got) < 1e-8
+        assert all(
+            m["maslov"] is not None or m["maslov_reason"] for m in f.record["members"]
+        )
 
 
 def test_run_tasks_reads_back_without_running(tmp_path):
@@ -236,3 +368,75 @@ def test_cli_verify_and_stable(capsys):
     assert main(["catalogue", "--E", "5.9", "--stable", "--json"]) == 0
     recs = json.loads(capsys.readouterr().out)
     assert recs and all(r.get("stability") == "stable" for r in recs)
+
+
+def test_maslov_index_and_action_of_the_stored_members():
+    """Every stored member carries its action (quantum_trace.orbit_action, ~1e-13) and
+    its Maslov index, null with a reason exactly at the marginal members (IS points
+    and folds: tr M = 4); the index changes along a family only across such a point."""
+    from rotorlib.beyond.quantum_trace import orbit_action
+
+    for r in RECORDS:
+        ms = sorted(r["members"], key=lambda m: m["E"])
+        for m in r["members"]:
+            marginal = m["kind"] in ("IS", "fold") or abs(m["trace"] - 4) < 1e-6
+            assert (m["maslov"] is None) == marginal, (r["id"], m["kind"], m["trace"])
+            assert (m["maslov_reason"] is None) != marginal
+    m = RECORDS[0]["members"][0]
+    S = orbit_action([float(v) for v in m["state0_str"]], float(m["period_str"]))
+    assert abs(S - m["action"]) < 1e-12 * abs(S)
+    # along each piece, between two stored members with no IS point or fold between
+    # them (tr M - 4 keeps its sign), the index is the same
+    changes = 0
+    for r in RECORDS:
+        ms = r["members"]
+        for pc in r["interpolation"]["pieces"]:
+            nodes = [ms[i] for i in pc["members"] if ms[i]["maslov"] is not None]
+            for a, b in zip(nodes, nodes[1:]):
+                if (a["trace"] - 4) * (b["trace"] - 4) > 0:
+                    assert a["maslov"] == b["maslov"], (r["id"], a["E"], b["E"])
+                else:
+                    changes += 1
+    assert changes >= 1
+
+
+def test_members_table_csv_and_parquet():
+    pq = pytest.importorskip("pyarrow.parquet")
+    import csv
+
+    with open(cat.DATA / "members.csv") as fh:
+        rows = list(csv.reader(fh))
+    assert rows[0] == COLUMNS
+    assert len(rows) - 1 == sum(len(r["members"]) for r in RECORDS)
+    t = pq.read_table(cat.DATA / "members.parquet")
+    assert t.column_names == COLUMNS and t.num_rows == len(rows) - 1
+    got = t.to_pylist()
+    for row, rec in zip(rows[1:], got):
+        assert [rec[c] for c in COLUMNS[:-1]] == row[:-1]
+        assert rec["maslov"] == (int(row[-1]) if row[-1] else None)
+
+
+def test_stable_fraction_against_the_records():
+    Es = [5.35, 5.8, 6.1]
+    rows = cat.stable_fraction(Es)
+    for E, row in zip(Es, rows):
+        here = [r for r in RECORDS if r["E_range"][0] <= E <= r["E_range"][1]]
+        st = [r for r in here if any(a <= E <= b for a, b in r["stable_windows"])]
+        assert (row["families"], row["stable"]) == (len(here), len(st))
+        assert row["fraction"] == len(st) / len(here)
+    assert cat.stable_fraction([9.0])[0]["fraction"] is None
+    with pytest.raises(ValueError, match="E must be"):
+        cat.stable_fraction(["x"])
+
+
+def test_named_special_points_agree_with_family():
+    """Every IS/PD/fold point rotorlib.family locates on PD^r_1 over the record's range
+    is one of the record's, E to 1e-8."""
+    import rotorlib
+
+    (r,) = named_special_points(rotorlib.family, names=["PD^r_1"])
+    assert r["located"] >= 1 and not r["missing"] and r["worst"] < 1e-8, r
+
+
+def test_stored_files_validate():
+    assert validate() == []

@@ -32,13 +32,12 @@ from fractions import Fraction
 
 import numpy as np
 from numpy.typing import ArrayLike
-from scipy.integrate import simpson
 
 from ..core.energy import as_float
 from ..core.flow import SectionNotReached, crossings, monodromy_matrix, sample
 from ..core.parallel import pmap
 from ..core.precision import FLOAT64, json_number, load_heyoka, tier
-from ..core.system import lattice_reduce, potential_alpha
+from ..core.system import lattice_reduce
 from ..orbits.periodic_orbit import PeriodicOrbit
 from ..orbits.reversors import images, start_sets, targets
 from ..orbits.shooting import ShootingProblem, residual, solve
@@ -338,12 +337,19 @@ def _period(x0, t1, t_max):
     return T
 
 
-def orbit_action(x0, T, E):
+def orbit_action(x0, T, E=None):
     """The action ``oint p dq = 2 (E T - int V dt)`` of the orbit from ``x0`` of period
-    ``T`` (Simpson on 801 samples): the same for every image of the orbit under the group
-    and time reversal."""
-    st, ts = sample(x0, T, 801)
-    return 2 * (E * T - simpson(potential_alpha(st[:, 0], st[:, 1]), x=ts))
+    ``T``: the same for every image of the orbit under the group and time reversal.
+
+    :func:`rotorlib.beyond.quantum_trace.orbit_action` on 800 equal steps (a trapezoid
+    sum of a smooth periodic integrand; the cost of the 801 samples this function once
+    summed by Simpson's rule). Against 800 T steps, on the catalogue's members and their
+    doubles: < 1e-15 relative for ``T < 8``, < 2e-14 for ``T < 12``, < 2e-12 for
+    ``T < 17`` (the census compares actions to 1e-6). ``E`` (the orbit's energy) is not
+    needed: it is read from ``x0``."""
+    from .quantum_trace import orbit_action as action
+
+    return action(x0, T, 800)
 
 
 #: An orbit is kept if it closes after one period to ``max(1e6, 100 |tr M|) 10^-D`` (``D``

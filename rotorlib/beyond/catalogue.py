@@ -20,12 +20,24 @@ there: ``leaves T <= T_max``, ``end of the built window``, ``engine stopped ...`
 to ~1e-14), ``stable_windows``, ``parents`` / ``daughters`` (``{id, kind, E}``),
 ``census_orbits`` (the census orbits it contains), ``members`` (the stored members:
 ``E_str``, ``period_str``, ``state0_str`` to 30 digits, ``trace_str`` to 25, the
-multipliers, the action ``S = oint p.dq``; ``maslov`` is ``null``: not computed yet)
-and ``branch`` (every continuation member in float64: ``[E, u, t1, tr M, a1, a2, p1,
-p2]``, the shooting problem and the period factor).
+multipliers, the action ``S = oint p.dq``, the Maslov index ``maslov``, ``null`` with
+``maslov_reason`` at a marginal member, and ``pieces``, the interpolation pieces it is
+a node of), ``interpolation`` (the pieces of the path, each with its parameter ``E`` or
+``u`` and its nodes; ``degree``; ``max_error``: the largest error of the interpolant
+over the path members, ``<= tolerance = 1e-8``; ``path_accuracy``: the float64 path
+against the 30-digit members, and ``above_tolerance``: the members where the path itself
+is less accurate than 1e-8, e.g. where the engine stopped) and ``branch`` (every continuation member in float64:
+``[E, u, t1, tr M, a1, a2, p1, p2]``, the shooting problem and the period factor).
+
+The stored members are chosen by need (:func:`rotorlib.beyond.catalogue_members.stored_members`):
+the fewest path members from which the period and ``tr M`` of every path member are
+interpolated to 1e-8 (:meth:`Family.interpolate`), plus the special points and the
+seed. :meth:`Family.members_at` solves every member at an energy from that interpolant.
 
 Precision: stored members to 30 digits (real128, closure < 1e-28); path members float64
-(residual < 1e-8); the action to ~1e-9 relative.
+(residual < 1e-8; measured against the 30-digit members: ``path_accuracy``); the action
+to ~1e-13 relative (:func:`rotorlib.beyond.quantum_trace.orbit_action`); the Maslov index
+exact (an integer) away from marginal orbits.
 """
 
 from __future__ import annotations
@@ -41,7 +53,18 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["DATA", "SCHEMA", "Family", "Catalogue", "catalogue", "load", "verify"]
+from ..core.energy import as_float
+
+__all__ = [
+    "DATA",
+    "SCHEMA",
+    "Family",
+    "Catalogue",
+    "catalogue",
+    "load",
+    "verify",
+    "stable_fraction",
+]
 
 #: The stored catalogue (package data).
 DATA = Path(__file__).resolve().parent.parent / "data" / "catalogue"
@@ -64,12 +87,14 @@ _member = {
         "stability",
         "action",
         "maslov",
+        "maslov_reason",
         "u",
+        "pieces",
         "closure",
         "digits",
     ],
     "properties": {
-        "kind": {"enum": ["E", "IS", "PD", "fold", "seed"]},
+        "kind": {"enum": ["path", "IS", "PD", "fold", "seed"]},
         "E": _num,
         "E_str": _str,
         "period": {"type": "number", "exclusiveMinimum": 0},
@@ -87,7 +112,9 @@ _member = {
         "stability": {"enum": ["stable", "unstable"]},
         "action": _num,
         "maslov": {"type": ["integer", "null"]},
+        "maslov_reason": {"type": ["string", "null"]},
         "u": _num,
+        "pieces": {"type": "array", "items": {"type": "integer", "minimum": 0}},
         "closure": {"type": "number", "minimum": 0},
         "digits": {"type": "integer", "minimum": 16},
     },
@@ -120,6 +147,7 @@ SCHEMA: dict[str, Any] = {
         "daughters",
         "census_orbits",
         "members",
+        "interpolation",
         "branch",
     ],
     "properties": {
@@ -166,6 +194,44 @@ SCHEMA: dict[str, Any] = {
         "daughters": {"type": "array", "items": _link},
         "census_orbits": {"type": "array", "minItems": 1},
         "members": {"type": "array", "items": _member, "minItems": 1},
+        "interpolation": {
+            "type": "object",
+            "required": ["pieces", "degree", "tolerance", "max_error", "path_accuracy"],
+            "properties": {
+                "pieces": {
+                    "type": "array",
+                    "minItems": 1,
+                    "items": {
+                        "type": "object",
+                        "required": ["param", "path", "members"],
+                        "properties": {
+                            "param": {"enum": ["E", "u"]},
+                            "path": {"type": "array", "items": {"type": "integer"}},
+                            "members": {
+                                "type": "array",
+                                "minItems": 1,
+                                "items": {"type": "integer", "minimum": 0},
+                            },
+                        },
+                    },
+                },
+                "degree": {"type": "integer", "minimum": 1},
+                "tolerance": _num,
+                "max_error": _num,
+                "path_accuracy": {
+                    "type": "object",
+                    "required": ["period", "trace", "above_tolerance"],
+                    "properties": {
+                        "period": _num,
+                        "trace": _num,
+                        "above_tolerance": {
+                            "type": "array",
+                            "items": {"type": "array", "items": _num, "minItems": 3},
+                        },
+                    },
+                },
+            },
+        },
         "branch": {
             "type": "object",
             "required": ["factor", "problem", "path"],
@@ -260,6 +326,115 @@ class Family:
             "; ".join(f"{e['side']}: {e['kind']}" for e in ends),
             tuple(self.record["window"]),
         )
+
+    def interpolate(self, E: Any) -> list[dict]:
+        """The family's members at ``E`` read from the interpolant of its stored members
+        (:func:`rotorlib.beyond.catalogue_members.local_interpolant`, piece by piece):
+        ``[{'E', 'period', 'trace', 'u', 'piece'}]``, one per branch through ``E`` (two
+        or more beside a fold), by period; ``[]`` outside the family's range.
+
+        Precision: at ``E`` on a piece parametrised by ``E``, the period and ``tr M`` to
+        the record's ``interpolation.max_error`` (``<= 1e-8`` relative, absolute for
+        ``tr M`` near 0: tested on held-out path members). On a piece parametrised by
+        ``u`` (through a fold) ``E(u) = E`` is solved on the interpolant: the error is
+        amplified by ``|dT/dE|``, unbounded at the fold itself; two branches closer to a
+        fold than ~1/16 of a node interval in ``u`` are not resolved.
+
+        Examples
+        --------
+        >>> from rotorlib.beyond.catalogue import catalogue
+        >>> f = catalogue(name="pendulum")[0]
+        >>> [m["piece"] for m in f.interpolate(5.6)], f.interpolate(9.0)
+        ([0], [])
+        """
+        from scipy.optimize import brentq
+
+        from .catalogue_members import local_interpolant
+
+        Ef = as_float(E, "E")
+        info = self.record["interpolation"]
+        ms = self.record["members"]
+        deg = int(info["degree"])
+        out: list[dict] = []
+        for k, pc in enumerate(info["pieces"]):
+            nodes = [ms[i] for i in pc["members"]]
+            key, other = ("E", "u") if pc["param"] == "E" else ("u", "E")
+            xs = np.array([m[key] for m in nodes], dtype=float)
+            Y = np.array([[m["period"], m["trace"], m[other]] for m in nodes])
+            if key == "E":
+                roots = [Ef] if xs[0] <= Ef <= xs[-1] else []
+            else:
+                g = np.concatenate(
+                    [np.linspace(a, b, 17)[:-1] for a, b in zip(xs, xs[1:])] + [xs[-1:]]
+                )
+                val = local_interpolant(xs, Y[:, 2:], g, deg)[:, 0] - Ef
+
+                def h(v):
+                    return float(local_interpolant(xs, Y[:, 2:], [v], deg)[0, 0] - Ef)
+
+                roots = [float(g[i]) for i in np.flatnonzero(val == 0)]
+                roots += [
+                    brentq(h, g[i], g[i + 1], xtol=1e-15, rtol=1e-15)
+                    for i in np.flatnonzero(val[:-1] * val[1:] < 0)
+                ]
+            for x in roots:
+                y = local_interpolant(xs, Y, [x], deg)[0]
+                rec = {"E": Ef, "period": float(y[0]), "trace": float(y[1])}
+                rec["u"] = float(y[2]) if key == "E" else x
+                if not any(  # a member at a piece boundary is found twice
+                    abs(r["period"] - rec["period"]) < 1e-9
+                    and abs(r["u"] - rec["u"]) < 1e-7 * max(1.0, abs(rec["u"]))
+                    for r in out
+                ):
+                    out.append({**rec, "piece": k})
+        return sorted(out, key=lambda r: r["period"])
+
+    def members_at(self, E: Any, digits: int | None = None) -> list:
+        """Every member of the family at ``E`` (one per branch through ``E``:
+        :meth:`interpolate`), each solved to ``digits`` from its interpolated ``u``
+        (:class:`~rotorlib.orbits.family.Member`, ``tr M`` computed). A branch whose
+        shot does not converge, or converges to a period more than 1e-6 (relative) from
+        the interpolated one, is left out; so is a member with the period (1e-12) and
+        ``tr M`` (1e-9) of one already found: one orbit met twice, by a path that
+        passes an image of it again (as the census counts it: once). ValueError when
+        none is left."""
+        from ..core.precision import tier
+        from ..orbits.continuation import member
+        from ..orbits.shooting import NoConvergence, solve
+
+        found = self.interpolate(E)
+        if not found:
+            raise ValueError(
+                f"{self.id} has no member at E = {E!r}: range {self.E_range}"
+            )
+        t = tier(digits)
+        out: list[Any] = []
+        errors: list[str] = []
+        for r in found:
+            with t.context():
+                u0 = t.num(repr(r["u"]))
+                try:
+                    x1 = u0 * (1 + t.num("1e-9"))
+                    u = solve(self.problem, u0, x1, E=E, digits=t).x
+                except NoConvergence as exc:
+                    errors.append(str(exc))
+                    continue
+                Ex = str(E) if t.extended else float(E)
+                m = member(self.problem, u, Ex, t, traces=True)
+            if abs(float(m.period) / r["period"] - 1) > 1e-6:
+                errors.append(f"period {float(m.period)!r} != {r['period']!r}")
+                continue
+            T, tr = float(m.period), float(m.trace)
+            if any(  # one orbit met twice (its image: the path passes it again)
+                abs(float(o.period) / T - 1) < 1e-12
+                and abs(float(o.trace) - tr) < 1e-9 * max(1.0, abs(tr))
+                for o in out
+            ):
+                continue
+            out.append(m)
+        if not out:
+            raise ValueError(f"{self.id}: no member at E = {E!r} ({'; '.join(errors)})")
+        return out
 
     def nearest(self, E: float) -> list:
         """The path member nearest in ``E`` (``[E, u, t1, tr M, a1, a2, p1, p2]``)."""
@@ -410,8 +585,10 @@ def verify(fid: str, path: str | os.PathLike | None = None, digits: int = 30) ->
     """Re-solve every stored member of family ``fid`` at its ``E_str`` from its ``u``
     (:func:`rotorlib.beyond.catalogue_members.polish_task`) and compare: the largest
     relative difference of the period and of ``tr M``, the largest difference of
-    ``state0``, the largest closure; ``ok`` when they are below ``1e-20`` (period,
-    state), ``1e-15 max(1, |tr M|)`` (trace) and the closure below ``1e-20``."""
+    ``state0``, the largest closure, the largest difference of the action (relative to
+    max(1, |S|)) and the number of Maslov indices that differ; ``ok`` when they are
+    below ``1e-20`` (period, state), ``1e-15 max(1, |tr M|)`` (trace), the closure
+    below ``1e-20``, the action below ``1e-10`` and no index differs."""
     from mpmath import mp, mpf
 
     from .catalogue_members import polish_task
@@ -419,6 +596,7 @@ def verify(fid: str, path: str | os.PathLike | None = None, digits: int = 30) ->
     f = load(path).family(fid)
     br = f.record["branch"]
     worst = {"period": 0.0, "state0": 0.0, "trace": 0.0, "closure": 0.0}
+    worst |= {"action": 0.0, "maslov": 0}
     with mp.workdps(40):
         for m in f.record["members"]:
             r = polish_task(
@@ -441,10 +619,46 @@ def verify(fid: str, path: str | os.PathLike | None = None, digits: int = 30) ->
             worst["state0"] = max(worst["state0"], float(dx))
             worst["trace"] = max(worst["trace"], float(dtr))
             worst["closure"] = max(worst["closure"], r["closure"])
+            dS = abs(r["action"] - m["action"]) / max(1.0, abs(m["action"]))
+            worst["action"] = max(worst["action"], dS)
+            worst["maslov"] += int(r["maslov"] != m["maslov"])
     ok = (
         worst["period"] < 1e-20
         and worst["state0"] < 1e-20
         and worst["trace"] < 1e-15
         and worst["closure"] < 1e-20
+        and worst["action"] < 1e-10
+        and worst["maslov"] == 0
     )
     return {"id": fid, "members": len(f.record["members"]), **worst, "ok": ok}
+
+
+def stable_fraction(
+    energies, path: str | os.PathLike | None = None, t_max: float | None = None
+) -> list[dict]:
+    """On a grid of energies: the number of catalogued families with a member there
+    (``families``: ``E`` inside its ``E_range``), how many have a stable member there
+    (``stable``: ``E`` inside one of its located ``stable_windows``) and their ratio
+    (``fraction``; ``None`` where no family exists). Counts over the whole catalogue
+    (not a sample: no sampling error); their precision is that of the located window
+    ends (~1e-14 in ``E``, folds and IS/PD points; a window end that is a path end is
+    the last path member, within ~0.01 of the family's true end). ``t_max``: count only
+    families whose smallest period is ``<= t_max``.
+
+    Examples
+    --------
+    >>> rows = stable_fraction([5.45, 5.9, 9.0])
+    >>> [r["families"] > 0 for r in rows], rows[-1]["fraction"]
+    ([True, True, False], None)
+    """
+    fams = list(load(path))
+    if t_max is not None:
+        fams = [f for f in fams if f.record["period_range"][0] <= t_max]
+    out = []
+    for E in energies:
+        Ef = as_float(E, "E")
+        here = [f for f in fams if f.exists_at(Ef)]
+        st = sum(f.stable_at(Ef) for f in here)
+        frac = st / len(here) if here else None
+        out.append({"E": Ef, "families": len(here), "stable": st, "fraction": frac})
+    return out

@@ -9,10 +9,13 @@ import csv
 import os
 from pathlib import Path
 
+import numpy as np
+
 from ..core.system import BREATHER_SEPARATRIX_ENERGY, SEPARATRIX_ENERGY
+from .catalogue_members import DEGREE, TOL, interpolation_errors, phase_data
 from .catalogue_tasks import VERSION, near, write_json
 
-__all__ = ["END_KINDS", "write"]
+__all__ = ["END_KINDS", "COLUMNS", "write", "write_parquet"]
 
 #: Why a family's record ends, from the engine's stop code (``E range``: see ``_end``).
 END_KINDS = {
@@ -262,8 +265,10 @@ def write(cat: dict, out: str | os.PathLike, schema: dict) -> dict:
                 seen.add(key)
                 keep.append(p)
         f["special"] = keep
-        f["stored"] = [m for m in f["stored"] if any(m is p for p in keep)] + [
-            m for m in f["stored"] if m["kind"] == "seed"
+        f["stored"] = [
+            m
+            for m in f["stored"]
+            if m["kind"] in ("path", "seed") or any(m is p for p in keep)
         ]
     _links(fams)
     rows, index = [], []
@@ -277,6 +282,11 @@ def write(cat: dict, out: str | os.PathLike, schema: dict) -> dict:
             if "failed" in p:
                 failed.append((f["id"], m["kind"], m["E"], p["failed"]))
                 continue
+            if "maslov_reason" not in p:  # a polish stored before they were computed
+                p = {
+                    **p,
+                    **phase_data(p["state0_str"], p["period_str"], p["trace_str"]),
+                }
             members.append(
                 {
                     "kind": m["kind"],
@@ -290,9 +300,11 @@ def write(cat: dict, out: str | os.PathLike, schema: dict) -> dict:
                     "trace_str": p["trace_str"],
                     "multipliers": p["multipliers"],
                     "stability": "stable" if 0 < m["trace"] < 4 else "unstable",
-                    "action": m.get("action"),
-                    "maslov": None,
+                    "action": p["action"],
+                    "maslov": p["maslov"],
+                    "maslov_reason": p["maslov_reason"],
                     "u": m["u"],
+                    "pieces": m.get("pieces", []),
                     "closure": p["closure"],
                     "digits": p["digits"],
                 }
@@ -323,6 +335,7 @@ def write(cat: dict, out: str | os.PathLike, schema: dict) -> dict:
                 for o in f["census"]
             ],
             "members": members,
+            "interpolation": _interpolation(f, members),
             "branch": {
                 "factor": f["factor"],
                 "problem": f["problem"],
@@ -343,7 +356,7 @@ def write(cat: dict, out: str | os.PathLike, schema: dict) -> dict:
             rows.append(
                 [f["id"], rec["name"] or "", m["kind"], m["E_str"], m["period_str"]]
                 + m["state0_str"]
-                + [m["trace_str"], m["stability"], repr(m["action"])]
+                + [m["trace_str"], m["stability"], repr(m["action"]), m["maslov"]]
             )
     idx = {
         "version": VERSION,
@@ -361,9 +374,90 @@ def write(cat: dict, out: str | os.PathLike, schema: dict) -> dict:
     write_json(out / "schema.json", schema)
     with open(out / "members.csv", "w", newline="") as fh:
         w = csv.writer(fh)
-        w.writerow(
-            ["id", "name", "kind", "E", "period", "a1", "a2", "p1", "p2"]
-            + ["trace", "stability", "action"]
-        )
-        w.writerows(rows)
+        w.writerow(COLUMNS)
+        w.writerows(["" if v is None else v for v in r] for r in rows)
+    write_parquet(out / "members.parquet", rows)
     return idx
+
+
+#: The columns of the flat table of members (``members.csv``, ``members.parquet``):
+#: decimal strings to 30 digits (``trace`` to 25), ``action`` a float64 repr,
+#: ``maslov`` an integer (empty / null for a marginal orbit).
+COLUMNS = ["id", "name", "kind", "E", "period", "a1", "a2", "p1", "p2"] + [
+    "trace",
+    "stability",
+    "action",
+    "maslov",
+]
+
+
+def write_parquet(path: str | os.PathLike, rows: list[list]) -> bool:
+    """The members table (:data:`COLUMNS`, as in ``members.csv``: strings, ``maslov``
+    a nullable int32) as Parquet, when pyarrow is installed (``rotorlib[parquet]``);
+    returns whether it was written."""
+    try:
+        import pyarrow as pa
+        import pyarrow.parquet as pq
+    except ImportError:
+        return False
+    cols = list(zip(*rows)) if rows else [()] * len(COLUMNS)
+    arrays = [pa.array(list(c), type=pa.string()) for c in cols[:-1]]
+    arrays.append(pa.array(list(cols[-1]), type=pa.int32()))
+    pq.write_table(pa.table(arrays, names=COLUMNS), path, compression="zstd")
+    return True
+
+
+def _interpolation(f: dict, members: list[dict]) -> dict:
+    """The interpolation record: per piece its parameter, its path indices and its
+    nodes (indices into ``members``, in the order of the parameter); the largest error
+    of the interpolant on the path with the nodes that were polished (``max_error``), and
+    the path's own accuracy measured at them (``path_accuracy``: float64 path values
+    against the 30-digit re-solve, period relative, ``tr M`` relative to max(1, |tr M|);
+    ``above_tolerance``: ``[E, dT, dtr]`` of the nodes where the path is less accurate
+    than the tolerance, e.g. the short steps where the engine stopped)."""
+    info = f.get("interpolation")
+    if info is None:
+        return {"pieces": [], "degree": DEGREE, "tolerance": TOL, "max_error": None}
+    path = f["path"]
+    worst, acc_T, acc_tr = 0.0, 0.0, 0.0
+    pieces = []
+    for k, pc in enumerate(info["pieces"]):
+        a, b = pc["path"]
+        key = pc["param"]
+        nodes = [i for i, m in enumerate(members) if k in m["pieces"]]
+        nodes.sort(key=lambda i: members[i][key])
+        pieces.append({"param": key, "path": [a, b], "members": nodes})
+        if len(nodes) < 1:  # every node of the piece failed to polish
+            worst = max(worst, 1.0)
+            continue
+        seg = path[a : b + 1]
+        other = "u" if key == "E" else "E"
+        x = [m[key] for m in seg] + [members[i][key] for i in nodes]
+        Y = [
+            [m["period"], m["trace"]] + ([m[other]] if key == "u" else []) for m in seg
+        ]
+        Y += [
+            [members[i]["period"], members[i]["trace"]]
+            + ([members[i][other]] if key == "u" else [])
+            for i in nodes
+        ]
+        n = len(seg)
+        xs, Ys = np.array(x), np.array(Y)
+        e = interpolation_errors(xs, Ys, list(range(n, n + len(nodes))), info["degree"])
+        worst = max(worst, float(e[:n].max()))
+    above = []  # where the path itself is not accurate to the tolerance
+    for m in members:
+        if m["pieces"]:
+            dT = abs(float(m["period_str"]) / m["period"] - 1)
+            tr = float(m["trace_str"])
+            dtr = abs(tr - m["trace"]) / max(1.0, abs(tr))
+            acc_T, acc_tr = max(acc_T, dT), max(acc_tr, dtr)
+            if max(dT, dtr) > info["tolerance"]:
+                above.append([m["E"], dT, dtr])
+    return {
+        "pieces": pieces,
+        "degree": info["degree"],
+        "tolerance": info["tolerance"],
+        "max_error": worst,
+        "path_accuracy": {"period": acc_T, "trace": acc_tr, "above_tolerance": above},
+    }

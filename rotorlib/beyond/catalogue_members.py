@@ -1,9 +1,23 @@
 """The stored members of a catalogued family: which members are stored and their
 re-solve to 30 digits (the ``polish`` task of :mod:`rotorlib.beyond.catalogue_tasks`).
 
-Precision: each stored member is re-solved at ``digits = 30`` (heyoka real128):
+**Which members.** :func:`stored_members` keeps the located special points (IS, PD,
+folds), the seed, and the fewest members of the family's dense float64 path such that
+the period and ``tr M`` of every path member are reproduced to :data:`TOL` (relative;
+``tr M`` relative to ``max(1, |tr M|)``, i.e. absolute near ``tr M = 0``) by
+:func:`local_interpolant` between stored members. The path is cut into pieces on which
+one parameter, ``E`` or the shooting unknown ``u``, is strictly monotone and moves faster
+than the other (:func:`pieces`: a fold in ``E`` lies inside a ``u`` piece, where ``E(u)``
+is smooth); on each piece the other quantities are interpolated as functions of that
+parameter. Members are inserted greedily where the error is largest.
+
+**Precision.** Each stored member is re-solved at ``digits = 30`` (heyoka real128):
 ``state0_str`` and the period to 30 digits, ``tr M`` to 25 digits, the closure error
-printed beside them.
+printed beside them. The action ``S = oint p.dq`` is
+:func:`rotorlib.beyond.quantum_trace.orbit_action` on the float64 rounding of the
+30-digit orbit (a spectrally accurate trapezoid sum: ~1e-13 relative); the Maslov index
+:func:`rotorlib.beyond.quantum_trace.maslov_index` (an integer, exact in float64 unless the
+orbit is marginal: ``null`` with the reason at ``tr M = 4``, IS points and folds).
 """
 
 from __future__ import annotations
@@ -12,7 +26,22 @@ from dataclasses import replace
 
 import numpy as np
 
-__all__ = ["problem_of", "polish_task", "stored_members"]
+__all__ = [
+    "TOL",
+    "DEGREE",
+    "problem_of",
+    "polish_task",
+    "phase_data",
+    "pieces",
+    "local_interpolant",
+    "interpolation_errors",
+    "stored_members",
+]
+
+#: The interpolation tolerance the stored members are chosen for (relative).
+TOL = 1e-8
+#: The degree of the local interpolating polynomials (``DEGREE + 1`` stored members).
+DEGREE = 7
 
 
 def problem_of(spec: dict):
@@ -32,15 +61,47 @@ def problem_of(spec: dict):
 def polish_task(args: dict) -> dict:
     """A stored member re-solved at ``args['digits']`` digits at the energy
     ``args['E_str']`` from ``args['u']``: the decimal strings of ``E``, the period,
-    ``state0`` and ``tr M`` (5 digits fewer), the multipliers, the closure error; or
-    ``{'failed': reason}`` when the re-solve does not converge."""
+    ``state0`` and ``tr M`` (5 digits fewer), the multipliers, the closure error, the
+    action and the Maslov index (:func:`phase_data`); or ``{'failed': reason}`` when the
+    re-solve does not converge."""
     from ..core.flow import SectionNotReached
     from ..orbits.shooting import NoConvergence
 
     try:
-        return _polish(args)
+        out = _polish(args)
     except (NoConvergence, SectionNotReached, ValueError, ZeroDivisionError) as exc:
         return {"failed": f"{type(exc).__name__}: {exc}"[:300]}
+    return {**out, **phase_data(out["state0_str"], out["period_str"], out["trace_str"])}
+
+
+def phase_data(state0, period, trace) -> dict:
+    """The action and Maslov index of the orbit from ``state0`` of period ``period``
+    (decimal strings or floats; ``trace``: its ``tr M``): ``{'action', 'maslov',
+    'maslov_reason'}``. The index is ``None`` with the reason for a marginal orbit
+    (``|tr M - 4| < 1e-6``: its index is undefined).
+
+    Examples
+    --------
+    >>> import rotorlib
+    >>> o = rotorlib.orbit("pendulum", 6.0)
+    >>> d = phase_data(o.state0, o.period, o.trace)
+    >>> from rotorlib.beyond.quantum_trace import pendulum_action
+    >>> d["maslov"], d["maslov_reason"], abs(d["action"] - pendulum_action(6.0)) < 1e-11
+    (1, None, True)
+    """
+    from .quantum_trace import maslov_index, orbit_action
+
+    x = [float(v) for v in state0]
+    T = float(period)
+    out: dict = {"action": orbit_action(x, T), "maslov": None, "maslov_reason": None}
+    if abs(float(trace) - 4.0) < 1e-6:
+        out["maslov_reason"] = "marginal orbit (tr M = 4): no Maslov index"
+        return out
+    try:
+        out["maslov"] = int(maslov_index(x, T, 1)[0])
+    except ValueError as exc:
+        out["maslov_reason"] = str(exc)[:200]
+    return out
 
 
 def _polish(args: dict) -> dict:
@@ -76,12 +137,142 @@ def _polish(args: dict) -> dict:
         }
 
 
-def stored_members(f: dict) -> list[dict]:
-    """The members of a followed family ``f`` to store: its located special points and
-    its seed, in path order."""
-    stored = list(f["special"])
-    if not any(
-        abs(m["E"] - f["seed"]["E"]) <= 1e-12 * max(1.0, abs(m["E"])) for m in stored
-    ):
-        stored.append(f["seed"])
+# ------------------------------------------------------------------ interpolation
+
+
+def pieces(E, u) -> list[tuple[int, int, str]]:
+    """The path (energies ``E``, shooting unknowns ``u`` in path order) cut into pieces
+    ``(first, last, param)`` (indices inclusive; neighbours share their boundary member)
+    on which ``param`` (``'E'`` or ``'u'``) is strictly monotone and moves at least as
+    fast as the other one.
+
+    Examples
+    --------
+    >>> s = np.linspace(-1, 1, 41)  # a fold in E at s = 0
+    >>> pieces(1 - 4 * s**2, s)
+    [(0, 18, 'E'), (18, 23, 'u'), (23, 40, 'E')]
+    """
+    E, u = np.asarray(E, float), np.asarray(u, float)
+    if E.shape != u.shape or E.ndim != 1 or len(E) < 2:
+        raise ValueError("E and u must be 1-d arrays of the same length >= 2")
+    use = np.abs(np.gradient(E)) >= np.abs(np.gradient(u))
+    cuts = [0]
+    for i in range(1, len(E) - 1):
+        x = E if use[cuts[-1]] else u
+        turn = (x[i + 1] - x[i]) * (x[i] - x[i - 1]) < 0
+        if use[i] != use[cuts[-1]] or turn:
+            cuts.append(i)
+    cuts.append(len(E) - 1)
+    out = [(a, b, "E" if use[a] else "u") for a, b in zip(cuts, cuts[1:])]
+    return out
+
+
+def local_interpolant(xs, Y, x, degree: int = DEGREE) -> np.ndarray:
+    """The values at ``x`` of the polynomials of degree ``degree`` through the
+    ``degree + 1`` nodes of ``xs`` nearest each point (the window centred on the interval
+    of ``xs`` that holds it; all nodes when fewer): ``Y`` has one row per node.
+
+    ``xs`` must be strictly increasing. The interpolant is continuous (every window
+    passes through its nodes) and exact on polynomials of degree ``<= degree``.
+
+    Examples
+    --------
+    >>> xs = np.linspace(0, 1, 12)
+    >>> y = local_interpolant(xs, xs[:, None] ** 5, np.array([0.33]))
+    >>> round(float(y[0, 0]), 12) == round(0.33**5, 12)
+    True
+    """
+    xs = np.asarray(xs, float)
+    Y = np.asarray(Y, float)
+    x = np.atleast_1d(np.asarray(x, float))
+    if xs.ndim != 1 or len(xs) < 1 or np.any(np.diff(xs) <= 0):
+        raise ValueError("xs must be strictly increasing with at least one node")
+    m = min(degree + 1, len(xs))
+    pos = np.searchsorted(xs, x)
+    start = np.clip(pos - (m + 1) // 2, 0, len(xs) - m)
+    idx = start[:, None] + np.arange(m)
+    X = xs[idx]  # (q, m)
+    L = np.ones_like(X)
+    for j in range(m):
+        d = X - X[:, [j]]
+        d[:, j] = 1.0
+        f = (x[:, None] - X[:, [j]]) / d
+        f[:, j] = 1.0
+        L *= f
+    return np.einsum("qm,qm...->q...", L, Y[idx])
+
+
+def _err(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    return np.abs(a - b) / np.maximum(1.0, np.abs(b))
+
+
+def interpolation_errors(x, Y, nodes, degree: int = DEGREE) -> np.ndarray:
+    """The error at every point ``x`` (one piece, monotone) of the interpolant through
+    ``nodes`` (indices into ``x``), columns as ``Y``'s: relative for the period (first
+    column, ``> 0``), relative to ``max(1, |y|)`` for the others."""
+    x, Y = np.asarray(x, float), np.asarray(Y, float)
+    order = np.argsort(x[nodes])
+    nd = np.asarray(nodes)[order]
+    y = local_interpolant(x[nd], Y[nd], x, degree)
+    e = _err(y, Y)
+    e[:, 0] = np.abs(y[:, 0] - Y[:, 0]) / np.abs(Y[:, 0])
+    return e
+
+
+def _nodes(x, Y, tol: float, degree: int) -> tuple[list[int], float]:
+    """Greedy: the piece's ends, then the point of largest error, until all are within
+    ``tol``; returns the nodes and the largest error left."""
+    nodes = [0, len(x) - 1] if x[-1] != x[0] else [0]
+    while True:
+        e = interpolation_errors(x, Y, nodes, degree).max(axis=1)
+        e[nodes] = 0.0
+        q = int(np.argmax(e))
+        if e[q] <= tol:
+            return sorted(nodes), float(e.max())
+        nodes.append(q)
+
+
+def stored_members(f: dict, tol: float = TOL, degree: int = DEGREE) -> list[dict]:
+    """The members of a followed family ``f`` to store, in path order: its located IS,
+    PD and fold points, its seed, and the path members chosen for interpolation (module
+    docstring; each with ``pieces``, the indices of the pieces it is a node of). Sets
+    ``f['interpolation']``: the pieces (``param``, first and last path index), ``degree``,
+    ``tolerance`` and the largest error left on the path (``max_error``)."""
+    path = f["path"]
+    E = np.array([m["E"] for m in path])
+    u = np.array([m["u"] for m in path])
+    T = np.array([m["period"] for m in path])
+    tr = np.array([m["trace"] for m in path])
+    chosen: dict[int, list[int]] = {}
+    info, worst = [], 0.0
+    cut = pieces(E, u) if len(path) > 1 else [(0, 0, "E")]
+    for k, (a, b, param) in enumerate(cut):
+        x, other = (E, u) if param == "E" else (u, E)
+        cols = [T, tr] if param == "E" else [T, tr, other]
+        Y = np.stack([c[a : b + 1] for c in cols], axis=1)
+        nodes, e = _nodes(x[a : b + 1], Y, tol, degree)
+        worst = max(worst, e)
+        for n in nodes:
+            chosen.setdefault(a + n, []).append(k)
+        info.append({"param": param, "path": [a, b]})
+    f["interpolation"] = {
+        "pieces": info,
+        "degree": degree,
+        "tolerance": tol,
+        "max_error": worst,
+    }
+    seed = f["seed"]
+    stored = [m for m in f["special"] if m["kind"] in ("IS", "PD", "fold")]
+    seed_at = None
+    for i, ks in sorted(chosen.items()):
+        m = dict(path[i], kind="path", index=i, pieces=ks)
+        if m["E"] == seed["E"] and m["u"] == seed["u"]:
+            m["kind"], seed_at = "seed", i
+            m = {**seed, **m}
+        stored.append(m)
+    if seed_at is None:
+        at = [i for i, m in enumerate(path) if m["E"] == seed["E"]]
+        stored.append(dict(seed, pieces=[], index=at[0] if at else 0))
+    for m in stored:
+        m.setdefault("pieces", [])
     return sorted(stored, key=lambda m: m.get("index", 0))

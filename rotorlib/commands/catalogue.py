@@ -3,7 +3,8 @@
 Examples
 --------
 ``rotorlib catalogue --E 5.45 --t-max 8 --json``: every family with a member at E = 5.45
-(period <= 8), that member solved to ``--digits`` from the nearest stored member.
+(period <= 8), each of its members there (one per branch: two or more beside a fold)
+solved to ``--digits`` from the interpolant of its stored members.
 ``rotorlib catalogue --family F001 --json``: one family's record.
 ``rotorlib catalogue --verify F001``: re-solve its stored members and compare.
 """
@@ -50,7 +51,8 @@ def run(args: argparse.Namespace) -> int:
             print(
                 f"{rec['id']}: {rec['members']} members re-solved: {ok} (period "
                 f"{rec['period']:.1e}, state0 {rec['state0']:.1e}, tr M "
-                f"{rec['trace']:.1e} relative; closure {rec['closure']:.1e})"
+                f"{rec['trace']:.1e} relative; closure {rec['closure']:.1e}; action "
+                f"{rec['action']:.1e}; Maslov indices differing: {rec['maslov']})"
             )
         return 0 if rec["ok"] else 1
     if args.family:
@@ -69,13 +71,9 @@ def run(args: argparse.Namespace) -> int:
     recs = []
     for f in catalogue(E=E, path=args.path):
         try:
-            m = f.at(args.E, args.digits)
-        except ValueError as exc:  # the shot from the nearest member failed: say so
+            ms = f.members_at(args.E, args.digits)
+        except ValueError as exc:  # no shot from the interpolated members converged
             recs.append({"id": f.id, "name": f.name, "error": str(exc)})
-            continue
-        if t_max is not None and float(m.period) > t_max:
-            continue
-        if args.stable and m.stability != "stable":
             continue
         sy = f.symmetry
         kind = (
@@ -83,6 +81,11 @@ def run(args: argparse.Namespace) -> int:
             if sy["choreography"]
             else ("rotating" if sy["rotating"] else "librating")
         )
-        recs.append({"id": f.id, "name": f.name, "symmetry": kind, **m.to_dict()})
+        for m in ms:
+            if t_max is not None and float(m.period) > t_max:
+                continue
+            if args.stable and m.stability != "stable":
+                continue
+            recs.append({"id": f.id, "name": f.name, "symmetry": kind, **m.to_dict()})
     emit(recs, args.json, COLUMNS, one=False)
     return 0

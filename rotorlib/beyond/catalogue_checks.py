@@ -1,0 +1,186 @@
+"""Checks of the stored catalogue (:mod:`rotorlib.beyond.catalogue`) against independent
+computations: the script ``scripts/catalogue_check.py`` runs them all, the tests one each.
+
+* :func:`held_back`: an independent census (:func:`rotorlib.beyond.atlas.census`, its own
+  grid) at an energy off the build's census grid; every reference orbit must be a member
+  of a catalogued family at that energy (the member solved from the interpolant of the
+  stored members, :meth:`~rotorlib.beyond.catalogue.Family.members_at`): the period to
+  ``1e-8`` relative and ``tr M`` to ``1e-6`` relative to ``max(1, |tr M|)``.
+* :func:`named_special_points`: every special point (IS, PD, fold) of a named family
+  against the one :func:`rotorlib.family` locates (passed in) over the family's energy range (``E``
+  to ``1e-8``), and the points it locates there that the record lacks.
+* :func:`validate`: every family file against the schema, the links both ways.
+
+The real128 closure of ``rotorlib catalogue --E V --json`` is in the script and in
+``tests/test_catalogue.py`` (it integrates with the tests' independent rotor equations).
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from collections.abc import Callable
+
+__all__ = ["PERIOD_TOL", "TRACE_TOL", "held_back", "named_special_points", "validate"]
+
+#: The period tolerance of a match (relative).
+PERIOD_TOL = 1e-8
+#: The ``tr M`` tolerance of a match (relative to ``max(1, |tr M|)``).
+TRACE_TOL = 1e-6
+
+
+def held_back(
+    E: float,
+    t_max: float | None = None,
+    grid: int = 400,
+    path: str | os.PathLike | None = None,
+    census=None,
+) -> dict:
+    """Every orbit of an independent census at ``E`` (``T <= t_max``, default the
+    catalogue's) matched against the catalogue's members at ``E``.
+
+    Returns ``{'E', 't_max', 'on_grid', 'in_window', 'reference', 'matched',
+    'unmatched', 'errors'}``: ``matched`` holds ``(period, family id)``, ``unmatched``
+    the reference orbits no family contains (``(period, tr M)``), ``errors`` the
+    families whose member could not be solved. ``census``: a census already computed
+    (an :class:`~rotorlib.beyond.atlas.Atlas`) instead of a new one.
+    """
+    from ..core.energy import as_float
+    from .atlas import census as run_census
+    from .catalogue import load
+
+    Ef = as_float(E, "E")
+    cat = load(path)
+    T_max = float(cat.index["t_max"] if t_max is None else t_max)
+    lo, hi = cat.index["window"]
+    a = census if census is not None else run_census(Ef, T_max, grid, name=False)
+    members: list[tuple[str, float, float]] = []
+    errors = []
+    for f in cat:
+        if not f.exists_at(Ef):
+            continue
+        try:
+            ms = f.members_at(repr(Ef))
+        except ValueError as exc:
+            errors.append((f.id, str(exc)))
+            continue
+        members += [(f.id, float(m.period), float(m.trace)) for m in ms]
+    matched: list[tuple] = []
+    unmatched: list[tuple] = []
+    for o in a.orbits:
+        T, tr = float(o.period), float(o.trace)
+        if T > T_max:
+            continue
+        hit = [
+            fid
+            for fid, Tm, trm in members
+            if abs(Tm - T) <= PERIOD_TOL * T
+            and abs(trm - tr) <= TRACE_TOL * max(1.0, abs(tr))
+        ]
+        (matched if hit else unmatched).append((T, hit[0]) if hit else (T, tr))
+    return {
+        "E": Ef,
+        "t_max": T_max,
+        "on_grid": any(abs(Ef - e) < 1e-12 for e in cat.index["census_energies"]),
+        "in_window": lo <= Ef <= hi,
+        "reference": len(matched) + len(unmatched),
+        "matched": matched,
+        "unmatched": unmatched,
+        "errors": errors,
+    }
+
+
+def named_special_points(
+    family: Callable, path: str | os.PathLike | None = None, names=None
+) -> list[dict]:
+    """For each named family (or those in ``names``) that ``family`` serves
+    (:func:`rotorlib.family`, passed in: this layer does not import the front door; a
+    name it does not serve raises ValueError and is skipped; ``breather X`` is asked
+    as ``X``), over the record's energy range (widened to its special points): the
+    special points (IS, PD, folds) ``family`` locates against the record's.
+
+    Returns ``[{'id', 'name', 'label', 'points', 'located', 'worst', 'missing',
+    'not_located', 'reason'}]``: ``points`` the record's, ``located`` those ``family``
+    locates, ``worst`` the largest ``|dE|`` between a located point and the record's
+    point of the same kind nearest it, ``missing`` the located points the record lacks
+    (no point of the kind within ``1e-8``: a failure), ``not_located`` the record's
+    points ``family`` does not locate (its branch stops before them, or does not pass
+    a fold: ``reason`` says why it stopped)."""
+    from .catalogue import load
+
+    out = []
+    for f in load(path):
+        if not f.name or (names is not None and f.name not in names):
+            continue
+        pts = f.record["special_points"]
+        lo = min([f.E_range[0]] + [p["E"] for p in pts])
+        hi = max([f.E_range[1]] + [p["E"] for p in pts])
+        b, lab = None, f.name
+        for lab in (f.name, f.name.removeprefix("breather ")):
+            try:
+                b = family(lab, (lo, hi))
+                break
+            except ValueError:
+                continue
+        if b is None:
+            continue
+        kinds = ("IS", "PD", "fold")
+        theirs = [
+            (p.kind, float(p.member.E))
+            for p in b.special_points
+            if p.member is not None and p.located and p.kind in kinds
+        ]
+        ours = [(p["kind"], float(p["E"])) for p in pts if p["kind"] in kinds]
+
+        def gap(k, E, others):
+            return min((abs(E - e) for kk, e in others if kk == k), default=math.inf)
+
+        d = [gap(k, E, ours) for k, E in theirs]
+        out.append(
+            {
+                "id": f.id,
+                "name": f.name,
+                "label": lab,
+                "points": len(ours),
+                "located": len(theirs),
+                "worst": max([x for x in d if x <= 1e-8], default=0.0),
+                "missing": [(k, E, x) for (k, E), x in zip(theirs, d) if x > 1e-8],
+                "not_located": [(k, E) for k, E in ours if gap(k, E, theirs) > 1e-8],
+                "reason": b.reason,
+            }
+        )
+    return out
+
+
+def validate(path: str | os.PathLike | None = None) -> list[str]:
+    """The problems of the stored files: a family file that fails the schema
+    (:data:`rotorlib.beyond.catalogue.SCHEMA`, with ``jsonschema``), a stored
+    ``schema.json`` that differs from it, a parent/daughter link without its converse.
+    ``[]`` when there is none."""
+    import json
+
+    import jsonschema
+
+    from .catalogue import DATA, SCHEMA, load
+
+    cat = load(path)
+    p = DATA if path is None else path
+    bad = []
+    with open(os.path.join(p, "schema.json")) as fh:
+        stored = json.load(fh)
+    if stored != SCHEMA:
+        bad.append("schema.json differs from rotorlib.beyond.catalogue.SCHEMA")
+    v = jsonschema.Draft202012Validator(SCHEMA)
+    by = {f.id: f.record for f in cat}
+    for r in by.values():
+        for e in v.iter_errors(r):
+            bad.append(f"{r['id']}: {e.message[:200]}")
+        for d in r["daughters"]:
+            back = {"id": r["id"], "kind": d["kind"], "E": d["E"]}
+            if d["id"] not in by or back not in by[d["id"]]["parents"]:
+                bad.append(f"{r['id']}: daughter {d} has no parent link back")
+        for q in r["parents"]:
+            back = {"id": r["id"], "kind": q["kind"], "E": q["E"]}
+            if q["id"] not in by or back not in by[q["id"]]["daughters"]:
+                bad.append(f"{r['id']}: parent {q} has no daughter link back")
+    return bad
