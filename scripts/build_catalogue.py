@@ -29,6 +29,25 @@ from rotorlib.beyond.catalogue_files import write
 from rotorlib.core.parallel import executor_for
 
 
+def name_choreographies(cat: dict) -> int:
+    """Name the census's choreographies after the library's families (the front door's
+    :func:`rotorlib.api.name_choreography`, which the beyond layer cannot call: the
+    census tasks label them ``choreography``); returns how many were named."""
+    from rotorlib.api import name_choreography
+    from rotorlib.beyond.choreo import choreography_of
+
+    named = 0
+    for orbits in cat["censuses"].values():
+        for o in orbits:
+            if o["label"] != "choreography":
+                continue
+            c = choreography_of(o["state0"], o["period"])
+            if c is not None:
+                o["label"] = name_choreography(o["E"], c, o["period"])
+                named += o["label"] != "choreography"
+    return named
+
+
 def main(argv=None) -> int:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--E", nargs="+", type=float, default=[])
@@ -95,6 +114,8 @@ def main(argv=None) -> int:
     }
     cost["task_cpu_s"] = round(sum(v["cpu_s"] for v in cost["tasks"].values()), 1)
     if not a.no_write:
+        if not a.no_names:
+            name_choreographies(cat)
         write(cat, a.out, SCHEMA)  # gives each family its id
         cost["per_family"] = [
             {

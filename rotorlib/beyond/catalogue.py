@@ -94,7 +94,7 @@ _member = {
         "digits",
     ],
     "properties": {
-        "kind": {"enum": ["path", "IS", "PD", "fold", "seed"]},
+        "kind": {"enum": ["path", "IS", "PD", "fold", "touch", "seed"]},
         "E": _num,
         "E_str": _str,
         "period": {"type": "number", "exclusiveMinimum": 0},
@@ -186,7 +186,7 @@ SCHEMA: dict[str, Any] = {
             "items": {
                 "type": "object",
                 "required": ["kind", "E", "period", "trace", "index"],
-                "properties": {"kind": {"enum": ["IS", "PD", "fold"]}},
+                "properties": {"kind": {"enum": ["IS", "PD", "fold", "touch"]}},
             },
         },
         "stable_windows": {"type": "array", "items": _pair},
