@@ -1,6 +1,7 @@
 """Level statistics of the stored quantum spectra, window by window (a data product).
 
     .venv/bin/python scripts/quantum_statistics.py [--workers 2] [--out PATH]
+        [--hbar H ...]     # only these hbar; the other rows are kept from --out
 
 Writes book/data/quantum_statistics.json: for every stored hbar and every energy window
 (``WINDOWS``; those beyond a spectrum's E_max are skipped), the statistics of
@@ -10,11 +11,14 @@ fitted to the spacings unfolded with the library's Weyl law, Sigma^2(L), and the
 classical regular fraction predicted from book/data/regular_fraction.json. The spectra
 are book/data/quantum_spectra.npz (hbar = 0.03 below E = 8, 0.02 below 6.5), replaced or
 joined by every spectrum stored for ``rotorlib.beyond.quantum_data`` (hbar = 0.03, 0.02,
-0.014, 0.01 below E = 8). Chapter 11 reads the file and recomputes one window.
+0.014, 0.01 below E = 8). Chapter 11 reads the file and recomputes one window. Each
+row depends only on its hbar and window (the same seed for every row), so ``--hbar``
+recomputes the rows of a new spectrum and keeps the others: the same file as a full run.
 """
 
 from __future__ import annotations
 
+import json
 import sys
 import time
 from concurrent.futures import ProcessPoolExecutor
@@ -74,23 +78,46 @@ def _task(args):
 
 
 def main(argv=None) -> int:
-    args = arguments("quantum_statistics", __doc__, OUT, argv)
+    only = sys.argv[1:] if argv is None else list(argv)
+    hb = []
+    if "--hbar" in only:  # split off --hbar H ... before the shared arguments
+        k = only.index("--hbar")
+        while k + 1 < len(only) and not only[k + 1].startswith("--"):
+            hb.append(float(only.pop(k + 1)))
+        only.pop(k)
+        if not hb:
+            print(
+                "quantum_statistics: --hbar needs at least one value", file=sys.stderr
+            )
+            return 2
+    args = arguments("quantum_statistics", __doc__, OUT, only)
     if args is None:
         return 2
     t0 = time.perf_counter()
     regular = load_regular_fraction(ROOT / "book" / "data" / "regular_fraction.json")
     spectra = stored_spectra()
+    if any(not any(np.isclose(h, x) for x in spectra) for h in hb):
+        print(f"quantum_statistics: stored hbar are {list(spectra)}", file=sys.stderr)
+        return 2
+    keep = []
+    if hb:  # the rows of the other hbar, as the file has them
+        old = json.loads(args.out.read_text())["statistics"]
+        keep = [r for r in old if not any(np.isclose(r["hbar"], h) for h in hb)]
     tasks = [
         (h, lev, w, regular)
         for h, (E_max, lev) in spectra.items()
         for w in WINDOWS
-        if w[1] <= E_max + 1e-9
+        if w[1] <= E_max + 1e-9 and (not hb or any(np.isclose(h, x) for x in hb))
     ]
     if args.workers > 1:
         with ProcessPoolExecutor(args.workers) as ex:
-            rows = list(ex.map(_task, tasks))
+            new = list(ex.map(_task, tasks))
     else:
-        rows = [_task(t) for t in tasks]
+        new = [_task(t) for t in tasks]
+    order = {
+        (h, w): i for i, (h, w) in enumerate((h, w) for h in spectra for w in WINDOWS)
+    }
+    rows = sorted(keep + new, key=lambda r: order[(r["hbar"], (r["a"], r["b"]))])
     data = {
         "settings": SETTINGS,
         "windows": [list(w) for w in WINDOWS],

@@ -292,3 +292,20 @@ def test_classes_and_mirrors():
         qt.reflection_term(np.eye(3), (1,))
     with pytest.raises(ValueError):
         qg.sector_signal([], "X", 1.0, 0.1, 0.02, [1.0])
+
+
+def test_signal_on_a_uniform_grid_equals_the_direct_sum():
+    """The phases advanced by multiplication on a uniform grid of times (anchored every
+    64 steps) equal one exponential per term to 1e-13 of sum |w|, at the extremes: many
+    levels, long times (phases ~1e5 rad), and a grid that is not uniform (direct sum)."""
+    rng = np.random.default_rng(5)
+    E = np.sort(rng.uniform(4.0, 7.0, 20000))
+    h, E0, s = 0.01, 5.45, 0.3
+    t = np.linspace(1.0, 200.0, 700)  # uniform: the fast route
+    t_odd = t.copy()
+    t_odd[1] += 1e-9  # not uniform: the direct route, the same times but one
+    fast, direct = (qg.quantum_signal(E, E0, s, h, x) for x in (t, t_odd))
+    scale = math.sqrt(2 * math.pi) * h / s * np.exp(-0.5 * ((E - E0) / s) ** 2).sum()
+    keep = np.arange(len(t)) != 1
+    assert np.max(np.abs(fast[keep] - direct[keep])) < 1e-13 * scale
+    assert abs(fast[1] - direct[1]) > 1e-9 * abs(fast[1])  # the perturbed time differs

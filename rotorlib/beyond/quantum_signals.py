@@ -52,10 +52,36 @@ def quantum_signal(
     keep = w > 1e-17
     E, w = E[keep] - E0, w[keep]
     t = np.atleast_1d(np.asarray(t, float))
+    return math.sqrt(2.0 * math.pi) * h / s * _transform(E, w, t, h)
+
+
+#: On a uniform grid of times, the phases are advanced by one multiplication per step
+#: and recomputed exactly every ``_ANCHOR`` steps.
+_ANCHOR = 64
+
+
+def _transform(E: np.ndarray, w: np.ndarray, t: np.ndarray, h: float) -> np.ndarray:
+    """``sum_n w_n exp(-i E_n t_k / h)`` for every ``t_k``.
+
+    On a uniform grid (steps equal to 1e-12 relative) ``exp(-i E dt/h)`` advances the
+    phases from an exact exponential at every ``_ANCHOR``-th point: ~20 times faster
+    than an exponential per term, with a rounding error that grows by ~1e-16 per step
+    (below 1e-13 relative to ``sum |w|``; ``tests/test_quantum_trace.py``).
+    """
     out = np.empty(len(t), complex)
-    for i0 in range(0, len(t), 256):
-        out[i0 : i0 + 256] = np.exp(-1j * np.outer(t[i0 : i0 + 256], E) / h) @ w
-    return math.sqrt(2.0 * math.pi) * h / s * out
+    dt = np.diff(t)
+    if len(t) < 3 or np.any(np.abs(dt - dt[0]) > 1e-12 * abs(dt[0])):
+        for i0 in range(0, len(t), 256):
+            out[i0 : i0 + 256] = np.exp(-1j * np.outer(t[i0 : i0 + 256], E) / h) @ w
+        return out
+    step = np.exp(-1j * E * (dt[0] / h))
+    for i0 in range(0, len(t), _ANCHOR):
+        v = w * np.exp(-1j * E * (t[i0] / h))
+        out[i0] = v.sum()
+        for i in range(i0 + 1, min(i0 + _ANCHOR, len(t))):
+            v *= step
+            out[i] = v.sum()
+    return out
 
 
 def semiclassical_signal(
