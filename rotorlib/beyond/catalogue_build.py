@@ -38,10 +38,10 @@ from typing import Any
 from .atlas import E_DOMAIN
 from .catalogue_members import stored_members
 from .catalogue_tasks import (
-    _bar,
-    _execute,
+    execute_task,
     finished,
     near,
+    progress_bar,
     run_tasks,
     stored,
     task_key,
@@ -210,10 +210,10 @@ def wavefront(
             if hit:
                 continue
             if executor is None:
-                add(first, _execute(("follow", args[first], c)), True)
+                add(first, execute_task(("follow", args[first], c)), True)
                 continue
             for j in todo:
-                running[executor.submit(_execute, ("follow", args[j], c))] = j
+                running[executor.submit(execute_task, ("follow", args[j], c))] = j
             done, _ = wait(list(running), return_when=FIRST_COMPLETED)
             for fut in done:
                 j = running.pop(fut)
@@ -376,7 +376,7 @@ def build(
         }
 
     def follow(seeds, known, desc):
-        bar = _bar(len(seeds), desc, progress)
+        bar = progress_bar(len(seeds), desc, progress)
         try:
             got, n = wavefront(
                 seeds, follow_args, cache, executor, cpu["follow"], bar, known

@@ -105,7 +105,8 @@ def named_special_points(
     point of the same kind nearest it, ``missing`` the located points the record lacks
     (no point of the kind within ``1e-8``: a failure), ``not_located`` the record's
     points ``family`` does not locate (its branch stops before them, or does not pass
-    a fold: ``reason`` says why it stopped)."""
+    a fold: ``reason`` says why it stopped). A point counts as the record's when any
+    record of the same name has it (the census may give two records one name)."""
     from .catalogue import load
 
     out = []
@@ -130,10 +131,21 @@ def named_special_points(
             for p in b.special_points
             if p.member is not None and p.located and p.kind in kinds
         ]
-        ours = [(p["kind"], float(p["E"])) for p in pts if p["kind"] in kinds]
+        # the records the census names alike (one family the engine carried in two
+        # records, or twin branches of a pitchfork) share their points
+        ours = [
+            (p["kind"], float(p["E"]))
+            for g in load(path)
+            if g.name == f.name
+            for p in g.record["special_points"]
+            if p["kind"] in kinds
+        ]
 
         def gap(k, E, others):
-            return min((abs(E - e) for kk, e in others if kk == k), default=math.inf)
+            # an IS that ``family`` locates at a fold of the record: the record calls
+            # it a fold (tr M = 4 there), so a fold of the record matches it
+            same = ("IS", "fold") if k == "IS" else (k,)
+            return min((abs(E - e) for kk, e in others if kk in same), default=math.inf)
 
         d = [gap(k, E, ours) for k, E in theirs]
         out.append(

@@ -52,6 +52,8 @@ __all__ = [
     "TASKS",
     "near",
     "write_json",
+    "execute_task",
+    "progress_bar",
 ]
 
 #: The version of the task functions and of the file format (part of every task's key).
@@ -86,7 +88,7 @@ def write_json(path: Path, obj: Any) -> None:
     os.replace(tmp, path)  # atomic: the file is complete or absent
 
 
-def _execute(job: tuple) -> tuple[Any, float]:
+def execute_task(job: tuple) -> tuple[Any, float]:
     """One task: compute, then store ``{kind, args, result, cpu_s}`` under its key
     (``cpu_s``: the task's CPU seconds in its process); returns ``(result, cpu_s)``."""
     kind, args, cache = job
@@ -119,7 +121,8 @@ def finished(kind: str, args: dict, cache, out: tuple[Any, float]) -> None:
             write_json(p, rec)
 
 
-def _bar(total: int, desc: str, progress: bool):
+def progress_bar(total: int, desc: str, progress: bool):
+    """A tqdm progress bar on stderr (None without ``progress``, tqdm or with TQDM_DISABLE)."""
     if not progress or os.environ.get("TQDM_DISABLE"):
         return None
     try:
@@ -154,17 +157,17 @@ def run_tasks(
         if got is not None:
             done[key] = got
     todo = {key: job for key, job in zip(keys, jobs) if key not in done}
-    bar = _bar(len(todo), desc, progress)
+    bar = progress_bar(len(todo), desc, progress)
     c = None if cache is None else str(cache)
     try:
         if executor is None:
             for key, (k, a) in todo.items():
-                done[key] = _execute((k, a, c))
+                done[key] = execute_task((k, a, c))
                 if bar is not None:
                     bar.update()
         else:
             futs = {
-                executor.submit(_execute, (k, a, c)): key
+                executor.submit(execute_task, (k, a, c)): key
                 for key, (k, a) in todo.items()
             }
             try:
