@@ -110,7 +110,8 @@ def named_special_points(
     from .catalogue import load
 
     out = []
-    for f in load(path):
+    cat = load(path)
+    for f in cat:
         if not f.name or (names is not None and f.name not in names):
             continue
         pts = f.record["special_points"]
@@ -135,7 +136,7 @@ def named_special_points(
         # records, or twin branches of a pitchfork) share their points
         ours = [
             (p["kind"], float(p["E"]))
-            for g in load(path)
+            for g in cat
             if g.name == f.name
             for p in g.record["special_points"]
             if p["kind"] in kinds

@@ -239,11 +239,11 @@ def _member_rec(m, kind: str = "path") -> dict:
 def follow_task(args: dict) -> dict:
     """One census orbit (``args['seed']``) continued both ways in ``args['E_range']``
     (steps of at most ``args['step']`` in ``E``, ``T <= args['t_max']``), with a member
-    located at each of ``args['energies']``; the action of every located member."""
+    located at each of ``args['energies']`` (the action and Maslov index come with the
+    polish: :func:`rotorlib.beyond.catalogue_members.polish_task`)."""
     from ..core.flow import states_at
     from ..orbits.continuation import PALC, ContinuationOptions, continuation, member
     from ..orbits.shooting import residual
-    from .atlas import orbit_action
 
     o = args["seed"]
     prob = problem_of(o)
@@ -277,11 +277,8 @@ def follow_task(args: dict) -> dict:
             continue
         rec = _member_rec(p.member, p.kind)
         rec["index"] = idx
-        T = rec["period"]
-        rec["action"] = float(orbit_action(rec["x0"], T, rec["E"]))
         special.append(rec)
     seed = _member_rec(m0, "seed")
-    seed["action"] = float(orbit_action(seed["x0"], seed["period"], seed["E"]))
     x = states_at(seed["x0"], [0.0, seed["period"]])
     winding = [float(v) / (2 * math.pi) for v in (x[1] - x[0])[:2]]
     return {
