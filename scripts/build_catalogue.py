@@ -113,6 +113,12 @@ def main(argv=None) -> int:
         "families": len(cat["families"]),
     }
     cost["task_cpu_s"] = round(sum(v["cpu_s"] for v in cost["tasks"].values()), 1)
+    if any(n > r for n, r in cat["tasks"].values()):
+        # resumed: some results were read from the cache, so the wall time and the
+        # load of this invocation say nothing about the build's cost (its task CPU does)
+        for k in ("wall_s", "client_cpu_s", "load_average"):
+            cost.pop(k)
+        cost["resumed"] = True
     if not a.no_write:
         if not a.no_names:
             name_choreographies(cat)

@@ -14,6 +14,7 @@ from rotorlib.beyond import catalogue_tasks as ct
 from rotorlib.beyond.catalogue_build import (
     covers,
     default_max_steps,
+    drop_contained,
     on_family,
     special_points,
     wavefront,
@@ -296,4 +297,64 @@ def test_a_small_build_is_the_same_serially_and_on_2_workers(tmp_path):
         ]
 
     serial = fams(1)
-    assert len(serial) >= 2 and fams(2) == serial
+    # the pendulum, followed from E = 4.3 and from 4.4 (15 steps each): two records,
+    # of which the one that lies on the other is dropped, in both runs
+    assert len(serial) == 1 and fams(2) == serial
+
+
+def _curve(task, E0, E1, n, shift=0.0, seed_E=None):
+    """A family on T = 6 + (E - 5)^2, tr M = 2 + 10 (E - 5) (plus ``shift`` in T), its
+    path ``n`` members from ``E0`` to ``E1``."""
+
+    def m(E):
+        return {"E": E, "period": 6 + (E - 5) ** 2 + shift, "trace": 2 + 10 * (E - 5)}
+
+    path = [m(E0 + (E1 - E0) * k / (n - 1)) for k in range(n)]
+    return {
+        "task": task,
+        "seed": m(seed_E if seed_E is not None else (E0 + E1) / 2),
+        "path": path,
+    }
+
+
+def test_a_family_met_from_two_seeds_is_kept_once():
+    """F006 of the 5.3-6.2 build was F004's lower branch from another seed: the engine
+    stopped it early, so that its path lay on F004's. The longer is kept, whatever the
+    order; a family that shares one point with another (a bifurcation), one that lies
+    close but not on it (T 1e-4 apart), and one that runs past the other's end are
+    kept."""
+    long = _curve("long", 5.0, 6.0, 101)
+    short = _curve("short", 5.3, 5.7, 37)  # other members, same curve
+    assert [f["task"] for f in drop_contained([short, long])[0]] == ["long"]
+    kept, dropped = drop_contained([long, short])
+    assert [f["task"] for f in kept] == ["long"] and dropped == [("short", ["long"])]
+    near_by = _curve("near", 5.3, 5.7, 37, shift=6e-4)
+    past_end = _curve("past", 5.5, 6.3, 50)
+    touching = {
+        "task": "daughter",
+        "seed": {"E": 5.5, "period": 6.25, "trace": 7.0},
+        "path": [
+            {"E": 5.5 - 0.01 * k, "period": 6.25 + 0.05 * k, "trace": 7.0 - 0.3 * k}
+            for k in range(30)
+        ],
+    }
+    kept, dropped = drop_contained([long, near_by, past_end, touching])
+    assert {f["task"] for f in kept} == {"long", "near", "past", "daughter"}
+    assert dropped == []
+
+
+def test_a_record_that_bridges_two_others_is_the_one_dropped():
+    """The CG family of the whole-axis build: the engine stops two records at E = 4.5
+    (0.1-4.5 and 4.5-5.3), and a third, from a seed at E = 4, runs 4-5.3 across it.
+    The bridge is dropped, not the shorter part (which would leave 4-4.5 twice); the
+    probes near a separatrix that the interpolation misses (``share``) do not save a
+    part."""
+    low = _curve("low", 4.0, 5.0, 101)
+    high = _curve("high", 5.0, 5.6, 31)
+    bridge = _curve("bridge", 4.6, 5.5, 60)
+    kept, dropped = drop_contained([low, high, bridge])
+    assert [f["task"] for f in kept] == ["low", "high"]
+    assert [(t, sorted(h)) for t, h in dropped] == [("bridge", ["high", "low"])]
+    part = _curve("part", 4.2, 4.8, 40)
+    part["path"][5] = dict(part["path"][5], period=part["path"][5]["period"] + 0.01)
+    assert drop_contained([low, part])[1] == [("part", ["low"])]

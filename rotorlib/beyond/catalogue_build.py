@@ -47,7 +47,14 @@ from .catalogue_tasks import (
     task_key,
 )
 
-__all__ = ["covers", "on_family", "wavefront", "special_points", "build"]
+__all__ = [
+    "covers",
+    "on_family",
+    "drop_contained",
+    "wavefront",
+    "special_points",
+    "build",
+]
 
 
 def covers(fam: dict, orb: dict) -> bool:
@@ -116,6 +123,102 @@ def on_family(fam: dict, orb: dict, rel_T: float = 2e-6, tol_tr: float = 2e-3) -
         ):
             return True
     return False
+
+
+def _probes(f: dict, samples: int) -> list[dict]:
+    """The seed and ``samples`` members spread along the path (not its two ends: the
+    first member past ``T_max`` or the window, which another path need not reach)."""
+    pts = f["path"][1:-1]
+    n = len(pts)
+    idx = sorted({round(k * (n - 1) / max(1, samples - 1)) for k in range(samples)})
+    return [f["seed"], *(pts[k] for k in idx)] if n else [f["seed"]]
+
+
+def drop_contained(
+    fams: list[dict],
+    samples: int = 24,
+    rel_T: float = 2e-5,
+    tol_tr: float = 5e-3,
+    share: float = 0.75,
+) -> tuple[list[dict], list]:
+    """The families with those removed whose path lies on the paths of the others: one
+    family met from two seeds, one record carried only part of the way (the engine
+    stopped early), or a record that bridges two others (the engine carried it across
+    an energy where it stopped the other two).
+
+    A family's probes are its seed and ``samples`` members spread along its path (not
+    its two ends: the first member past ``T_max`` or the window, which the other path
+    need not reach). A probe lies on a family when :func:`on_family` says so with the
+    period to ``rel_T`` and ``tr M`` to ``tol_tr`` relative: looser than for a census
+    orbit, because both paths are interpolated between steps of ~0.01 in ``E``, ~1e-6 in
+    ``T`` where ``T(E)`` is steep, and more near a separatrix, where ``T`` diverges, and
+    beside a fold, where ``E`` is not a parameter of the path (a quarter of the probes of
+    the CG record that crosses its fold at E = 5.3153 fail there): hence ``share``, the
+    fraction of probes that must lie on the others. Two different
+    families agree that closely only at a point or along a short stretch (a bifurcation,
+    a crossing), and such a family is kept.
+
+    Repeatedly, of the families whose probes lie (``share`` of them) on the remaining
+    others, the one that needs the most others to hold them (a bridge before a part),
+    then the one with the shortest path, is dropped. Returns ``(kept, dropped)``,
+    ``dropped`` as ``(task of the dropped, [tasks of the families that hold it])``.
+
+    >>> a = {"task": "a", "seed": {"E": 1.5, "period": 3.0, "trace": 1.0},
+    ...      "path": [{"E": 1 + k / 10, "period": 2 + k / 5, "trace": 1.0}
+    ...               for k in range(11)]}
+    >>> b = {"task": "b", "seed": {"E": 1.25, "period": 2.5, "trace": 1.0},
+    ...      "path": [{"E": 1.2 + k / 20, "period": 2.4 + k / 10, "trace": 1.0}
+    ...               for k in range(5)]}
+    >>> kept, dropped = drop_contained([b, a])
+    >>> [f["task"] for f in kept], dropped
+    (['a'], [('b', ['a'])])
+    """
+    probes = [_probes(f, samples) for f in fams]
+    span = [
+        (min(m["E"] for m in f["path"]), max(m["E"] for m in f["path"]))
+        if f["path"]
+        else (math.inf, -math.inf)
+        for f in fams
+    ]
+    # on[i][j]: the probes of family i that lie on family j
+    on: list[dict[int, frozenset[int]]] = []
+    for i, pr in enumerate(probes):
+        row = {}
+        for j, g in enumerate(fams):
+            if j == i or not g["path"]:
+                continue
+            lo, hi = span[j]
+            hit = frozenset(
+                k
+                for k, m in enumerate(pr)
+                if lo <= m["E"] <= hi and on_family(g, m, rel_T, tol_tr)
+            )
+            if hit:
+                row[j] = hit
+        on.append(row)
+    alive = set(range(len(fams)))
+    dropped: list[tuple[Any, list]] = []
+    while True:
+        best = None
+        for i in sorted(alive):
+            hosts = {j: h for j, h in on[i].items() if j in alive}
+            held = frozenset().union(*hosts.values()) if hosts else frozenset()
+            if len(held) < share * len(probes[i]):
+                continue
+            cover, left = [], set(held)  # greedy: the others that hold its probes
+            while left:
+                j = max(hosts, key=lambda j: (len(hosts[j] & left), -j))
+                cover.append(j)
+                left -= hosts[j]
+            key = (len(cover), -len(fams[i]["path"]), -i)
+            if best is None or key > best[0]:
+                best = (key, i, cover)
+        if best is None:
+            break
+        _, i, cover = best
+        alive.discard(i)
+        dropped.append((fams[i].get("task"), [fams[j].get("task") for j in cover]))
+    return [f for i, f in enumerate(fams) if i in alive], dropped
 
 
 def _slots(executor: Executor | None) -> int:
@@ -430,6 +533,10 @@ def build(
         fams += new
         if not new:
             break
+    # one family met from two seeds: keep the one that carries the other's whole path
+    fams, dup = drop_contained(fams)
+    if dup:
+        say(f"{len(dup)} families lay on another's path and were dropped")
     for f in fams:
         f.pop("_by_E", None)
     # each census orbit in exactly one family: the first that covers it
@@ -439,6 +546,8 @@ def build(
     for E in grid_E:
         for o in censuses[E]:
             f = next((f for f in fams if covers(f, o)), None)
+            if f is None:  # its own follow was dropped, and no step lands on its E
+                f = next((f for f in fams if on_family(f, o)), None)
             (orphans if f is None else f["census"]).append(o)
     for f in fams:
         f.pop("_by_E", None)

@@ -100,13 +100,17 @@ def named_special_points(
     special points (IS, PD, folds) ``family`` locates against the record's.
 
     Returns ``[{'id', 'name', 'label', 'points', 'located', 'worst', 'missing',
-    'not_located', 'reason'}]``: ``points`` the record's, ``located`` those ``family``
+    'not_located', 'not_compared', 'reason'}]``: ``points`` the record's, ``located`` those ``family``
     locates, ``worst`` the largest ``|dE|`` between a located point and the record's
     point of the same kind nearest it, ``missing`` the located points the record lacks
     (no point of the kind within ``1e-8``: a failure), ``not_located`` the record's
     points ``family`` does not locate (its branch stops before them, or does not pass
     a fold: ``reason`` says why it stopped). A point counts as the record's when any
-    record of the same name has it (the census may give two records one name)."""
+    record of the same name has it (the census may give two records one name).
+    ``not_compared``: the points ``family`` locates where the record cannot have them,
+    ``(kind, E, period, tr M)``: above the catalogue's ``T_max``, or not a root at all
+    (``tr M`` far from its level: a sign change through a pole, as ``family("PD^r_2")``
+    gives within 5e-8 of the separatrix E = 4.5, where ``tr M ~ 1e14`` and ``T > 30``)."""
     from .catalogue import load
 
     out = []
@@ -127,10 +131,25 @@ def named_special_points(
         if b is None:
             continue
         kinds = ("IS", "PD", "fold")
-        theirs = [
-            (p.kind, float(p.member.E))
+        level = {"IS": 4.0, "fold": 4.0, "PD": 0.0}
+        t_max = float(cat.index["t_max"])
+        located = [
+            p
             for p in b.special_points
             if p.member is not None and p.located and p.kind in kinds
+        ]
+        # the record stops at T_max, and a sign change of tr M - 4 through a pole (the
+        # family running into a separatrix, tr M ~ 1e14) is not a special point
+        theirs = [
+            (p.kind, float(p.member.E))
+            for p in located
+            if float(p.member.period) <= t_max
+            and abs(float(p.member.trace) - level[p.kind]) < 1e-3
+        ]
+        beyond = [
+            (p.kind, float(p.member.E), float(p.member.period), float(p.member.trace))
+            for p in located
+            if (p.kind, float(p.member.E)) not in theirs
         ]
         # the records the census names alike (one family the engine carried in two
         # records, or twin branches of a pitchfork) share their points
@@ -159,6 +178,7 @@ def named_special_points(
                 "worst": max([x for x in d if x <= 1e-8], default=0.0),
                 "missing": [(k, E, x) for (k, E), x in zip(theirs, d) if x > 1e-8],
                 "not_located": [(k, E) for k, E in ours if gap(k, E, theirs) > 1e-8],
+                "not_compared": beyond,
                 "reason": b.reason,
             }
         )

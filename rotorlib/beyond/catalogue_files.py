@@ -117,9 +117,14 @@ def _end(f: dict, side: int, lo: float, hi: float) -> dict:
         )
     elif joined := [j for j in f.get("joins", ()) if j["side"] == (0 if i == 0 else 1)]:
         kind = END_KINDS["stuck"]
-        reason = (
-            f"{reason}; the family goes on as {joined[0]['id']} (the same orbit at "
-            f"E = {m['E']:.10g}: the engine does not carry it across this energy)"
+        j = joined[0]
+        reason = f"{reason}; the family goes on as {j['id']} " + (
+            f"(the same orbit at E = {m['E']:.10g}: the engine does not carry it "
+            "across this energy)"
+            if "gap" not in j
+            else f"(whose record stops {j['gap']:.1e} away in E, with the same "
+            "period to 1e-3 and tr M to 1e-2: the engine crossed the gap from "
+            "neither side)"
         )
     elif near_sep and (
         m["E"] < 0.05 or max(abs(v) for v in m.get("x0", [1.0] * 4)[2:]) < 0.05
@@ -191,9 +196,12 @@ def _at(g: dict, E: float, dE: float = 1e-3) -> list[tuple[float, float]]:
 
 def _joins(fams: list[dict]) -> None:
     """``f['joins']``: the families whose path ends where one of ``f``'s ends (an engine
-    stop) with the same orbit (``E`` to 1e-6, the period to 1e-6 relative, ``state0``
-    to 1e-5): one family that the engine could not carry across an energy (its
-    shooting problem's start set changes at 4 and 4.5)."""
+    stop) with the same orbit up to the symmetries (``E`` to 1e-6, the period to 1e-6
+    relative, ``tr M`` to 1e-4 relative; the two records may start it on different
+    fixed sets): one family that the engine could not carry across an energy (its
+    shooting problem's start set changes at 4 and 4.5). Also two records that both
+    stop (``stuck``) facing each other across a gap (``E`` to 1e-3, the period to 1e-3,
+    ``tr M`` to 1e-2 relative), with the ``gap`` in ``E``."""
     for f in fams:
         f["joins"] = []
     for f in fams:
@@ -204,13 +212,28 @@ def _joins(fams: list[dict]) -> None:
             for g in fams:
                 if g is f:
                     continue
-                for q in (g["path"][0], g["path"][-1]):
+                for gs, q in enumerate((g["path"][0], g["path"][-1])):
                     if (
                         abs(q["E"] - m["E"]) < 1e-6
                         and near(q["period"], m["period"], 1e-6)
-                        and max(abs(a - b) for a, b in zip(q["x0"], m["x0"])) < 1e-5
+                        and near(q["trace"], m["trace"], 1e-4)
                     ):
                         f["joins"].append({"id": g["id"], "E": m["E"], "side": side})
+                    elif (  # both stopped, facing each other across a small gap
+                        "ends" in g
+                        and g["ends"][gs]["stop"] in ("stuck", "section lost")
+                        and abs(q["E"] - m["E"]) < 1e-3
+                        and near(q["period"], m["period"], 1e-3)
+                        and near(q["trace"], m["trace"], 1e-2)
+                    ):
+                        f["joins"].append(
+                            {
+                                "id": g["id"],
+                                "E": m["E"],
+                                "side": side,
+                                "gap": abs(q["E"] - m["E"]),
+                            }
+                        )
 
 
 def _links(fams: list[dict]) -> None:
@@ -242,6 +265,43 @@ def _links(fams: list[dict]) -> None:
                     link = {"kind": p["kind"], "E": p["E"]}
                     f["daughters"].append({"id": g["id"], **link})
                     g["parents"].append({"id": f["id"], **link})
+                    if n == 1:
+                        _touch(g, p, f["id"])
+
+
+def _touch(g: dict, p: dict, via: str) -> None:
+    """Record on ``g`` the ``touch`` of ``tr M = 4`` at the IS point ``p`` of its link
+    (``via``), where ``g``'s path passes through the point's energy without a special
+    point of its own: ``tr M - 4`` vanishes there to second order (a pitchfork: the
+    symmetric family touches 4 while the other crosses it), so that no sign change
+    shows it, and the Maslov index changes by 2 across it (the multipliers pass through
+    1 along the unit circle). Located through the crossing family's root (``E`` to
+    ~1e-12); ``period`` and ``tr M`` interpolated on ``g``'s path."""
+    E = p["E"]
+    path = g["path"]
+    if any(abs(q["E"] - E) < 1e-6 for q in g["special"]):
+        return
+    for i in range(len(path) - 1):
+        a, b = path[i], path[i + 1]
+        if not (min(a["E"], b["E"]) < E < max(a["E"], b["E"])):
+            continue
+        t = (E - a["E"]) / (b["E"] - a["E"])
+        T = a["period"] + t * (b["period"] - a["period"])
+        tr = a["trace"] + t * (b["trace"] - a["trace"])
+        if near(T, p["period"], 1e-3) and abs(tr - 4) < 0.05:
+            g["special"].append(
+                {
+                    "kind": "touch",
+                    "E": E,
+                    "period": T,
+                    "trace": tr,
+                    "index": i,
+                    "level": 4.0,
+                    "via": via,
+                }
+            )
+            g["special"].sort(key=lambda q: q["index"])
+            return
 
 
 def write(cat: dict, out: str | os.PathLike, schema: dict) -> dict:
@@ -286,6 +346,15 @@ def write(cat: dict, out: str | os.PathLike, schema: dict) -> dict:
                 p = {
                     **p,
                     **phase_data(p["state0_str"], p["period_str"], p["trace_str"]),
+                }
+            if m["kind"] in ("IS", "fold") and p["maslov"] is not None:
+                # tr M = 4 there; its float64 location leaves tr M ~1e-6 from 4 beside
+                # a fold (tr M - 4 ~ sqrt(E_f - E)), where phase_data's test misses it
+                p = {
+                    **p,
+                    "maslov": None,
+                    "maslov_reason": f"marginal orbit (a located {m['kind']} point, "
+                    "tr M = 4): no Maslov index",
                 }
             members.append(
                 {
@@ -344,7 +413,7 @@ def write(cat: dict, out: str | os.PathLike, schema: dict) -> dict:
                 ],
             },
         }
-        write_json(out / f"{f['id']}.json", rec)
+        write_json(out / f"{f['id']}.json", rec, rows=True)
         index.append(
             {
                 k: rec[k]

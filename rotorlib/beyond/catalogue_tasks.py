@@ -29,6 +29,7 @@ import hashlib
 import json
 import math
 import os
+import re
 import sys
 import time
 from collections.abc import Sequence
@@ -42,6 +43,7 @@ from .catalogue_members import polish_task, problem_of
 
 __all__ = [
     "VERSION",
+    "KIND_REVISION",
     "task_key",
     "run_tasks",
     "census_task",
@@ -58,6 +60,9 @@ __all__ = [
 
 #: The version of the task functions and of the file format (part of every task's key).
 VERSION = 1
+#: Revisions of single task kinds, so that a fix to one kind invalidates only its own
+#: cached results (polish 2: the period factor is the exact rational, not its float).
+KIND_REVISION = {"polish": 2}
 
 #: Why a family's record ends, from the engine's stop code (``E range``: see ``_end``).
 
@@ -72,19 +77,51 @@ def near(a: float, b: float, rel: float) -> bool:
 
 
 def task_key(kind: str, args: dict) -> str:
-    """The hash of a task's inputs (sha256 of its canonical JSON, with :data:`VERSION`).
+    """The hash of a task's inputs (sha256 of its canonical JSON, with :data:`VERSION`
+    and the kind's :data:`KIND_REVISION`, if it has one).
 
     >>> task_key("census", {"E": 5.45, "t_max": 8.0, "grid": 300})[:12]
     'c9c757c3cccf'
     """
-    text = json.dumps({"v": VERSION, "kind": kind, "args": args}, sort_keys=True)
+    head: dict[str, Any] = {"v": VERSION, "kind": kind, "args": args}
+    if kind in KIND_REVISION:
+        head["rev"] = KIND_REVISION[kind]
+    text = json.dumps(head, sort_keys=True)
     return hashlib.sha256(text.encode()).hexdigest()[:32]
 
 
-def write_json(path: Path, obj: Any) -> None:
-    """Write ``obj`` as JSON to ``path`` atomically (a temporary file renamed)."""
+#: A JSON array of numbers, strings, booleans or nulls, as ``json.dumps(indent=1)``
+#: writes it (one item per line).
+_FLAT_ARRAY = re.compile(r'\[\n\s*((?:[-+\w.":, ]+,\n\s*)*[-+\w.":, ]+)\n\s*\]')
+
+
+def write_json(path: Path, obj: Any, rows: bool = False) -> None:
+    """Write ``obj`` as JSON to ``path`` atomically (a temporary file renamed).
+
+    ``rows``: each array of scalars on one line (a family's path, a member's state):
+    a third smaller than one item per line, and as readable.
+
+    >>> import tempfile
+    >>> p = Path(tempfile.mkdtemp()) / "x.json"
+    >>> write_json(p, {"path": [[1.5, -2e-3], [3, 4]], "name": "a, b"}, rows=True)
+    >>> print(p.read_text())
+    {
+     "path": [
+      [1.5, -0.002],
+      [3, 4]
+     ],
+     "name": "a, b"
+    }
+    >>> json.loads(p.read_text())["path"][0]
+    [1.5, -0.002]
+    """
+    text = json.dumps(obj, indent=1)
+    if rows:
+        text = _FLAT_ARRAY.sub(
+            lambda m: "[" + re.sub(r",\n\s*", ", ", m.group(1)) + "]", text
+        )
     tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-    tmp.write_text(json.dumps(obj, indent=1))
+    tmp.write_text(text)
     os.replace(tmp, path)  # atomic: the file is complete or absent
 
 

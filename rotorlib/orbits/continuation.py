@@ -462,7 +462,9 @@ def _events(problem, t, branch_members, opts, alg):
     """Special points between consecutive members: a secant on the local parameter for the
     zeros of ``E - E_target`` and ``tr M - 4``, ``tr M``; bounded Brent for the folds of
     ``E`` (``E`` to ~1e-15: the extremum is quadratic). A point that cannot be located (the
-    orbit stops reaching its section there) is kept unlocated."""
+    orbit stops reaching its section there) is kept unlocated; a sign change where the
+    located ``|g|`` is not below ``1e-6`` of its values at the two members (a root's is
+    ~1e-14 of them) is a pole of ``tr M``, not a root, and is dropped."""
     from scipy.optimize import minimize_scalar
 
     pal = alg if isinstance(alg, PALC) else PALC()
@@ -483,10 +485,15 @@ def _events(problem, t, branch_members, opts, alg):
                     continue
                 try:
                     at, vb = _between(problem, t, pal, branch_members, k - 1, k, opts)
+                    m = illinois(g, at, vb, g(a), g(b), tol)
+                    if abs(g(m)) > 1e-6 * max(abs(g(a)), abs(g(b))):
+                        # not a root: the sign changed through a pole of tr M (the
+                        # family running into a separatrix, tr M ~ 1e14 there)
+                        continue
                     out.append(
                         SpecialPoint(
                             kind,
-                            illinois(g, at, vb, g(a), g(b), tol),
+                            m,
                             k - 1,
                             f"Illinois between two members (to {float(tol):.0e}, {t.name})",
                         )
