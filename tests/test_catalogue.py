@@ -22,7 +22,7 @@ from rotorlib.beyond.catalogue_build import build, covers
 from rotorlib.beyond.catalogue_checks import held_back, named_special_points, validate
 from rotorlib.beyond.catalogue_files import COLUMNS, write
 from rotorlib.beyond.catalogue_members import local_interpolant, stored_members
-from rotorlib.beyond.catalogue_tasks import follow_task, run_tasks
+from rotorlib.beyond.catalogue_tasks import census_task, follow_task, run_tasks
 from rotorlib.cli import main
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -240,6 +240,27 @@ def test_a_family_rebuilt_is_the_stored_one():
     )
     Es = sorted(m["E"] for m in res["path"])
     assert abs(Es[0] - r["E_range"][0]) < 0.02 and abs(Es[-1] - r["E_range"][1]) < 0.02
+
+
+def test_an_energy_slice_rebuilt_is_the_stored_one():
+    """The census of the build at one of its energies (E = 6.2: eight orbits, T <= 8)
+    re-run: the same orbits as the families' stored census orbits there (period to
+    1e-10 relative, tr M to 1e-6), each the member of its family at that energy."""
+    E = 6.2
+    assert E in CAT.index["census_energies"]
+    got = census_task({"E": E, "t_max": CAT.index["t_max"], "grid": CAT.index["grid"]})
+    stored = sorted(
+        (o["period"], o["trace"], r["id"])
+        for r in RECORDS
+        for o in r["census_orbits"]
+        if o["E"] == E
+    )
+    got_pt = sorted((o["period"], o["trace"]) for o in got)
+    assert len(got_pt) == len(stored) >= 5
+    for (T, tr), (Ts, trs, fid) in zip(got_pt, stored):
+        assert abs(T / Ts - 1) < 1e-10 and abs(tr - trs) < 1e-6 * max(1, abs(trs)), fid
+        m = CAT.family(fid).members_at(repr(E))
+        assert any(abs(float(x.period) / Ts - 1) < 1e-8 for x in m), fid
 
 
 def test_loader_filters_and_branch():

@@ -447,14 +447,10 @@ def illinois(
         if gc == 0 or (last is not None and abs(c - last) <= tol * abs(vb)):
             return m
         last = c
-        if (gc > 0) == (gb > 0):
-            b, gb = c, gc
-            ga = ga / 2 if side == -1 else ga
-            side = -1
+        if (gc > 0) == (gb > 0):  # the end kept twice running is halved (Illinois)
+            b, gb, ga, side = c, gc, ga / 2 if side == -1 else ga, -1
         else:
-            a, ga = c, gc
-            gb = gb / 2 if side == 1 else gb
-            side = 1
+            a, ga, gb, side = c, gc, gb / 2 if side == 1 else gb, 1
     return m
 
 
@@ -463,8 +459,9 @@ def _events(problem, t, branch_members, opts, alg):
     zeros of ``E - E_target`` and ``tr M - 4``, ``tr M``; bounded Brent for the folds of
     ``E`` (``E`` to ~1e-15: the extremum is quadratic). A point that cannot be located (the
     orbit stops reaching its section there) is kept unlocated; a sign change where the
-    located ``|g|`` is not below ``1e-6`` of its values at the two members (a root's is
-    ~1e-14 of them) is a pole of ``tr M``, not a root, and is dropped."""
+    located ``|g|`` exceeds 1 and ``1e-6`` of its values at the two members (a root's is
+    ~1e-14 of them) is a pole of ``tr M`` (``~1e14`` beside a separatrix), not a root,
+    and is dropped."""
     from scipy.optimize import minimize_scalar
 
     pal = alg if isinstance(alg, PALC) else PALC()
@@ -486,18 +483,11 @@ def _events(problem, t, branch_members, opts, alg):
                 try:
                     at, vb = _between(problem, t, pal, branch_members, k - 1, k, opts)
                     m = illinois(g, at, vb, g(a), g(b), tol)
-                    if abs(g(m)) > 1e-6 * max(abs(g(a)), abs(g(b))):
-                        # not a root: the sign changed through a pole of tr M (the
-                        # family running into a separatrix, tr M ~ 1e14 there)
-                        continue
-                    out.append(
-                        SpecialPoint(
-                            kind,
-                            m,
-                            k - 1,
-                            f"Illinois between two members (to {float(tol):.0e}, {t.name})",
+                    if abs(g(m)) <= max(1, 1e-6 * max(abs(g(a)), abs(g(b)))):
+                        why = "Illinois between two members" + (
+                            f" (to {float(tol):.0e}, {t.name})"
                         )
-                    )
+                        out.append(SpecialPoint(kind, m, k - 1, why))  # else a pole
                 except (SectionNotReached, ValueError):
                     out.append(SpecialPoint(kind, b, k - 1, None))
             if opts.folds and k < len(branch_members) - 1:
