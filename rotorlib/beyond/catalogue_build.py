@@ -9,6 +9,11 @@ orbits changes between neighbours (a family born or dying between them), then:
   family found twice (two seeds of one family in flight) is kept from the seed that comes
   first, so that the families do not depend on timing or on the number of workers; each
   census orbit belongs to exactly one family (the first that covers it);
+* **spaces the grid by the families' speed** (:func:`by_speed`): a census between two
+  grid energies wherever a followed family's period changes by more than ``speed``
+  (10 %) over the interval (near the separatrices, beside folds); its orbits that lie on
+  no family (:func:`on_family`, period to 2e-5) are followed as new seeds (the follows
+  keep landing on the first grid, so that their cached results stay valid);
 * classifies the special points (:func:`special_points`: a fold's own ``tr M = 4`` is the
   fold; ``tr M`` reaching 4 or 0 without a change of stability is a ``touch``);
 * **switches branches** at every located ``IS`` (``PD``) point of period ``T_b`` inside the
@@ -48,6 +53,7 @@ from .catalogue_tasks import (
 )
 
 __all__ = [
+    "by_speed",
     "covers",
     "on_family",
     "drop_contained",
@@ -63,6 +69,8 @@ def covers(fam: dict, orb: dict) -> bool:
     by a ``switch`` task (off the census energies, key ``via``) is tested with
     :func:`on_family` instead."""
     if "via" in orb:
+        if orb["via"] == ["speed"]:  # a census off the follows' energies (see build)
+            return on_family(fam, orb, 2e-5, 5e-3)
         return on_family(fam, orb)
     for m in _at_energies(fam).get(round(orb["E"], 9), ()):
         if (
@@ -345,6 +353,30 @@ def _refine(censuses: dict, depth: int) -> list[float]:
     ]
 
 
+def by_speed(
+    fams: Sequence[dict], grid_E: Sequence[float], rel: float = 0.1, split: int = 4
+) -> list[float]:
+    """Energies that space the census grid by the families' own speed in ``E``: each
+    interval of ``grid_E`` over which a family's period changes by more than ``rel``
+    (relative: ``max T / min T - 1`` over its path members in the interval, a fold's two
+    branches included) is cut into ``ceil(change / rel)`` equal parts, at most ``split``.
+
+    >>> f = {"path": [{"E": 1 + k / 100, "period": 1 + k / 20} for k in range(101)]}
+    >>> by_speed([f], [1.0, 1.5, 2.0], rel=1.0)  # T: 1 to 3.5, then 3.5 to 6
+    [1.166666666667, 1.333333333333]
+    """
+    out = []
+    for a, b in zip(grid_E, grid_E[1:]):
+        change = 0.0
+        for f in fams:
+            Ts = [m["period"] for m in f["path"] if a <= m["E"] <= b]
+            if len(Ts) >= 2:
+                change = max(change, max(Ts) / min(Ts) - 1)
+        n = min(split, math.ceil(change / rel)) if change > rel else 1
+        out += [round(a + (b - a) * k / n, 12) for k in range(1, n)]
+    return out
+
+
 def special_points(f: dict) -> list[dict]:
     """The located special points of a followed family, classified: an ``IS`` point at a
     fold of the same family (within 1e-6 in ``E`` and one member: ``tr M = 4`` at a
@@ -426,6 +458,7 @@ def build(
     progress: bool = False,
     log=None,
     switch: int = 2,
+    speed: float = 0.1,
 ) -> dict:
     """The catalogue of the families met by censuses at ``energies`` (the build window is
     their range), ``T <= t_max``: ``{'families': [...], 'censuses': {E: [...]},
@@ -433,7 +466,9 @@ def build(
 
     ``max_steps`` (per direction; default: enough for a family that spans the window in
     steps of ``step`` in ``E``, the engine's steps being relative to ``E``);
-    ``switch``: rounds of branch switching (``0``: none). See the module docstring."""
+    ``switch``: rounds of branch switching (``0``: none); ``speed``: the relative
+    period change that a census interval may hold (:func:`by_speed`; ``0``: none).
+    See the module docstring."""
     energies = sorted(float(e) for e in energies)
     if not energies or energies[0] <= 0 or energies[-1] > 8:
         raise ValueError(f"energies must lie in 0 < E <= 8, got {energies!r}")
@@ -467,6 +502,7 @@ def build(
         say(f"refine {level + 1}: census at {extra}")
         censuses.update(do_census(extra))
     grid_E = sorted(censuses)
+    follow_E = list(grid_E)  # the energies every follow lands on (its task key)
 
     def follow_args(o):
         return {
@@ -474,7 +510,7 @@ def build(
             "E_range": [lo, hi],
             "t_max": t_max,
             "step": step,
-            "energies": grid_E,
+            "energies": follow_E,
             **({} if max_steps == 600 else {"max_steps": max_steps}),
         }
 
@@ -496,6 +532,23 @@ def build(
     for f in fams:
         f["special"] = special_points(f)
     say(f"{len(seeds)} census orbits, {len(fams)} families")
+    if speed:  # the grid spaced by the families' speed: censuses between, new seeds
+        extra = [E for E in by_speed(fams, grid_E, speed) if E not in censuses]
+        got = do_census(extra)
+        for E in extra:
+            censuses[E] = [dict(o, via=["speed"]) for o in got[E]]
+        grid_E = sorted(censuses)
+        fresh = [
+            o for E in extra for o in censuses[E] if not any(covers(f, o) for f in fams)
+        ]
+        new = follow(fresh, fams, "speed") if fresh else []
+        for f in new:
+            f["special"] = special_points(f)
+        say(
+            f"spaced by speed: census at {len(extra)} energies, {len(fresh)} orbits "
+            f"on no family, {len(new)} new families"
+        )
+        fams += new
     new = fams
     for rnd in range(switch):
         jobs, owners = [], []
@@ -534,9 +587,12 @@ def build(
         if not new:
             break
     # one family met from two seeds: keep the one that carries the other's whole path
+    seeded = {(f["seed"]["E"], f["seed"]["period"]): f.get("task") for f in fams}
     fams, dup = drop_contained(fams)
     if dup:
         say(f"{len(dup)} families lay on another's path and were dropped")
+    host = {t: hs[0] for t, hs in dup}
+    by_task = {f.get("task"): f for f in fams}
     for f in fams:
         f.pop("_by_E", None)
     # each census orbit in exactly one family: the first that covers it
@@ -548,6 +604,11 @@ def build(
             f = next((f for f in fams if covers(f, o)), None)
             if f is None:  # its own follow was dropped, and no step lands on its E
                 f = next((f for f in fams if on_family(f, o)), None)
+            if f is None:  # where T(E) is too steep to interpolate: the dropped
+                t = seeded.get((o["E"], o["period"]))  # follow's host holds it
+                while t in host:
+                    t = host[t]
+                f = by_task.get(t) if t is not None else None
             (orphans if f is None else f["census"]).append(o)
     for f in fams:
         f.pop("_by_E", None)
