@@ -527,6 +527,13 @@ def build(
         ran["follow"][1] += n
         return got
 
+    def grow(fresh, desc):
+        """The new families followed from ``fresh`` (known: ``fams``), classified."""
+        new = follow(fresh, fams, desc) if fresh else []
+        for f in new:
+            f["special"] = special_points(f)
+        return new
+
     seeds = [o for E in grid_E for o in censuses[E]]
     fams = follow(seeds, (), "follow")
     for f in fams:
@@ -541,9 +548,7 @@ def build(
         fresh = [
             o for E in extra for o in censuses[E] if not any(covers(f, o) for f in fams)
         ]
-        new = follow(fresh, fams, "speed") if fresh else []
-        for f in new:
-            f["special"] = special_points(f)
+        new = grow(fresh, "speed")
         say(
             f"spaced by speed: census at {len(extra)} energies, {len(fresh)} orbits "
             f"on no family, {len(new)} new families"
@@ -576,9 +581,7 @@ def build(
                 for r in (2, 3)
             )  # a parent traversed twice (three times) is not a daughter
         ]
-        new = follow(fresh, fams, f"daughters {rnd + 1}") if fresh else []
-        for f in new:
-            f["special"] = special_points(f)
+        new = grow(fresh, f"daughters {rnd + 1}")
         say(
             f"switch {rnd + 1}: {len(jobs)} points, {len(fresh)} new orbits, "
             f"{len(new)} new families"
