@@ -177,19 +177,28 @@ def _stable_windows(f: dict) -> list[list[float]]:
     return merged
 
 
+def _brackets(path: list[dict], E: float, strict: bool = False):
+    """``(i, period, tr M)`` at energy ``E`` on each pair of consecutive path members
+    ``i, i + 1`` that bracket it (``strict``: ``E`` strictly between them), interpolated
+    linearly."""
+    for i, (a, b) in enumerate(zip(path, path[1:])):
+        lo, hi = sorted((a["E"], b["E"]))
+        if (lo < E < hi) if strict else (lo <= E <= hi and lo != hi):
+            t = (E - a["E"]) / (b["E"] - a["E"])
+            T = a["period"] + t * (b["period"] - a["period"])
+            yield i, T, a["trace"] + t * (b["trace"] - a["trace"])
+
+
 def _at(g: dict, E: float, dE: float = 1e-3) -> list[tuple[float, float]]:
     """``(period, tr M)`` of family ``g`` at energy ``E``: interpolated (linearly) on each
     pair of consecutive path members that bracket ``E``, and at its path members and
     located points within ``dE`` of ``E`` (a daughter born at a fold that the engine did
     not locate has its nearest member ``~ (du)^2`` away)."""
-    path, out = g["path"], []
-    for a, b in zip(path, path[1:]):
-        if min(a["E"], b["E"]) <= E <= max(a["E"], b["E"]) and a["E"] != b["E"]:
-            t = (E - a["E"]) / (b["E"] - a["E"])
-            T = a["period"] + t * (b["period"] - a["period"])
-            out.append((T, a["trace"] + t * (b["trace"] - a["trace"])))
+    out = [(T, tr) for _, T, tr in _brackets(g["path"], E)]
     out += [
-        (p["period"], p["trace"]) for p in path + g["special"] if abs(p["E"] - E) < dE
+        (p["period"], p["trace"])
+        for p in g["path"] + g["special"]
+        if abs(p["E"] - E) < dE
     ]
     return out
 
@@ -278,16 +287,9 @@ def _touch(g: dict, p: dict, via: str) -> None:
     1 along the unit circle). Located through the crossing family's root (``E`` to
     ~1e-12); ``period`` and ``tr M`` interpolated on ``g``'s path."""
     E = p["E"]
-    path = g["path"]
     if any(abs(q["E"] - E) < 1e-6 for q in g["special"]):
         return
-    for i in range(len(path) - 1):
-        a, b = path[i], path[i + 1]
-        if not (min(a["E"], b["E"]) < E < max(a["E"], b["E"])):
-            continue
-        t = (E - a["E"]) / (b["E"] - a["E"])
-        T = a["period"] + t * (b["period"] - a["period"])
-        tr = a["trace"] + t * (b["trace"] - a["trace"])
+    for i, T, tr in _brackets(g["path"], E, strict=True):
         if near(T, p["period"], 1e-3) and abs(tr - 4) < 0.05:
             g["special"].append(
                 {
