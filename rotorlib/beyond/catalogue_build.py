@@ -63,6 +63,11 @@ __all__ = [
 ]
 
 
+#: ``(rel_T, tol_tr)`` of :func:`on_family` for a point of one path tested on another
+#: (both interpolated: looser than for a census orbit; see :func:`drop_contained`).
+PATH_TOL = (2e-5, 5e-3)
+
+
 def covers(fam: dict, orb: dict) -> bool:
     """Whether a followed family has a member at the census orbit's energy with its
     period (1e-7 relative) and ``tr M`` (1e-5 relative, at least absolute). An orbit found
@@ -70,7 +75,7 @@ def covers(fam: dict, orb: dict) -> bool:
     :func:`on_family` instead."""
     if "via" in orb:
         if orb["via"] == ["speed"]:  # a census off the follows' energies (see build)
-            return on_family(fam, orb, 2e-5, 5e-3)
+            return on_family(fam, orb, *PATH_TOL)
         return on_family(fam, orb)
     for m in _at_energies(fam).get(round(orb["E"], 9), ()):
         if (
@@ -145,8 +150,8 @@ def _probes(f: dict, samples: int) -> list[dict]:
 def drop_contained(
     fams: list[dict],
     samples: int = 24,
-    rel_T: float = 2e-5,
-    tol_tr: float = 5e-3,
+    rel_T: float = PATH_TOL[0],
+    tol_tr: float = PATH_TOL[1],
     share: float = 0.75,
 ) -> tuple[list[dict], list]:
     """The families with those removed whose path lies on the paths of the others: one
