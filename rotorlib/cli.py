@@ -133,8 +133,8 @@ def emit(
         print(json.dumps(out, indent=2, allow_nan=False))
         return
     rows = [[str(r.get(c + "_str", r.get(c, ""))) for c in columns] for r in records]
-    widths = [
-        max(len(c), *(len(row[i]) for row in rows)) for i, c in enumerate(columns)
+    widths = [  # no rows: the header alone
+        max([len(c), *(len(row[i]) for row in rows)]) for i, c in enumerate(columns)
     ]
     print("  ".join(c.ljust(w) for c, w in zip(columns, widths)))
     for row in rows:

@@ -306,6 +306,19 @@ def test_cli_family_and_errors(capsys):
     assert json.loads(capsys.readouterr().out)["id"] == "F001"
     assert main(["catalogue", "--family", "F999"]) == 2
     assert "no family" in capsys.readouterr().err
+    # outside the built window: a refusal in one line, not an empty list (E -> 0 and
+    # above the axis's end alike)
+    lo, hi = CAT.index["window"]
+    for E in (hi + 1, lo / 2, -1.0):
+        assert main(["catalogue", "--E", repr(E)]) == 2
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and "outside the catalogue's built window" in err
+        with pytest.raises(ValueError, match="outside the catalogue's built window"):
+            cat.catalogue(E=E)
+    # inside it, no member below the period bound: the table's header alone
+    assert main(["catalogue", "--E", "5.45", "--t-max", "0.5"]) == 0
+    out = capsys.readouterr().out.splitlines()
+    assert len(out) == 1 and out[0].split()[:2] == ["id", "name"]
 
 
 def test_verify_rechecks_a_family():

@@ -542,15 +542,32 @@ def catalogue(
     path : path, optional
         Another catalogue directory.
 
+    Raises
+    ------
+    ValueError
+        ``E`` is not a number, or lies outside the built window (``index['window']``).
+
     Examples
     --------
     >>> from rotorlib.beyond.catalogue import catalogue
     >>> fams = catalogue(E=5.45)
     >>> all(f.exists_at(5.45) for f in fams), len(fams) >= 5
     (True, True)
+    >>> catalogue(E=9.0)
+    Traceback (most recent call last):
+    ...
+    ValueError: E = 9.0 lies outside the catalogue's built window 0.1 <= E <= 8.0: it holds no family there (an empty list would say that none exists)
     """
+    cat = load(path)
+    if E is not None:
+        lo, hi = cat.index["window"]
+        if not lo <= as_float(E, "E") <= hi:
+            raise ValueError(
+                f"E = {E} lies outside the catalogue's built window {lo} <= E <= {hi}: "
+                "it holds no family there (an empty list would say that none exists)"
+            )
     out = []
-    for f in load(path):
+    for f in cat:
         if E is not None and not f.exists_at(E):
             continue
         if t_max is not None:
