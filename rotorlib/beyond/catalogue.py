@@ -556,7 +556,7 @@ def catalogue(
     >>> catalogue(E=9.0)
     Traceback (most recent call last):
     ...
-    ValueError: E = 9.0 lies outside the catalogue's built window 0.1 <= E <= 8.0: it holds no family there (an empty list would say that none exists)
+    ValueError: E = 9.0 lies outside the catalogue's built window 0.1 <= E <= 8.0: ...
     """
     cat = load(path)
     if E is not None:
