@@ -4,6 +4,9 @@
 ``  --cache build/catalogue-cache --out book/data/catalogue``
 ``python scripts/build_catalogue.py --E-grid 0.1 8 0.1 --t-max 8 --workers 2``
 
+``--band 6.2 16 --band 8 8``: the census seeks T <= 16 up to E = 6.2 and T <= 8 above
+(each census orbit followed over the whole window to its census's bound).
+
 ``--E-grid LO HI STEP``: census energies LO, LO + STEP, ... up to HI (rounded to 12
 decimals; with ``--E`` the union).
 
@@ -53,6 +56,14 @@ def main(argv=None) -> int:
     p.add_argument("--E", nargs="+", type=float, default=[])
     p.add_argument("--E-grid", nargs=3, type=float, metavar=("LO", "HI", "STEP"))
     p.add_argument("--t-max", type=float, default=16.0)
+    p.add_argument(
+        "--band",
+        nargs=2,
+        type=float,
+        action="append",
+        metavar=("E_HI", "T_MAX"),
+        help="census bound T_MAX up to E_HI (repeat; replaces --t-max)",
+    )
     p.add_argument("--grid", type=int, default=300)
     p.add_argument("--step", type=float, default=0.01)
     p.add_argument("--refine", type=int, default=1)
@@ -81,7 +92,7 @@ def main(argv=None) -> int:
     with executor_for(a.workers, a.scheduler) as ex:
         cat = build(
             sorted(energies),
-            a.t_max,
+            [tuple(b) for b in a.band] if a.band else a.t_max,
             a.cache,
             grid=a.grid,
             step=a.step,
@@ -111,6 +122,7 @@ def main(argv=None) -> int:
             for k, (n, r) in cat["tasks"].items()
         },
         "families": len(cat["families"]),
+        "bands": cat["bands"],
     }
     cost["task_cpu_s"] = round(sum(v["cpu_s"] for v in cost["tasks"].values()), 1)
     if any(n > r for n, r in cat["tasks"].values()):
@@ -131,6 +143,7 @@ def main(argv=None) -> int:
                     max(m["E"] for m in f["path"]),
                 ],
                 "members": len(f["path"]),
+                "t_max": f["t_max"],
                 "cpu_s": {k: round(v, 2) for k, v in f["cpu_s"].items()},
             }
             for f in sorted(cat["families"], key=lambda f: f["id"])

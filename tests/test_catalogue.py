@@ -18,10 +18,11 @@ import pytest
 from mpmath import mp, mpf
 
 from rotorlib.beyond import catalogue as cat
-from rotorlib.beyond.catalogue_build import build, covers
+from rotorlib.beyond.catalogue_build import build
 from rotorlib.beyond.catalogue_checks import held_back, named_special_points, validate
 from rotorlib.beyond.catalogue_files import COLUMNS, write
 from rotorlib.beyond.catalogue_members import local_interpolant, stored_members
+from rotorlib.beyond.catalogue_paths import covers
 from rotorlib.beyond.catalogue_tasks import census_task, follow_task, run_tasks
 from rotorlib.cli import main
 

@@ -12,13 +12,11 @@ import pytest
 
 from rotorlib.beyond import catalogue_tasks as ct
 from rotorlib.beyond.catalogue_build import (
-    covers,
     default_max_steps,
-    drop_contained,
-    on_family,
     special_points,
     wavefront,
 )
+from rotorlib.beyond.catalogue_paths import covers, drop_contained, on_family
 
 GRID = [4.0 + 0.1 * k for k in range(8)]
 #: three synthetic families T = a + b E, tr M = c E: a follow from a seed at E0 reaches
@@ -358,3 +356,35 @@ def test_a_record_that_bridges_two_others_is_the_one_dropped():
     part = _curve("part", 4.2, 4.8, 40)
     part["path"][5] = dict(part["path"][5], period=part["path"][5]["period"] + 0.01)
     assert drop_contained([low, part])[1] == [("part", ["low"])]
+
+
+def test_a_record_followed_further_is_not_dropped_for_a_shorter_bound():
+    """Bands of period bounds (T <= 16 below some energy, T <= 8 above): a record
+    followed to a lower bound holds no record followed further whose periods pass that
+    bound (T = 6 .. 6.49 on the short record), whatever their lengths; one whose
+    periods stay below it adds nothing and is dropped. A seed of a T <= 16 census is
+    not covered by a family followed to T <= 8 only."""
+    long = dict(_curve("long", 5.0, 6.0, 101), t_max=6.2)
+    short = dict(_curve("short", 5.3, 5.7, 37), t_max=16.0)
+    kept, dropped = drop_contained([long, short])
+    assert {f["task"] for f in kept} == {"long", "short"} and dropped == []
+    long = dict(long, t_max=6.5)
+    assert drop_contained([long, short])[1] == [("short", ["long"])]
+    long = dict(long, t_max=8.0)
+    long16 = dict(long, t_max=16.0)
+    short8 = dict(short, t_max=8.0)
+    assert drop_contained([long16, short8])[1] == [("short", ["long"])]
+    fam = {"seed": long["seed"], "special": [], "path": long["path"], "t_max": 8.0}
+    o = dict(long["path"][50])
+    assert covers(fam, o) and covers(fam, dict(o, t_max=8.0))
+    assert not covers(fam, dict(o, t_max=16.0))
+
+
+def test_the_bands_of_a_build_are_checked():
+    from rotorlib.beyond.catalogue_paths import bands_of, period_bound
+
+    b = bands_of([(8.0, 8), (6.2, 16)], 8.0)
+    assert [period_bound(b, E) for E in (0.1, 6.2, 6.2000001, 8.0)] == [16, 16, 8, 8]
+    for bad in ([(8.0, 0)], [(8.0, float("nan"))], [(6.0, 16)], []):
+        with pytest.raises(ValueError):
+            bands_of(bad, 8.0)

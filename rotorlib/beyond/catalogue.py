@@ -2,7 +2,8 @@
 
 The files (built by ``scripts/build_catalogue.py`` with :mod:`rotorlib.beyond.catalogue_build`,
 stored in ``rotorlib/data/catalogue/``): ``index.json`` (the build's scope: the energy
-window, ``T_max``, the census energies and counts; one summary per family),
+window, ``T_max`` and its ``bands`` ``[[E_hi, T_max], ...]``: the census's period bound
+up to each ``E_hi``; the census energies and counts; one summary per family),
 ``F<nnn>.json`` per family, ``members.csv`` (every stored member, one line each, the
 decimal strings to 30 digits) and ``schema.json`` (:data:`SCHEMA`, the JSON Schema of a
 family file). Read them without rotorlib; in Python :func:`catalogue` returns
@@ -493,6 +494,26 @@ class Catalogue:
     def __len__(self) -> int:
         return len(self.families)
 
+    def period_bound(self, E: float) -> float:
+        """The census's period bound at ``E`` (``index['bands']``): the catalogue holds
+        every family the censuses meet with ``T <=`` this bound there."""
+        from .catalogue_paths import period_bound
+
+        return float(period_bound(self.index["bands"], E))
+
+    def check_scope(self, E: float, t_max: float | None = None) -> None:
+        """``ValueError`` unless ``E`` lies in the built window and ``t_max`` (if given)
+        within :meth:`period_bound` there (else a list would claim that no more exist)."""
+        lo, hi = self.index["window"]
+        if not lo <= as_float(E, "E") <= hi:
+            raise ValueError(
+                f"E = {E} lies outside the catalogue's built window {lo} <= E <= {hi}: "
+                "it holds no family there (an empty list would say that none exists)"
+            )
+        if t_max is not None and as_float(t_max, "t_max") > (b := self.period_bound(E)):
+            msg = f"at E = {E} the catalogue holds the families with T <= {b:g}"
+            raise ValueError(f"{msg} (its census bound); t_max = {t_max} is beyond it")
+
     def family(self, fid: str) -> Family:
         for f in self.families:
             if f.id == fid:
@@ -545,7 +566,9 @@ def catalogue(
     Raises
     ------
     ValueError
-        ``E`` is not a number, or lies outside the built window (``index['window']``).
+        ``E`` is not a number, or lies outside the built window (``index['window']``),
+        or ``t_max`` exceeds the period bound of the census scope at ``E``
+        (:meth:`Catalogue.period_bound`: beyond it the list would be incomplete).
 
     Examples
     --------
@@ -560,12 +583,7 @@ def catalogue(
     """
     cat = load(path)
     if E is not None:
-        lo, hi = cat.index["window"]
-        if not lo <= as_float(E, "E") <= hi:
-            raise ValueError(
-                f"E = {E} lies outside the catalogue's built window {lo} <= E <= {hi}: "
-                "it holds no family there (an empty list would say that none exists)"
-            )
+        cat.check_scope(E, t_max)
     out = []
     for f in cat:
         if E is not None and not f.exists_at(E):

@@ -42,10 +42,16 @@ from typing import Any
 
 from .atlas import E_DOMAIN
 from .catalogue_members import stored_members
+from .catalogue_paths import (
+    bands_of,
+    covers,
+    drop_contained,
+    on_family,
+    period_bound,
+)
 from .catalogue_tasks import (
     execute_task,
     finished,
-    near,
     progress_bar,
     run_tasks,
     stored,
@@ -54,184 +60,10 @@ from .catalogue_tasks import (
 
 __all__ = [
     "by_speed",
-    "covers",
-    "on_family",
-    "drop_contained",
     "wavefront",
     "special_points",
     "build",
 ]
-
-
-#: ``(rel_T, tol_tr)`` of :func:`on_family` for a point of one path tested on another
-#: (both interpolated: looser than for a census orbit; see :func:`drop_contained`).
-PATH_TOL = (2e-5, 5e-3)
-
-
-def covers(fam: dict, orb: dict) -> bool:
-    """Whether a followed family has a member at the census orbit's energy with its
-    period (1e-7 relative) and ``tr M`` (1e-5 relative, at least absolute). An orbit found
-    by a ``switch`` task (off the census energies, key ``via``) is tested with
-    :func:`on_family` instead."""
-    if "via" in orb:
-        if orb["via"] == ["speed"]:  # a census off the follows' energies (see build)
-            return on_family(fam, orb, *PATH_TOL)
-        return on_family(fam, orb)
-    for m in _at_energies(fam).get(round(orb["E"], 9), ()):
-        if (
-            near(m["E"], orb["E"], 1e-10)
-            and near(m["period"], orb["period"], 1e-7)
-            and near(m["trace"], orb["trace"], 1e-5)
-        ):
-            return True
-    return False
-
-
-def _at_energies(fam: dict) -> dict:
-    """The family's members by energy (rounded to 1e-9; cached in the record)."""
-    idx = fam.get("_by_E")
-    if idx is None:
-        idx = {}
-        for m in [fam["seed"], *fam["special"], *fam["path"]]:
-            idx.setdefault(round(m["E"], 9), []).append(m)
-        fam["_by_E"] = idx
-    return idx
-
-
-def _interp(pts: list[dict], i: int, E: float, key: str) -> float:
-    """``key`` at ``E`` by the parabola through path members ``i-1, i, i+1`` (or ``i, i+1``
-    as a line where ``E`` is not monotone across them: beside a fold)."""
-    tri = pts[max(0, i - 1) : i + 2]
-    Es = [m["E"] for m in tri]
-    if len(tri) == 3 and (Es[0] - Es[1]) * (Es[1] - Es[2]) > 0:
-        out = 0.0
-        for j, m in enumerate(tri):
-            w = 1.0
-            for k, e in enumerate(Es):
-                if k != j:
-                    w *= (E - e) / (Es[j] - e)
-            out += w * m[key]
-        return out
-    a, b = pts[i], pts[i + 1]
-    t = (E - a["E"]) / (b["E"] - a["E"]) if b["E"] != a["E"] else 0.0
-    return a[key] + t * (b[key] - a[key])
-
-
-def on_family(fam: dict, orb: dict, rel_T: float = 2e-6, tol_tr: float = 2e-3) -> bool:
-    """Whether the orbit lies on the family's path: between two members that bracket its
-    energy, the period interpolated (a parabola in ``E``) agrees to ``rel_T`` and ``tr M`` to
-    ``tol_tr`` (absolute, times ``max(1, |tr M|)``). With path steps of ~0.01 in ``E`` the
-    interpolation error is ~1e-7 in ``T``; a daughter next to its parent (``|E - E_b| =
-    dE``) differs by ~``dE`` in ``T`` and by ~``3 dE |d tr M / dE|`` in ``tr M``."""
-    pts = fam["path"]
-    E = orb["E"]
-    for i in range(len(pts) - 1):
-        a, b = pts[i]["E"], pts[i + 1]["E"]
-        if not min(a, b) <= E <= max(a, b):
-            continue
-        T = _interp(pts, i, E, "period")
-        tr = _interp(pts, i, E, "trace")
-        if near(T, orb["period"], rel_T) and abs(tr - orb["trace"]) <= tol_tr * max(
-            1.0, abs(tr)
-        ):
-            return True
-    return False
-
-
-def _probes(f: dict, samples: int) -> list[dict]:
-    """The seed and ``samples`` members spread along the path (not its two ends: the
-    first member past ``T_max`` or the window, which another path need not reach)."""
-    pts = f["path"][1:-1]
-    n = len(pts)
-    idx = sorted({round(k * (n - 1) / max(1, samples - 1)) for k in range(samples)})
-    return [f["seed"], *(pts[k] for k in idx)] if n else [f["seed"]]
-
-
-def drop_contained(
-    fams: list[dict],
-    samples: int = 24,
-    rel_T: float = PATH_TOL[0],
-    tol_tr: float = PATH_TOL[1],
-    share: float = 0.75,
-) -> tuple[list[dict], list]:
-    """The families with those removed whose path lies on the paths of the others: one
-    family met from two seeds, one record carried only part of the way (the engine
-    stopped early), or a record that bridges two others (the engine carried it across
-    an energy where it stopped the other two).
-
-    A family's probes are its seed and ``samples`` members spread along its path (not
-    its two ends: the first member past ``T_max`` or the window, which the other path
-    need not reach). A probe lies on a family when :func:`on_family` says so with the
-    period to ``rel_T`` and ``tr M`` to ``tol_tr`` relative: looser than for a census
-    orbit, because both paths are interpolated between steps of ~0.01 in ``E``, ~1e-6 in
-    ``T`` where ``T(E)`` is steep, and more near a separatrix, where ``T`` diverges, and
-    beside a fold, where ``E`` is not a parameter of the path (a quarter of the probes of
-    the CG record that crosses its fold at E = 5.3153 fail there): hence ``share``, the
-    fraction of probes that must lie on the others. Two different
-    families agree that closely only at a point or along a short stretch (a bifurcation,
-    a crossing), and such a family is kept.
-
-    Repeatedly, of the families whose probes lie (``share`` of them) on the remaining
-    others, the one that needs the most others to hold them (a bridge before a part),
-    then the one with the shortest path, is dropped. Returns ``(kept, dropped)``,
-    ``dropped`` as ``(task of the dropped, [tasks of the families that hold it])``.
-
-    >>> a = {"task": "a", "seed": {"E": 1.5, "period": 3.0, "trace": 1.0},
-    ...      "path": [{"E": 1 + k / 10, "period": 2 + k / 5, "trace": 1.0}
-    ...               for k in range(11)]}
-    >>> b = {"task": "b", "seed": {"E": 1.25, "period": 2.5, "trace": 1.0},
-    ...      "path": [{"E": 1.2 + k / 20, "period": 2.4 + k / 10, "trace": 1.0}
-    ...               for k in range(5)]}
-    >>> kept, dropped = drop_contained([b, a])
-    >>> [f["task"] for f in kept], dropped
-    (['a'], [('b', ['a'])])
-    """
-    probes = [_probes(f, samples) for f in fams]
-    span = [
-        (min(m["E"] for m in f["path"]), max(m["E"] for m in f["path"]))
-        if f["path"]
-        else (math.inf, -math.inf)
-        for f in fams
-    ]
-    # on[i][j]: the probes of family i that lie on family j
-    on: list[dict[int, frozenset[int]]] = []
-    for i, pr in enumerate(probes):
-        row = {}
-        for j, g in enumerate(fams):
-            if j == i or not g["path"]:
-                continue
-            lo, hi = span[j]
-            hit = frozenset(
-                k
-                for k, m in enumerate(pr)
-                if lo <= m["E"] <= hi and on_family(g, m, rel_T, tol_tr)
-            )
-            if hit:
-                row[j] = hit
-        on.append(row)
-    alive = set(range(len(fams)))
-    dropped: list[tuple[Any, list]] = []
-    while True:
-        best = None
-        for i in sorted(alive):
-            hosts = {j: h for j, h in on[i].items() if j in alive}
-            held = frozenset().union(*hosts.values()) if hosts else frozenset()
-            if len(held) < share * len(probes[i]):
-                continue
-            cover, left = [], set(held)  # greedy: the others that hold its probes
-            while left:
-                j = max(hosts, key=lambda j: (len(hosts[j] & left), -j))
-                cover.append(j)
-                left -= hosts[j]
-            key = (len(cover), -len(fams[i]["path"]), -i)
-            if best is None or key > best[0]:
-                best = (key, i, cover)
-        if best is None:
-            break
-        _, i, cover = best
-        alive.discard(i)
-        dropped.append((fams[i].get("task"), [fams[j].get("task") for j in cover]))
-    return [f for i, f in enumerate(fams) if i in alive], dropped
 
 
 def _slots(executor: Executor | None) -> int:
@@ -294,6 +126,8 @@ def wavefront(
 
     def add(j: int, out: tuple[Any, float], run: bool) -> None:
         results[j] = out[0]
+        if "t_max" in args[j]:  # how far it was followed (see covers)
+            results[j]["t_max"] = args[j]["t_max"]
         if cpu is not None:
             cpu[keys[j]] = out[1]
         for k in range(j + 1, n):
@@ -451,7 +285,7 @@ def _switch_args(f: dict, p: dict, lo: float, hi: float, t_max: float, grid: int
 
 def build(
     energies: Sequence[float],
-    t_max: float,
+    t_max: float | Sequence[tuple[float, float]],
     cache: str | os.PathLike,
     grid: int = 300,
     step: float = 0.01,
@@ -469,6 +303,12 @@ def build(
     their range), ``T <= t_max``: ``{'families': [...], 'censuses': {E: [...]},
     'window': (lo, hi), 'tasks': {kind: (total, run)}, 'cpu': {kind: s}}``.
 
+    ``t_max``: one period bound, or bands ``[(E_hi, T_max), ...]`` (:func:`bands_of`):
+    the census at ``E`` seeks ``T <= period_bound(bands, E)``, and each census orbit is
+    followed over the whole window until its period passes that bound (a daughter: its
+    parent's). The seeds of the larger bounds are followed first, so that a family is
+    recorded as far as its largest bound takes it.
+
     ``max_steps`` (per direction; default: enough for a family that spans the window in
     steps of ``step`` in ``E``, the engine's steps being relative to ``E``);
     ``switch``: rounds of branch switching (``0``: none); ``speed``: the relative
@@ -478,6 +318,8 @@ def build(
     if not energies or energies[0] <= 0 or energies[-1] > 8:
         raise ValueError(f"energies must lie in 0 < E <= 8, got {energies!r}")
     lo, hi = energies[0], energies[-1]
+    bands = bands_of(t_max, hi)
+    T_top = max(t for _, t in bands)
     if max_steps is None:
         max_steps = default_max_steps(lo, hi, step)
     say = log or (lambda s: None)
@@ -495,7 +337,9 @@ def build(
 
     def do_census(Es):
         extra = {} if name else {"name": False}
-        args = [{"E": E, "t_max": t_max, "grid": grid, **extra} for E in Es]
+        args = [
+            {"E": E, "t_max": period_bound(bands, E), "grid": grid, **extra} for E in Es
+        ]
         res = run("census", args, "census")
         return dict(zip(Es, res))
 
@@ -511,9 +355,9 @@ def build(
 
     def follow_args(o):
         return {
-            "seed": o,
+            "seed": {k: v for k, v in o.items() if k != "t_max"},
             "E_range": [lo, hi],
-            "t_max": t_max,
+            "t_max": o["t_max"],
             "step": step,
             "energies": follow_E,
             **({} if max_steps == 600 else {"max_steps": max_steps}),
@@ -539,7 +383,12 @@ def build(
             f["special"] = special_points(f)
         return new
 
-    seeds = [o for E in grid_E for o in censuses[E]]
+    def marked(E, orbs):  # the seeds, each with its census's bound
+        return [dict(o, t_max=period_bound(bands, E)) for o in orbs]
+
+    # (a stable sort: within one bound, in (E, index) order)
+    seeds = [o for E in grid_E for o in marked(E, censuses[E])]
+    seeds.sort(key=lambda o: -o["t_max"])
     fams = follow(seeds, (), "follow")
     for f in fams:
         f["special"] = special_points(f)
@@ -551,8 +400,12 @@ def build(
             censuses[E] = [dict(o, via=["speed"]) for o in got[E]]
         grid_E = sorted(censuses)
         fresh = [
-            o for E in extra for o in censuses[E] if not any(covers(f, o) for f in fams)
+            o
+            for E in extra
+            for o in marked(E, censuses[E])
+            if not any(covers(f, o) for f in fams)
         ]
+        fresh.sort(key=lambda o: -o["t_max"])
         new = grow(fresh, "speed")
         say(
             f"spaced by speed: census at {len(extra)} energies, {len(fresh)} orbits "
@@ -565,15 +418,18 @@ def build(
         for f in new:
             for p in f["special"]:
                 if p["kind"] in ("IS", "PD"):
-                    a = _switch_args(f, p, lo, hi, t_max, grid)
+                    a = _switch_args(f, p, lo, hi, f["t_max"], grid)
                     if a is not None and a["energies"]:
                         jobs.append(a)
-                        owners.append((f["task"], p["kind"], p["E"]))
+                        owners.append((f["task"], p["kind"], p["E"], f["t_max"]))
         found = []
         for own, orbs in zip(owners, run("switch", jobs, f"switch {rnd + 1}")):
-            # the census's section search bound for the build's T_max (as a grid seed)
+            # the census's section search bound for the parent's T_max (as a grid
+            # seed), which the daughter is followed to
+            T = own[3]
             found += [
-                dict(o, via=list(own), t_half=float(t_max / 2 * 1.02)) for o in orbs
+                dict(o, via=list(own[:3]), t_half=float(T / 2 * 1.02), t_max=T)
+                for o in orbs
             ]
         found.sort(key=lambda o: (o["E"], o["period"], o["trace"]))
         fresh = [
@@ -654,7 +510,8 @@ def build(
         "censuses": censuses,
         "orphans": orphans,
         "window": (lo, hi),
-        "t_max": t_max,
+        "t_max": T_top,
+        "bands": [list(b) for b in bands],
         "grid": grid,
         "step": step,
         "max_steps": max_steps,

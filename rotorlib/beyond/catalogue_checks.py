@@ -37,7 +37,7 @@ def held_back(
     census=None,
 ) -> dict:
     """Every orbit of an independent census at ``E`` (``T <= t_max``, default the
-    catalogue's) matched against the catalogue's members at ``E``.
+    catalogue's period bound at ``E``) matched against the catalogue's members at ``E``.
 
     Returns ``{'E', 't_max', 'on_grid', 'in_window', 'reference', 'matched',
     'unmatched', 'errors'}``: ``matched`` holds ``(period, family id)``, ``unmatched``
@@ -51,7 +51,7 @@ def held_back(
 
     Ef = as_float(E, "E")
     cat = load(path)
-    T_max = float(cat.index["t_max"] if t_max is None else t_max)
+    T_max = cat.period_bound(Ef) if t_max is None else float(t_max)
     lo, hi = cat.index["window"]
     a = census if census is not None else run_census(Ef, T_max, grid, name=False)
     members: list[tuple[str, float, float]] = []
@@ -108,7 +108,7 @@ def named_special_points(
     a fold: ``reason`` says why it stopped). A point counts as the record's when any
     record of the same name has it (the census may give two records one name).
     ``not_compared``: the points ``family`` locates where the record cannot have them,
-    ``(kind, E, period, tr M)``: above the catalogue's ``T_max``, or not a root at all
+    ``(kind, E, period, tr M)``: above the record's ``T_max``, or not a root at all
     (``tr M`` far from its level: a sign change through a pole, as ``family("PD^r_2")``
     gives within 5e-8 of the separatrix E = 4.5, where ``tr M ~ 1e14`` and ``T > 30``)."""
     from .catalogue import load
@@ -132,7 +132,7 @@ def named_special_points(
             continue
         kinds = ("IS", "PD", "fold")
         level = {"IS": 4.0, "fold": 4.0, "PD": 0.0}
-        t_max = float(cat.index["t_max"])
+        t_max = float(f.record["t_max"])  # how far the record was followed
         located = [
             p
             for p in b.special_points

@@ -127,7 +127,14 @@ def write_json(path: Path, obj: Any, rows: bool = False) -> None:
 
 def execute_task(job: tuple) -> tuple[Any, float]:
     """One task: compute, then store ``{kind, args, result, cpu_s}`` under its key
-    (``cpu_s``: the task's CPU seconds in its process); returns ``(result, cpu_s)``."""
+    (``cpu_s``: the task's CPU seconds in its process); returns ``(result, cpu_s)``.
+    heyoka logs only errors in a task's process."""
+    import heyoka
+
+    # heyoka's warning of a zero event cooldown, printed at each integration that
+    # starts at rest (a census at E = 4, at the equilibrium's energy), fills gigabytes
+    # of a build's log; its errors still show
+    heyoka.set_logger_level_error()
     kind, args, cache = job
     c0 = time.process_time()
     result = TASKS[kind](args)

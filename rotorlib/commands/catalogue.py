@@ -68,6 +68,7 @@ def run(args: argparse.Namespace) -> int:
         return 0
     E = as_float(args.E, "--E")
     t_max = None if args.t_max is None else as_float(args.t_max, "--t-max")
+    load(args.path).check_scope(E, t_max)
     recs = []
     for f in catalogue(E=E, path=args.path):
         try:

@@ -223,9 +223,13 @@ def to_section(
     Returns ``(t1, x1)`` or, with ``variational``, ``(t1, x1, Phi)`` where ``Phi`` is the
     4x4 fundamental matrix ``dx(t1)/dx0`` at fixed time (rows of tier numbers). Raises
     :class:`SectionNotReached` at ``t_max``, or as soon as ``abort`` is crossed first (e.g.
-    ``a2`` turning back before it reaches the section of a rotation). The tier is
-    :func:`~rotorlib.core.precision.tier` of ``digits``.
+    ``a2`` turning back before it reaches the section of a rotation), or at once from an
+    equilibrium (the vector field below ``1e-14`` in every component: a start set meets
+    the saddle at ``E = 4``; heyoka's event at rest would fire again at every step). The
+    tier is :func:`~rotorlib.core.precision.tier` of ``digits``.
     """
+    if max(abs(float(v)) for v in rhs_alpha(0.0, [float(v) for v in x0])) < 1e-14:
+        raise SectionNotReached(t_max, 0)
     t = tier(digits)
     secs = (section,) if abort is None else (section, abort)
     ta, _ = _integrator(t, secs, variational)

@@ -74,14 +74,15 @@ def plot_te_diagram(
     band: tuple[float, float],
     separatrices: Sequence[tuple[str, float]],
     window: tuple[float, float] | None = None,
-    t_max: float | None = None,
+    t_max: float | Sequence[Sequence[float]] | None = None,
 ) -> Figure:
     """Every family's ``T(E)``: thick green where stable, thin blue where unstable.
 
     ``curves``: one mapping per family with arrays ``E``, ``T``, ``trace`` and optional
     ``url`` (the family's page: every artist of the family links there in SVG) and
     ``id``. ``separatrices``: ``(legend text, E)`` pairs; ``window``: the built energy
-    window (dotted); ``t_max``: the period bound (a horizontal line).
+    window (dotted); ``t_max``: the census's period bound (a horizontal line), or its
+    bands ``[(E_hi, T_max), ...]`` (a step: ``T_max`` up to ``E_hi``).
     """
     fig, ax = plt.subplots(figsize=(COLUMN_WIDTH, 5.0), layout="constrained")
     _marks(ax, band, separatrices, window)
@@ -102,8 +103,13 @@ def plot_te_diagram(
                 a.set_url(url)
         if gid:
             thin.set_gid(f"family-{gid}")
-    if t_max is not None:
+    if isinstance(t_max, (int, float)):
         ax.axhline(t_max, color="0.4", lw=0.6, ls="-.")
+    elif t_max is not None:
+        e0 = window[0] if window else 0.0
+        for e1, T in t_max:
+            ax.plot([e0, e1], [T, T], color="0.4", lw=0.6, ls="-.")
+            e0 = e1
     ax.plot([], [], color=STABLE, lw=2.4, label=r"stable ($0 < \mathrm{tr}\,M < 4$)")
     ax.plot([], [], color=UNSTABLE, lw=0.8, label="unstable")
     ax.set_xlabel(E_LABEL)
