@@ -4,9 +4,9 @@
 ``  [--grid 400] [--closure-E V] [--skip-outside] [--out FILE]``
 
 1. Held-back energies: an independent census at each ``--E`` (its own ``--grid``,
-   ``T <= t_max`` of the catalogue); every reference orbit must be a member of a family
-   at that energy (period 1e-8 relative, tr M 1e-6), the member solved from the stored
-   members (:func:`rotorlib.beyond.catalogue_checks.held_back`). An energy outside the
+   ``T <=`` the catalogue's period bound there); every reference orbit must be a
+   member of a family at that energy (period 1e-8 relative, tr M 1e-6), the member
+   solved from the stored members (:func:`rotorlib.beyond.catalogue_checks.held_back`). An energy outside the
    built window is reported and counts as a failure unless ``--skip-outside``.
 2. Every special point ``rotorlib.family`` locates on a named family is one of the
    record's (E to 1e-8); the record's points it does not locate are listed.
@@ -82,6 +82,7 @@ def main(argv=None) -> int:
     lo, hi = cat.index["window"]
     fails: list[str] = []
     summary: dict = {"window": [lo, hi], "t_max": cat.index["t_max"], "held_back": []}
+    summary["bands"] = cat.index["bands"]
     inside = []
     for E in a.E:
         if not lo <= float(E) <= hi:

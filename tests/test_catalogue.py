@@ -244,12 +244,14 @@ def test_a_family_rebuilt_is_the_stored_one():
 
 
 def test_an_energy_slice_rebuilt_is_the_stored_one():
-    """The census of the build at one of its energies (E = 6.2: eight orbits, T <= 8)
-    re-run: the same orbits as the families' stored census orbits there (period to
-    1e-10 relative, tr M to 1e-6), each the member of its family at that energy."""
-    E = 6.2
+    """The census of the build at one of its energies (E = 4.3, to the census's period
+    bound there) re-run: the same orbits as the families' stored census orbits there
+    (period to 1e-10 relative, tr M to 1e-6), each the member of its family at that
+    energy."""
+    E = 4.3
     assert E in CAT.index["census_energies"]
-    got = census_task({"E": E, "t_max": CAT.index["t_max"], "grid": CAT.index["grid"]})
+    T_max = CAT.period_bound(E)
+    got = census_task({"E": E, "t_max": T_max, "grid": CAT.index["grid"]})
     stored = sorted(
         (o["period"], o["trace"], r["id"])
         for r in RECORDS
@@ -316,6 +318,14 @@ def test_cli_family_and_errors(capsys):
         assert err.count("\n") == 1 and "outside the catalogue's built window" in err
         with pytest.raises(ValueError, match="outside the catalogue's built window"):
             cat.catalogue(E=E)
+    # beyond the census's period bound at E: a refusal, not a list short of families
+    b = CAT.period_bound(hi)
+    assert main(["catalogue", "--E", repr(hi), "--t-max", repr(b + 1)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "census bound" in err
+    with pytest.raises(ValueError, match="census bound"):
+        cat.catalogue(E=hi, t_max=b + 1)
+    assert cat.catalogue(E=hi, t_max=b)
     # inside it, no member below the period bound: the table's header alone
     assert main(["catalogue", "--E", "5.45", "--t-max", "0.5"]) == 0
     out = capsys.readouterr().out.splitlines()

@@ -57,6 +57,22 @@ def test_modular_section_crossings_against_scipy():
         to_section(x0, sec, crossing=3, t_max=1.0)
 
 
+def test_a_start_at_an_equilibrium_never_reaches_a_section():
+    """At the saddle (a1, a2) = (pi/2, -pi/2) at rest (E = 4), which the census's start
+    set meets at E = 4: SectionNotReached at once, in float64 and real128 (heyoka's
+    event would fire again at rest at every step: 14,000 event stops per shot, and
+    round-off then passes for crossings), and a start 1e-3 away from it still crosses."""
+    sec = Section((1.0, 1.0, 0.0, 0.0), 0.0, 0, 2.0)
+    x0 = [math.pi / 2, -math.pi / 2, 0.0, 0.0]
+    assert max(abs(v) for v in rhs_alpha(0.0, x0)) < 1e-15
+    for digits in (None, 30):
+        with pytest.raises(SectionNotReached) as exc:
+            to_section(x0, sec, digits, crossing=2, t_max=17.3)
+        assert exc.value.crossings == 0
+    t1, _ = to_section([x0[0] + 1e-3, x0[1], 0.0, 0.0], sec, crossing=2, t_max=17.3)
+    assert 0 < float(t1) < 17.3
+
+
 def test_residual_gradient_against_finite_differences():
     """The variational gradient (event time differentiated) against a central difference."""
     spec = nb.family_spec("PD^r_1")
