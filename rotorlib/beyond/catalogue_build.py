@@ -459,6 +459,7 @@ def build(
     by_task = {f.get("task"): f for f in fams}
     for f in fams:
         f.pop("_by_E", None)
+        f.pop("_seg", None)
     # each census orbit in exactly one family: the first that covers it
     for f in fams:
         f["census"] = []
@@ -476,6 +477,7 @@ def build(
             (orphans if f is None else f["census"]).append(o)
     for f in fams:
         f.pop("_by_E", None)
+        f.pop("_seg", None)
     # stored members: the located energies of the grid, the special points, the seed
     jobs, owner = [], []
     for f in fams:

@@ -57,8 +57,8 @@ def held_back(
     members: list[tuple[str, float, float]] = []
     errors = []
     for f in cat:
-        if not f.exists_at(Ef):
-            continue
+        if not f.exists_at(Ef) or f.record["period_range"][0] > T_max * (1 + 1e-6):
+            continue  # (no member below the bound anywhere: none to match)
         try:
             ms = f.members_at(repr(Ef))
         except ValueError as exc:

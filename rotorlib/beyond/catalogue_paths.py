@@ -18,6 +18,8 @@ import math
 from collections.abc import Sequence
 from typing import Any
 
+import numpy as np
+
 from .catalogue_tasks import near
 
 __all__ = [
@@ -123,6 +125,18 @@ def _interp(pts: list[dict], i: int, E: float, key: str) -> float:
     return a[key] + t * (b[key] - a[key])
 
 
+def _segments(fam: dict) -> tuple[np.ndarray, np.ndarray]:
+    """The energy span ``(min, max)`` of each step of the family's path, as arrays
+    (cached in the record with the path's length: a search over thousands of steps for
+    each of thousands of orbits)."""
+    seg = fam.get("_seg")
+    if seg is None or seg[2] != len(fam["path"]):
+        Es = np.array([m["E"] for m in fam["path"]], dtype=float)
+        seg = (np.minimum(Es[:-1], Es[1:]), np.maximum(Es[:-1], Es[1:]), len(Es))
+        fam["_seg"] = seg
+    return seg[0], seg[1]
+
+
 def on_family(fam: dict, orb: dict, rel_T: float = 2e-6, tol_tr: float = 2e-3) -> bool:
     """Whether the orbit lies on the family's path: between two members that bracket its
     energy, the period interpolated (a parabola in ``E``) agrees to ``rel_T`` and ``tr M`` to
@@ -131,10 +145,8 @@ def on_family(fam: dict, orb: dict, rel_T: float = 2e-6, tol_tr: float = 2e-3) -
     dE``) differs by ~``dE`` in ``T`` and by ~``3 dE |d tr M / dE|`` in ``tr M``."""
     pts = fam["path"]
     E = orb["E"]
-    for i in range(len(pts) - 1):
-        a, b = pts[i]["E"], pts[i + 1]["E"]
-        if not min(a, b) <= E <= max(a, b):
-            continue
+    lo, hi = _segments(fam)
+    for i in np.flatnonzero((lo <= E) & (E <= hi)).tolist():
         T = _interp(pts, i, E, "period")
         tr = _interp(pts, i, E, "trace")
         if near(T, orb["period"], rel_T) and abs(tr - orb["trace"]) <= tol_tr * max(

@@ -71,6 +71,8 @@ def run(args: argparse.Namespace) -> int:
     load(args.path).check_scope(E, t_max)
     recs = []
     for f in catalogue(E=E, path=args.path):
+        if t_max is not None and f.record["period_range"][0] > t_max:
+            continue  # no member anywhere below the bound: not solved
         try:
             ms = f.members_at(args.E, args.digits)
         except ValueError as exc:  # no shot from the interpolated members converged
