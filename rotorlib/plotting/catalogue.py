@@ -107,8 +107,8 @@ def plot_te_diagram(
         ax.axhline(t_max, color="0.4", lw=0.6, ls="-.")
     elif t_max is not None:
         e0 = window[0] if window else 0.0
-        for e1, T in t_max:
-            ax.plot([e0, e1], [T, T], color="0.4", lw=0.6, ls="-.")
+        for e1, T_b in t_max:
+            ax.plot([e0, e1], [T_b, T_b], color="0.4", lw=0.6, ls="-.")
             e0 = e1
     ax.plot([], [], color=STABLE, lw=2.4, label=r"stable ($0 < \mathrm{tr}\,M < 4$)")
     ax.plot([], [], color=UNSTABLE, lw=0.8, label="unstable")
