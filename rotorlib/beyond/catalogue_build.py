@@ -48,11 +48,11 @@ from .catalogue_paths import (
     drop_contained,
     on_family,
     period_bound,
+    same_orbit,
 )
 from .catalogue_tasks import (
     execute_task,
     finished,
-    near,
     progress_bar,
     run_tasks,
     stored,
@@ -80,16 +80,6 @@ def _slots(executor: Executor | None) -> int:
     return 2
 
 
-def _twin(a: dict, b: dict) -> bool:
-    """Two census orbits with the same energy, period and ``tr M`` (as :func:`covers`
-    compares them): symmetric images, one family."""
-    return (
-        near(a["E"], b["E"], 1e-10)
-        and near(a["period"], b["period"], 1e-7)
-        and near(a["trace"], b["trace"], 1e-5)
-    )
-
-
 def wavefront(
     seeds: Sequence[dict],
     args_of: Callable[[dict], dict],
@@ -105,10 +95,10 @@ def wavefront(
     The result is that of the serial rule whatever the timing or the number of workers:
     the families are the follows of the seeds that no earlier *chosen* family covers.
     While the first undecided seed runs, the free workers follow the next seeds (in
-    order) that no finished follow of an earlier seed covers and that is no symmetric
-    image of a seed in flight (:func:`_twin`); a speculative follow whose
-    seed turns out covered (two seeds of one family in flight at once) is dropped, the
-    family of the seed that comes first being kept. Results are stored in ``cache``
+    order) that no finished follow of an earlier seed covers and that are no symmetric
+    images of a seed in flight (:func:`~rotorlib.beyond.catalogue_paths.same_orbit`);
+    a speculative follow whose seed turns out covered (two seeds of one family in
+    flight at once) is dropped, the family of the seed that comes first being kept. Results are stored in ``cache``
     (:func:`~rotorlib.beyond.catalogue_tasks.run_tasks`' files) as each finishes.
     """
     n, slots, c = len(seeds), _slots(executor), None if cache is None else str(cache)
@@ -161,7 +151,7 @@ def wavefront(
                     break
                 if j in results or j in busy or (j != first and shadow[j]):
                     continue
-                if j != first and any(_twin(seeds[i], seeds[j]) for i in busy):
+                if j != first and any(same_orbit(seeds[i], seeds[j]) for i in busy):
                     continue  # a symmetric image of a seed in flight: its family
                 if j not in checked:
                     checked.add(j)

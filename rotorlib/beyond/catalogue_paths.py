@@ -27,6 +27,7 @@ __all__ = [
     "bands_of",
     "period_bound",
     "covers",
+    "same_orbit",
     "on_family",
     "drop_contained",
 ]
@@ -85,14 +86,25 @@ def covers(fam: dict, orb: dict) -> bool:
         if orb["via"] == ["speed"]:  # a census off the follows' energies (see build)
             return on_family(fam, orb, *PATH_TOL)
         return on_family(fam, orb)
-    for m in _at_energies(fam).get(round(orb["E"], 9), ()):
-        if (
-            near(m["E"], orb["E"], 1e-10)
-            and near(m["period"], orb["period"], 1e-7)
-            and near(m["trace"], orb["trace"], 1e-5)
-        ):
-            return True
-    return False
+    return any(
+        same_orbit(m, orb) for m in _at_energies(fam).get(round(orb["E"], 9), ())
+    )
+
+
+def same_orbit(a: dict, b: dict) -> bool:
+    """The same energy (1e-10), period (1e-7 relative) and ``tr M`` (1e-5 relative, at
+    least absolute): one orbit up to the symmetries (a member and a census orbit, or two
+    symmetric images).
+
+    >>> same_orbit({"E": 5.0, "period": 6.0, "trace": 2.0},
+    ...            {"E": 5.0, "period": 6.0 + 1e-9, "trace": 2.0})
+    True
+    """
+    return (
+        near(a["E"], b["E"], 1e-10)
+        and near(a["period"], b["period"], 1e-7)
+        and near(a["trace"], b["trace"], 1e-5)
+    )
 
 
 def _at_energies(fam: dict) -> dict:
