@@ -4,7 +4,8 @@ Examples
 --------
 ``rotorlib catalogue --E 5.45 --t-max 8 --json``: every family with a member at E = 5.45
 (period <= 8), each of its members there (one per branch: two or more beside a fold)
-solved to ``--digits`` from the interpolant of its stored members.
+solved to ``--digits`` from the interpolant of its stored members; a ``--t-max`` above
+the census's period bound at that energy is refused (the list would be incomplete).
 ``rotorlib catalogue --family F001 --json``: one family's record.
 ``rotorlib catalogue --verify F001``: re-solve its stored members and compare.
 """
@@ -31,7 +32,12 @@ def register(sub: argparse._SubParsersAction) -> None:
     g.add_argument("--E", metavar="V", help="the families with a member at E = V")
     g.add_argument("--family", metavar="ID", help="one family's record (e.g. F001)")
     g.add_argument("--verify", metavar="ID", help="re-solve a family's stored members")
-    p.add_argument("--t-max", metavar="T", help="with --E: period <= T")
+    p.add_argument(
+        "--t-max",
+        metavar="T",
+        help="with --E: period <= T (at most the census's period bound at E, where "
+        "the catalogue is complete)",
+    )
     p.add_argument("--stable", action="store_true", help="with --E: stable there")
     p.add_argument("--path", default=None, help="another catalogue directory")
     add_digits_argument(p, "with --E: the member is solved in the tier that gives them")
