@@ -2,10 +2,9 @@
 
 The files (built by ``scripts/build_catalogue.py`` with :mod:`rotorlib.beyond.catalogue_build`,
 stored in ``rotorlib/data/catalogue/``): ``index.json`` (the build's scope: the energy
-window, ``T_max`` and its ``bands`` ``[[E_hi, T_max], ...]``: the census's period bound
-up to each ``E_hi``; the census energies and counts; one summary per family),
-``F<nnn>.json`` per family, ``members.csv`` (every stored member, one line each, the
-decimal strings to 30 digits) and ``schema.json`` (:data:`SCHEMA`, the JSON Schema of a
+window, ``T_max``, ``bands`` ``[[E_hi, T_max], ...]``: the census's bound up to ``E_hi``,
+the census energies and counts; one summary per family), ``F<nnn>.json`` per family,
+``members.csv`` (every stored member, one line each, the decimal strings to 30 digits) and ``schema.json`` (:data:`SCHEMA`, the JSON Schema of a
 family file). Read them without rotorlib; in Python :func:`catalogue` returns
 :class:`Family` objects, each with its :class:`~rotorlib.orbits.family.Branch`
 (:meth:`Family.branch`) and its member at any energy of its range solved to any
@@ -290,6 +289,10 @@ class Family:
         """Whether the family has a member at ``E`` (within its path's energies)."""
         return self.E_range[0] <= E <= self.E_range[1]
 
+    def may_reach(self, t_max: float) -> bool:
+        """Whether a member may have ``T <= t_max`` (path minimum, 1e-6 relative)."""
+        return self.record["period_range"][0] <= t_max * (1 + 1e-6)
+
     def stable_at(self, E: float) -> bool:
         return any(a <= E <= b for a, b in self.stable_windows)
 
@@ -495,15 +498,13 @@ class Catalogue:
         return len(self.families)
 
     def period_bound(self, E: float) -> float:
-        """The census's period bound at ``E`` (``index['bands']``): the catalogue holds
-        every family the censuses meet with ``T <=`` this bound there."""
+        """The census's period bound at ``E`` (``index['bands']``): complete to it."""
         from .catalogue_paths import period_bound
 
         return float(period_bound(self.index["bands"], E))
 
     def check_scope(self, E: float, t_max: float | None = None) -> None:
-        """``ValueError`` unless ``E`` lies in the built window and ``t_max`` (if given)
-        within :meth:`period_bound` there (else a list would claim that no more exist)."""
+        """``ValueError`` unless ``E`` is in the window, ``t_max`` in :meth:`period_bound`."""
         lo, hi = self.index["window"]
         if not lo <= as_float(E, "E") <= hi:
             raise ValueError(

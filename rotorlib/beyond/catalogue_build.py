@@ -387,12 +387,13 @@ def build(
             f["special"] = special_points(f)
         return new
 
-    def marked(E, orbs):  # the seeds, each with its census's bound
-        return [dict(o, t_max=period_bound(bands, E)) for o in orbs]
+    def marked(Es):
+        """The census orbits at ``Es`` as seeds, each with its census's bound, the
+        larger bounds first (a stable sort: within one bound, in (E, index) order)."""
+        out = [dict(o, t_max=period_bound(bands, E)) for E in Es for o in censuses[E]]
+        return sorted(out, key=lambda o: -o["t_max"])
 
-    # (a stable sort: within one bound, in (E, index) order)
-    seeds = [o for E in grid_E for o in marked(E, censuses[E])]
-    seeds.sort(key=lambda o: -o["t_max"])
+    seeds = marked(grid_E)
     fams = follow(seeds, (), "follow")
     for f in fams:
         f["special"] = special_points(f)
@@ -403,13 +404,7 @@ def build(
         for E in extra:
             censuses[E] = [dict(o, via=["speed"]) for o in got[E]]
         grid_E = sorted(censuses)
-        fresh = [
-            o
-            for E in extra
-            for o in marked(E, censuses[E])
-            if not any(covers(f, o) for f in fams)
-        ]
-        fresh.sort(key=lambda o: -o["t_max"])
+        fresh = [o for o in marked(extra) if not any(covers(f, o) for f in fams)]
         new = grow(fresh, "speed")
         say(
             f"spaced by speed: census at {len(extra)} energies, {len(fresh)} orbits "
@@ -425,15 +420,13 @@ def build(
                     a = _switch_args(f, p, lo, hi, f["t_max"], grid)
                     if a is not None and a["energies"]:
                         jobs.append(a)
-                        owners.append((f["task"], p["kind"], p["E"], f["t_max"]))
+                        owners.append(([f["task"], p["kind"], p["E"]], f["t_max"]))
         found = []
-        for own, orbs in zip(owners, run("switch", jobs, f"switch {rnd + 1}")):
+        for (via, T), orbs in zip(owners, run("switch", jobs, f"switch {rnd + 1}")):
             # the census's section search bound for the parent's T_max (as a grid
             # seed), which the daughter is followed to
-            T = own[3]
             found += [
-                dict(o, via=list(own[:3]), t_half=float(T / 2 * 1.02), t_max=T)
-                for o in orbs
+                dict(o, via=via, t_half=float(T / 2 * 1.02), t_max=T) for o in orbs
             ]
         found.sort(key=lambda o: (o["E"], o["period"], o["trace"]))
         fresh = [

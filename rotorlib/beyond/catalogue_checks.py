@@ -57,7 +57,7 @@ def held_back(
     members: list[tuple[str, float, float]] = []
     errors = []
     for f in cat:
-        if not f.exists_at(Ef) or f.record["period_range"][0] > T_max * (1 + 1e-6):
+        if not (f.exists_at(Ef) and f.may_reach(T_max)):
             continue  # (no member below the bound anywhere: none to match)
         try:
             ms = f.members_at(repr(Ef))

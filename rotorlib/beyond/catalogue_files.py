@@ -384,7 +384,7 @@ def write(cat: dict, out: str | os.PathLike, schema: dict) -> dict:
             "id": f["id"],
             "name": names[0] if names else None,
             "names": names,
-            "t_max": f.get("t_max", cat["t_max"]),
+            "t_max": f["t_max"],
             "window": [lo, hi],
             "symmetry": _symmetry(f),
             "E_range": [min(Es), max(Es)],
@@ -432,7 +432,7 @@ def write(cat: dict, out: str | os.PathLike, schema: dict) -> dict:
     idx = {
         "version": VERSION,
         "t_max": cat["t_max"],
-        "bands": cat.get("bands", [[hi, cat["t_max"]]]),
+        "bands": cat["bands"],
         "window": [lo, hi],
         "grid": cat["grid"],
         "step": cat["step"],

@@ -77,7 +77,7 @@ def run(args: argparse.Namespace) -> int:
     load(args.path).check_scope(E, t_max)
     recs = []
     for f in catalogue(E=E, path=args.path):
-        if t_max is not None and f.record["period_range"][0] > t_max:
+        if t_max is not None and not f.may_reach(t_max):
             continue  # no member anywhere below the bound: not solved
         try:
             ms = f.members_at(args.E, args.digits)
