@@ -152,6 +152,7 @@ def main(argv=None) -> int:
         },
         "families": len(cat["families"]),
         "bands": cat["bands"],
+        "switch_rounds": cat["switch_rounds"],
     }
     if rest:
         cost["rest"] = rest

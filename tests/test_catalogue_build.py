@@ -388,3 +388,63 @@ def test_the_bands_of_a_build_are_checked():
     for bad in ([(8.0, 0)], [(8.0, float("nan"))], [(6.0, 16)], []):
         with pytest.raises(ValueError):
             bands_of(bad, 8.0)
+
+
+def test_a_daughter_is_sought_within_the_bound_where_it_is_born():
+    """Branch switching on a family followed to T <= 16 across two bands (T <= 16 up to
+    E = 4.6, T <= 8 above): an IS point of period 10 is switched below 4.6 (and its
+    daughter followed to 16), not above; a PD point of period 3.5 above 4.6 is switched
+    with the bound 8 (n T_b = 7); a PD point of period 9 is not (n T_b = 18 > 16)."""
+    from rotorlib.beyond.catalogue_build import switch_jobs
+    from rotorlib.beyond.catalogue_paths import bands_of
+
+    path = [{"E": 4.0 + 0.01 * k, "period": 10.0, "trace": 1.0} for k in range(201)]
+    pts = [
+        {"kind": "IS", "E": 4.3, "period": 10.0, "index": 30},
+        {"kind": "IS", "E": 5.0, "period": 10.0, "index": 100},
+        {"kind": "PD", "E": 5.5, "period": 3.5, "index": 150},
+        {"kind": "PD", "E": 4.2, "period": 9.0, "index": 20},
+        {"kind": "fold", "E": 4.1, "period": 1.0, "index": 10},
+    ]
+    fam = {"task": "f", "path": path, "special": pts, "t_max": 16.0}
+    bands = bands_of([(4.6, 16.0), (8.0, 8.0)], 8.0)
+    jobs, owners = switch_jobs([fam], bands, 0.1, 8.0, 300)
+    assert [(o[0][1], o[0][2], o[1]) for o in owners] == [
+        ("IS", 4.3, 16.0),
+        ("PD", 5.5, 8.0),
+    ]
+    assert [j["period"] for j in jobs] == [10.0, 7.0]
+    assert [j["t_max"] for j in jobs] == [pytest.approx(10.5), pytest.approx(7.35)]
+    # one band: the family's own bound
+    one = bands_of(16.0, 8.0)
+    assert len(switch_jobs([fam], one, 0.1, 8.0, 300)[0]) == 3
+
+
+def test_a_record_alone_holding_a_census_orbit_is_not_dropped():
+    """A record four fifths of whose probes lie on another (so drop_contained would
+    drop it) is kept while a census orbit lies on it and on no other record; the
+    orbit's removal lets it go."""
+    from rotorlib.beyond.catalogue_paths import holds
+
+    long = dict(_curve("long", 4.0, 6.0, 201), special=[])
+    # the last fifth of "part" leaves "long" (its period bends away above E = 5.8)
+    part = dict(_curve("part", 5.0, 6.0, 101), special=[])
+    for m in part["path"]:
+        if m["E"] > 5.8:
+            m["period"] += 0.5 * (m["E"] - 5.8)
+    lone = dict(part["path"][95])  # on "part" only
+    assert holds(part, lone) and not holds(long, lone)
+    assert drop_contained([part, long])[1] == [("part", ["long"])]
+    kept, dropped = drop_contained([part, long], orbits=[lone])
+    assert dropped == [] and len(kept) == 2
+
+
+def test_a_polish_that_lands_on_another_orbit_is_a_failure():
+    from rotorlib.beyond.catalogue_build import _same_orbit_polished
+
+    m = {"period": 12.0256204463}
+    ok = {"period_str": "12.02562044630000001"}
+    assert _same_orbit_polished(m, ok) is ok
+    bad = _same_orbit_polished(m, {"period_str": "12.0256434777051361"})
+    assert "another orbit" in bad["failed"]
+    assert _same_orbit_polished(m, {"failed": "x"}) == {"failed": "x"}

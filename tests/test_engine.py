@@ -217,3 +217,27 @@ def test_sixty_digits_against_an_independent_256_bit_integration(label, E, latti
         shift = [lattice[0] * mp.pi, lattice[1] * mp.pi, 0, 0]
         assert max(abs(b - a - c) for a, b, c in zip(x0, xT, shift)) < mp.mpf("1e-50")
         assert abs(trace - mp.mpf(tr)) < mp.mpf("1e-49") * max(1, abs(trace))
+
+
+def test_a_rational_period_factor_is_exact_in_an_extended_tier():
+    """A member whose period is 2/3 of t1 (the pendulum's record crossing its target set
+    three times): in real128 and at 40 digits the period is 2 t1 / 3 to the tier's
+    precision (the float 2/3 limited it, and the catalogue's closure, to ~1e-16);
+    float64 and integer factors are unchanged."""
+    import mpmath as mp
+
+    from rotorlib.core.precision import tier
+    from rotorlib.orbits.family import Member
+
+    for D in (30, 40):
+        t = tier(D)
+        with t.context():
+            t1 = t.num("4.123456789012345678901234567890123")
+            m = Member(0, 0, 4, t1, 0, factor=2 / 3, precision=t.name)
+            assert abs(m.period - 2 * t1 / 3) < 10 * t.eps * t1
+            assert (
+                abs(Member(0, 0, 4, t1, 0, factor=2, precision=t.name).period - 2 * t1)
+                == 0
+            )
+    f = Member(0, 0, 4, 3.0, 0, factor=2 / 3)
+    assert f.period == (2 / 3) * 3.0 and not isinstance(f.period, mp.mpf)

@@ -397,8 +397,8 @@ class Family:
         """Every member of the family at ``E`` (one per branch through ``E``:
         :meth:`interpolate`), each solved to ``digits`` from its interpolated ``u``
         (:class:`~rotorlib.orbits.family.Member`, ``tr M`` computed). A branch whose
-        shot does not converge, or converges to a period more than 1e-6 (relative) from
-        the interpolated one, is left out; so is a member with the period (1e-12) and
+        shot does not converge, or converges to a period more than 1e-4 (relative) from
+        the interpolated one (off by up to ~1e-3 beside the separatrices), is left out; so is a member with the period (1e-12) and
         ``tr M`` (1e-9) of one already found: one orbit met twice, by a path that
         passes an image of it again (as the census counts it: once). ValueError when
         none is left."""
@@ -425,7 +425,7 @@ class Family:
                     continue
                 Ex = str(E) if t.extended else float(E)
                 m = member(self.problem, u, Ex, t, traces=True)
-            if abs(float(m.period) / r["period"] - 1) > 1e-6:
+            if abs(float(m.period) / r["period"] - 1) > 1e-4:
                 errors.append(f"period {float(m.period)!r} != {r['period']!r}")
                 continue
             T, tr = float(m.period), float(m.trace)

@@ -17,10 +17,11 @@ orbits changes between neighbours (a family born or dying between them), then:
 * classifies the special points (:func:`special_points`: a fold's own ``tr M = 4`` is the
   fold; ``tr M`` reaching 4 or 0 without a change of stability is a ``touch``);
 * **switches branches** at every located ``IS`` (``PD``) point of period ``T_b`` inside the
-  window with ``n T_b <= T_max``: censuses at ``E_b -+ dE`` restricted to periods within
-  3 % of ``n T_b`` (the ``switch`` task); each orbit found that no family covers
-  (:func:`on_family`) is followed as a new seed, for ``switch`` rounds (daughters of
-  daughters). The class covered: daughters that are symmetric orbits (they meet two
+  window with ``n T_b <= T_max``, where ``T_max`` is the smaller of the family's bound and
+  the census's bound at ``E_b`` (a daughter is sought in the scope where it is born):
+  censuses at ``E_b -+ dE`` restricted to periods within 3 % of ``n T_b`` (the ``switch``
+  task); each orbit found that no family covers (:func:`on_family`) is followed as a new
+  seed, to that ``T_max``, for ``switch`` rounds (daughters of daughters). The class covered: daughters that are symmetric orbits (they meet two
   fixed sets, as the census finds them), existing at ``E_b - dE`` or ``E_b + dE``;
 * polishes the stored members and returns the catalogue in memory, with the CPU seconds
   of every task kind and of every family; :func:`rotorlib.beyond.catalogue_files.write`
@@ -63,6 +64,7 @@ __all__ = [
     "by_speed",
     "wavefront",
     "special_points",
+    "switch_jobs",
     "build",
 ]
 
@@ -287,6 +289,44 @@ def _switch_args(f: dict, p: dict, lo: float, hi: float, t_max: float, grid: int
     }
 
 
+def _same_orbit_polished(m: dict, p: dict) -> dict:
+    """The polish ``p`` of the path member ``m``, or a failure when the re-solve
+    converged to another orbit (its period more than 1e-6 from the member's: the
+    float64 member is good to ~1e-10)."""
+    if "failed" in p:
+        return p
+    T = float(p["period_str"])
+    if abs(T / m["period"] - 1) > 1e-6:
+        return {
+            "failed": f"the re-solve converged to another orbit: period {T:.12g} "
+            f"against the member's {m['period']:.12g}"
+        }
+    return p
+
+
+def switch_jobs(
+    fams: Sequence[dict],
+    bands: Sequence[tuple[float, float]],
+    lo: float,
+    hi: float,
+    grid: int,
+) -> tuple[list[dict], list[tuple[list, float]]]:
+    """The ``switch`` tasks of the located ``IS`` / ``PD`` points of ``fams`` and their
+    owners ``([family task, kind, E_b], T_max)``. ``T_max`` is the smaller of the family's
+    bound and the census's bound at ``E_b``: a daughter is sought, and followed, in the
+    scope where it is born."""
+    jobs, owners = [], []
+    for f in fams:
+        for p in f["special"]:
+            if p["kind"] in ("IS", "PD"):
+                T = min(f["t_max"], period_bound(bands, p["E"]))
+                a = _switch_args(f, p, lo, hi, T, grid)
+                if a is not None and a["energies"]:
+                    jobs.append(a)
+                    owners.append(([f.get("task"), p["kind"], p["E"]], T))
+    return jobs, owners
+
+
 def build(
     energies: Sequence[float],
     t_max: float | Sequence[tuple[float, float]],
@@ -412,18 +452,12 @@ def build(
         )
         fams += new
     new = fams
+    rounds: list[dict] = []  # per switch round: its tasks, new orbits, new families
     for rnd in range(switch):
-        jobs, owners = [], []
-        for f in new:
-            for p in f["special"]:
-                if p["kind"] in ("IS", "PD"):
-                    a = _switch_args(f, p, lo, hi, f["t_max"], grid)
-                    if a is not None and a["energies"]:
-                        jobs.append(a)
-                        owners.append(([f["task"], p["kind"], p["E"]], f["t_max"]))
+        jobs, owners = switch_jobs(new, bands, lo, hi, grid)
         found = []
         for (via, T), orbs in zip(owners, run("switch", jobs, f"switch {rnd + 1}")):
-            # the census's section search bound for the parent's T_max (as a grid
+            # the census's section search bound for the switch's T_max (as a grid
             # seed), which the daughter is followed to
             found += [
                 dict(o, via=via, t_half=float(T / 2 * 1.02), t_max=T) for o in orbs
@@ -444,12 +478,25 @@ def build(
             f"switch {rnd + 1}: {len(jobs)} points, {len(fresh)} new orbits, "
             f"{len(new)} new families"
         )
+        rounds.append(
+            {"tasks": len(jobs), "new_orbits": len(fresh), "new_families": len(new)}
+        )
         fams += new
         if not new:
             break
     # one family met from two seeds: keep the one that carries the other's whole path
     seeded = {(f["seed"]["E"], f["seed"]["period"]): f.get("task") for f in fams}
-    fams, dup = drop_contained(fams)
+    # no record is dropped while it alone holds a census orbit (the seeds excepted:
+    # a dropped follow's seed goes with its host, below)
+    fams, dup = drop_contained(
+        fams,
+        orbits=[
+            o
+            for E in grid_E
+            for o in censuses[E]
+            if (o["E"], o["period"]) not in seeded
+        ],
+    )
     if dup:
         say(f"{len(dup)} families lay on another's path and were dropped")
     host = {t: hs[0] for t, hs in dup}
@@ -497,7 +544,7 @@ def build(
     pol = iter(run("polish", jobs, "polish"))
     for f in fams:
         for m in f["stored"]:
-            m["polish"] = next(pol)
+            m["polish"] = _same_orbit_polished(m, next(pol))
     # the cost of each family: its follow, its share of the switch tasks, its polishes
     for f in fams:
         f["cpu_s"] = {"follow": cpu["follow"].get(f["task"], 0.0)}
@@ -515,6 +562,7 @@ def build(
         "step": step,
         "max_steps": max_steps,
         "tasks": {k: tuple(v) for k, v in ran.items()},
+        "switch_rounds": rounds,
         "cpu": {k: sum(v.values()) for k, v in cpu.items()},
         "cpu_max": {k: max(v.values(), default=0.0) for k, v in cpu.items()},
     }

@@ -23,7 +23,6 @@ orbit is marginal: ``null`` with the reason at ``tr M = 4``, IS points and folds
 from __future__ import annotations
 
 from dataclasses import replace
-from fractions import Fraction
 
 import numpy as np
 
@@ -121,10 +120,8 @@ def _polish(args: dict) -> dict:
         u1 = u0 * (1 + t.num("1e-12"))
         u = solve(prob, u0, u1, E=args["E_str"], digits=t, r_max=t.eps**0.6).x
         sh = residual(prob, u, args["E_str"], t)
-        # the factor is a small rational (the order of R2 R1 over 2); its float would
-        # limit the period and the closure to ~1e-16
-        fr = Fraction(args["factor"]).limit_denominator(48)
-        T = t.num(fr.numerator) * sh.t1 / t.num(fr.denominator)
+        # the factor as the small rational it is (Tier.scale)
+        T = t.scale(args["factor"], sh.t1)
         M, xT, tr = monodromy_matrix(sh.x0, T, t)
         d = lattice_reduce([a - b for a, b in zip(xT, sh.x0)], D)
         mult = np.linalg.eigvals(np.array(M, dtype=float))

@@ -30,6 +30,7 @@ __all__ = [
     "same_orbit",
     "on_family",
     "drop_contained",
+    "holds",
 ]
 
 
@@ -177,12 +178,19 @@ def _probes(f: dict, samples: int) -> list[dict]:
     return [f["seed"], *(pts[k] for k in idx)] if n else [f["seed"]]
 
 
+def holds(fam: dict, orb: dict) -> bool:
+    """Whether a census orbit can be assigned to the family: it :func:`covers` it, or
+    the orbit lies on its path (:func:`on_family`, default tolerances)."""
+    return covers(fam, orb) or on_family(fam, orb)
+
+
 def drop_contained(
     fams: list[dict],
     samples: int = 24,
     rel_T: float = PATH_TOL[0],
     tol_tr: float = PATH_TOL[1],
     share: float = 0.75,
+    orbits: Sequence[dict] = (),
 ) -> tuple[list[dict], list]:
     """The families with those removed whose path lies on the paths of the others: one
     family met from two seeds, one record carried only part of the way (the engine
@@ -204,6 +212,10 @@ def drop_contained(
     A record is held only by records followed to the same ``T_max`` or a larger one, or
     to one that its periods do not pass (a record followed to ``T <= 16`` may hold
     members that one followed to ``T <= 8`` lacks).
+    A record is never dropped while one of ``orbits`` (the census orbits) that it
+    :func:`holds` lies on none of the remaining others: the probes sample a path, and a
+    stretch of it that no other record carries (a quarter of the probes may lie off the
+    others) can hold census orbits.
     Repeatedly, of the families whose probes lie (``share`` of them) on the remaining
     others, the one that needs the most others to hold them (a bridge before a part),
     then the one with the shortest path, is dropped. Returns ``(kept, dropped)``,
@@ -245,6 +257,8 @@ def drop_contained(
             if hit:
                 row[j] = hit
         on.append(row)
+    # own[i]: the census orbits family i holds
+    own = [[o for o in orbits if holds(f, o)] for f in fams]
     alive = set(range(len(fams)))
     dropped: list[tuple[Any, list]] = []
     while True:
@@ -254,6 +268,8 @@ def drop_contained(
             held = frozenset().union(*hosts.values()) if hosts else frozenset()
             if len(held) < share * len(probes[i]):
                 continue
+            if not all(any(holds(fams[j], o) for j in alive if j != i) for o in own[i]):
+                continue  # census orbits only it holds
             cover, left = [], set(held)  # greedy: the others that hold its probes
             while left:
                 j = max(hosts, key=lambda j: (len(hosts[j] & left), -j))

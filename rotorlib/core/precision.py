@@ -19,6 +19,7 @@ import os
 from collections.abc import Iterable
 from dataclasses import dataclass
 from decimal import Decimal, InvalidOperation
+from fractions import Fraction
 from functools import cache
 from typing import Any
 
@@ -235,6 +236,24 @@ class Tier:
             v = int(v)
         with self.context():
             return mp.mpf(v)
+
+    def scale(self, factor: Any, x: Any) -> Any:
+        """``factor * x`` (``x`` a number of this tier). A float ``factor`` that is a small
+        rational (denominator at most 48, to 1e-15: a period factor, the order of
+        ``R2 R1`` over 2) is applied as that rational in an extended tier: as a float,
+        ``2/3`` would limit the product to ~1e-16 relative.
+
+        >>> t = tier(30)
+        >>> with t.context():
+        ...     print(mp.nstr(t.scale(2 / 3, t.num(3)), 30))
+        2.0
+        """
+        if self.extended and not float(factor).is_integer():
+            fr = Fraction(float(factor)).limit_denominator(48)
+            if abs(float(fr) - float(factor)) <= 1e-15 * abs(float(factor)):
+                with self.context():
+                    return self.num(fr.numerator) * x / self.num(fr.denominator)
+        return factor * x
 
     @property
     def m(self) -> Any:

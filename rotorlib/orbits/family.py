@@ -87,8 +87,9 @@ class Member(OrbitResult):
     @property
     def period(self) -> Any:
         """``factor * t1`` (a tier number)."""
-        with Tier(self.precision).context():
-            return self.factor * self.t1
+        t = Tier(self.precision)
+        with t.context():
+            return t.scale(self.factor, self.t1)
 
     @property
     def state0(self) -> np.ndarray:

@@ -257,7 +257,7 @@ def periodic_orbit(
         return orbit_from_state(
             label or problem.label,
             s.x0,
-            problem.factor * s.t1,
+            t.scale(problem.factor, s.t1),
             t,
             problem.lattice,
             problem.energy(u, w, t),
