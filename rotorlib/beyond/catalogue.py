@@ -337,9 +337,9 @@ class Family:
         ``[{'E', 'period', 'trace', 'u', 'piece'}]``, one per branch through ``E`` (two
         or more beside a fold), by period; ``[]`` outside the family's range.
 
-        Precision: at ``E`` on a piece parametrised by ``E``, the period and ``tr M`` to
-        the record's ``interpolation.max_error`` (``<= 1e-8`` relative, absolute for
-        ``tr M`` near 0: tested on held-out path members). On a piece parametrised by
+        Precision: on a piece parametrised by ``E``, the record's ``interpolation.
+        max_error`` (``<= 1e-8``) at held-out path members; between stored members up to
+        ~2e-6 (at midpoints, beside engine stops and separatrices). On a piece parametrised by
         ``u`` (through a fold) ``E(u) = E`` is solved on the interpolant: the error is
         amplified by ``|dT/dE|``, unbounded at the fold itself; two branches closer to a
         fold than ~1/16 of a node interval in ``u`` are not resolved.
