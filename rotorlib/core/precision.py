@@ -19,15 +19,19 @@ import os
 from collections.abc import Iterable
 from dataclasses import dataclass
 from decimal import Decimal, InvalidOperation
-from fractions import Fraction
 from functools import cache
 from typing import Any
 
 import mpmath as mp
 import numpy as np
 
-__all__ = ["Tier", "tier", "FLOAT64", "REAL128", "load_heyoka", "HEYOKA_CACHE_MB"]
-__all__ += [
+__all__ = [
+    "Tier",
+    "tier",
+    "FLOAT64",
+    "REAL128",
+    "load_heyoka",
+    "HEYOKA_CACHE_MB",
     "HeyokaMissing",
     "DIGITS_RANGE",
     "check_digits",
@@ -238,8 +242,8 @@ class Tier:
             return mp.mpf(v)
 
     def scale(self, factor: Any, x: Any) -> Any:
-        """``factor * x`` (``x`` a number of this tier). A float ``factor`` that is a small
-        rational (denominator at most 48, to 1e-15: a period factor, the order of
+        """``factor * x`` (``x`` a number of this tier). A ``factor`` that is a small
+        rational (denominator ``q <= 48``, to 1e-12: a period factor, the order of
         ``R2 R1`` over 2) is applied as that rational in an extended tier: as a float,
         ``2/3`` would limit the product to ~1e-16 relative.
 
@@ -248,12 +252,15 @@ class Tier:
         ...     print(mp.nstr(t.scale(2 / 3, t.num(3)), 30))
         2.0
         """
-        if self.extended and not float(factor).is_integer():
-            fr = Fraction(float(factor)).limit_denominator(48)
-            if abs(float(fr) - float(factor)) <= 1e-15 * abs(float(factor)):
-                with self.context():
-                    return self.num(fr.numerator) * x / self.num(fr.denominator)
-        return factor * x
+        q = next(
+            (q for q in range(1, 49) if abs(factor * q - round(factor * q)) < 1e-12), 1
+        )
+        with self.context():
+            return (
+                factor * x
+                if q == 1 or not self.extended
+                else self.num(round(factor * q)) * x / q
+            )
 
     @property
     def m(self) -> Any:
@@ -276,12 +283,13 @@ class Tier:
     def hy_kwargs(self) -> dict:
         """``fp_type`` / ``prec`` keyword arguments of ``heyoka.taylor_adaptive``."""
         hy = load_heyoka()
-
-        if self.name == "float64":
-            return {}
-        if self.name == "real128":
-            return {"fp_type": hy.real128}
-        return {"fp_type": hy.real, "prec": self.bits}
+        return (
+            {}
+            if self.name == "float64"
+            else {"fp_type": hy.real128}
+            if self.name == "real128"
+            else {"fp_type": hy.real, "prec": self.bits}
+        )
 
     def to_hy(self, v: Any) -> Any:
         """A number in heyoka's type for this tier, without losing digits."""

@@ -87,9 +87,7 @@ class Member(OrbitResult):
     @property
     def period(self) -> Any:
         """``factor * t1`` (a tier number)."""
-        t = Tier(self.precision)
-        with t.context():
-            return t.scale(self.factor, self.t1)
+        return Tier(self.precision).scale(self.factor, self.t1)
 
     @property
     def state0(self) -> np.ndarray:
