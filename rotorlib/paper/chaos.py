@@ -427,6 +427,7 @@ def chaotic_fraction(
 # newborn families followed towards the band (the engine, rotorlib.orbits.continuation)
 # ----------------------------------------------------------------------------------------------
 
+#: The band of global chaos quoted by the paper (its edges, in units of g).
 BAND = (5.33, 5.6)
 
 #: Families born closer than this to E = 4 (IS^r_3, IS^r_4) have float64 ``tr M`` dominated by

@@ -10,6 +10,7 @@ import numpy as np
 from matplotlib.figure import Figure
 from numpy.typing import ArrayLike
 
+from ..paper.chaos import BAND
 from . import COLUMN_WIDTH, integer_ticks, panel_letters
 
 if TYPE_CHECKING:
@@ -25,8 +26,6 @@ __all__ = [
     "plot_islands",
     "plot_cascade",
 ]
-
-BAND = (5.33, 5.6)
 
 
 def plot_sweep(atlases: Sequence[Atlas], cf: ChaoticFraction | None = None) -> Figure:

@@ -14,6 +14,7 @@ import numpy as np
 from matplotlib.figure import Figure
 from numpy.typing import ArrayLike
 
+from ..paper.chaos import BAND
 from . import COLUMN_WIDTH, family_tex, integer_ticks, panel_letters
 
 if TYPE_CHECKING:
@@ -28,11 +29,11 @@ __all__ = [
     "plot_rotational_branches",
 ]
 
-BAND = (5.33, 5.6)
-
 
 def _band(ax):
-    ax.axvspan(*BAND, color="0.85", zorder=0, label=r"band $5.33 \leq E \leq 5.6$")
+    ax.axvspan(
+        *BAND, color="0.85", zorder=0, label=rf"band ${BAND[0]} \leq E \leq {BAND[1]}$"
+    )
 
 
 def _stable_window(ax):

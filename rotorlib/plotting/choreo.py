@@ -15,6 +15,8 @@ import numpy as np
 from matplotlib.figure import Figure
 from numpy.typing import ArrayLike
 
+from ..paper.chaos import BAND
+
 __all__ = [
     "plot_family",
     "plot_all_families",
@@ -24,9 +26,6 @@ __all__ = [
     "plot_island",
     "BAND",
 ]
-
-#: The band of global chaos quoted by the paper (its edges, in units of g).
-BAND = (5.33, 5.6)
 
 
 def _band(ax):

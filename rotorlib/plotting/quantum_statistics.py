@@ -13,6 +13,8 @@ import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.figure import Figure
 
+from ..paper.chaos import BAND
+
 if TYPE_CHECKING:
     from ..beyond.quantum_statistics import RegularFraction
 
@@ -22,8 +24,6 @@ __all__ = [
     "plot_trends",
     "plot_spacings",
 ]
-
-BAND = (5.33, 5.6)
 
 
 def plot_regular_fraction(rf: RegularFraction) -> Figure:
