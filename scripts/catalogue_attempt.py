@@ -26,7 +26,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import math
 import sys
 from collections import Counter
 from pathlib import Path
@@ -36,8 +35,12 @@ ROOT = Path(__file__).resolve().parent.parent
 
 def main(argv=None) -> int:
     sys.path.insert(0, str(ROOT))
-    from rotorlib.beyond.catalogue_build import special_points, switch_jobs
-    from rotorlib.beyond.catalogue_paths import bands_of, covers, on_family
+    from rotorlib.beyond.catalogue_build import (
+        is_new_daughter,
+        special_points,
+        switch_jobs,
+    )
+    from rotorlib.beyond.catalogue_paths import bands_of
     from rotorlib.beyond.catalogue_tasks import task_key
 
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
@@ -79,17 +82,11 @@ def main(argv=None) -> int:
         task_key("switch", j): j for j in switch_jobs(fams, bands, lo, hi, a.grid)[0]
     }
     ran = [done[k] for k in jobs if k in done]
-    fresh = 0
-    for r in ran:
-        T = r["args"]["t_max"]
-        for o in r["result"]:
-            o = dict(o, via=["switch"], t_max=T)
-            if not any(covers(f, o) for f in fams) and not any(
-                on_family(f, dict(o, period=o["period"] / k), 1e-6, math.inf)
-                for f in fams
-                for k in (2, 3)
-            ):
-                fresh += 1
+    fresh = sum(
+        is_new_daughter(dict(o, via=["switch"], t_max=r["args"]["t_max"]), fams)
+        for r in ran
+        for o in r["result"]
+    )
     sw_cpu = [r["cpu_s"] for r in ran]
     out = {
         "bands": [list(b) for b in bands],

@@ -20,9 +20,10 @@ orbits changes between neighbours (a family born or dying between them), then:
   window with ``n T_b <= T_max``, where ``T_max`` is the smaller of the family's bound and
   the census's bound at ``E_b`` (a daughter is sought in the scope where it is born):
   censuses at ``E_b -+ dE`` restricted to periods within 3 % of ``n T_b`` (the ``switch``
-  task); each orbit found that no family covers (:func:`on_family`) is followed as a new
-  seed, to that ``T_max``, for ``switch`` rounds (daughters of daughters). The class covered: daughters that are symmetric orbits (they meet two
-  fixed sets, as the census finds them), existing at ``E_b - dE`` or ``E_b + dE``;
+  task); each orbit found that no family covers (:func:`is_new_daughter`) is followed as
+  a new seed, to that ``T_max``, for ``switch`` rounds (daughters of daughters). The
+  class covered: daughters that are symmetric orbits (they meet two fixed sets, as the
+  census finds them), existing at ``E_b - dE`` or ``E_b + dE``;
 * polishes the stored members and returns the catalogue in memory, with the CPU seconds
   of every task kind and of every family; :func:`rotorlib.beyond.catalogue_files.write`
   links parents and daughters, records the ends and writes the files. The tasks and their
@@ -54,6 +55,7 @@ from .catalogue_paths import (
 from .catalogue_tasks import (
     execute_task,
     finished,
+    near,
     progress_bar,
     run_tasks,
     stored,
@@ -65,6 +67,7 @@ __all__ = [
     "wavefront",
     "special_points",
     "switch_jobs",
+    "is_new_daughter",
     "build",
 ]
 
@@ -289,19 +292,29 @@ def _switch_args(f: dict, p: dict, lo: float, hi: float, t_max: float, grid: int
     }
 
 
-def _same_orbit_polished(m: dict, p: dict) -> dict:
+def _checked_polish(m: dict, p: dict) -> dict:
     """The polish ``p`` of the path member ``m``, or a failure when the re-solve
     converged to another orbit (its period more than 1e-6 from the member's: the
     float64 member is good to ~1e-10)."""
     if "failed" in p:
         return p
     T = float(p["period_str"])
-    if abs(T / m["period"] - 1) > 1e-6:
+    if not near(T, m["period"], 1e-6):
         return {
             "failed": f"the re-solve converged to another orbit: period {T:.12g} "
             f"against the member's {m['period']:.12g}"
         }
     return p
+
+
+def is_new_daughter(o: dict, fams: Sequence[dict]) -> bool:
+    """Whether an orbit a ``switch`` task found lies on none of ``fams`` (:func:`covers`),
+    not even as a parent traversed twice (three times): the seed of a new family."""
+    return not any(covers(f, o) for f in fams) and not any(
+        on_family(f, dict(o, period=o["period"] / r), 1e-6, math.inf)
+        for f in fams
+        for r in (2, 3)
+    )
 
 
 def switch_jobs(
@@ -463,16 +476,7 @@ def build(
                 dict(o, via=via, t_half=float(T / 2 * 1.02), t_max=T) for o in orbs
             ]
         found.sort(key=lambda o: (o["E"], o["period"], o["trace"]))
-        fresh = [
-            o
-            for o in found
-            if not any(covers(f, o) for f in fams)
-            and not any(
-                on_family(f, dict(o, period=o["period"] / r), 1e-6, math.inf)
-                for f in fams
-                for r in (2, 3)
-            )  # a parent traversed twice (three times) is not a daughter
-        ]
+        fresh = [o for o in found if is_new_daughter(o, fams)]
         new = grow(fresh, f"daughters {rnd + 1}")
         say(
             f"switch {rnd + 1}: {len(jobs)} points, {len(fresh)} new orbits, "
@@ -544,7 +548,7 @@ def build(
     pol = iter(run("polish", jobs, "polish"))
     for f in fams:
         for m in f["stored"]:
-            m["polish"] = _same_orbit_polished(m, next(pol))
+            m["polish"] = _checked_polish(m, next(pol))
     # the cost of each family: its follow, its share of the switch tasks, its polishes
     for f in fams:
         f["cpu_s"] = {"follow": cpu["follow"].get(f["task"], 0.0)}

@@ -26,6 +26,7 @@ __all__ = [
     "PERIOD_TOL",
     "TRACE_TOL",
     "TRACE_TOL_SQ",
+    "matches",
     "held_back",
     "named_special_points",
     "validate",

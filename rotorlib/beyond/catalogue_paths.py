@@ -257,8 +257,8 @@ def drop_contained(
             if hit:
                 row[j] = hit
         on.append(row)
-    # own[i]: the census orbits family i holds
-    own = [[o for o in orbits if holds(f, o)] for f in fams]
+    # holders[k]: the families that hold census orbit k (tested once)
+    holders = [{j for j, f in enumerate(fams) if holds(f, o)} for o in orbits]
     alive = set(range(len(fams)))
     dropped: list[tuple[Any, list]] = []
     while True:
@@ -268,8 +268,8 @@ def drop_contained(
             held = frozenset().union(*hosts.values()) if hosts else frozenset()
             if len(held) < share * len(probes[i]):
                 continue
-            if not all(any(holds(fams[j], o) for j in alive if j != i) for o in own[i]):
-                continue  # census orbits only it holds
+            if any(h & alive == {i} for h in holders):
+                continue  # a census orbit only it holds
             cover, left = [], set(held)  # greedy: the others that hold its probes
             while left:
                 j = max(hosts, key=lambda j: (len(hosts[j] & left), -j))
