@@ -107,7 +107,9 @@ def link(fid: str, known: set[str]) -> str:
 
 def point_E(p: dict) -> str:
     """A special point's energy to the digits it was located to (``E_str`` when the
-    record has it; else 12 decimals: the float64 location is good to ~1e-14)."""
+    record has it; else 12 decimals); a marginal stretch's two ends."""
+    if p.get("kind") == "marginal":
+        return f"{float(p['E']):.12f} – {float(p['E_end']):.12f}"
     if p.get("E_str"):
         return esc(p["E_str"])
     return f"{float(p['E']):.12f}"
@@ -285,8 +287,11 @@ def page(
             "Folds are turning points of the family in E; IS: "
             "$\\mathrm{tr}\\,M = 4$ (a pair of multipliers leaves the unit circle at 1), "
             "PD: $\\mathrm{tr}\\,M = 0$ (at $-1$); touch: $\\mathrm{tr}\\,M$ reaches 4 "
-            "or 0 without a change of stability. Energies to their located digits "
-            "(float64 root finding).",
+            "or 0 without a change of stability; marginal: a stretch (its two ends) where "
+            "$\\mathrm{tr}\\,M$ stays within $10^{-6}$ of its level and float64 does not "
+            "resolve its side. IS and PD energies are their 30-digit roots, touches to "
+            "their golden-section bracket (~1e-15), folds their float64 extremum "
+            "(~1e-15).",
             "",
         ]
     else:

@@ -212,6 +212,36 @@ def test_mirror_start_set_is_smooth_at_turning_points():
         )
 
 
+def test_mirror_start_set_is_continuous_at_an_arc_middle():
+    """At 30 digits the two forms of the mirror's start state (from the arc's lower end
+    and from its upper end) meet at the arc's middle to the tier's precision: with the
+    arc's length taken as a float (which a tier reads as its shortest decimal) they
+    differed there by ~3e-16, the residual of the
+    shooting had that floor, and 14 members of IS^r_3 (which start at the middle, on the
+    symmetric point (pi/2, 3 pi/2)) failed their 30-digit re-solve."""
+    import math
+
+    from rotorlib.core.precision import tier
+
+    E = 4.049042641882241
+    (m,) = [s for s in reversors.start_sets(E) if s.name == "Fix T(12)"]
+    arcs = reversors._arcs(m.line, E)
+    L = [b - a for a, b in arcs]
+    shares = np.cumsum([0.0] + [2 * math.pi * v / sum(L) for v in L])
+    t = tier(30)
+    with t.context():
+        for i in range(len(L)):  # the middle of each arc: theta / 2 = pi / 4
+            mid = t.num(shares[i]) + (t.num(shares[i + 1]) - t.num(shares[i])) / 2
+            # three points 2e-14 apart, the switch between the forms (within ~1e-17
+            # of mid) between the first two: equal steps to ~x'' d^2 if continuous
+            d = t.num("1e-14")
+            x = [m.at(mid + k * d, E, t) for k in (-1, 1, 3)]
+            jump = max(
+                abs(float((b - a) - (c - b))) for a, b, c in zip(x[0], x[1], x[2])
+            )
+            assert jump < 1e-24, (i, jump)
+
+
 def test_stable_orbit_in_the_band(pool):
     """The saddle-center pair born at E ~ 5.51718: at E = 5.517 its elliptic member is the
     only linearly stable symmetric orbit with T <= 12."""

@@ -11,12 +11,9 @@ from concurrent.futures import ThreadPoolExecutor
 import pytest
 
 from rotorlib.beyond import catalogue_tasks as ct
-from rotorlib.beyond.catalogue_build import (
-    default_max_steps,
-    special_points,
-    wavefront,
-)
+from rotorlib.beyond.catalogue_build import default_max_steps, wavefront
 from rotorlib.beyond.catalogue_paths import covers, drop_contained, on_family
+from rotorlib.beyond.catalogue_points import special_points
 
 GRID = [4.0 + 0.1 * k for k in range(8)]
 #: three synthetic families T = a + b E, tr M = c E: a follow from a seed at E0 reaches
@@ -26,7 +23,8 @@ LINES = [(1.0, 0.5, 0.1), (2.0, -0.3, 0.2), (3.0, 0.1, -0.1)]
 
 def _orbit(k: int, E: float) -> dict:
     a, b, c = LINES[k]
-    return {"E": E, "period": a + b * E, "trace": c * E, "k": k}
+    x0 = [E, k, 0.0, 0.0]  # a start state smooth along the path
+    return {"E": E, "u": E, "period": a + b * E, "trace": c * E, "k": k, "x0": x0}
 
 
 def _fake_follow(args: dict) -> dict:
@@ -448,3 +446,112 @@ def test_a_polish_that_lands_on_another_orbit_is_a_failure():
     bad = _checked_polish(m, {"period_str": "12.0256434777051361"})
     assert "another orbit" in bad["failed"]
     assert _checked_polish(m, {"failed": "x"}) == {"failed": "x"}
+
+
+def _jumping_path(n=21, jump_at=10, E0=3.9, dE=0.01):
+    """A path across E = 4 whose start state jumps between members ``jump_at`` and
+    ``jump_at + 1`` (E = 4.0 and 4.01)."""
+    return [
+        {
+            "E": E0 + k * dE,
+            "u": k / 100,
+            "period": 6.0 + k / 100,
+            "trace": 1.0,
+            "x0": [k / 1000 + (k > jump_at), 3 * k / 1000, 0.0, 0.0],
+        }
+        for k in range(n)
+    ]
+
+
+def test_a_path_carried_across_a_critical_energy_onto_another_orbit_is_cut():
+    """The breather LD's path at T <= 16 crossed E = 4 with its start jumping: the part
+    that holds the seed is kept, the end at the cut is a critical point, special points
+    beyond it go and the others are re-indexed; a smooth crossing, or a jump away from
+    a critical energy, is not cut."""
+    from rotorlib.beyond.catalogue_files import END_KINDS, _end
+    from rotorlib.beyond.catalogue_paths import cut_at_critical
+
+    path = _jumping_path()
+    f = {
+        "path": path,
+        "seed": path[15],
+        "special": [{"kind": "PD", "index": 3}, {"kind": "IS", "index": 17}],
+        "ends": _ends("stuck", "E range"),
+    }
+    g = cut_at_critical(f)
+    assert [m["E"] for m in g["path"]] == [m["E"] for m in path[11:]]
+    assert g["special"] == [{"kind": "IS", "index": 6}]
+    assert (
+        g["ends"][0]["stop"] == "critical"
+        and "critical energy 4" in g["ends"][0]["reason"]
+    )
+    assert g["ends"][1] == f["ends"][1]
+    low = _end(g, 0, 0.1, 8.0)
+    assert low["kind"] == END_KINDS["critical"] and abs(low["E"] - 4.01) < 1e-12
+    # the seed below: the lower part is kept, its forward end is the cut
+    h = cut_at_critical(dict(f, seed=path[2]))
+    assert len(h["path"]) == 11 and h["ends"][1]["stop"] == "critical"
+    assert h["special"] == [{"kind": "PD", "index": 3}]
+    # no jump, or a jump away from 4 and 4.5: unchanged
+    smooth = _jumping_path(jump_at=100)
+    assert len(cut_at_critical(dict(f, path=smooth, seed=smooth[15]))["path"]) == 21
+    away = _jumping_path(E0=5.0)
+    assert len(cut_at_critical(dict(f, path=away, seed=away[15]))["path"]) == 21
+
+
+def _polished(i, E, T, tr, T30, tr30, kind="path"):
+    return {
+        "kind": kind,
+        "index": i,
+        "E": E,
+        "u": i / 100,
+        "period": T,
+        "trace": tr,
+        "polish": {"period_str": repr(T30), "trace_str": repr(tr30)},
+    }
+
+
+def test_a_path_whose_float64_members_disagree_with_30_digits_is_cut():
+    """IS^r_4 at T <= 16: within ~2e-5 of E = 4 its float64 tr M is off by percent and
+    then by thousands (the continuation has lost the family): the path is cut at the
+    last stored member that agrees with its re-solve, special points past it go, and the
+    end says why. Agreement within the float64 path's own accuracy (1e-6 in tr M) is
+    not cut, nor a fold (its fixed-E re-solve is ill-conditioned)."""
+    from rotorlib.beyond.catalogue_files import END_KINDS, _end
+    from rotorlib.beyond.catalogue_paths import cut_untrusted
+
+    path = [
+        {"E": 4.0 + 10.0 ** (-k), "u": k / 100, "period": 12 + 1 / k, "trace": -k}
+        for k in range(1, 9)
+    ]  # E -> 4 along the path
+    stored = [
+        _polished(i, m["E"], m["period"], m["trace"], m["period"], m["trace"])
+        for i, m in enumerate(path)
+    ]
+    f = {
+        "path": path,
+        "seed": path[0],
+        "stored": stored,
+        "special": [{"kind": "PD", "index": 2}, {"kind": "IS", "index": 6}],
+        "ends": _ends("E range", "stuck"),
+    }
+    assert not cut_untrusted(f)  # all agree
+    stored[4]["polish"]["trace_str"] = repr(-5 * (1 + 5e-7))  # float64's own accuracy
+    stored[3]["kind"] = "fold"
+    stored[3]["polish"]["trace_str"] = "3.999"  # a fold: not tested
+    assert not cut_untrusted(f)
+    stored[5]["polish"]["trace_str"] = "1.69"  # lost: -6 against 1.69
+    assert cut_untrusted(f)
+    assert len(f["path"]) == 5 and f["special"] == [{"kind": "PD", "index": 2}]
+    assert f["ends"][1]["stop"] == "untrusted" and "1.69" in f["ends"][1]["reason"]
+    assert f["ends"][0]["stop"] == "E range"
+    end = _end(f, 0, 3.0, 5.0)  # the low end: the cut, near E = 4
+    assert end["kind"] == END_KINDS["untrusted"] and "not trusted" in end["reason"]
+    # a re-solve that landed on another orbit counts too; the seed itself never cuts
+    g = {**f, "path": path, "special": [], "ends": _ends()}
+    g["stored"] = [dict(m) for m in stored[:5]]
+    g["stored"][2] = dict(g["stored"][2], polish={"failed": "...another orbit..."})
+    assert cut_untrusted(g) and len(g["path"]) == 2
+    g = {**f, "path": path, "special": [], "ends": _ends(), "seed": path[5]}
+    g["stored"] = stored
+    assert not cut_untrusted(g)

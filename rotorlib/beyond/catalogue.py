@@ -4,8 +4,8 @@ The files (built by ``scripts/build_catalogue.py`` with :mod:`rotorlib.beyond.ca
 stored in ``rotorlib/data/catalogue/``): ``index.json`` (the build's scope: the energy
 window, ``T_max``, ``bands`` ``[[E_hi, T_max], ...]``: the census's bound up to ``E_hi``,
 the census energies and counts; one summary per family), ``F<nnn>.json`` per family,
-``members.csv`` (every stored member, one line each, the decimal strings to 30 digits) and ``schema.json`` (:data:`SCHEMA`, the JSON Schema of a
-family file). Read them without rotorlib; in Python :func:`catalogue` returns
+``members.csv`` (every stored member, the decimal strings to 30 digits) and
+``schema.json`` (:data:`SCHEMA`, the JSON Schema of a family file). Read them without rotorlib; in Python :func:`catalogue` returns
 :class:`Family` objects, each with its :class:`~rotorlib.orbits.family.Branch`
 (:meth:`Family.branch`) and its member at any energy of its range solved to any
 ``digits`` (:meth:`Family.at`); :func:`verify` re-solves the stored members.
@@ -15,9 +15,8 @@ A family record: ``id``, ``name`` (the atlas's name of its census orbits, e.g.
 name), ``symmetry`` (the pairs of fixed sets its census orbits meet half a period apart,
 ``choreography``, ``rotating`` with the net ``winding`` of the two angles over a period,
 in turns), ``E_range``, ``ends`` (each end's energy, period and why the record stops
-there: ``leaves T <= T_max``, ``end of the built window``, ``engine stopped ...``,
-``E = 0 or 8``), ``special_points`` (folds, ``IS``: tr M = 4, ``PD``: tr M = 0, located
-to ~1e-14), ``stable_windows``, ``parents`` / ``daughters`` (``{id, kind, E}``),
+there), ``special_points`` (folds; ``IS``: tr M = 4, ``PD``: tr M = 0, their ``E_str``
+to 30 digits; ``touch``; ``marginal``), ``stable_windows``, ``parents`` / ``daughters``,
 ``census_orbits`` (the census orbits it contains), ``members`` (the stored members:
 ``E_str``, ``period_str``, ``state0_str`` to 30 digits, ``trace_str`` to 25, the
 multipliers, the action ``S = oint p.dq``, the Maslov index ``maslov``, ``null`` with
@@ -25,9 +24,8 @@ multipliers, the action ``S = oint p.dq``, the Maslov index ``maslov``, ``null``
 a node of), ``interpolation`` (the pieces of the path, each with its parameter ``E`` or
 ``u`` and its nodes; ``degree``; ``max_error``: the largest error of the interpolant
 over the path members, ``<= tolerance = 1e-8``; ``path_accuracy``: the float64 path
-against the 30-digit members, and ``above_tolerance``: the members where the path itself
-is less accurate than 1e-8, e.g. where the engine stopped) and ``branch`` (every continuation member in float64:
-``[E, u, t1, tr M, a1, a2, p1, p2]``, the shooting problem and the period factor).
+against the 30-digit members, ``above_tolerance`` where it is less accurate than 1e-8)
+and ``branch`` (the float64 path ``[E, u, t1, tr M, a1, a2, p1, p2]``, problem, factor).
 
 The stored members are chosen by need (:func:`rotorlib.beyond.catalogue_members.stored_members`):
 the fewest path members from which the period and ``tr M`` of every path member are
@@ -186,7 +184,9 @@ SCHEMA: dict[str, Any] = {
             "items": {
                 "type": "object",
                 "required": ["kind", "E", "period", "trace", "index"],
-                "properties": {"kind": {"enum": ["IS", "PD", "fold", "touch"]}},
+                "properties": {
+                    "kind": {"enum": ["IS", "PD", "fold", "touch", "marginal"]}
+                },
             },
         },
         "stable_windows": {"type": "array", "items": _pair},

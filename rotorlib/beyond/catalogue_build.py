@@ -14,8 +14,9 @@ orbits changes between neighbours (a family born or dying between them), then:
   (10 %) over the interval (near the separatrices, beside folds); its orbits that lie on
   no family (:func:`on_family`, period to 2e-5) are followed as new seeds (the follows
   keep landing on the first grid, so that their cached results stay valid);
-* classifies the special points (:func:`special_points`: a fold's own ``tr M = 4`` is the
-  fold; ``tr M`` reaching 4 or 0 without a change of stability is a ``touch``);
+* classifies the special points (:func:`~rotorlib.beyond.catalogue_points.special_points`: a fold's own ``tr M = 4`` is the
+  fold; ``tr M`` reaching 4 or 0 without a change of stability is a ``touch``; a
+  stretch where float64 does not resolve the side of the level is ``marginal``);
 * **switches branches** at every located ``IS`` (``PD``) point of period ``T_b`` inside the
   window with ``n T_b <= T_max``, where ``T_max`` is the smaller of the family's bound and
   the census's bound at ``E_b`` (a daughter is sought in the scope where it is born):
@@ -24,7 +25,10 @@ orbits changes between neighbours (a family born or dying between them), then:
   a new seed, to that ``T_max``, for ``switch`` rounds (daughters of daughters). The
   class covered: daughters that are symmetric orbits (they meet two fixed sets, as the
   census finds them), existing at ``E_b - dE`` or ``E_b + dE``;
-* polishes the stored members and returns the catalogue in memory, with the CPU seconds
+* polishes the stored members, cuts a path where its float64 members disagree with
+  their 30-digit re-solves (:func:`~rotorlib.beyond.catalogue_paths.cut_untrusted`:
+  the continuation loses the family close to a separatrix) and chooses its members
+  again, and returns the catalogue in memory, with the CPU seconds
   of every task kind and of every family; :func:`rotorlib.beyond.catalogue_files.write`
   links parents and daughters, records the ends and writes the files. The tasks and their
   resumable store: :mod:`rotorlib.beyond.catalogue_tasks`.
@@ -47,11 +51,16 @@ from .catalogue_members import stored_members
 from .catalogue_paths import (
     bands_of,
     covers,
+    cut_at_critical,
+    cut_at_switch,
+    cut_untrusted,
     drop_contained,
+    holds,
     on_family,
     period_bound,
     same_orbit,
 )
+from .catalogue_points import find_touches, relocate_points, special_points
 from .catalogue_tasks import (
     execute_task,
     finished,
@@ -65,7 +74,6 @@ from .catalogue_tasks import (
 __all__ = [
     "by_speed",
     "wavefront",
-    "special_points",
     "switch_jobs",
     "is_new_daughter",
     "build",
@@ -132,7 +140,7 @@ def wavefront(
         return None
 
     def add(j: int, out: tuple[Any, float], run: bool) -> None:
-        results[j] = out[0]
+        results[j] = cut_at_critical(out[0])
         if "t_max" in args[j]:  # how far it was followed (see covers)
             results[j]["t_max"] = args[j]["t_max"]
         if cpu is not None:
@@ -223,51 +231,6 @@ def by_speed(
         n = min(split, math.ceil(change / rel)) if change > rel else 1
         out += [round(a + (b - a) * k / n, 12) for k in range(1, n)]
     return out
-
-
-def special_points(f: dict) -> list[dict]:
-    """The located special points of a followed family, classified: an ``IS`` point at a
-    fold of the same family (within 1e-6 in ``E`` and one member: ``tr M = 4`` at a
-    saddle-node is generic) is the fold, not an ``IS``; two crossings of one level (4 or
-    0) by ``tr M`` within two members, with ``|tr M - level| < 1e-6`` on the members
-    between, are one ``touch`` (the level reached without a change of stability, as
-    :func:`rotorlib.beyond.choreo_family.special_points` reports the choreographies'
-    touches; the engine sees a touch only as a pair of crossings at rounding level)."""
-    pts = [dict(p) for p in f["special"]]
-    folds = [p for p in pts if p["kind"] == "fold"]
-    out = []
-    for p in pts:
-        if p["kind"] == "IS" and any(
-            abs(p["E"] - q["E"]) < 1e-6 * max(1.0, abs(q["E"]))
-            and abs(p["index"] - q["index"]) <= 1
-            for q in folds
-        ):
-            continue  # the fold's own tr M = 4
-        out.append(p)
-    path, i, kept = f["path"], 0, []
-    while i < len(out):
-        p = out[i]
-        q = next(
-            (
-                q
-                for q in out[i + 1 :]
-                if q["kind"] == p["kind"]
-                and p["kind"] in ("IS", "PD")
-                and 0 <= q["index"] - p["index"] <= 2
-            ),
-            None,
-        )
-        if q is not None:
-            lev = 4.0 if p["kind"] == "IS" else 0.0
-            between = path[p["index"] + 1 : q["index"] + 1]
-            if all(abs(m["trace"] - lev) < 1e-6 for m in between):
-                kept.append(dict(p, kind="touch", level=lev))
-                out.remove(q)
-                i += 1
-                continue
-        kept.append(p)
-        i += 1
-    return kept
 
 
 def _switch_args(f: dict, p: dict, lo: float, hi: float, t_max: float, grid: int):
@@ -380,7 +343,7 @@ def build(
     if max_steps is None:
         max_steps = default_max_steps(lo, hi, step)
     say = log or (lambda s: None)
-    kinds = ("census", "follow", "switch", "polish")
+    kinds = ("census", "follow", "switch", "polish", "locate", "touch")
     ran: dict[str, list[int]] = {k: [0, 0] for k in kinds}
     cpu: dict[str, dict[str, float]] = {k: {} for k in kinds}
 
@@ -503,6 +466,9 @@ def build(
     )
     if dup:
         say(f"{len(dup)} families lay on another's path and were dropped")
+    # a record that turned at a fold onto another's branch keeps its own side only
+    for t, h, E in cut_at_switch(fams):
+        say(f"a path turned onto another record's branch at E = {E:.10g}: cut there")
     host = {t: hs[0] for t, hs in dup}
     by_task = {f.get("task"): f for f in fams}
     for f in fams:
@@ -526,35 +492,60 @@ def build(
     for f in fams:
         f.pop("_by_E", None)
         f.pop("_seg", None)
-    # stored members: the located energies of the grid, the special points, the seed
-    jobs, owner = [], []
-    for f in fams:
-        f["stored"] = stored_members(f)
-        for m in f["stored"]:
-            jobs.append(
-                {
-                    "problem": f["problem"],
-                    "factor": f["factor"],
-                    "u": m["u"],
-                    "E_str": repr(
-                        min(grid_E, key=lambda e: abs(e - m["E"]))
-                        if m["kind"] == "E"
-                        else m["E"]
-                    ),
-                    "digits": digits,
-                }
-            )
-            owner.append(f)
-    pol = iter(run("polish", jobs, "polish"))
-    for f in fams:
-        for m in f["stored"]:
-            m["polish"] = _checked_polish(m, next(pol))
+    # stored members (the special points, the seed, the path members that interpolation
+    # needs), re-solved to 30 digits; where a path's float64 members disagree with their
+    # re-solves it is cut (cut_untrusted) and its members are chosen again
+    polished: dict[int, set[str]] = {}  # the polish tasks of each family (its CPU)
+    todo, rnd, cut = list(range(len(fams))), 0, set()
+    while todo:
+        jobs, owner = [], []
+        for i in todo:
+            fams[i]["stored"] = stored_members(fams[i])
+            for m in fams[i]["stored"]:
+                jobs.append(
+                    {
+                        "problem": fams[i]["problem"],
+                        "factor": fams[i]["factor"],
+                        "u": m["u"],
+                        "E_str": repr(m["E"]),
+                        "digits": digits,
+                    }
+                )
+                owner.append(i)
+        pol = iter(run("polish", jobs, "polish"))
+        for i in todo:
+            for m in fams[i]["stored"]:
+                m["polish"] = _checked_polish(m, next(pol))
+        for a, i in zip(jobs, owner):
+            polished.setdefault(i, set()).add(task_key("polish", a))
+        rnd += 1
+        todo = [i for i in todo if rnd < 4 and cut_untrusted(fams[i])]
+        cut |= set(todo)
+    for i in sorted(cut):  # census orbits past a cut: on no family now (a failure)
+        f = fams[i]
+        lost = [o for o in f["census"] if not holds(f, o)]
+        f["census"] = [o for o in f["census"] if not any(o is q for q in lost)]
+        orphans += lost
+        f.pop("_by_E", None)
+        f.pop("_seg", None)
+    if cut:
+        say(f"{len(cut)} paths cut where float64 disagrees with 30 digits")
+    # the IS and PD points located again, and the touches the float64 path misses,
+    # at `digits` digits (catalogue_points)
+    for i, keys in relocate_points(fams, run, digits).items():
+        polished[i] |= keys
+    for i, keys in find_touches(fams, run, digits, say).items():
+        polished[i] |= keys
     # the cost of each family: its follow, its share of the switch tasks, its polishes
-    for f in fams:
-        f["cpu_s"] = {"follow": cpu["follow"].get(f["task"], 0.0)}
-    keys = [task_key("polish", a) for a in jobs]
-    for k, f in zip(keys, owner):
-        f["cpu_s"]["polish"] = f["cpu_s"].get("polish", 0.0) + cpu["polish"][k]
+    for i, f in enumerate(fams):
+        f["cpu_s"] = {
+            "follow": cpu["follow"].get(f["task"], 0.0),
+            "polish": sum(cpu["polish"].get(k, 0.0) for k in polished.get(i, ())),
+            **{
+                k: sum(cpu[k].get(x, 0.0) for x in polished.get(i, ()))
+                for k in ("locate", "touch")
+            },
+        }
     return {
         "families": fams,
         "censuses": censuses,

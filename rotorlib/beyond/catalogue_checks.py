@@ -6,7 +6,7 @@ computations: the script ``scripts/catalogue_check.py`` runs them all, the tests
   of a catalogued family at that energy (the member solved from the interpolant of the
   stored members, :meth:`~rotorlib.beyond.catalogue.Family.members_at`): the period to
   ``1e-8`` relative and ``tr M`` to ``1e-6`` relative to ``max(1, |tr M|)`` plus
-  ``1e-12 tr M^2`` (:data:`TRACE_TOL`, :data:`TRACE_TOL_SQ`).
+  ``3e-11 tr M^2`` (:func:`rotorlib.beyond.catalogue_tasks.matches`).
 * :func:`named_special_points`: every special point (IS, PD, fold) of a named family
   against the one :func:`rotorlib.family` locates (passed in) over the family's energy range (``E``
   to ``1e-8``), and the points it locates there that the record lacks.
@@ -22,43 +22,13 @@ import math
 import os
 from collections.abc import Callable
 
+from .catalogue_tasks import matches
+
 __all__ = [
-    "PERIOD_TOL",
-    "TRACE_TOL",
-    "TRACE_TOL_SQ",
-    "matches",
     "held_back",
     "named_special_points",
     "validate",
 ]
-
-#: The period tolerance of a match (relative).
-PERIOD_TOL = 1e-8
-#: The ``tr M`` tolerance of a match (relative to ``max(1, |tr M|)``) ...
-TRACE_TOL = 1e-6
-#: ... plus this times ``tr M^2``: a float64 ``tr M`` of a very unstable orbit is good to
-#: about ``1e-12 tr M^2`` only (an error in the start state grows by ``|tr M|`` over the
-#: period); measured: 1e-5 relative at ``tr M = -7.5e7`` (E = 4.3, T = 14.48) for the
-#: census, the build and the stored member's float64 re-solve, against its 30-digit
-#: value. Two orbits of one period (1e-8) are still told apart unless their ``tr M``
-#: agree that closely.
-TRACE_TOL_SQ = 1e-12
-
-
-def matches(T: float, tr: float, T_m: float, tr_m: float) -> bool:
-    """Whether a reference orbit ``(T, tr M)`` is the member ``(T_m, tr_m)``: the period
-    to :data:`PERIOD_TOL` relative, ``tr M`` to :data:`TRACE_TOL` ``max(1, |tr M|)`` plus
-    :data:`TRACE_TOL_SQ` ``tr M^2``.
-
-    >>> matches(14.4767701559, -75126795.6, 14.4767701559, -75126297.0)
-    True
-    >>> matches(7.000834, 129139.0, 7.000834, 16.9)
-    False
-    """
-    return (
-        abs(T_m - T) <= PERIOD_TOL * T
-        and abs(tr_m - tr) <= TRACE_TOL * max(1.0, abs(tr)) + TRACE_TOL_SQ * tr * tr
-    )
 
 
 def held_back(

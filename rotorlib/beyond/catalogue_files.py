@@ -27,6 +27,7 @@ END_KINDS = {
     "parent": "bifurcation from a parent",
     "separatrix": "collision with a separatrix",
     "critical": "a critical point",
+    "untrusted": "engine stopped",
     "axis": "E = 0 or E = 8",
     "window": "end of the built window",
 }
@@ -57,7 +58,13 @@ def _end(f: dict, side: int, lo: float, hi: float) -> dict:
     4 or 4.5, within 0.05, the period rising over the last members) or ``leaves T <=
     T_max`` (``period``); ``a critical point`` (the engine stops within 0.05 of
     ``E = 0``, or of 4 or 4.5 with the momenta of ``state0`` below 0.05: the orbit shrinks
-    to an equilibrium) or ``engine stopped`` with the engine's reason (``stuck``,
+    to an equilibrium; or the path was cut where the engine carried it across a critical
+    energy onto another orbit, :func:`~rotorlib.beyond.catalogue_paths.cut_at_critical`);
+    ``bifurcation from a parent`` where the path was cut at a fold onto its parent's
+    branch (:func:`~rotorlib.beyond.catalogue_paths.cut_at_switch`); ``engine stopped``
+    where it was cut because its float64 members disagree with their 30-digit re-solves
+    (:func:`~rotorlib.beyond.catalogue_paths.cut_untrusted`: the reason gives the
+    disagreement), or with the engine's reason (``stuck``,
     ``section lost``, ``steps``; where another family goes on from the same orbit,
     :func:`_joins`, it is named). ``side`` names the path's direction
     (``backward``/``forward`` from the seed) where the end lies."""
@@ -89,9 +96,21 @@ def _end(f: dict, side: int, lo: float, hi: float) -> dict:
         if parent is not None:
             kind = END_KINDS["parent"]
             reason = f"born at the {parent['kind']} point of {parent['id']} at E = {parent['E']:.10g}"
-        else:
+        else:  # the record of the branch beyond it is named (fold_twins, _links)
             kind = END_KINDS["fold"]
             reason = f"fold at E = {m['E']:.10g} (the engine went on past it)"
+            twin = [
+                t["id"] for t in f.get("fold_twins", ()) if abs(t["E"] - m["E"]) < 1e-4
+            ]
+            if twin:  # the record of the fold's other branch
+                reason += f"; the branch beyond the fold is the record {twin[0]}"
+    elif stop in ("critical", "untrusted"):  # cut_at_critical, cut_untrusted
+        kind = END_KINDS[stop]
+    elif stop == "switch":  # cut_at_switch: born at the parent's branch point
+        kind = END_KINDS["parent"]
+        ps = [p for p in f.get("parents", ()) if abs(p["E"] - m["E"]) < 1e-6]
+        if ps:
+            reason = f"born at the IS point of {ps[0]['id']} at E = {ps[0]['E']:.10g}; {reason}"
     elif stop == "E range":
         at_axis = (m["E"] <= 0.01 and lo <= 0.01) or (m["E"] >= 8 and hi >= 8)
         kind = END_KINDS["axis"] if at_axis else END_KINDS["window"]
@@ -154,10 +173,19 @@ def _symmetry(f: dict) -> dict:
 
 
 def _stable_windows(f: dict) -> list[list[float]]:
-    """Runs of stable path members, bounded by the located IS/PD/fold points beside them."""
-    path, marks = f["path"], f["special"]
+    """Runs of stable path members, bounded by the located IS/PD/fold points beside them.
+    A member inside a ``marginal`` stretch (``tr M`` within 1e-6 of 4 or 0, its side
+    not resolved: :func:`rotorlib.beyond.catalogue_build.special_points`) is in none."""
+    path = f["path"]
+    marks = [p for p in f["special"] if p["kind"] != "marginal"]
     out, i = [], 0
-    st = [0 < m["trace"] < 4 for m in path]
+    unresolved = {
+        k
+        for p in f["special"]
+        if p["kind"] == "marginal"
+        for k in range(p["index"], p["index_end"] + 2)
+    }
+    st = [0 < m["trace"] < 4 and k not in unresolved for k, m in enumerate(path)]
     while i < len(st):
         j = i
         while j < len(st) and st[j] == st[i]:
@@ -257,6 +285,24 @@ def _links(fams: list[dict]) -> None:
     _joins(fams)
     for f in fams:
         f["parents"], f["daughters"] = [], []
+    folds = [(g, q) for g in fams for q in g["special"] if q["kind"] == "fold"]
+    for f in fams:  # two records that turn at one fold: a family's two branches
+        f["fold_twins"] = [
+            {"id": g["id"], "E": q["E"]}
+            for p in f["special"]
+            if p["kind"] == "fold"
+            for g, q in folds
+            if g is not f
+            and abs(q["E"] - p["E"]) < 1e-6 * max(1.0, abs(p["E"]))
+            and near(q["period"], p["period"], 1e-6)
+        ]
+    by_task = {g.get("task"): g for g in fams}
+    for f in fams:  # born where the engine turned onto the parent's branch
+        sw = f.get("switch_parent")
+        if sw and sw["task"] in by_task:
+            g, link = by_task[sw["task"]], {"kind": "IS", "E": sw["E"]}
+            f["parents"].append({"id": g["id"], **link})
+            g["daughters"].append({"id": f["id"], **link})
     for f in fams:
         for p in f["special"]:
             if p["kind"] not in ("IS", "PD"):
@@ -394,7 +440,16 @@ def write(cat: dict, out: str | os.PathLike, schema: dict) -> dict:
             ],
             "ends": [_end(f, 0, lo, hi), _end(f, 1, lo, hi)],
             "special_points": [
-                {k: p[k] for k in ("kind", "E", "period", "trace", "index")}
+                {
+                    k: p[k]
+                    for k in ("kind", "E", "period", "trace", "index")
+                    + ("E_str", "E_error", "E64", "location")
+                    + (
+                        ("E_end", "index_end", "crossings", "level")
+                        * (p["kind"] == "marginal")
+                    )
+                    if k in p
+                }
                 for p in f["special"]
                 if p["kind"] != "E"
             ],

@@ -31,6 +31,8 @@ __all__ = [
     "DEGREE",
     "problem_of",
     "polish_task",
+    "locate_task",
+    "touch_task",
     "phase_data",
     "pieces",
     "local_interpolant",
@@ -72,6 +74,142 @@ def polish_task(args: dict) -> dict:
     except (NoConvergence, SectionNotReached, ValueError, ZeroDivisionError) as exc:
         return {"failed": f"{type(exc).__name__}: {exc}"[:300]}
     return {**out, **phase_data(out["state0_str"], out["period_str"], out["trace_str"])}
+
+
+def locate_task(args: dict) -> dict:
+    """The special point ``args['kind']`` (``IS``: ``tr M = 4``; ``PD``: ``tr M = 0``)
+    located again at ``args['digits']`` digits from its float64 location ``args['E']``
+    (``args['u']``: its shooting unknown there): a secant in ``E`` on ``tr M - level``
+    (:func:`rotorlib.orbits.shooting.secant`), the member at each ``E`` solved from the
+    last one's ``u``. Returns the member at the root as :func:`polish_task` does
+    (``E_str`` to ``digits``), with ``E_error``: the root's precision, ``(|tr M -
+    level| + 1e-25 max(1, |tr M|)) / |d tr M / dE|`` (``tr M`` at 30 digits is good to
+    ~25), ``tr_residual``: ``|tr M - level|`` at the root, and ``moved``: the root minus
+    the float64 location; or ``{'failed': reason}``, also when ``E_error`` exceeds
+    1e-12 relative.
+
+    Why: the float64 location, by the continuation engine, is good to ~1e-10 relative
+    where ``tr M`` crosses its level steeply, and worse where it does not; measured on
+    the ``T <= 16`` build, the 30-digit ``tr M`` at the float64 location of an IS point
+    of the pendulum's record (E = 4.0000133) is 1.6e-5 from its level, that is 5e-10
+    off in ``E``.
+    """
+    from ..core.flow import SectionNotReached
+    from ..orbits.shooting import NoConvergence
+
+    try:
+        out = _locate(args)
+    except (NoConvergence, SectionNotReached, ValueError, ZeroDivisionError) as exc:
+        return {"failed": f"{type(exc).__name__}: {exc}"[:300]}
+    return {**out, **phase_data(out["state0_str"], out["period_str"], out["trace_str"])}
+
+
+def _locate(args: dict) -> dict:
+    from ..core.flow import monodromy_matrix
+    from ..core.precision import tier
+    from ..orbits.shooting import residual, secant, solve
+
+    D = int(args["digits"])
+    prob = problem_of(
+        {**args["problem"], "label": "catalogue", "factor": args["factor"]}
+    )
+    level = 4 if args["kind"] == "IS" else 0
+    t = tier(D)
+    with t.context():
+        last = {"u": t.num(repr(args["u"]))}
+
+        def g(E):
+            u0 = last["u"]
+            u1 = u0 * (1 + t.num("1e-12"))
+            u = solve(prob, u0, u1, E=E, digits=t, r_max=t.eps**0.6).x
+            sh = residual(prob, u, E, t)
+            _, _, tr = monodromy_matrix(sh.x0, t.scale(args["factor"], sh.t1), t)
+            last["u"] = u
+            return tr - level
+
+        E0 = t.num(repr(args["E"]))
+        root = secant(g, E0, E0 * (1 + t.num("1e-10")), t.num("1e-24"))
+        # the root's precision: |tr M - level| there plus the 25-digit noise of tr M,
+        # over the slope d tr M / dE (a difference 1e-16 relative beside the root)
+        r0 = g(root.x)  # (and the member at the root: the last call was elsewhere)
+        u = last["u"]
+        dE = root.x * t.num("1e-16")
+        slope = (g(root.x + dE) - r0) / dE
+        err = (abs(r0) + t.num("1e-25") * max(1, abs(r0 + level))) / abs(slope)
+        if not err < t.num("1e-12") * abs(root.x):
+            raise ValueError(
+                f"the root in E is not resolved to 1e-12 (|tr M - {level}| = "
+                f"{float(abs(r0)):.1e}, slope {float(slope):.2e}, at E = "
+                f"{float(root.x):.15g})"
+            )
+        out = _polish({**args, "u": float(u), "E_str": t.text(root.x, D), "digits": D})
+        return {
+            **out,
+            "E_error": float(err),
+            "tr_residual": float(abs(r0)),
+            "moved": float(root.x - E0),
+        }
+
+
+def touch_task(args: dict) -> dict:
+    """Where ``tr M`` comes closest to ``args['level']`` (4) between two stored members
+    at ``args['E']`` ``= [E_a, E_b]`` (shooting unknowns ``args['u']``: the member at
+    each energy is solved from ``u`` interpolated linearly), at ``args['digits']``
+    digits: a golden-section search for the extremum of ``tr M`` (the largest when
+    ``tr M`` lies below the level, the smallest above), 60 steps. Returns the member
+    there as :func:`polish_task` does, with ``E_error``: the final bracket (the search
+    stops where the float energy no longer moves), and ``gap``: ``tr M - level`` at
+    the extremum; or ``{'failed': reason}``.
+
+    A touch is what the Maslov index of the stored members shows and the float64 path
+    does not: ``tr M`` reaching 4 without crossing it (a pitchfork of a symmetric
+    family). Measured on CZ2 at ``T <= 16``: the index goes from 3 to 5 between
+    members at ``E = 4.5737`` and ``4.5759`` with ``tr M = 3.93`` and 3.97, and this
+    search finds ``tr M - 4`` below 1e-15 at ``E = 4.57494119220``.
+    """
+    import math
+
+    from mpmath import mpf
+
+    from ..core.flow import SectionNotReached
+    from ..orbits.shooting import NoConvergence
+
+    (Ea, Eb), (ua, ub), level = args["E"], args["u"], args["level"]
+    got: dict = {}
+
+    def g(E: float) -> float:
+        u = ua + (ub - ua) * (E - Ea) / (Eb - Ea)
+        p = _polish({**args, "u": u, "E_str": repr(E)})
+        got[E] = p
+        d = mpf(p["trace_str"]) - level
+        return float(d if args["below"] else -d)
+
+    try:
+        lo, hi, r = min(Ea, Eb), max(Ea, Eb), (math.sqrt(5) - 1) / 2
+        x1, x2 = hi - r * (hi - lo), lo + r * (hi - lo)
+        f1, f2 = g(x1), g(x2)
+        for _ in range(60):
+            if f1 > f2:
+                hi, x2, f2 = x2, x1, f1
+                x1 = hi - r * (hi - lo)
+                f1 = g(x1)
+            else:
+                lo, x1, f1 = x1, x2, f2
+                x2 = lo + r * (hi - lo)
+                f2 = g(x2)
+            if x1 >= x2:
+                break
+        E = x1 if f1 > f2 else x2
+        out = got[E]
+    except (NoConvergence, SectionNotReached, ValueError, ZeroDivisionError) as exc:
+        return {"failed": f"{type(exc).__name__}: {exc}"[:300]}
+    gap = float(mpf(out["trace_str"]) - level)
+    return {
+        **out,
+        **phase_data(out["state0_str"], out["period_str"], out["trace_str"]),
+        "E_error": hi - lo,
+        "gap": gap,
+    }
 
 
 def phase_data(state0, period, trace) -> dict:

@@ -5,6 +5,12 @@
   and ``tr M`` interpolated);
 * :func:`drop_contained`: the records whose paths lie on the others' (one family met
   from two seeds, a record stopped early, a bridge between two others);
+* :func:`cut_at_critical`: a follow cut where the engine carried it across a critical
+  energy onto another orbit;
+* :func:`cut_at_switch`: a follow cut at a fold where the engine turned onto another
+  family's branch (a pitchfork);
+* :func:`cut_untrusted`: a follow cut where its float64 members disagree with their
+  30-digit re-solves;
 * :func:`bands_of`, :func:`period_bound`: the build's scope, a period bound for each
   band of energies (``T <= 16`` up to ``E = 6.2``, ``T <= 8`` above, say).
 
@@ -20,10 +26,12 @@ from typing import Any
 
 import numpy as np
 
+from ..core.system import BREATHER_SEPARATRIX_ENERGY, SEPARATRIX_ENERGY
 from .catalogue_tasks import near
 
 __all__ = [
     "PATH_TOL",
+    "TRUST",
     "bands_of",
     "period_bound",
     "covers",
@@ -31,6 +39,9 @@ __all__ = [
     "on_family",
     "drop_contained",
     "holds",
+    "cut_at_critical",
+    "cut_untrusted",
+    "cut_at_switch",
 ]
 
 
@@ -176,6 +187,243 @@ def _probes(f: dict, samples: int) -> list[dict]:
     n = len(pts)
     idx = sorted({round(k * (n - 1) / max(1, samples - 1)) for k in range(samples)})
     return [f["seed"], *(pts[k] for k in idx)] if n else [f["seed"]]
+
+
+def cut_at_critical(f: dict, ratio: float = 10.0) -> dict:
+    """The follow ``f`` (a ``follow`` task's result) cut where its path crosses a
+    critical energy (4 or 4.5, the saddles' levels) with a jump of the start state:
+    a step whose ``state0`` moves (max norm) by more than ``ratio`` times the median of
+    the ten steps beside it, and by more than 1e-3.
+
+    At a critical energy the start sets change their shape (an arc of a mirror line
+    splits or joins; the circle at D1 appears), so that the shooting unknown ``u``, which
+    the engine continues smoothly, can name another orbit on the other side: the
+    breather LD's path at ``T <= 16`` went on across ``E = 4`` with ``T`` smooth but its
+    start jumping from ``(1.54, 4.62)`` to ``(2.36, 7.07)`` and ``tr M`` from 53,908 to
+    9.04. The part of the path that holds the seed is kept; the end at the cut gets the
+    stop ``'critical'`` with the jump in its reason; special points beyond it go.
+    Returns ``f`` itself when nothing is cut.
+
+    >>> path = [{"E": 3.9 + k / 100, "u": k / 100, "period": 6.0, "trace": 1.0,
+    ...          "x0": [k / 1000 + (k > 10), 0.0, 0.0, 0.0]} for k in range(21)]
+    >>> f = {"path": path, "seed": path[15], "special": [],
+    ...      "ends": [{"side": "backward", "stop": "period", "reason": ""},
+    ...               {"side": "forward", "stop": "period", "reason": ""}]}
+    >>> g = cut_at_critical(f)
+    >>> len(g["path"]), round(g["path"][0]["E"], 2), g["ends"][0]["stop"]
+    (10, 4.01, 'critical')
+    """
+    path = f["path"]
+    k = [
+        i
+        for i, m in enumerate(path)
+        if (m["E"], m["u"]) == (f["seed"]["E"], f["seed"]["u"])
+    ]
+    if len(path) < 3 or not k:
+        return f
+    E = np.array([m["E"] for m in path])
+    dx = np.abs(np.diff(np.array([m["x0"] for m in path]), axis=0)).max(axis=1)
+    cuts = {}
+    for i, d in enumerate(dx):
+        c = [
+            c
+            for c in (SEPARATRIX_ENERGY, BREATHER_SEPARATRIX_ENERGY)
+            if (E[i] - c) * (E[i + 1] - c) <= 0
+        ]
+        beside = np.r_[dx[max(0, i - 5) : i], dx[i + 1 : i + 6]]
+        if c and d > max(
+            1e-3, ratio * float(np.median(beside)) if len(beside) else 0.0
+        ):
+            cuts[i] = (
+                f"the start state jumps by {d:.3g} between the members at E = "
+                f"{E[i]:.10g} and {E[i + 1]:.10g}, across the critical energy {c[0]:g}, "
+                "where the start set changes: the path is cut there"
+            )
+    s = k[0]
+    a = max((i + 1 for i in cuts if i < s), default=0)
+    b = min((i for i in cuts if i >= s), default=len(path) - 1)
+    if (a, b) == (0, len(path) - 1):
+        return f
+    ends = [dict(e) for e in f["ends"]]
+    for side, i in ((0, a - 1), (1, b)):
+        if i in cuts:
+            ends[side] = {
+                "side": ends[side]["side"],
+                "stop": "critical",
+                "reason": cuts[i],
+            }
+    special = [
+        dict(p, index=p["index"] - a) for p in f["special"] if a <= p["index"] <= b
+    ]
+    return {**f, "path": path[a : b + 1], "special": special, "ends": ends}
+
+
+#: ``(rel_T, rel_tr)`` of :func:`cut_untrusted`: a float64 member that differs from its
+#: 30-digit re-solve by more than ``rel_T`` in the period (relative) or ``rel_tr``
+#: ``max(1, |tr M|)`` plus 1e-12 ``tr M^2`` in ``tr M`` is not the family's member. Loose:
+#: the float64 path's own accuracy, which is finer (``interpolation.path_accuracy`` of
+#: each record), is measured and recorded, not enforced here.
+TRUST = (1e-6, 1e-2)
+
+
+def _disagreement(m: dict) -> str | None:
+    """How a stored member's float64 values disagree with its 30-digit re-solve
+    (``m['polish']``) beyond :data:`TRUST`, or ``None``. A fold is not tested (at fixed
+    ``E`` its root in ``u`` is double: the re-solve is ill-conditioned), nor a re-solve
+    that did not converge (listed among the failures)."""
+    p = m.get("polish", {})
+    if m["kind"] == "fold":
+        return None
+    if "failed" in p:
+        return p["failed"] if "another orbit" in p["failed"] else None
+    T, tr = float(p["period_str"]), float(p["trace_str"])
+    rel_T, rel_tr = TRUST
+    if (
+        abs(T - m["period"]) <= rel_T * T
+        and abs(tr - m["trace"]) <= rel_tr * max(1.0, abs(tr)) + 1e-12 * tr * tr
+    ):
+        return None
+    return (
+        f"its float64 member at E = {m['E']:.10g} has T = {m['period']:.12g}, "
+        f"tr M = {m['trace']:.6g}; its 30-digit re-solve T = {T:.12g}, tr M = {tr:.6g}"
+    )
+
+
+def cut_untrusted(f: dict) -> bool:
+    """Cut the path of the followed family ``f``, whose stored members carry their
+    30-digit re-solves (``polish``), to the stretch around the seed where every stored
+    member agrees with its re-solve to :data:`TRUST` (the period to 1e-6, ``tr M`` to
+    1e-2 ``max(1, |tr M|)`` plus 1e-12 ``tr M^2``). The
+    path then ends at the last agreeing stored member on each side; the end there gets
+    the stop ``'untrusted'`` with the disagreement in its reason, and special points
+    beyond it go. Returns whether it cut (the stored members must then be chosen again).
+
+    Why: the float64 continuation loses the family close to a separatrix. Measured on
+    the ``T <= 16`` record of ``IS^r_4``: at ``E - 4 = 1.7e-5`` its float64 ``tr M`` is
+    2 % off, at ``E - 4 = 8e-7`` it is -3.46 against the re-solve's -6.22, and below
+    ``2.4e-7`` the path's ``tr M`` jumps between -2,281 and 5,547 from member to
+    member while the re-solves give 1.69. Nothing is cut when the seed itself disagrees.
+    """
+    path = f["path"]
+    k = [
+        i
+        for i, m in enumerate(path)
+        if (m["E"], m["u"]) == (f["seed"]["E"], f["seed"]["u"])
+    ]
+    if not k:
+        return False
+    s = k[0]
+    why = {m["index"]: w for m in f["stored"] if (w := _disagreement(m))}
+    ok = sorted({m["index"] for m in f["stored"]} - set(why))
+    if not why or s in why:
+        return False
+    below, above = [i for i in why if i < s], [i for i in why if i > s]
+    a = min(i for i in ok if i > max(below)) if below else 0
+    b = max(i for i in ok if i < min(above)) if above else len(path) - 1
+    ends = [dict(e) for e in f["ends"]]
+    for side, bad, keep in (
+        (0, max(below, default=None), a),
+        (1, min(above, default=None), b),
+    ):
+        if bad is not None:
+            ends[side] = {
+                "side": ends[side]["side"],
+                "stop": "untrusted",
+                "reason": f"untrusted: the float64 continuation is not trusted past "
+                f"E = {path[keep]['E']:.10g}: {why[bad]}",
+            }
+    f["special"] = [
+        dict(p, index=p["index"] - a)
+        | ({"index_end": p["index_end"] - a} if "index_end" in p else {})
+        for p in f["special"]
+        if a <= p["index"] and p.get("index_end", p["index"]) <= b
+    ]
+    f["path"], f["ends"] = path[a : b + 1], ends
+    f.pop("_by_E", None)
+    f.pop("_seg", None)
+    return True
+
+
+def cut_at_switch(
+    fams: Sequence[dict], samples: int = 24, share: float = 0.75
+) -> list[tuple[Any, Any, float]]:
+    """Cut each family whose path turns at a fold onto another family's branch: the
+    side of the fold (not the seed's) whose members lie (``share`` of ``samples``
+    probes, :data:`PATH_TOL`) on another record goes. Returns ``(task cut, task of the
+    other, E of the fold)`` for each cut.
+
+    At a pitchfork the parent's branch and the daughter's meet with ``tr M = 4``; the
+    engine, coming down the parent, may go on up the daughter, and the path then shows
+    a fold there (measured at ``T <= 16``: the pendulum's record turned at
+    ``E = 4 + 1.7e-7`` onto ``IS^r_3``, whose census orbits made the record a family of
+    its own, carrying the pendulum's stretch and special points a second time). The
+    other record must have no fold of its own there (two halves of a saddle-node turn at
+    the same fold: neither is the other's parent). The
+    kept side ends at the fold with the stop ``'switch'``; the record gets
+    ``switch_parent`` ``{task, E, period}`` (linked as a parent's ``IS`` point by
+    :mod:`rotorlib.beyond.catalogue_files`). Special points on the cut side go."""
+    out = []
+    for f in fams:
+        seed = [
+            i
+            for i, m in enumerate(f["path"])
+            if (m["E"], m["u"]) == (f["seed"]["E"], f["seed"]["u"])
+        ]
+        for p in [p for p in f["special"] if p["kind"] == "fold"]:
+            k, path = p["index"], f["path"]
+            if not seed or not 2 < k < len(path) - 3:
+                continue
+            for side, part in ((0, path[: k - 2]), (1, path[k + 3 :])):
+                if (seed[0] < k) == (side == 0) or len(part) < 4:
+                    continue  # the seed's side is kept
+                pr = part[:: max(1, len(part) // samples)]
+                host = next(
+                    (
+                        g
+                        for g in fams
+                        if g is not f
+                        # a parent goes on through its branch point: no fold there
+                        and not any(
+                            q["kind"] == "fold" and abs(q["E"] - p["E"]) < 1e-6
+                            for q in g["special"]
+                        )
+                        and sum(on_family(g, m, *PATH_TOL) for m in pr)
+                        >= share * len(pr)
+                    ),
+                    None,
+                )
+                if host is None:
+                    continue
+                a, b = (k, len(path) - 1) if side == 0 else (0, k)
+                ends = [dict(e) for e in f["ends"]]
+                ends[side] = {
+                    "side": ends[side]["side"],
+                    "stop": "switch",
+                    "reason": f"switch: the path turned at E = {p['E']:.10g} (a fold "
+                    "with tr M = 4) onto the branch of another record, which carries "
+                    "the rest: a pitchfork, where this family is born",
+                }
+                f["switch_parent"] = {
+                    "task": host.get("task"),
+                    "E": p["E"],
+                    "period": p["period"],
+                }
+                f["special"] = [
+                    dict(q, index=q["index"] - a)
+                    | ({"index_end": q["index_end"] - a} if "index_end" in q else {})
+                    for q in f["special"]
+                    if a <= q["index"]
+                    and q.get("index_end", q["index"]) <= b
+                    and q is not p
+                ]
+                f["path"], f["ends"] = path[a : b + 1], ends
+                f.pop("_by_E", None)
+                f.pop("_seg", None)
+                out.append((f.get("task"), host.get("task"), p["E"]))
+                break
+            if "switch_parent" in f:
+                break
+    return out
 
 
 def holds(fam: dict, orb: dict) -> bool:

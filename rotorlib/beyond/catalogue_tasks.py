@@ -1,6 +1,6 @@
 """The tasks of the catalogue build (:mod:`rotorlib.beyond.catalogue_build`) and their store.
 
-Four kinds of task, each a pure function of its inputs:
+Six kinds of task, each a pure function of its inputs:
 
 * ``census``: :func:`rotorlib.beyond.atlas.census` at one energy (float64, named);
 * ``follow``: one census orbit continued with the engine
@@ -11,7 +11,11 @@ Four kinds of task, each a pure function of its inputs:
 * ``switch``: the censuses beside a located ``IS`` / ``PD`` point, restricted to the
   periods of its daughters (:func:`switch_task`);
 * ``polish``: one stored member re-solved at ``digits = 30``
-  (:func:`rotorlib.beyond.catalogue_members.polish_task`).
+  (:func:`rotorlib.beyond.catalogue_members.polish_task`);
+* ``locate``: one IS or PD point located again at ``digits = 30``
+  (:func:`rotorlib.beyond.catalogue_members.locate_task`);
+* ``touch``: where ``tr M`` comes closest to 4 between two stored members whose Maslov
+  indices differ (:func:`rotorlib.beyond.catalogue_members.touch_task`).
 
 Every task is keyed by a hash of its inputs (:func:`task_key`); its result is written,
 as it finishes, to ``<cache>/<key>.json`` (a temporary file renamed: complete or absent).
@@ -20,7 +24,7 @@ worker, or the client) resumes without redoing a finished task. Tasks run serial
 a process pool or on a Dask cluster (:func:`rotorlib.core.parallel.executor_for`).
 
 Precision: float64 continuation (members to residual < 1e-8; folds to ~1e-15 in ``E``,
-IS/PD to ~1e-14 in the local parameter).
+IS/PD to ~1e-14 in the local parameter, located again to 30 digits by ``locate``).
 """
 
 from __future__ import annotations
@@ -39,7 +43,7 @@ from fractions import Fraction
 from pathlib import Path
 from typing import Any
 
-from .catalogue_members import polish_task, problem_of
+from .catalogue_members import locate_task, polish_task, problem_of, touch_task
 
 __all__ = [
     "VERSION",
@@ -53,6 +57,10 @@ __all__ = [
     "finished",
     "TASKS",
     "near",
+    "PERIOD_TOL",
+    "TRACE_TOL",
+    "TRACE_TOL_SQ",
+    "matches",
     "write_json",
     "execute_task",
     "progress_bar",
@@ -64,8 +72,6 @@ VERSION = 1
 #: cached results (polish 2: the period factor is the exact rational, not its float).
 KIND_REVISION = {"polish": 2}
 
-#: Why a family's record ends, from the engine's stop code (``E range``: see ``_end``).
-
 
 def near(a: float, b: float, rel: float) -> bool:
     """Whether ``|a - b| <= rel * max(1, |b|)``.
@@ -74,6 +80,37 @@ def near(a: float, b: float, rel: float) -> bool:
     (True, False)
     """
     return abs(a - b) <= rel * max(1.0, abs(b))
+
+
+#: The period tolerance of a match (relative).
+PERIOD_TOL = 1e-8
+#: The ``tr M`` tolerance of a match (relative to ``max(1, |tr M|)``) ...
+TRACE_TOL = 1e-6
+#: ... plus this times ``tr M^2``: a float64 ``tr M`` of a very unstable orbit is good to
+#: about ``1e-11 tr M^2`` only (an error in the start state grows by ``|tr M|`` over the
+#: period, times a factor that depends on the orbit); measured against the 30-digit
+#: value: 1e-5 relative (1e-13 tr M^2) at ``tr M = -7.5e7`` (E = 4.3, T = 14.48), and
+#: 0.33 and 0.79 (up to 9e-12 tr M^2) for the census's and the catalogue's float64
+#: values at ``tr M = -3.03e5`` (E = 4.02, T = 12.13): a match of two float64 values
+#: allows the sum, with margin. Two orbits of one period (1e-8) are still told apart
+#: unless their ``tr M`` agree that closely.
+TRACE_TOL_SQ = 3e-11
+
+
+def matches(T: float, tr: float, T_m: float, tr_m: float) -> bool:
+    """Whether a reference orbit ``(T, tr M)`` is the member ``(T_m, tr_m)``: the period
+    to :data:`PERIOD_TOL` relative, ``tr M`` to :data:`TRACE_TOL` ``max(1, |tr M|)`` plus
+    :data:`TRACE_TOL_SQ` ``tr M^2``.
+
+    >>> matches(14.4767701559, -75126795.6, 14.4767701559, -75126297.0)
+    True
+    >>> matches(7.000834, 129139.0, 7.000834, 16.9)
+    False
+    """
+    return (
+        abs(T_m - T) <= PERIOD_TOL * T
+        and abs(tr_m - tr) <= TRACE_TOL * max(1.0, abs(tr)) + TRACE_TOL_SQ * tr * tr
+    )
 
 
 def task_key(kind: str, args: dict) -> str:
@@ -364,4 +401,6 @@ TASKS = {
     "follow": follow_task,
     "switch": switch_task,
     "polish": polish_task,
+    "locate": locate_task,
+    "touch": touch_task,
 }

@@ -378,10 +378,14 @@ class MirrorSet(_Curve):
         with t.context():
             v = t.num(u) - 2 * turns * t.pi - t.num(shares[i])
             half = v * t.pi / t.num(shares[i + 1] - shares[i]) / 2  # theta / 2
+            # the arc's length from its ends in the tier: a float enters a tier as its
+            # shortest decimal (Tier.num), so num(b - a) differs from num(b) - num(a)
+            # by ~1e-16, and the two forms would not meet at the arc's middle
+            span = t.num(b) - t.num(a)
             end, s = (
-                (a, t.num(b - a) * t.m.sin(half) ** 2)
+                (a, span * t.m.sin(half) ** 2)
                 if float(half) < math.pi / 4
-                else (b, -t.num(b - a) * t.m.cos(half) ** 2)
+                else (b, -span * t.m.cos(half) ** 2)
             )
             K = t.num(E) - self.line.bound(t.num(end), t) - self._rise(end, s, t)
             return self.line.state(t.num(end) + s, K, t)
