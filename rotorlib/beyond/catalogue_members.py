@@ -66,11 +66,17 @@ def polish_task(args: dict) -> dict:
     ``state0`` and ``tr M`` (5 digits fewer), the multipliers, the closure error, the
     action and the Maslov index (:func:`phase_data`); or ``{'failed': reason}`` when the
     re-solve does not converge."""
+    return _solved(_polish, args)
+
+
+def _solved(solve_member, args: dict) -> dict:
+    """``solve_member(args)`` (a member's decimal strings) with its action and Maslov
+    index (:func:`phase_data`), or ``{'failed': reason}`` when the solve fails."""
     from ..core.flow import SectionNotReached
     from ..orbits.shooting import NoConvergence
 
     try:
-        out = _polish(args)
+        out = solve_member(args)
     except (NoConvergence, SectionNotReached, ValueError, ZeroDivisionError) as exc:
         return {"failed": f"{type(exc).__name__}: {exc}"[:300]}
     return {**out, **phase_data(out["state0_str"], out["period_str"], out["trace_str"])}
@@ -94,14 +100,7 @@ def locate_task(args: dict) -> dict:
     of the pendulum's record (E = 4.0000133) is 1.6e-5 from its level, that is 5e-10
     off in ``E``.
     """
-    from ..core.flow import SectionNotReached
-    from ..orbits.shooting import NoConvergence
-
-    try:
-        out = _locate(args)
-    except (NoConvergence, SectionNotReached, ValueError, ZeroDivisionError) as exc:
-        return {"failed": f"{type(exc).__name__}: {exc}"[:300]}
-    return {**out, **phase_data(out["state0_str"], out["period_str"], out["trace_str"])}
+    return _solved(_locate, args)
 
 
 def _locate(args: dict) -> dict:
@@ -167,12 +166,13 @@ def touch_task(args: dict) -> dict:
     members at ``E = 4.5737`` and ``4.5759`` with ``tr M = 3.93`` and 3.97, and this
     search finds ``tr M - 4`` below 1e-15 at ``E = 4.57494119220``.
     """
+    return _solved(_touch, args)
+
+
+def _touch(args: dict) -> dict:
     import math
 
     from mpmath import mpf
-
-    from ..core.flow import SectionNotReached
-    from ..orbits.shooting import NoConvergence
 
     (Ea, Eb), (ua, ub), level = args["E"], args["u"], args["level"]
     got: dict = {}
@@ -184,32 +184,23 @@ def touch_task(args: dict) -> dict:
         d = mpf(p["trace_str"]) - level
         return float(d if args["below"] else -d)
 
-    try:
-        lo, hi, r = min(Ea, Eb), max(Ea, Eb), (math.sqrt(5) - 1) / 2
-        x1, x2 = hi - r * (hi - lo), lo + r * (hi - lo)
-        f1, f2 = g(x1), g(x2)
-        for _ in range(60):
-            if f1 > f2:
-                hi, x2, f2 = x2, x1, f1
-                x1 = hi - r * (hi - lo)
-                f1 = g(x1)
-            else:
-                lo, x1, f1 = x1, x2, f2
-                x2 = lo + r * (hi - lo)
-                f2 = g(x2)
-            if x1 >= x2:
-                break
-        E = x1 if f1 > f2 else x2
-        out = got[E]
-    except (NoConvergence, SectionNotReached, ValueError, ZeroDivisionError) as exc:
-        return {"failed": f"{type(exc).__name__}: {exc}"[:300]}
+    lo, hi, r = min(Ea, Eb), max(Ea, Eb), (math.sqrt(5) - 1) / 2
+    x1, x2 = hi - r * (hi - lo), lo + r * (hi - lo)
+    f1, f2 = g(x1), g(x2)
+    for _ in range(60):
+        if f1 > f2:
+            hi, x2, f2 = x2, x1, f1
+            x1 = hi - r * (hi - lo)
+            f1 = g(x1)
+        else:
+            lo, x1, f1 = x1, x2, f2
+            x2 = lo + r * (hi - lo)
+            f2 = g(x2)
+        if x1 >= x2:
+            break
+    out = got[x1 if f1 > f2 else x2]
     gap = float(mpf(out["trace_str"]) - level)
-    return {
-        **out,
-        **phase_data(out["state0_str"], out["period_str"], out["trace_str"]),
-        "E_error": hi - lo,
-        "gap": gap,
-    }
+    return {**out, "E_error": hi - lo, "gap": gap}
 
 
 def phase_data(state0, period, trace) -> dict:
