@@ -186,8 +186,8 @@ def test_interpolation_between_stored_members():
     0.2 from the separatrix energies 4 and 4.5 and 0.01 from a fold, within 1e-5
     relative in the period everywhere and within 1e-8 at most midpoints (the worst,
     ~6e-7, beside the engine's stop at E ~ 6.233); nearer (the T <= 16 band's families,
-    whose T(E) is steep, and beside folds), up to 3.3e-3 (F057 beside its fold at
-    E = 4.6786)."""
+    whose T(E) is steep, and beside folds), up to 1.9e-3 (F015, PD^r_2, at E = 4.506,
+    beside the separatrix E = 4.5)."""
     from rotorlib.core.precision import tier
     from rotorlib.orbits.continuation import member
     from rotorlib.orbits.shooting import NoConvergence, solve

@@ -555,3 +555,36 @@ def test_a_path_whose_float64_members_disagree_with_30_digits_is_cut():
     g = {**f, "path": path, "special": [], "ends": _ends(), "seed": path[5]}
     g["stored"] = stored
     assert not cut_untrusted(g)
+
+
+def test_a_path_that_zigzags_beside_a_fold_is_cut_at_the_fold():
+    """F057 at T <= 16: up to its fold (index 3 here), then back down on the same
+    branch and up again: a turn that no located fold explains. The path is cut at the
+    fold, whose end says so; a second turn far from the fold cuts at the turn itself;
+    a single turn at a located fold is kept."""
+    from rotorlib.beyond.catalogue_files import END_KINDS, _end
+    from rotorlib.beyond.catalogue_paths import cut_at_reversal
+
+    Es = [4.60, 4.65, 4.67, 4.6785, 4.6766, 4.6763, 4.6783, 4.6786, 4.6771, 4.65]
+    path = [
+        {"E": E, "u": k, "period": 15 + k / 10, "trace": -1e3, "x0": [0.0] * 4}
+        for k, E in enumerate(Es)
+    ]
+    fold = {"kind": "fold", "index": 3, "E": 4.6784, "period": 15.3, "trace": 4.0}
+    f = {
+        "path": path,
+        "seed": path[0],
+        "special": [fold],
+        "ends": _ends("period", "E range"),
+    }
+    g = cut_at_reversal(f)
+    assert [m["E"] for m in g["path"]] == Es[:4] and g["special"] == [fold]
+    assert g["ends"][1]["stop"] == "fold" and "zigzag" in g["ends"][1]["reason"]
+    assert _end(g, 1, 4.5, 8.0)["kind"] == END_KINDS["fold"]
+    # no located fold: cut at the first turn
+    h = cut_at_reversal(dict(f, special=[]))
+    assert len(h["path"]) == 4 and h["ends"][1]["stop"] == "reversal"
+    # one turn, at the located fold: a family through its fold, kept whole
+    once = [dict(m) for m in path[:6]]
+    k = cut_at_reversal(dict(f, path=once, seed=once[0]))
+    assert len(k["path"]) == 6

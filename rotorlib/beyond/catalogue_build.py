@@ -52,6 +52,7 @@ from .catalogue_paths import (
     bands_of,
     covers,
     cut_at_critical,
+    cut_at_reversal,
     cut_at_switch,
     cut_untrusted,
     drop_contained,
@@ -140,7 +141,7 @@ def wavefront(
         return None
 
     def add(j: int, out: tuple[Any, float], run: bool) -> None:
-        results[j] = cut_at_critical(out[0])
+        results[j] = cut_at_reversal(cut_at_critical(out[0]))
         if "t_max" in args[j]:  # how far it was followed (see covers)
             results[j]["t_max"] = args[j]["t_max"]
         if cpu is not None:

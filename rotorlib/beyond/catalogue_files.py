@@ -13,6 +13,7 @@ import numpy as np
 
 from ..core.system import BREATHER_SEPARATRIX_ENERGY, SEPARATRIX_ENERGY
 from .catalogue_members import DEGREE, TOL, interpolation_errors, phase_data
+from .catalogue_paths import seed_index
 from .catalogue_tasks import VERSION, near, write_json
 
 __all__ = ["END_KINDS", "COLUMNS", "write", "write_parquet"]
@@ -28,6 +29,7 @@ END_KINDS = {
     "separatrix": "collision with a separatrix",
     "critical": "a critical point",
     "untrusted": "engine stopped",
+    "reversal": "engine stopped",
     "axis": "E = 0 or E = 8",
     "window": "end of the built window",
 }
@@ -71,14 +73,7 @@ def _end(f: dict, side: int, lo: float, hi: float) -> dict:
     path = f["path"]
     i = _extreme(f, side)
     m = path[i]
-    seed = next(
-        (
-            k
-            for k, q in enumerate(path)
-            if q["E"] == f["seed"]["E"] and q["u"] == f["seed"]["u"]
-        ),
-        0,
-    )
+    seed = seed_index(f) or 0
     direction = "backward" if i < seed or (i == seed and seed == 0) else "forward"
     e = f["ends"][0 if direction == "backward" else 1]
     stop, reason = e["stop"], e["reason"]
@@ -125,7 +120,7 @@ def _end(f: dict, side: int, lo: float, hi: float) -> dict:
             )
         else:
             kind = END_KINDS["period"]
-    elif stop in ("stuck", "section lost") and (
+    elif stop in ("stuck", "section lost", "reversal") and (
         born := [p for p in f.get("parents", ()) if abs(p["E"] - m["E"]) < 1e-3]
     ):
         kind = END_KINDS["parent"]
@@ -134,6 +129,8 @@ def _end(f: dict, side: int, lo: float, hi: float) -> dict:
             f"{born[0]['E']:.10g}; the engine stopped {abs(born[0]['E'] - m['E']):.1e} "
             f"from it ({reason})"
         )
+    elif stop in ("reversal", "fold"):  # cut_at_reversal, away from a parent's point
+        kind = END_KINDS[stop]
     elif joined := [j for j in f.get("joins", ()) if j["side"] == (0 if i == 0 else 1)]:
         kind = END_KINDS["stuck"]
         j = joined[0]

@@ -7,6 +7,8 @@
   from two seeds, a record stopped early, a bridge between two others);
 * :func:`cut_at_critical`: a follow cut where the engine carried it across a critical
   energy onto another orbit;
+* :func:`cut_at_reversal`: a follow cut where its path turns back in ``E`` with no
+  located fold;
 * :func:`cut_at_switch`: a follow cut at a fold where the engine turned onto another
   family's branch (a pitchfork);
 * :func:`cut_untrusted`: a follow cut where its float64 members disagree with their
@@ -40,8 +42,10 @@ __all__ = [
     "drop_contained",
     "holds",
     "cut_at_critical",
+    "seed_index",
     "cut_untrusted",
     "cut_at_switch",
+    "cut_at_reversal",
 ]
 
 
@@ -189,6 +193,13 @@ def _probes(f: dict, samples: int) -> list[dict]:
     return [f["seed"], *(pts[k] for k in idx)] if n else [f["seed"]]
 
 
+def seed_index(f: dict) -> int | None:
+    """The index of the seed of the followed family ``f`` in its path (the member with
+    the seed's ``E`` and ``u``), or ``None``."""
+    seed = (f["seed"]["E"], f["seed"]["u"])
+    return next((i for i, m in enumerate(f["path"]) if (m["E"], m["u"]) == seed), None)
+
+
 def cut_at_critical(f: dict, ratio: float = 10.0) -> dict:
     """The follow ``f`` (a ``follow`` task's result) cut where its path crosses a
     critical energy (4 or 4.5, the saddles' levels) with a jump of the start state:
@@ -213,13 +224,8 @@ def cut_at_critical(f: dict, ratio: float = 10.0) -> dict:
     >>> len(g["path"]), round(g["path"][0]["E"], 2), g["ends"][0]["stop"]
     (10, 4.01, 'critical')
     """
-    path = f["path"]
-    k = [
-        i
-        for i, m in enumerate(path)
-        if (m["E"], m["u"]) == (f["seed"]["E"], f["seed"]["u"])
-    ]
-    if len(path) < 3 or not k:
+    path, s = f["path"], seed_index(f)
+    if len(path) < 3 or s is None:
         return f
     E = np.array([m["E"] for m in path])
     dx = np.abs(np.diff(np.array([m["x0"] for m in path]), axis=0)).max(axis=1)
@@ -239,7 +245,6 @@ def cut_at_critical(f: dict, ratio: float = 10.0) -> dict:
                 f"{E[i]:.10g} and {E[i + 1]:.10g}, across the critical energy {c[0]:g}, "
                 "where the start set changes: the path is cut there"
             )
-    s = k[0]
     a = max((i + 1 for i in cuts if i < s), default=0)
     b = min((i for i in cuts if i >= s), default=len(path) - 1)
     if (a, b) == (0, len(path) - 1):
@@ -264,6 +269,71 @@ def cut_at_critical(f: dict, ratio: float = 10.0) -> dict:
 #: the float64 path's own accuracy, which is finer (``interpolation.path_accuracy`` of
 #: each record), is measured and recorded, not enforced here.
 TRUST = (1e-6, 1e-2)
+
+
+def cut_at_reversal(f: dict) -> dict:
+    """The follow ``f`` cut where its path turns back in ``E`` with no located fold (each
+    fold explains one turn, the nearest within two members): the stretch around the
+    seed between such turns is kept, and
+    an end there gets the stop ``'reversal'`` with the energy in its reason. Returns
+    ``f`` itself when nothing is cut.
+
+    Why: beside a fold of a very unstable family the engine's steps can zigzag (measured
+    at ``T <= 16``: a family with ``|tr M| ~ 1e3`` visited E = 4.6785, 4.6766, 4.6763,
+    4.6783, 4.6786, 4.6771 in that order, so that one piece of its path held members of
+    both branches and the interpolant of one branch was off by 3e-3); a turn at a
+    pitchfork the engine passed onto another branch looks the same.
+
+    >>> path = [{"E": E, "u": k} for k, E in enumerate([1.0, 1.1, 1.2, 1.15, 1.3, 1.4])]
+    >>> f = {"path": path, "seed": path[0], "special": [], "ends": [{}, {"side": "forward"}]}
+    >>> g = cut_at_reversal(f)
+    >>> [m["E"] for m in g["path"]], g["ends"][1]["stop"]
+    ([1.0, 1.1, 1.2], 'reversal')
+    """
+    path, s = f["path"], seed_index(f)
+    if len(path) < 3 or s is None:
+        return f
+    E = np.array([m["E"] for m in path])
+    d = np.sign(np.diff(E))
+    rev = [i for i in range(1, len(d)) if d[i] * d[i - 1] < 0]
+    # each located fold explains one turn: the nearest, within two members
+    explained = {
+        min(rev, key=lambda i: abs(i - p["index"]))
+        for p in f["special"]
+        if p["kind"] == "fold" and rev and min(abs(i - p["index"]) for i in rev) <= 2
+    }
+    turns = [i for i in rev if i not in explained]
+    a = max((i for i in turns if i < s), default=0)
+    b = min((i for i in turns if i >= s), default=len(path) - 1)
+    if (a, b) == (0, len(path) - 1):
+        return f
+    # a zigzag that starts within four members past a fold: cut at the fold
+    fa = max((j for j in explained if a < j < s and j - a <= 4), default=None)
+    fb = min((j for j in explained if s <= j < b and b - j <= 4), default=None)
+    ends = [dict(e) for e in f["ends"]]
+    for side, i, j in ((0, a, fa), (1, b, fb)):
+        if i not in turns:
+            continue
+        side_name = ends[side].get("side", ("backward", "forward")[side])
+        if j is None:
+            ends[side] = {
+                "side": side_name,
+                "stop": "reversal",
+                "reason": f"reversal: the path turns back in E at E = {E[i]:.10g} "
+                "with no fold located there (the engine's steps zigzag): cut there",
+            }
+        else:
+            ends[side] = {
+                "side": side_name,
+                "stop": "fold",
+                "reason": f"fold at E = {E[j]:.10g}, past which the engine's steps "
+                f"zigzag (the path turns back again at E = {E[i]:.10g}): cut at the fold",
+            }
+    a, b = fa if fa is not None else a, fb if fb is not None else b
+    special = [
+        dict(p, index=p["index"] - a) for p in f["special"] if a <= p["index"] <= b
+    ]
+    return {**f, "path": path[a : b + 1], "special": special, "ends": ends}
 
 
 def _disagreement(m: dict) -> str | None:
@@ -304,15 +374,9 @@ def cut_untrusted(f: dict) -> bool:
     ``2.4e-7`` the path's ``tr M`` jumps between -2,281 and 5,547 from member to
     member while the re-solves give 1.69. Nothing is cut when the seed itself disagrees.
     """
-    path = f["path"]
-    k = [
-        i
-        for i, m in enumerate(path)
-        if (m["E"], m["u"]) == (f["seed"]["E"], f["seed"]["u"])
-    ]
-    if not k:
+    path, s = f["path"], seed_index(f)
+    if s is None:
         return False
-    s = k[0]
     why = {m["index"]: w for m in f["stored"] if (w := _disagreement(m))}
     ok = sorted({m["index"] for m in f["stored"]} - set(why))
     if not why or s in why:
@@ -364,17 +428,13 @@ def cut_at_switch(
     :mod:`rotorlib.beyond.catalogue_files`). Special points on the cut side go."""
     out = []
     for f in fams:
-        seed = [
-            i
-            for i, m in enumerate(f["path"])
-            if (m["E"], m["u"]) == (f["seed"]["E"], f["seed"]["u"])
-        ]
+        s = seed_index(f)
         for p in [p for p in f["special"] if p["kind"] == "fold"]:
             k, path = p["index"], f["path"]
-            if not seed or not 2 < k < len(path) - 3:
+            if s is None or not 2 < k < len(path) - 3:
                 continue
             for side, part in ((0, path[: k - 2]), (1, path[k + 3 :])):
-                if (seed[0] < k) == (side == 0) or len(part) < 4:
+                if (s < k) == (side == 0) or len(part) < 4:
                     continue  # the seed's side is kept
                 pr = part[:: max(1, len(part) // samples)]
                 host = next(
