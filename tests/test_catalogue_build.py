@@ -588,3 +588,97 @@ def test_a_path_that_zigzags_beside_a_fold_is_cut_at_the_fold():
     once = [dict(m) for m in path[:6]]
     k = cut_at_reversal(dict(f, path=once, seed=once[0]))
     assert len(k["path"]) == 6
+
+
+def test_a_record_that_turned_onto_its_parents_branch_is_cut_and_linked():
+    """The record that met IS^r_3 had come down the pendulum and turned at a fold onto
+    IS^r_3: its side of the fold that lies on another record (the parent, which has no
+    fold there) goes, the end is a birth at the parent's IS point; two halves of a
+    saddle-node (both turn at the fold) are not cut."""
+    from rotorlib.beyond.catalogue_files import END_KINDS, _end, _links
+    from rotorlib.beyond.catalogue_paths import cut_at_switch
+
+    Es = [4.5 - 0.05 * k for k in range(9)]  # the parent: T = 10 - E
+    parent = {
+        "task": "p",
+        "seed": {"E": Es[0], "u": 0.0},
+        "path": [
+            {"E": E, "u": 0.1 * k, "period": 10 - E, "trace": 1.0}
+            for k, E in enumerate(Es)
+        ],
+        "special": [],
+        "ends": _ends(),
+    }
+    down = [dict(m) for m in parent["path"]]  # down the parent, then up the daughter
+    up = [
+        {"E": Es[-1] + 0.05 * k, "u": 5 + k, "period": 12 + k, "trace": 9.0}
+        for k in range(1, 9)
+    ]
+    fold = {
+        "kind": "fold",
+        "index": 8,
+        "E": Es[-1],
+        "period": 10 - Es[-1],
+        "trace": 4.0,
+    }
+    f = {
+        "task": "d",
+        "seed": up[5],
+        "path": down + up,
+        "special": [
+            fold,
+            {"kind": "PD", "index": 2, "E": 4.4, "period": 5.6, "trace": 0.0},
+        ],
+        "ends": _ends("period", "period"),
+    }
+    assert cut_at_switch([parent, f]) == [("d", "p", Es[-1])]
+    assert [m["E"] for m in f["path"]] == [Es[-1]] + [m["E"] for m in up]
+    assert f["special"] == [] and f["ends"][0]["stop"] == "switch"
+    for g, i in ((parent, "F001"), (f, "F002")):
+        g["id"] = i
+    _links([parent, f])
+    assert f["parents"] == [{"id": "F001", "kind": "IS", "E": Es[-1]}]
+    assert parent["daughters"] == [{"id": "F002", "kind": "IS", "E": Es[-1]}]
+    low = _end(f, 0, 0.1, 8.0)
+    assert low["kind"] == END_KINDS["parent"] and "F001" in low["reason"]
+    # the parent with a fold of its own there: two halves, nothing cut
+    g = {**f, "path": down + up, "special": [dict(fold)], "ends": _ends()}
+    p2 = {**parent, "special": [dict(fold)]}
+    assert cut_at_switch([p2, g]) == []
+
+
+def test_crossings_at_rounding_level_are_one_marginal_stretch():
+    """A family whose tr M sits within 1e-6 of 4 over a stretch: the float64 sign
+    changes there are one marginal stretch (E, E_end, crossings), in no stability
+    window; two crossings within two members stay a touch."""
+    from rotorlib.beyond.catalogue_files import _stable_windows
+
+    trs = [3.0, 3.9, 4 - 1e-9, 4 + 1e-9, 4 - 1e-9, 4 + 1e-9, 4 - 1e-9, 3.8, 3.0]
+    f = {
+        "path": [
+            {"E": 4.0 + 0.01 * k, "period": 5.0, "trace": tr}
+            for k, tr in enumerate(trs)
+        ],
+        "special": [
+            {
+                "kind": "IS",
+                "index": k,
+                "E": 4.0 + 0.01 * k + 0.005,
+                "period": 5.0,
+                "trace": 4.0,
+            }
+            for k in (2, 3, 4, 5)
+        ],
+    }
+    (m,) = special_points(f)
+    assert m["kind"] == "marginal" and m["crossings"] == 4 and m["level"] == 4.0
+    assert (m["index"], m["index_end"]) == (2, 5) and m["E"] < m["E_end"]
+    f["special"] = [m]
+    assert _stable_windows(f) == [[4.0, 4.01], [4.07, 4.08]]
+    # two crossings within two members: a touch, as before
+    f["special"] = [
+        {"kind": "IS", "index": k, "E": 4.0 + 0.01 * k, "period": 5.0, "trace": 4.0}
+        for k in (2, 3)
+    ]
+    f["path"][4]["trace"] = 3.5
+    assert [p["kind"] for p in special_points(f)] == ["touch"]

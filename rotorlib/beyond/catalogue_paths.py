@@ -285,7 +285,8 @@ def cut_at_reversal(f: dict) -> dict:
     pitchfork the engine passed onto another branch looks the same.
 
     >>> path = [{"E": E, "u": k} for k, E in enumerate([1.0, 1.1, 1.2, 1.15, 1.3, 1.4])]
-    >>> f = {"path": path, "seed": path[0], "special": [], "ends": [{}, {"side": "forward"}]}
+    >>> ends = [{}, {"side": "forward"}]
+    >>> f = {"path": path, "seed": path[0], "special": [], "ends": ends}
     >>> g = cut_at_reversal(f)
     >>> [m["E"] for m in g["path"]], g["ends"][1]["stop"]
     ([1.0, 1.1, 1.2], 'reversal')
