@@ -496,7 +496,7 @@ def build(
     # stored members (the special points, the seed, the path members that interpolation
     # needs), re-solved to 30 digits; where a path's float64 members disagree with their
     # re-solves it is cut (cut_untrusted) and its members are chosen again
-    polished: dict[int, set[str]] = {}  # the polish tasks of each family (its CPU)
+    owned: dict[int, set[str]] = {}  # the 30-digit tasks of each family (its CPU)
     todo, rnd, cut = list(range(len(fams))), 0, set()
     while todo:
         jobs, owner = [], []
@@ -518,15 +518,15 @@ def build(
             for m in fams[i]["stored"]:
                 m["polish"] = _checked_polish(m, next(pol))
         for a, i in zip(jobs, owner):
-            polished.setdefault(i, set()).add(task_key("polish", a))
+            owned.setdefault(i, set()).add(task_key("polish", a))
         rnd += 1
         todo = [i for i in todo if rnd < 4 and cut_untrusted(fams[i])]
         cut |= set(todo)
     for i in sorted(cut):  # census orbits past a cut: on no family now (a failure)
-        f = fams[i]
-        lost = [o for o in f["census"] if not holds(f, o)]
-        f["census"] = [o for o in f["census"] if not any(o is q for q in lost)]
-        orphans += lost
+        f, kept = fams[i], list[dict]()
+        for o in f["census"]:
+            (kept if holds(f, o) else orphans).append(o)
+        f["census"] = kept
         f.pop("_by_E", None)
         f.pop("_seg", None)
     if cut:
@@ -534,17 +534,16 @@ def build(
     # the IS and PD points located again, and the touches the float64 path misses,
     # at `digits` digits (catalogue_points)
     for i, keys in relocate_points(fams, run, digits).items():
-        polished[i] |= keys
+        owned[i] |= keys
     for i, keys in find_touches(fams, run, digits, say).items():
-        polished[i] |= keys
-    # the cost of each family: its follow, its share of the switch tasks, its polishes
+        owned[i] |= keys
+    # the cost of each family: its follow and its 30-digit tasks, by kind
     for i, f in enumerate(fams):
         f["cpu_s"] = {
             "follow": cpu["follow"].get(f["task"], 0.0),
-            "polish": sum(cpu["polish"].get(k, 0.0) for k in polished.get(i, ())),
             **{
-                k: sum(cpu[k].get(x, 0.0) for x in polished.get(i, ()))
-                for k in ("locate", "touch")
+                k: sum(cpu[k].get(x, 0.0) for x in owned.get(i, ()))
+                for k in ("polish", "locate", "touch")
             },
         }
     return {

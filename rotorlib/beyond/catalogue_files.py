@@ -66,7 +66,9 @@ def _end(f: dict, side: int, lo: float, hi: float) -> dict:
     branch (:func:`~rotorlib.beyond.catalogue_paths.cut_at_switch`); ``engine stopped``
     where it was cut because its float64 members disagree with their 30-digit re-solves
     (:func:`~rotorlib.beyond.catalogue_paths.cut_untrusted`: the reason gives the
-    disagreement), or with the engine's reason (``stuck``,
+    disagreement) or where its steps zigzag (``reversal``,
+    :func:`~rotorlib.beyond.catalogue_paths.cut_at_reversal`; ``fold`` when the zigzag
+    starts just past one), or with the engine's reason (``stuck``,
     ``section lost``, ``steps``; where another family goes on from the same orbit,
     :func:`_joins`, it is named). ``side`` names the path's direction
     (``backward``/``forward`` from the seed) where the end lies."""

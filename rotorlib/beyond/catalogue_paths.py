@@ -200,6 +200,18 @@ def seed_index(f: dict) -> int | None:
     return next((i for i, m in enumerate(f["path"]) if (m["E"], m["u"]) == seed), None)
 
 
+def _trim(f: dict, a: int, b: int, ends: list[dict]) -> dict:
+    """The path of ``f`` cut to its members ``a .. b`` (inclusive), its special points
+    there re-indexed (a marginal stretch's ``index_end`` too), with ``ends``."""
+    special = [
+        dict(p, index=p["index"] - a)
+        | ({"index_end": p["index_end"] - a} if "index_end" in p else {})
+        for p in f["special"]
+        if a <= p["index"] and p.get("index_end", p["index"]) <= b
+    ]
+    return {"path": f["path"][a : b + 1], "special": special, "ends": ends}
+
+
 def cut_at_critical(f: dict, ratio: float = 10.0) -> dict:
     """The follow ``f`` (a ``follow`` task's result) cut where its path crosses a
     critical energy (4 or 4.5, the saddles' levels) with a jump of the start state:
@@ -257,10 +269,7 @@ def cut_at_critical(f: dict, ratio: float = 10.0) -> dict:
                 "stop": "critical",
                 "reason": cuts[i],
             }
-    special = [
-        dict(p, index=p["index"] - a) for p in f["special"] if a <= p["index"] <= b
-    ]
-    return {**f, "path": path[a : b + 1], "special": special, "ends": ends}
+    return {**f, **_trim(f, a, b, ends)}
 
 
 #: ``(rel_T, rel_tr)`` of :func:`cut_untrusted`: a float64 member that differs from its
@@ -331,10 +340,7 @@ def cut_at_reversal(f: dict) -> dict:
                 f"zigzag (the path turns back again at E = {E[i]:.10g}): cut at the fold",
             }
     a, b = fa if fa is not None else a, fb if fb is not None else b
-    special = [
-        dict(p, index=p["index"] - a) for p in f["special"] if a <= p["index"] <= b
-    ]
-    return {**f, "path": path[a : b + 1], "special": special, "ends": ends}
+    return {**f, **_trim(f, a, b, ends)}
 
 
 def _disagreement(m: dict) -> str | None:
@@ -397,13 +403,7 @@ def cut_untrusted(f: dict) -> bool:
                 "reason": f"untrusted: the float64 continuation is not trusted past "
                 f"E = {path[keep]['E']:.10g}: {why[bad]}",
             }
-    f["special"] = [
-        dict(p, index=p["index"] - a)
-        | ({"index_end": p["index_end"] - a} if "index_end" in p else {})
-        for p in f["special"]
-        if a <= p["index"] and p.get("index_end", p["index"]) <= b
-    ]
-    f["path"], f["ends"] = path[a : b + 1], ends
+    f.update(_trim(f, a, b, ends))
     f.pop("_by_E", None)
     f.pop("_seg", None)
     return True
@@ -469,15 +469,8 @@ def cut_at_switch(
                     "E": p["E"],
                     "period": p["period"],
                 }
-                f["special"] = [
-                    dict(q, index=q["index"] - a)
-                    | ({"index_end": q["index_end"] - a} if "index_end" in q else {})
-                    for q in f["special"]
-                    if a <= q["index"]
-                    and q.get("index_end", q["index"]) <= b
-                    and q is not p
-                ]
-                f["path"], f["ends"] = path[a : b + 1], ends
+                others = [q for q in f["special"] if q is not p]  # the fold: the end
+                f.update(_trim({**f, "special": others}, a, b, ends))
                 f.pop("_by_E", None)
                 f.pop("_seg", None)
                 out.append((f.get("task"), host.get("task"), p["E"]))

@@ -102,9 +102,6 @@ def relocate_points(
     re-location fails, or lands more than 1e-6 away, keeps its float64 location with
     the reason (``location``). Returns the task keys of each family (by index)."""
     keys: dict[int, set[str]] = {}
-    # the IS and PD points located again at `digits` digits (their float64 location is
-    # good to ~1e-10 only); one that fails, or lands more than 1e-6 away, keeps its
-    # float64 location, with the reason
     pts = [
         (i, m)
         for i in range(len(fams))
@@ -147,8 +144,6 @@ def find_touches(
     (``location`` says how it was found), another is reported through ``say``. Returns
     the task keys of each family (by index)."""
     keys: dict[int, set[str]] = {}
-    # touches the float64 path misses: the Maslov index of two consecutive stored
-    # members differs, tr M on one side of 4 at both, no special point between
     cand, jobs = [], []
     for i, f in enumerate(fams):
         ms = sorted(
