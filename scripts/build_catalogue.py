@@ -153,6 +153,7 @@ def main(argv=None) -> int:
         "families": len(cat["families"]),
         "bands": cat["bands"],
         "switch_rounds": cat["switch_rounds"],
+        "densify_rounds": cat["densify_rounds"],
     }
     if rest:
         cost["rest"] = rest

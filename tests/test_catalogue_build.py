@@ -8,6 +8,7 @@ import random
 import time
 from concurrent.futures import ThreadPoolExecutor
 
+import numpy as np
 import pytest
 
 from rotorlib.beyond import catalogue_tasks as ct
@@ -682,3 +683,61 @@ def test_crossings_at_rounding_level_are_one_marginal_stretch():
     ]
     f["path"][4]["trace"] = 3.5
     assert [p["kind"] for p in special_points(f)] == ["touch"]
+
+
+def _densify_family(noise: float) -> tuple[dict, object]:
+    """A path of 40 members on 4.02 <= E <= 5 with T = 1 - log(E - 4) (steep beside the
+    separatrix), tr M = 2 + E, special point between members 5 and 6; and a fake
+    ``run`` that solves the densify tasks analytically, with relative ``noise`` on T
+    (a float64 path whose accuracy is its limit)."""
+    rng = np.random.default_rng(3)
+
+    def orbit(E):
+        T = (1 - np.log(E - 4)) * (1 + noise * rng.standard_normal())
+        return {"E": float(E), "u": float(E), "period": float(T), "trace": 2.0 + E}
+
+    path = [orbit(E) for E in np.linspace(4.02, 5.0, 40)]
+    point = {"kind": "IS", "E": 0.7 * path[5]["E"] + 0.3 * path[6]["E"], "index": 5}
+    fam = {"path": path, "special": [point], "problem": {}, "factor": 1.0}
+
+    def run(kind, jobs, desc):
+        assert kind == "densify"
+        return [[orbit(E) for E in a["E"]] for a in jobs]
+
+    return fam, run
+
+
+def test_densify_makes_the_interpolant_hold_between_path_members():
+    """Smooth data: the rounds add members where a left-out member is not reproduced
+    to 1e-8 until none is (the left-out error falls from ~1e-4 to below 1e-8); special
+    points keep the member before them; the task keys are owned by the family."""
+    from rotorlib.beyond.catalogue_build import densify
+    from rotorlib.beyond.catalogue_members import coarse_gaps, left_out_errors
+
+    fam, run = _densify_family(0.0)
+    E = np.array([m["E"] for m in fam["path"]])
+    Y = np.array([[m["period"], m["trace"]] for m in fam["path"]])
+    before = left_out_errors(E, Y).max()
+    owned: dict = {}
+    added = densify([fam], run, owned)
+    E = np.array([m["E"] for m in fam["path"]])
+    Y = np.array([[m["period"], m["trace"]] for m in fam["path"]])
+    assert before > 1e-5 and added and sum(added) == len(fam["path"]) - 40
+    assert left_out_errors(E, Y).max() <= 1e-8 and not coarse_gaps(fam)
+    assert np.all(np.diff(E) > 0) and len(owned[0]) == len(added)
+    p = fam["special"][0]
+    assert E[p["index"]] < p["E"] < E[p["index"] + 1]
+
+
+def test_densify_stops_where_the_path_is_noise_limited():
+    """Noisy data (1e-7 relative, as a float64 tr M of a very unstable orbit): the
+    left-out error cannot fall below the noise; a member whose error did not fall when
+    its intervals were split is marked ``noise`` and not split again, so the rounds
+    shrink (measured: 39, 34, 30, 13, 12, 4) instead of doubling the path each round
+    (2^6 times 39)."""
+    from rotorlib.beyond.catalogue_build import densify
+
+    fam, run = _densify_family(1e-7)
+    added = densify([fam], run, {})
+    assert sum(m.get("noise", False) for m in fam["path"]) > 40
+    assert added[-1] < added[0] / 4 and sum(added) < 4 * 40, added

@@ -22,15 +22,14 @@ to 30 digits; ``touch``; ``marginal``), ``stable_windows``, ``parents`` / ``daug
 multipliers, the action ``S = oint p.dq``, the Maslov index ``maslov``, ``null`` with
 ``maslov_reason`` at a marginal member, and ``pieces``, the interpolation pieces it is
 a node of), ``interpolation`` (the pieces of the path, each with its parameter ``E`` or
-``u`` and its nodes; ``degree``; ``max_error``: the largest error of the interpolant
-over the path members, ``<= tolerance = 1e-8``; ``path_accuracy``: the float64 path
-against the 30-digit members, ``above_tolerance`` where it is less accurate than 1e-8)
-and ``branch`` (the float64 path ``[E, u, t1, tr M, a1, a2, p1, p2]``, problem, factor).
-
-The stored members are chosen by need (:func:`rotorlib.beyond.catalogue_members.stored_members`):
-the fewest path members from which the period and ``tr M`` of every path member are
-interpolated to 1e-8 (:meth:`Family.interpolate`), plus the special points and the
-seed. :meth:`Family.members_at` solves every member at an energy from that interpolant.
+``u`` and its nodes; ``degree``; ``max_error``: the interpolant's largest error over the
+path members, ``<= tolerance = 1e-8``; ``path_accuracy``: the float64 path against the
+30-digit members; ``left_out_error`` and ``densified``: the path made dense enough for
+the interpolant to hold between its members) and ``branch`` (the float64 path ``[E, u,
+t1, tr M, a1, a2, p1, p2]``, problem, factor). The stored members are chosen by need
+(:mod:`rotorlib.beyond.catalogue_members`): the fewest path members from which the
+period and ``tr M`` of every path member are interpolated to 1e-8, plus the special
+points and the seed. :meth:`Family.members_at` solves every member from the interpolant.
 
 Precision: stored members to 30 digits (real128, closure < 1e-28); path members float64
 (residual < 1e-8; measured against the 30-digit members: ``path_accuracy``); the action
@@ -52,6 +51,7 @@ from typing import Any
 import numpy as np
 
 from ..core.energy import as_float
+from .catalogue_schema import SCHEMA
 
 __all__ = [
     "DATA",
@@ -66,185 +66,6 @@ __all__ = [
 
 #: The stored catalogue (package data).
 DATA = Path(__file__).resolve().parent.parent / "data" / "catalogue"
-
-_num = {"type": "number"}
-_str = {"type": "string"}
-_member = {
-    "type": "object",
-    "required": [
-        "kind",
-        "E",
-        "E_str",
-        "period",
-        "period_str",
-        "state0",
-        "state0_str",
-        "trace",
-        "trace_str",
-        "multipliers",
-        "stability",
-        "action",
-        "maslov",
-        "maslov_reason",
-        "u",
-        "pieces",
-        "closure",
-        "digits",
-    ],
-    "properties": {
-        "kind": {"enum": ["path", "IS", "PD", "fold", "touch", "seed"]},
-        "E": _num,
-        "E_str": _str,
-        "period": {"type": "number", "exclusiveMinimum": 0},
-        "period_str": _str,
-        "state0": {"type": "array", "items": _num, "minItems": 4, "maxItems": 4},
-        "state0_str": {"type": "array", "items": _str, "minItems": 4, "maxItems": 4},
-        "trace": _num,
-        "trace_str": _str,
-        "multipliers": {
-            "type": "array",
-            "minItems": 4,
-            "maxItems": 4,
-            "items": {"type": "array", "items": _num, "minItems": 2, "maxItems": 2},
-        },
-        "stability": {"enum": ["stable", "unstable"]},
-        "action": _num,
-        "maslov": {"type": ["integer", "null"]},
-        "maslov_reason": {"type": ["string", "null"]},
-        "u": _num,
-        "pieces": {"type": "array", "items": {"type": "integer", "minimum": 0}},
-        "closure": {"type": "number", "minimum": 0},
-        "digits": {"type": "integer", "minimum": 16},
-    },
-}
-_link = {
-    "type": "object",
-    "required": ["id", "kind", "E"],
-    "properties": {"id": _str, "kind": {"enum": ["IS", "PD"]}, "E": _num},
-}
-_pair = {"type": "array", "items": _num, "minItems": 2, "maxItems": 2}
-
-#: The JSON Schema (draft 2020-12) of a family file ``F<nnn>.json``.
-SCHEMA: dict[str, Any] = {
-    "$schema": "https://json-schema.org/draft/2020-12/schema",
-    "title": "rotorlib catalogue: one family of symmetric periodic orbits of the 3-rotor",
-    "type": "object",
-    "required": [
-        "id",
-        "name",
-        "names",
-        "t_max",
-        "window",
-        "symmetry",
-        "E_range",
-        "period_range",
-        "ends",
-        "special_points",
-        "stable_windows",
-        "parents",
-        "daughters",
-        "census_orbits",
-        "members",
-        "interpolation",
-        "branch",
-    ],
-    "properties": {
-        "id": {"type": "string", "pattern": "^F[0-9]{3}$"},
-        "name": {"type": ["string", "null"]},
-        "names": {"type": "array", "items": _str},
-        "t_max": _num,
-        "window": _pair,
-        "symmetry": {
-            "type": "object",
-            "required": ["fixed_sets", "choreography", "rotating", "winding"],
-            "properties": {
-                "fixed_sets": {
-                    "type": "array",
-                    "items": {"type": "array", "items": _str},
-                },
-                "choreography": {"type": "boolean"},
-                "rotating": {"type": "boolean"},
-                "winding": {"type": "array", "items": _num},
-            },
-        },
-        "E_range": _pair,
-        "period_range": _pair,
-        "ends": {
-            "type": "array",
-            "minItems": 2,
-            "maxItems": 2,
-            "items": {
-                "type": "object",
-                "required": ["side", "E", "period", "kind", "stop", "reason"],
-                "properties": {"side": {"enum": ["backward", "forward"]}},
-            },
-        },
-        "special_points": {
-            "type": "array",
-            "items": {
-                "type": "object",
-                "required": ["kind", "E", "period", "trace", "index"],
-                "properties": {
-                    "kind": {"enum": ["IS", "PD", "fold", "touch", "marginal"]}
-                },
-            },
-        },
-        "stable_windows": {"type": "array", "items": _pair},
-        "parents": {"type": "array", "items": _link},
-        "daughters": {"type": "array", "items": _link},
-        "census_orbits": {"type": "array", "minItems": 1},
-        "members": {"type": "array", "items": _member, "minItems": 1},
-        "interpolation": {
-            "type": "object",
-            "required": ["pieces", "degree", "tolerance", "max_error", "path_accuracy"],
-            "properties": {
-                "pieces": {
-                    "type": "array",
-                    "minItems": 1,
-                    "items": {
-                        "type": "object",
-                        "required": ["param", "path", "members"],
-                        "properties": {
-                            "param": {"enum": ["E", "u"]},
-                            "path": {"type": "array", "items": {"type": "integer"}},
-                            "members": {
-                                "type": "array",
-                                "minItems": 1,
-                                "items": {"type": "integer", "minimum": 0},
-                            },
-                        },
-                    },
-                },
-                "degree": {"type": "integer", "minimum": 1},
-                "tolerance": _num,
-                "max_error": _num,
-                "path_accuracy": {
-                    "type": "object",
-                    "required": ["period", "trace", "above_tolerance"],
-                    "properties": {
-                        "period": _num,
-                        "trace": _num,
-                        "above_tolerance": {
-                            "type": "array",
-                            "items": {"type": "array", "items": _num, "minItems": 3},
-                        },
-                    },
-                },
-            },
-        },
-        "branch": {
-            "type": "object",
-            "required": ["factor", "problem", "path"],
-            "properties": {
-                "path": {
-                    "type": "array",
-                    "minItems": 2,
-                    "items": {"type": "array", "items": _num, "minItems": 8},
-                }
-            },
-        },
-    },
-}
 
 
 @dataclass(frozen=True)
@@ -337,12 +158,14 @@ class Family:
         ``[{'E', 'period', 'trace', 'u', 'piece'}]``, one per branch through ``E`` (two
         or more beside a fold), by period; ``[]`` outside the family's range.
 
-        Precision: on a piece parametrised by ``E``, the record's ``interpolation.
-        max_error`` (``<= 1e-8``) at held-out path members; between stored members up to
-        ~2e-6 (at midpoints, beside engine stops and separatrices). On a piece parametrised by
-        ``u`` (through a fold) ``E(u) = E`` is solved on the interpolant: the error is
-        amplified by ``|dT/dE|``, unbounded at the fold itself; two branches closer to a
-        fold than ~1/16 of a node interval in ``u`` are not resolved.
+        Precision: the interpolant runs through the stored members' 30-digit period and
+        ``tr M``. On a piece parametrised by ``E``: 1e-8 (``max_error``) at held-out path
+        members; at the midpoints between stored members, measured against 30-digit
+        re-solves, 1e-8 away from folds and separatrices, ~4e-8 in T and ~2e-6 in tr M
+        beside them. On a piece parametrised by ``u`` (through a fold) ``E(u) = E`` is
+        solved on the interpolant: the error is amplified by ``|dT/dE|``, unbounded at
+        the fold; two branches closer to it than ~1/16 of a node interval in ``u`` are
+        not resolved.
 
         Examples
         --------
@@ -364,7 +187,12 @@ class Family:
             nodes = [ms[i] for i in pc["members"]]
             key, other = ("E", "u") if pc["param"] == "E" else ("u", "E")
             xs = np.array([m[key] for m in nodes], dtype=float)
-            Y = np.array([[m["period"], m["trace"], m[other]] for m in nodes])
+            Y = np.array(  # the 30-digit period and tr M, rounded
+                [
+                    [float(m["period_str"]), float(m["trace_str"]), m[other]]
+                    for m in nodes
+                ]
+            )
             if key == "E":
                 roots = [Ef] if xs[0] <= Ef <= xs[-1] else []
             else:
@@ -398,10 +226,10 @@ class Family:
         :meth:`interpolate`), each solved to ``digits`` from its interpolated ``u``
         (:class:`~rotorlib.orbits.family.Member`, ``tr M`` computed). A branch whose
         shot does not converge, or converges to a period more than 1e-4 (relative) from
-        the interpolated one (off by up to ~1e-3 beside the separatrices), is left out; so is a member with the period (1e-12) and
-        ``tr M`` (1e-9) of one already found: one orbit met twice, by a path that
-        passes an image of it again (as the census counts it: once). ValueError when
-        none is left."""
+        the interpolated one, is left out; so is a member with the period (1e-12) and
+        ``tr M`` (1e-9) of one already found: one orbit met twice, by a path that passes
+        an image of it again (as the census counts it: once). ValueError when none is
+        left."""
         from ..core.precision import tier
         from ..orbits.continuation import member
         from ..orbits.shooting import NoConvergence, solve

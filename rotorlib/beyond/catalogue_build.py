@@ -47,7 +47,12 @@ from concurrent.futures import FIRST_COMPLETED, Executor, wait
 from typing import Any
 
 from .atlas import E_DOMAIN
-from .catalogue_members import stored_members
+from .catalogue_members import (
+    DENSIFY_ROUNDS,
+    coarse_gaps,
+    insert_members,
+    stored_members,
+)
 from .catalogue_paths import (
     bands_of,
     covers,
@@ -344,7 +349,7 @@ def build(
     if max_steps is None:
         max_steps = default_max_steps(lo, hi, step)
     say = log or (lambda s: None)
-    kinds = ("census", "follow", "switch", "polish", "locate", "touch")
+    kinds = ("census", "follow", "switch", "densify", "polish", "locate", "touch")
     ran: dict[str, list[int]] = {k: [0, 0] for k in kinds}
     cpu: dict[str, dict[str, float]] = {k: {} for k in kinds}
 
@@ -493,10 +498,13 @@ def build(
     for f in fams:
         f.pop("_by_E", None)
         f.pop("_seg", None)
+    owned: dict[int, set[str]] = {}  # the tasks of each family after its follow
+    densified = densify(fams, run, owned)
+    if densified:
+        say(f"path members added where the interpolant was not shown: {densified}")
     # stored members (the special points, the seed, the path members that interpolation
     # needs), re-solved to 30 digits; where a path's float64 members disagree with their
     # re-solves it is cut (cut_untrusted) and its members are chosen again
-    owned: dict[int, set[str]] = {}  # the 30-digit tasks of each family (its CPU)
     todo, rnd, cut = list(range(len(fams))), 0, set()
     while todo:
         jobs, owner = [], []
@@ -543,7 +551,7 @@ def build(
             "follow": cpu["follow"].get(f["task"], 0.0),
             **{
                 k: sum(cpu[k].get(x, 0.0) for x in owned.get(i, ()))
-                for k in ("polish", "locate", "touch")
+                for k in ("densify", "polish", "locate", "touch")
             },
         }
     return {
@@ -558,9 +566,43 @@ def build(
         "max_steps": max_steps,
         "tasks": {k: tuple(v) for k, v in ran.items()},
         "switch_rounds": rounds,
+        "densify_rounds": densified,
         "cpu": {k: sum(v.values()) for k, v in cpu.items()},
         "cpu_max": {k: max(v.values(), default=0.0) for k, v in cpu.items()},
     }
+
+
+def densify(fams: list[dict], run: Callable, owned: dict[int, set[str]]) -> list[int]:
+    """Add float64 members to the paths of ``fams`` where the interpolant is not shown
+    to hold between path members (:func:`rotorlib.beyond.catalogue_members.coarse_gaps`,
+    the ``densify`` task), for at most :data:`DENSIFY_ROUNDS` rounds (each may halve
+    an interval); ``run(kind, jobs, desc)`` runs the tasks, whose keys are added to
+    ``owned`` (by family index). Returns the members added in each round."""
+    added: list[int] = []
+    for rnd in range(DENSIFY_ROUNDS):
+        todo = [(i, g) for i, f in enumerate(fams) if (g := coarse_gaps(f))]
+        jobs = [
+            {
+                "problem": fams[i]["problem"],
+                "factor": fams[i]["factor"],
+                **{
+                    k: [x[n] for x in g] for n, k in ((1, "E"), (2, "u"), (3, "period"))
+                },
+            }
+            for i, g in todo
+        ]
+        n = 0
+        for (i, g), a, res in zip(
+            todo, jobs, run("densify", jobs, f"densify {rnd + 1}")
+        ):
+            owned.setdefault(i, set()).add(task_key("densify", a))
+            k = insert_members(fams[i], g, res)
+            fams[i]["densified"] = fams[i].get("densified", 0) + k
+            n += k
+        if not n:
+            break
+        added.append(n)
+    return added
 
 
 def default_max_steps(lo: float, hi: float, step: float) -> int:

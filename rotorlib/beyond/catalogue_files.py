@@ -12,7 +12,13 @@ from pathlib import Path
 import numpy as np
 
 from ..core.system import BREATHER_SEPARATRIX_ENERGY, SEPARATRIX_ENERGY
-from .catalogue_members import DEGREE, TOL, interpolation_errors, phase_data
+from .catalogue_members import (
+    DEGREE,
+    TOL,
+    interpolation_errors,
+    left_out_errors,
+    phase_data,
+)
 from .catalogue_paths import seed_index
 from .catalogue_tasks import VERSION, near, write_json
 
@@ -540,12 +546,16 @@ def _interpolation(f: dict, members: list[dict]) -> dict:
     the path's own accuracy measured at them (``path_accuracy``: float64 path values
     against the 30-digit re-solve, period relative, ``tr M`` relative to max(1, |tr M|);
     ``above_tolerance``: ``[E, dT, dtr]`` of the nodes where the path is less accurate
-    than the tolerance, e.g. the short steps where the engine stopped)."""
+    than the tolerance, e.g. the short steps where the engine stopped); between path
+    members, the largest error at a path member of the interpolant through the other
+    path members on the pieces parametrised by ``E`` (``left_out_error``,
+    :func:`~rotorlib.beyond.catalogue_members.left_out_errors`) and the number of path
+    members the build added for it (``densified``)."""
     info = f.get("interpolation")
     if info is None:
         return {"pieces": [], "degree": DEGREE, "tolerance": TOL, "max_error": None}
     path = f["path"]
-    worst, acc_T, acc_tr = 0.0, 0.0, 0.0
+    worst, acc_T, acc_tr, left = 0.0, 0.0, 0.0, 0.0
     pieces = []
     for k, pc in enumerate(info["pieces"]):
         a, b = pc["path"]
@@ -571,6 +581,9 @@ def _interpolation(f: dict, members: list[dict]) -> dict:
         xs, Ys = np.array(x), np.array(Y)
         e = interpolation_errors(xs, Ys, list(range(n, n + len(nodes))), info["degree"])
         worst = max(worst, float(e[:n].max()))
+        if key == "E" and n > 2:
+            lo = left_out_errors(xs[:n], Ys[:n, :2], info["degree"])
+            left = max(left, float(lo.max()))
     above = []  # where the path itself is not accurate to the tolerance
     for m in members:
         if m["pieces"]:
@@ -586,4 +599,6 @@ def _interpolation(f: dict, members: list[dict]) -> dict:
         "tolerance": info["tolerance"],
         "max_error": worst,
         "path_accuracy": {"period": acc_T, "trace": acc_tr, "above_tolerance": above},
+        "left_out_error": left,
+        "densified": int(f.get("densified", 0)),
     }

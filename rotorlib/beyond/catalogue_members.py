@@ -29,6 +29,7 @@ import numpy as np
 __all__ = [
     "TOL",
     "DEGREE",
+    "member_record",
     "problem_of",
     "polish_task",
     "locate_task",
@@ -37,13 +38,40 @@ __all__ = [
     "pieces",
     "local_interpolant",
     "interpolation_errors",
+    "left_out_errors",
     "stored_members",
+    "DENSIFY_ROUNDS",
+    "GAP_MIN",
+    "coarse_gaps",
+    "densify_task",
+    "insert_members",
 ]
 
 #: The interpolation tolerance the stored members are chosen for (relative).
 TOL = 1e-8
 #: The degree of the local interpolating polynomials (``DEGREE + 1`` stored members).
 DEGREE = 7
+#: Rounds of path densification (:func:`coarse_gaps`; each may halve an interval).
+DENSIFY_ROUNDS = 6
+#: The shortest path interval (relative in ``E``) that densification splits.
+GAP_MIN = 1e-10
+
+
+def member_record(m, kind: str = "path") -> dict:
+    """The float64 record of an engine member ``m`` (a path member of
+    :func:`rotorlib.beyond.catalogue_tasks.follow_task`): ``kind``, ``E``, ``u``, ``w``,
+    ``t1``, the period, ``tr M``, ``x0`` and the shooting residual ``r``."""
+    return {
+        "kind": kind,
+        "E": float(m.E),
+        "u": float(m.u),
+        "w": float(m.w),
+        "t1": float(m.t1),
+        "period": float(m.period),
+        "trace": float(m.trace),
+        "x0": [float(v) for v in m.x0],
+        "r": float(m.r),
+    }
 
 
 def problem_of(spec: dict):
@@ -336,16 +364,52 @@ def _err(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return np.abs(a - b) / np.maximum(1.0, np.abs(b))
 
 
+def _errors(y: np.ndarray, Y: np.ndarray) -> np.ndarray:
+    """Errors of ``y`` against ``Y`` by column: relative for the period (first column,
+    ``> 0``), relative to ``max(1, |Y|)`` for the others."""
+    e = _err(y, Y)
+    e[:, 0] = np.abs(y[:, 0] - Y[:, 0]) / np.abs(Y[:, 0])
+    return e
+
+
 def interpolation_errors(x, Y, nodes, degree: int = DEGREE) -> np.ndarray:
     """The error at every point ``x`` (one piece, monotone) of the interpolant through
-    ``nodes`` (indices into ``x``), columns as ``Y``'s: relative for the period (first
-    column, ``> 0``), relative to ``max(1, |y|)`` for the others."""
+    ``nodes`` (indices into ``x``), columns as ``Y``'s (:func:`_errors`)."""
     x, Y = np.asarray(x, float), np.asarray(Y, float)
     order = np.argsort(x[nodes])
     nd = np.asarray(nodes)[order]
-    y = local_interpolant(x[nd], Y[nd], x, degree)
-    e = _err(y, Y)
-    e[:, 0] = np.abs(y[:, 0] - Y[:, 0]) / np.abs(Y[:, 0])
+    return _errors(local_interpolant(x[nd], Y[nd], x, degree), Y)
+
+
+def left_out_errors(x, Y, degree: int = DEGREE) -> np.ndarray:
+    """The error at each point of one piece (``x`` strictly monotone) of the interpolant
+    through the others (the point left out: its ``degree + 1`` nearest neighbours),
+    columns as ``Y``'s (:func:`_errors`); ``0`` at the piece's two ends, which would be
+    extrapolated.
+
+    Where it is below a tolerance the path is dense enough for the interpolant to hold
+    *between* its members as well: leaving a member out widens one node interval, so the
+    left-out error bounds the error at midpoints of the full path (for smooth data; the
+    chapter on the catalogue measures it at shot midpoints).
+
+    Examples
+    --------
+    >>> x = np.linspace(0, 1, 20)
+    >>> e = left_out_errors(x, np.stack([1 + x**7, x**3], axis=1))
+    >>> bool(e.max() < 1e-12), bool(left_out_errors(x, np.exp(9 * x)[:, None]).max() > 1e-3)
+    (True, True)
+    """
+    x, Y = np.asarray(x, float), np.asarray(Y, float)
+    n = len(x)
+    order = np.argsort(x)
+    xs, Ys = x[order], Y[order]
+    e = np.zeros(Y.shape)
+    for j in range(1, n - 1):
+        keep = [
+            k for k in range(max(0, j - degree - 1), min(n, j + degree + 2)) if k != j
+        ]
+        y = local_interpolant(xs[keep], Ys[keep], xs[j : j + 1], degree)
+        e[order[j]] = _errors(y, Ys[j : j + 1])[0]
     return e
 
 
@@ -406,3 +470,152 @@ def stored_members(f: dict, tol: float = TOL, degree: int = DEGREE) -> list[dict
     for m in stored:
         m.setdefault("pieces", [])
     return sorted(stored, key=lambda m: m.get("index", 0))
+
+
+# ------------------------------------------------------------------ densification
+
+
+def coarse_gaps(f: dict, tol: float = TOL, degree: int = DEGREE) -> list[tuple]:
+    """The intervals of the followed family ``f``'s path where its interpolant is not
+    shown to hold between path members: ``[(i, E, u, T)]``, the interval from ``path[i]``
+    to ``path[i + 1]`` on a piece parametrised by ``E`` (:func:`pieces`) beside a member
+    that its neighbours do not reproduce to ``tol`` (:func:`left_out_errors`, period and
+    ``tr M``); ``E`` its midpoint, ``u`` and ``T`` the interpolant's there. Intervals
+    shorter than :data:`GAP_MIN` (relative) are not split; nor are pieces parametrised
+    by ``u`` (through a fold).
+
+    Each member tested is marked with its left-out error (``left_out``), and a member
+    inserted in an interval (:func:`insert_members`) with the larger of its ends'
+    (``parent``). A member whose error is not 4 times below that, its intervals having
+    been split, is limited by the float64 accuracy of the path there, not by its
+    spacing (``noise``: very unstable orbits, long passages near a separatrix's saddle):
+    it is not split again. (Where the data are smooth a degree-7 interpolant's error
+    falls by ~2^8 when the spacing halves.) An interval beside a member above ``tol``
+    more than 4 times longer than a neighbouring interval is split all the same: the
+    path is kept graded where the spacing hid a feature (an engine stop beside an
+    unlocated fold, whose new members' errors are larger than their parents').
+
+    Examples
+    --------
+    >>> E = np.linspace(1.0, 2.0, 12)
+    >>> path = [{"E": e, "u": e, "period": 1 / (2.05 - e), "trace": 1.0} for e in E]
+    >>> [i for i, *_ in coarse_gaps({"path": path})][-3:]
+    [8, 9, 10]
+    """
+    path = f["path"]
+    if len(path) < 3:
+        return []
+    E, u, T, tr = (
+        np.array([m[k] for m in path]) for k in ("E", "u", "period", "trace")
+    )
+    out: list[tuple] = []
+    for a, b, param in pieces(E, u):
+        if param != "E" or b - a < 2:
+            continue
+        sl = slice(a, b + 1)
+        e = left_out_errors(E[sl], np.stack([T[sl], tr[sl]], axis=1), degree)
+        err, bad = e.max(axis=1), set()
+        for j in np.flatnonzero(err > tol):
+            m = path[a + j]
+            # split beside it (or born of a split), and no better
+            if err[j] > 0.25 * m.get("left_out", m.get("parent", np.inf)):
+                m["noise"] = True
+            m["left_out"] = float(err[j])
+            if not m.get("noise"):
+                bad |= {a + j - 1, a + j}
+        h = np.abs(np.diff(E[sl]))  # graded where the error is above tol
+        nb = np.minimum(np.r_[np.inf, h[:-1]], np.r_[h[1:], np.inf])
+        bad |= {
+            a + i for i in np.flatnonzero((h > 4 * nb) & (err[:-1] + err[1:] > tol))
+        }
+        gaps = [
+            i
+            for i in sorted(bad)
+            if a <= i < b and abs(E[i + 1] - E[i]) > GAP_MIN * max(1.0, abs(E[i]))
+        ]
+        if not gaps:
+            continue
+        order = np.argsort(E[sl])
+        xs, Ys = E[sl][order], np.stack([u[sl], T[sl]], axis=1)[order]
+        mid = 0.5 * (E[gaps] + E[np.array(gaps) + 1])
+        Y = local_interpolant(xs, Ys, mid, degree)
+        out += [
+            (int(i), float(m), float(y[0]), float(y[1]))
+            for i, m, y in zip(gaps, mid, Y)
+        ]
+    return out
+
+
+def densify_task(args: dict) -> list[dict]:
+    """Path members solved in float64 at the energies ``args['E']`` from the guesses
+    ``args['u']`` (records as :func:`rotorlib.beyond.catalogue_tasks.follow_task`'s
+    path: ``tr M`` computed), one per energy; ``{'failed': reason}`` where the shot does
+    not converge or lands more than 1e-4 (relative) from the guessed period
+    ``args['period']`` (another orbit)."""
+    from ..core.flow import SectionNotReached
+    from ..orbits.continuation import member
+    from ..orbits.shooting import NoConvergence, solve
+
+    prob = problem_of(
+        {**args["problem"], "label": "catalogue", "factor": args["factor"]}
+    )
+    out = []
+    for E, u0, T0 in zip(args["E"], args["u"], args["period"]):
+        try:
+            u = solve(prob, u0, u0 * (1 + 1e-9), E=E).x
+            m = member_record(member(prob, u, E, traces=True))
+        except (NoConvergence, SectionNotReached, ValueError, ZeroDivisionError) as exc:
+            out.append({"failed": f"{type(exc).__name__}: {exc}"[:300]})
+            continue
+        if abs(m["period"] / T0 - 1) > 1e-4:
+            m = {"failed": f"period {m['period']!r}, guessed {T0!r}"}
+        out.append(m)
+    return out
+
+
+def insert_members(f: dict, gaps: list[tuple], found: list[dict]) -> int:
+    """Insert into ``f``'s path the members ``found`` (:func:`densify_task`) of the
+    intervals ``gaps`` (:func:`coarse_gaps`: after ``path[i]``), failures left out, and
+    re-index its special points (``index``, ``index_end``) so that each still follows
+    the path member before it. Returns how many were inserted.
+
+    Examples
+    --------
+    >>> f = {"path": [{"E": 1.0}, {"E": 2.0}], "special": [{"E": 1.7, "index": 0}]}
+    >>> insert_members(f, [(0, 1.5, 0.0, 1.0)], [{"E": 1.5}])
+    1
+    >>> [m["E"] for m in f["path"]], f["special"][0]["index"]
+    ([1.0, 1.5, 2.0], 1)
+    """
+    path = f["path"]
+    add = {
+        g[0]: dict(m, parent=max(path[g[0] + d].get("left_out", 0.0) for d in (0, 1)))
+        for g, m in zip(gaps, found)
+        if "failed" not in m
+    }
+    if not add:
+        return 0
+    new: list[dict] = []
+    where: list[int] = []
+    for k, m in enumerate(path):
+        where.append(len(new))
+        new += [m, add[k]] if k in add else [m]
+
+    def moved(k: int, E: float) -> int:
+        if not 0 <= k < len(path):
+            return k if k < 0 else k + len(new) - len(path)
+        d, m = E - path[k]["E"], add.get(k)
+        return where[k] + int(
+            m is not None
+            and d * (m["E"] - path[k]["E"]) > 0
+            and abs(d) > abs(m["E"] - path[k]["E"])
+        )
+
+    for p in f.get("special", []):
+        p["index"] = moved(p["index"], p["E"])
+        if "index_end" in p:
+            p["index_end"] = moved(p["index_end"], p.get("E_end", p["E"]))
+    f["path"] = new
+    f.pop("_by_E", None)
+    f.pop("_seg", None)
+    return len(add)

@@ -43,7 +43,14 @@ from fractions import Fraction
 from pathlib import Path
 from typing import Any
 
-from .catalogue_members import locate_task, polish_task, problem_of, touch_task
+from .catalogue_members import (
+    densify_task,
+    locate_task,
+    member_record,
+    polish_task,
+    problem_of,
+    touch_task,
+)
 
 __all__ = [
     "VERSION",
@@ -303,20 +310,6 @@ def census_task(args: dict) -> list[dict]:
     return out
 
 
-def _member_rec(m, kind: str = "path") -> dict:
-    return {
-        "kind": kind,
-        "E": float(m.E),
-        "u": float(m.u),
-        "w": float(m.w),
-        "t1": float(m.t1),
-        "period": float(m.period),
-        "trace": float(m.trace),
-        "x0": [float(v) for v in m.x0],
-        "r": float(m.r),
-    }
-
-
 def follow_task(args: dict) -> dict:
     """One census orbit (``args['seed']``) continued both ways in ``args['E_range']``
     (steps of at most ``args['step']`` in ``E``, ``T <= args['t_max']``), with a member
@@ -348,7 +341,7 @@ def follow_task(args: dict) -> dict:
         continuation(prob, replace(alg, direction=d), opts, [m0]) for d in (-1, 1)
     )
     n = len(back.members)
-    path = [_member_rec(m) for m in back.members[::-1] + fwd.members[1:]]
+    path = [member_record(m) for m in back.members[::-1] + fwd.members[1:]]
     points = [
         (p, n - 1 - p.index - (p.kind != "fold")) for p in back.special_points
     ] + [(p, n - 1 + p.index) for p in fwd.special_points]
@@ -356,10 +349,10 @@ def follow_task(args: dict) -> dict:
     for p, idx in sorted(points, key=lambda v: v[1]):
         if not p.located:
             continue
-        rec = _member_rec(p.member, p.kind)
+        rec = member_record(p.member, p.kind)
         rec["index"] = idx
         special.append(rec)
-    seed = _member_rec(m0, "seed")
+    seed = member_record(m0, "seed")
     x = states_at(seed["x0"], [0.0, seed["period"]])
     winding = [float(v) / (2 * math.pi) for v in (x[1] - x[0])[:2]]
     return {
@@ -403,4 +396,5 @@ TASKS = {
     "polish": polish_task,
     "locate": locate_task,
     "touch": touch_task,
+    "densify": densify_task,
 }
