@@ -184,7 +184,7 @@ def named_special_points(
 
 def validate(path: str | os.PathLike | None = None) -> list[str]:
     """The problems of the stored files: a family file that fails the schema
-    (:data:`rotorlib.beyond.catalogue.SCHEMA`, with ``jsonschema``), a stored
+    (:data:`rotorlib.beyond.catalogue_schema.SCHEMA`, with ``jsonschema``), a stored
     ``schema.json`` that differs from it, a parent/daughter link without its converse.
     ``[]`` when there is none."""
     import json

@@ -359,7 +359,7 @@ def _touch(g: dict, p: dict, via: str) -> None:
 
 def write(cat: dict, out: str | os.PathLike, schema: dict) -> dict:
     """Write one JSON per family, ``index.json``, ``schema.json`` (``schema``: the loader's
-    :data:`rotorlib.beyond.catalogue.SCHEMA`) and ``members.csv`` into ``out``; returns
+    :data:`rotorlib.beyond.catalogue_schema.SCHEMA`) and ``members.csv`` into ``out``; returns
     the index."""
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)

@@ -374,7 +374,8 @@ def _errors(y: np.ndarray, Y: np.ndarray) -> np.ndarray:
 
 def interpolation_errors(x, Y, nodes, degree: int = DEGREE) -> np.ndarray:
     """The error at every point ``x`` (one piece, monotone) of the interpolant through
-    ``nodes`` (indices into ``x``), columns as ``Y``'s (:func:`_errors`)."""
+    ``nodes`` (indices into ``x``), columns as ``Y``'s: relative for the period (first
+    column, ``> 0``), relative to ``max(1, |y|)`` for the others."""
     x, Y = np.asarray(x, float), np.asarray(Y, float)
     order = np.argsort(x[nodes])
     nd = np.asarray(nodes)[order]
@@ -384,8 +385,8 @@ def interpolation_errors(x, Y, nodes, degree: int = DEGREE) -> np.ndarray:
 def left_out_errors(x, Y, degree: int = DEGREE) -> np.ndarray:
     """The error at each point of one piece (``x`` strictly monotone) of the interpolant
     through the others (the point left out: its ``degree + 1`` nearest neighbours),
-    columns as ``Y``'s (:func:`_errors`); ``0`` at the piece's two ends, which would be
-    extrapolated.
+    columns as :func:`interpolation_errors`'s; ``0`` at the piece's two ends, which
+    would be extrapolated.
 
     Where it is below a tolerance the path is dense enough for the interpolant to hold
     *between* its members as well: leaving a member out widens one node interval, so the
