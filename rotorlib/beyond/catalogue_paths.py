@@ -29,7 +29,7 @@ from typing import Any
 import numpy as np
 
 from ..core.system import BREATHER_SEPARATRIX_ENERGY, SEPARATRIX_ENERGY
-from .catalogue_tasks import near
+from .catalogue_tasks import TRACE_TOL_SQ, near
 
 __all__ = [
     "PATH_TOL",
@@ -274,9 +274,11 @@ def cut_at_critical(f: dict, ratio: float = 10.0) -> dict:
 
 #: ``(rel_T, rel_tr)`` of :func:`cut_untrusted`: a float64 member that differs from its
 #: 30-digit re-solve by more than ``rel_T`` in the period (relative) or ``rel_tr``
-#: ``max(1, |tr M|)`` plus 1e-12 ``tr M^2`` in ``tr M`` is not the family's member. Loose:
-#: the float64 path's own accuracy, which is finer (``interpolation.path_accuracy`` of
-#: each record), is measured and recorded, not enforced here.
+#: ``max(1, |tr M|)`` plus :data:`~rotorlib.beyond.catalogue_tasks.TRACE_TOL_SQ`
+#: ``tr M^2`` (the float64 floor of a very unstable orbit's ``tr M``, as a match allows
+#: it) in ``tr M`` is not the family's member. Loose: the float64 path's own accuracy,
+#: which is finer (``interpolation.path_accuracy`` of each record), is measured and
+#: recorded, not enforced here.
 TRUST = (1e-6, 1e-2)
 
 
@@ -357,7 +359,7 @@ def _disagreement(m: dict) -> str | None:
     rel_T, rel_tr = TRUST
     if (
         abs(T - m["period"]) <= rel_T * T
-        and abs(tr - m["trace"]) <= rel_tr * max(1.0, abs(tr)) + 1e-12 * tr * tr
+        and abs(tr - m["trace"]) <= rel_tr * max(1.0, abs(tr)) + TRACE_TOL_SQ * tr * tr
     ):
         return None
     return (
