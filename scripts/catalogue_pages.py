@@ -198,7 +198,8 @@ def page(
         items = value.items() if isinstance(value, dict) else [("", value)]
         for sub, v in items:
             if isinstance(v, int | float) and not isinstance(v, bool):
-                rows.append([esc(f"{key} {sub}".replace("_", " ").strip()), sig(v, 2)])
+                shown = str(v) if isinstance(v, int) else sig(v, 2)  # counts exactly
+                rows.append([esc(f"{key} {sub}".replace("_", " ").strip()), shown])
     lines += [table(["quantity", "value"], rows), ""]
     sets = sym.get("fixed_sets") or []
     if sets:

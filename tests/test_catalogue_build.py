@@ -697,7 +697,8 @@ def _densify_family(noise: float) -> tuple[dict, object]:
         return {"E": float(E), "u": float(E), "period": float(T), "trace": 2.0 + E}
 
     path = [orbit(E) for E in np.linspace(4.02, 5.0, 40)]
-    point = {"kind": "IS", "E": 0.7 * path[5]["E"] + 0.3 * path[6]["E"], "index": 5}
+    Ep = 0.7 * path[5]["E"] + 0.3 * path[6]["E"]
+    point = {"kind": "IS", "E": Ep, "period": 1 - np.log(Ep - 4), "index": 5}
     fam = {"path": path, "special": [point], "problem": {}, "factor": 1.0}
 
     def run(kind, jobs, desc):
@@ -727,6 +728,51 @@ def test_densify_makes_the_interpolant_hold_between_path_members():
     assert np.all(np.diff(E) > 0) and len(owned[0]) == len(added)
     p = fam["special"][0]
     assert E[p["index"]] < p["E"] < E[p["index"] + 1]
+
+
+def test_densify_through_a_fold_in_u():
+    """A piece parametrised by u (through a fold of E(u) = 5 - (u - 1)^2, with
+    T = 1 / (3 - u), sharply curved beside u = 3): the rounds split intervals in u; a
+    member is shot at E(u_mid), where two members exist, and kept only if it lands in
+    the interval (the fake solver returns the other branch's member when asked to, which
+    must be refused); the fold point keeps its neighbours in the (E, period) order."""
+    from rotorlib.beyond.catalogue_build import densify
+    from rotorlib.beyond.catalogue_members import coarse_gaps, left_out_errors, pieces
+
+    def orbit(u):
+        return {"E": 5 - (u - 1) ** 2, "u": u, "period": 1 / (3 - u), "trace": u}
+
+    path = [orbit(u) for u in np.linspace(0.0, 2.9, 30)]
+    k = int(np.searchsorted([m["u"] for m in path], 1.0)) - 1
+    fold = {"kind": "fold", "E": 5.0, "period": 0.5, "trace": 1.0, "index": k}
+    fam = {"path": path, "special": [fold], "problem": {}, "factor": 1.0}
+    wrong = iter([True] * 3 + [False] * 10**4)
+
+    def run(kind, jobs, desc):
+        out = []
+        for a in jobs:
+            res = []
+            for E, u0, box in zip(a["E"], a["u"], a.get("box", [None] * len(a["E"]))):
+                # the solver lands on the member of the other side of the fold
+                u = 2 - u0 if box and next(wrong) else u0
+                res.append(orbit(u))
+                if box and not box[0] < u < box[1]:
+                    res[-1] = {"failed": "outside"}
+            out.append(res)
+        return out
+
+    u = np.array([m["u"] for m in path])
+    Y = np.array([[m["period"], m["trace"]] for m in path])
+    before = left_out_errors(u, Y).max()
+    added = densify([fam], run, {})
+    u = np.array([m["u"] for m in fam["path"]])
+    Y = np.array([[m["period"], m["trace"]] for m in fam["path"]])
+    E = np.array([m["E"] for m in fam["path"]])
+    assert any(p == "u" for *_, p in pieces(E, u))
+    assert before > 1e-5 and added and np.all(np.diff(u) > 0)
+    assert left_out_errors(u, Y).max() <= 1e-8 and not coarse_gaps(fam)
+    i = fam["special"][0]["index"]
+    assert u[i] <= 1.0 <= u[i + 1], (u[i], u[i + 1])
 
 
 def test_densify_stops_where_the_path_is_noise_limited():

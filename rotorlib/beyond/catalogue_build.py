@@ -588,6 +588,8 @@ def densify(fams: list[dict], run: Callable, owned: dict[int, set[str]]) -> list
                 **{
                     k: [x[n] for x in g] for n, k in ((1, "E"), (2, "u"), (3, "period"))
                 },
+                # the u pieces' intervals (absent when none: the E-only task keys)
+                **({"box": [x[4] for x in g]} if any(x[4] for x in g) else {}),
             }
             for i, g in todo
         ]

@@ -11,6 +11,9 @@ computations: the script ``scripts/catalogue_check.py`` runs them all, the tests
   against the one :func:`rotorlib.family` locates (passed in) over the family's energy range (``E``
   to ``1e-8``), and the points it locates there that the record lacks.
 * :func:`validate`: every family file against the schema, the links both ways.
+* :func:`midpoints`: the interpolant between stored members (the one the stored
+  members serve, :meth:`~rotorlib.beyond.catalogue.Family.interpolate`) against members
+  re-solved there, in float64 or at 30 digits; :func:`midpoint_summary` its table.
 
 The real128 closure of ``rotorlib catalogue --E V --json`` is in the script and in
 ``tests/test_catalogue.py`` (it integrates with the tests' independent rotor equations).
@@ -26,6 +29,8 @@ from .catalogue_tasks import matches
 
 __all__ = [
     "held_back",
+    "midpoint_summary",
+    "midpoints",
     "named_special_points",
     "validate",
 ]
@@ -214,3 +219,128 @@ def validate(path: str | os.PathLike | None = None) -> list[str]:
             if q["id"] not in by or back not in by[q["id"]]["daughters"]:
                 bad.append(f"{r['id']}: parent {q} has no daughter link back")
     return bad
+
+
+def _near(E: float, special: list[dict]) -> bool:
+    """Within 0.2 of a separatrix energy (4, 4.5) or 0.01 of a fold."""
+    return min(abs(E - 4.0), abs(E - 4.5)) < 0.2 or any(
+        p["kind"] == "fold" and abs(E - p["E"]) < 0.01 for p in special
+    )
+
+
+def midpoints(
+    path: str | os.PathLike | None = None,
+    stride: int = 1,
+    digits: int | None = None,
+    ids: list[str] | None = None,
+) -> list[dict]:
+    """The catalogue's interpolant at the midpoints between neighbouring stored members
+    against the members re-solved there.
+
+    On each piece of each family (of ``ids``, default all), at every ``stride``-th
+    pair of neighbouring stored members, the midpoint in the piece's parameter: in
+    ``E`` on a piece parametrised by ``E``; in ``u`` on one parametrised by ``u``
+    (through a fold), at the ``E`` the interpolant gives there. The member is shot
+    in float64 at that ``E`` from the interpolated ``u``
+    (:func:`~rotorlib.beyond.catalogue_members.shoot_member`); on a ``u`` piece the
+    shot must land between the pair's ``u`` (beside a fold two members share ``E``),
+    and the interpolant is read at the ``u`` it lands on
+    (:meth:`~rotorlib.beyond.catalogue.Family.interpolate_piece`). With ``digits``
+    (30), the member is then re-solved at ``digits``
+    (:func:`~rotorlib.beyond.catalogue_members.polish_task`): the reference for
+    ``tr M``, whose float64 value is good to ~1e-11 ``tr M^2`` only.
+
+    Returns one row per midpoint: ``{'id', 'param', 'E', 'near', 'period_error',
+    'trace_error'}``, the period's error relative, ``tr M``'s relative to
+    ``max(1, |tr M|)`` (``None`` in float64); ``near``: within 0.2 of E = 4 or 4.5, or
+    0.01 of a fold. A midpoint whose shot fails or leaves the interval has
+    ``'failed'`` (its reason) in place of the errors.
+    """
+    from ..orbits.shooting import NoConvergence
+    from .catalogue import load
+    from .catalogue_members import polish_task, shoot_member
+
+    if stride < 1:
+        raise ValueError(f"stride must be >= 1, got {stride!r}")
+    rows: list[dict] = []
+    for f in load(path):
+        if ids is not None and f.id not in ids:
+            continue
+        rec = f.record
+        br = rec["branch"]
+        for k, pc in enumerate(rec["interpolation"]["pieces"]):
+            nodes = [rec["members"][i] for i in pc["members"]]
+            key = pc["param"]
+            for a, b in list(zip(nodes, nodes[1:]))[::stride]:
+                r = f.interpolate_piece(k, 0.5 * (a[key] + b[key]))
+                row: dict = {"id": f.id, "param": key, "E": r["E"]}
+                row["near"] = _near(r["E"], rec["special_points"])
+                rows.append(row)
+                box = (min(a["u"], b["u"]), max(a["u"], b["u"])) if key == "u" else None
+                try:
+                    m = shoot_member(f.problem, r["E"], r["u"], r["period"], box)
+                except (NoConvergence, ValueError) as exc:
+                    row["failed"] = f"{type(exc).__name__}: {exc}"[:200]
+                    continue
+                u = float(m.u)
+                if key == "u":  # the interpolant where the shot landed
+                    r = dict(f.interpolate_piece(k, u), E=r["E"])
+                if digits is None:
+                    T, tr = float(m.period), None
+                else:
+                    args = {"problem": br["problem"], "factor": br["factor"], "u": u}
+                    s = polish_task({**args, "E_str": repr(r["E"]), "digits": digits})
+                    if "failed" in s:
+                        row["failed"] = s["failed"]
+                        continue
+                    T, tr = float(s["period_str"]), float(s["trace_str"])
+                row["period_error"] = abs(r["period"] / T - 1)
+                row["trace_error"] = (
+                    None if tr is None else abs(r["trace"] - tr) / max(1.0, abs(tr))
+                )
+    return rows
+
+
+def midpoint_summary(rows: list[dict], tol: float = 1e-8) -> dict:
+    """The rows of :func:`midpoints` by class: ``far`` and ``near`` (pieces
+    parametrised by ``E``), ``u`` (pieces parametrised by ``u``). Each class:
+    ``{'n', 'failed', 'period_above', 'trace_above', 'period_max', 'period_max_at',
+    'trace_max', 'trace_max_at', 'above'}`` (``_above``: how many exceed ``tol``;
+    ``_at``: ``[id, E]``; the ``tr M`` entries ``None`` for float64 rows; ``above``:
+    ``[id, E, period error, tr M error]`` of the rows above ``tol``, the worst 20).
+
+    Examples
+    --------
+    >>> rows = [{"id": "F001", "param": "E", "E": 5.0, "near": False,
+    ...          "period_error": 2e-9, "trace_error": None}]
+    >>> s = midpoint_summary(rows)
+    >>> s["far"]["n"], s["far"]["period_above"], s["near"]["n"]
+    (1, 0, 0)
+    """
+    out: dict = {}
+    for cls in ("far", "near", "u"):
+        rs = [
+            r
+            for r in rows
+            if (r["param"] == "u") == (cls == "u")
+            and (cls == "u" or r["near"] == (cls == "near"))
+        ]
+        ok = [r for r in rs if "failed" not in r]
+        c: dict = {"n": len(ok), "failed": len(rs) - len(ok)}
+        for q in ("period", "trace"):
+            e = [r for r in ok if r[f"{q}_error"] is not None]
+            w = max(e, key=lambda r: r[f"{q}_error"], default=None)
+            c[f"{q}_above"] = sum(r[f"{q}_error"] > tol for r in e) if e else None
+            c[f"{q}_max"] = None if w is None else w[f"{q}_error"]
+            c[f"{q}_max_at"] = None if w is None else [w["id"], w["E"]]
+        bad = [
+            r for r in ok if r["period_error"] > tol or (r["trace_error"] or 0.0) > tol
+        ]
+        c["above"] = [  # where (at most 20, the worst first)
+            [r["id"], r["E"], r["period_error"], r["trace_error"]]
+            for r in sorted(
+                bad, key=lambda r: -max(r["period_error"], r["trace_error"] or 0)
+            )
+        ][:20]
+        out[cls] = c
+    return out

@@ -548,7 +548,7 @@ def _interpolation(f: dict, members: list[dict]) -> dict:
     ``above_tolerance``: ``[E, dT, dtr]`` of the nodes where the path is less accurate
     than the tolerance, e.g. the short steps where the engine stopped); between path
     members, the largest error at a path member of the interpolant through the other
-    path members on the pieces parametrised by ``E`` (``left_out_error``,
+    path members, in each piece's parameter (``left_out_error``,
     :func:`~rotorlib.beyond.catalogue_members.left_out_errors`) and the number of path
     members the build added for it (``densified``)."""
     info = f.get("interpolation")
@@ -581,7 +581,7 @@ def _interpolation(f: dict, members: list[dict]) -> dict:
         xs, Ys = np.array(x), np.array(Y)
         e = interpolation_errors(xs, Ys, list(range(n, n + len(nodes))), info["degree"])
         worst = max(worst, float(e[:n].max()))
-        if key == "E" and n > 2:
+        if n > 2:  # in the piece's parameter, as the build densified it
             lo = left_out_errors(xs[:n], Ys[:n, :2], info["degree"])
             left = max(left, float(lo.max()))
     above = []  # where the path itself is not accurate to the tolerance

@@ -23,6 +23,7 @@ orbit is marginal: ``null`` with the reason at ``tr M = 4``, IS points and folds
 from __future__ import annotations
 
 from dataclasses import replace
+from typing import Any
 
 import numpy as np
 
@@ -481,12 +482,15 @@ def stored_members(f: dict, tol: float = TOL, degree: int = DEGREE) -> list[dict
 
 def coarse_gaps(f: dict, tol: float = TOL, degree: int = DEGREE) -> list[tuple]:
     """The intervals of the followed family ``f``'s path where its interpolant is not
-    shown to hold between path members: ``[(i, E, u, T)]``, the interval from ``path[i]``
-    to ``path[i + 1]`` on a piece parametrised by ``E`` (:func:`pieces`) beside a member
-    that its neighbours do not reproduce to ``tol`` (:func:`left_out_errors`, period and
-    ``tr M``); ``E`` its midpoint, ``u`` and ``T`` the interpolant's there. Intervals
-    shorter than :data:`GAP_MIN` (relative) are not split; nor are pieces parametrised
-    by ``u`` (through a fold).
+    shown to hold between path members: ``[(i, E, u, T, box)]``, the interval from
+    ``path[i]`` to ``path[i + 1]`` on a piece (:func:`pieces`) beside a member that its
+    neighbours do not reproduce to ``tol`` (:func:`left_out_errors` in the piece's
+    parameter, period and ``tr M``). On a piece parametrised by ``E``, ``E`` is the
+    interval's midpoint, ``u`` and ``T`` the interpolant's there, and ``box`` is None; on
+    a piece parametrised by ``u`` (through a fold), ``u`` is the midpoint, ``E`` and
+    ``T`` the interpolant's there, and ``box`` the interval in ``u``, inside which the
+    member shot at ``E`` must land (:func:`densify_task`: at a fold's ``E`` two members
+    exist). Intervals shorter than :data:`GAP_MIN` (relative) are not split.
 
     Each member tested is marked with its left-out error (``left_out``), and a member
     inserted in an interval (:func:`insert_members`) with the larger of its ends'
@@ -514,10 +518,11 @@ def coarse_gaps(f: dict, tol: float = TOL, degree: int = DEGREE) -> list[tuple]:
     )
     out: list[tuple] = []
     for a, b, param in pieces(E, u):
-        if param != "E" or b - a < 2:
+        if b - a < 2:
             continue
         sl = slice(a, b + 1)
-        e = left_out_errors(E[sl], np.stack([T[sl], tr[sl]], axis=1), degree)
+        x, other = (E, u) if param == "E" else (u, E)
+        e = left_out_errors(x[sl], np.stack([T[sl], tr[sl]], axis=1), degree)
         err, bad = e.max(axis=1), set()
         for j in np.flatnonzero(err > tol):
             m = path[a + j]
@@ -527,7 +532,7 @@ def coarse_gaps(f: dict, tol: float = TOL, degree: int = DEGREE) -> list[tuple]:
             m["left_out"] = float(err[j])
             if not m.get("noise"):
                 bad |= {a + j - 1, a + j}
-        h = np.abs(np.diff(E[sl]))  # graded where the error is above tol
+        h = np.abs(np.diff(x[sl]))  # graded where the error is above tol
         nb = np.minimum(np.r_[np.inf, h[:-1]], np.r_[h[1:], np.inf])
         bad |= {
             a + i for i in np.flatnonzero((h > 4 * nb) & (err[:-1] + err[1:] > tol))
@@ -535,19 +540,52 @@ def coarse_gaps(f: dict, tol: float = TOL, degree: int = DEGREE) -> list[tuple]:
         gaps = [
             i
             for i in sorted(bad)
-            if a <= i < b and abs(E[i + 1] - E[i]) > GAP_MIN * max(1.0, abs(E[i]))
+            if a <= i < b and abs(x[i + 1] - x[i]) > GAP_MIN * max(1.0, abs(x[i]))
         ]
         if not gaps:
             continue
-        order = np.argsort(E[sl])
-        xs, Ys = E[sl][order], np.stack([u[sl], T[sl]], axis=1)[order]
-        mid = 0.5 * (E[gaps] + E[np.array(gaps) + 1])
+        order = np.argsort(x[sl])
+        xs, Ys = x[sl][order], np.stack([other[sl], T[sl]], axis=1)[order]
+        mid = 0.5 * (x[gaps] + x[np.array(gaps) + 1])
         Y = local_interpolant(xs, Ys, mid, degree)
-        out += [
-            (int(i), float(m), float(y[0]), float(y[1]))
-            for i, m, y in zip(gaps, mid, Y)
-        ]
+        for i, m, y in zip(gaps, mid, Y):
+            Ei, ui = (m, y[0]) if param == "E" else (y[0], m)
+            # a u piece: the member shot at E(u) must land inside the interval in u
+            box = None if param == "E" else sorted((float(u[i]), float(u[i + 1])))
+            out.append((int(i), float(Ei), float(ui), float(y[1]), box))
     return out
+
+
+def shoot_member(
+    problem: Any,
+    E: Any,
+    u0: float,
+    period: float | None = None,
+    box: tuple[float, float] | None = None,
+    digits: int | None = None,
+) -> Any:
+    """The member at ``E`` shot to ``digits`` from the guess ``u0`` of its shooting
+    unknown (a :class:`~rotorlib.orbits.family.Member`, ``tr M`` computed).
+
+    Raises :class:`~rotorlib.orbits.shooting.NoConvergence` when the shot fails, and
+    ValueError when it lands on another orbit: its period more than 1e-4 (relative)
+    from ``period``, or its ``u`` outside the open interval ``box`` (beside a fold two
+    members share ``E``; the period does not tell them apart there).
+    """
+    from ..core.precision import tier
+    from ..orbits.continuation import member
+    from ..orbits.shooting import solve
+
+    t = tier(digits)
+    with t.context():
+        x0 = t.num(repr(float(u0)))
+        u = solve(problem, x0, x0 * (1 + t.num("1e-9")), E=E, digits=t).x
+        m = member(problem, u, str(E) if t.extended else float(E), t, traces=True)
+    if box is not None and not box[0] < float(m.u) < box[1]:
+        raise ValueError(f"u = {float(m.u)!r} outside the interval {tuple(box)!r}")
+    if period is not None and abs(float(m.period) / period - 1) > 1e-4:
+        raise ValueError(f"period {float(m.period)!r}, guessed {period!r}")
+    return m
 
 
 def densify_task(args: dict) -> list[dict]:
@@ -557,23 +595,20 @@ def densify_task(args: dict) -> list[dict]:
     not converge or lands more than 1e-4 (relative) from the guessed period
     ``args['period']`` (another orbit)."""
     from ..core.flow import SectionNotReached
-    from ..orbits.continuation import member
-    from ..orbits.shooting import NoConvergence, solve
+    from ..orbits.shooting import NoConvergence
 
     prob = problem_of(
         {**args["problem"], "label": "catalogue", "factor": args["factor"]}
     )
     out = []
-    for E, u0, T0 in zip(args["E"], args["u"], args["period"]):
+    boxes = args.get("box", [None] * len(args["E"]))
+    for E, u0, T0, box in zip(args["E"], args["u"], args["period"], boxes):
         try:
-            u = solve(prob, u0, u0 * (1 + 1e-9), E=E).x
-            m = member_record(member(prob, u, E, traces=True))
+            # a u piece's box tells the branches apart; an E piece's guessed period
+            m = shoot_member(prob, E, u0, None if box else T0, box)
+            out.append(member_record(m))
         except (NoConvergence, SectionNotReached, ValueError, ZeroDivisionError) as exc:
             out.append({"failed": f"{type(exc).__name__}: {exc}"[:300]})
-            continue
-        if abs(m["period"] / T0 - 1) > 1e-4:
-            m = {"failed": f"period {m['period']!r}, guessed {T0!r}"}
-        out.append(m)
     return out
 
 
@@ -583,10 +618,16 @@ def insert_members(f: dict, gaps: list[tuple], found: list[dict]) -> int:
     re-index its special points (``index``, ``index_end``) so that each still follows
     the path member before it. Returns how many were inserted.
 
+    A special point between ``path[k]`` and ``path[k + 1]`` goes after a member inserted
+    there when its projection on the chord from ``path[k]`` to ``path[k + 1]`` in the
+    ``(E, period)`` plane is the farther along: through a fold ``E`` alone does not order
+    them (it turns), the period does.
+
     Examples
     --------
-    >>> f = {"path": [{"E": 1.0}, {"E": 2.0}], "special": [{"E": 1.7, "index": 0}]}
-    >>> insert_members(f, [(0, 1.5, 0.0, 1.0)], [{"E": 1.5}])
+    >>> path = [{"E": 1.0, "period": 3.0}, {"E": 2.0, "period": 5.0}]
+    >>> f = {"path": path, "special": [{"E": 1.7, "period": 4.4, "index": 0}]}
+    >>> insert_members(f, [(0, 1.5, 0.0, 4.0, None)], [{"E": 1.5, "period": 4.0}])
     1
     >>> [m["E"] for m in f["path"]], f["special"][0]["index"]
     ([1.0, 1.5, 2.0], 1)
@@ -605,20 +646,25 @@ def insert_members(f: dict, gaps: list[tuple], found: list[dict]) -> int:
         where.append(len(new))
         new += [m, add[k]] if k in add else [m]
 
-    def moved(k: int, E: float) -> int:
+    def along(k: int, x: dict, coords: tuple[str, ...]) -> float:
+        a, b = path[k], path[k + 1]
+        d = [b[c] - a[c] for c in coords]
+        n = sum(dc * dc for dc in d) or 1.0
+        return sum((x[c] - a[c]) * dc for c, dc in zip(coords, d)) / n
+
+    def moved(k: int, x: dict, coords: tuple[str, ...] = ("E", "period")) -> int:
         if not 0 <= k < len(path):
             return k if k < 0 else k + len(new) - len(path)
-        d, m = E - path[k]["E"], add.get(k)
+        m = add.get(k)
         return where[k] + int(
-            m is not None
-            and d * (m["E"] - path[k]["E"]) > 0
-            and abs(d) > abs(m["E"] - path[k]["E"])
+            m is not None and along(k, x, coords) > along(k, m, coords)
         )
 
     for p in f.get("special", []):
-        p["index"] = moved(p["index"], p["E"])
-        if "index_end" in p:
-            p["index_end"] = moved(p["index_end"], p.get("E_end", p["E"]))
+        p["index"] = moved(p["index"], p)
+        if "index_end" in p:  # a marginal window's end: its period is not kept
+            end = {"E": p.get("E_end", p["E"])}
+            p["index_end"] = moved(p["index_end"], end, ("E",))
     f["path"] = new
     f.pop("_by_E", None)
     f.pop("_seg", None)
