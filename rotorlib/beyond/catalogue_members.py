@@ -44,6 +44,7 @@ __all__ = [
     "DENSIFY_ROUNDS",
     "GAP_MIN",
     "coarse_gaps",
+    "shoot_member",
     "densify_task",
     "insert_members",
 ]
