@@ -203,15 +203,13 @@ class Family:
                     for i in np.flatnonzero(val[:-1] * val[1:] < 0)
                 ]
             for x in roots:
-                y = local_interpolant(xs, Y, [x], deg)[0]
-                rec = {"E": Ef, "period": float(y[0]), "trace": float(y[1])}
-                rec["u"] = float(y[2]) if key == "E" else x
+                rec = dict(self.interpolate_piece(k, x), E=Ef)
                 if not any(  # a member at a piece boundary is found twice
                     abs(r["period"] - rec["period"]) < 1e-9
                     and abs(r["u"] - rec["u"]) < 1e-7 * max(1.0, abs(rec["u"]))
                     for r in out
                 ):
-                    out.append({**rec, "piece": k})
+                    out.append(rec)
         return sorted(out, key=lambda r: r["period"])
 
     def _piece(self, k: int) -> tuple[str, np.ndarray, np.ndarray]:

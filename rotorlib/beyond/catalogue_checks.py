@@ -25,9 +25,11 @@ import math
 import os
 from collections.abc import Callable
 
+from ..core.system import BREATHER_SEPARATRIX_ENERGY, SEPARATRIX_ENERGY
 from .catalogue_tasks import matches
 
 __all__ = [
+    "beside_separatrix_or_fold",
     "held_back",
     "midpoint_summary",
     "midpoints",
@@ -221,9 +223,20 @@ def validate(path: str | os.PathLike | None = None) -> list[str]:
     return bad
 
 
-def _near(E: float, special: list[dict]) -> bool:
-    """Within 0.2 of a separatrix energy (4, 4.5) or 0.01 of a fold."""
-    return min(abs(E - 4.0), abs(E - 4.5)) < 0.2 or any(
+def beside_separatrix_or_fold(E: float, special: list[dict]) -> bool:
+    """Whether ``E`` lies within 0.2 of a separatrix energy (4 or 4.5) or within 0.01
+    of a fold among the record's special points ``special``: the ``near`` class of
+    :func:`midpoints`, where the interpolant is measured apart.
+
+    Examples
+    --------
+    >>> beside_separatrix_or_fold(4.15, []), beside_separatrix_or_fold(5.3, [])
+    (True, False)
+    >>> beside_separatrix_or_fold(5.3, [{"kind": "fold", "E": 5.305}])
+    True
+    """
+    sep = min(abs(E - SEPARATRIX_ENERGY), abs(E - BREATHER_SEPARATRIX_ENERGY))
+    return sep < 0.2 or any(
         p["kind"] == "fold" and abs(E - p["E"]) < 0.01 for p in special
     )
 
@@ -252,8 +265,8 @@ def midpoints(
 
     Returns one row per midpoint: ``{'id', 'param', 'E', 'near', 'period_error',
     'trace_error'}``, the period's error relative, ``tr M``'s relative to
-    ``max(1, |tr M|)`` (``None`` in float64); ``near``: within 0.2 of E = 4 or 4.5, or
-    0.01 of a fold. A midpoint whose shot fails or leaves the interval has
+    ``max(1, |tr M|)`` (``None`` in float64); ``near``:
+    :func:`beside_separatrix_or_fold`. A midpoint whose shot fails or leaves the interval has
     ``'failed'`` (its reason) in place of the errors.
     """
     from ..orbits.shooting import NoConvergence
@@ -274,7 +287,7 @@ def midpoints(
             for a, b in list(zip(nodes, nodes[1:]))[::stride]:
                 r = f.interpolate_piece(k, 0.5 * (a[key] + b[key]))
                 row: dict = {"id": f.id, "param": key, "E": r["E"]}
-                row["near"] = _near(r["E"], rec["special_points"])
+                row["near"] = beside_separatrix_or_fold(r["E"], rec["special_points"])
                 rows.append(row)
                 box = (min(a["u"], b["u"]), max(a["u"], b["u"])) if key == "u" else None
                 try:

@@ -592,9 +592,11 @@ def shoot_member(
 def densify_task(args: dict) -> list[dict]:
     """Path members solved in float64 at the energies ``args['E']`` from the guesses
     ``args['u']`` (records as :func:`rotorlib.beyond.catalogue_tasks.follow_task`'s
-    path: ``tr M`` computed), one per energy; ``{'failed': reason}`` where the shot does
-    not converge or lands more than 1e-4 (relative) from the guessed period
-    ``args['period']`` (another orbit)."""
+    path: ``tr M`` computed), one per energy (:func:`shoot_member`); ``{'failed':
+    reason}`` where the shot does not converge or lands on another orbit: on a piece
+    parametrised by ``E``, more than 1e-4 (relative) from the guessed period
+    ``args['period']``; on one parametrised by ``u`` (``args['box']``, :func:`coarse_gaps`),
+    with its ``u`` outside the interval."""
     from ..core.flow import SectionNotReached
     from ..orbits.shooting import NoConvergence
 
