@@ -31,6 +31,7 @@ import io
 import math
 import re
 import sys
+from decimal import Decimal, localcontext
 from pathlib import Path
 from typing import Any
 
@@ -106,13 +107,20 @@ def link(fid: str, known: set[str]) -> str:
 
 
 def point_E(p: dict) -> str:
-    """A special point's energy to the digits it was located to (``E_str`` when the
-    record has it; else 12 decimals); a marginal stretch's two ends."""
+    """A special point's energy to the digits it was located to (``E_str`` rounded to
+    the decimals of its ``E_error`` when the record has them; else 12 decimals); a
+    marginal stretch's two ends."""
     if p.get("kind") == "marginal":
         return f"{float(p['E']):.12f} – {float(p['E_end']):.12f}"
     if p.get("E_str"):
-        return esc(p["E_str"])
-    return f"{float(p['E']):.12f}"
+        if not p.get("E_error"):
+            return esc(p["E_str"])
+        # the decimals its error bound warrants (a fold: ~22; an IS/PD point: ~25)
+        d = max(0, math.floor(-math.log10(p["E_error"])))
+        with localcontext(prec=50):
+            return esc(str(Decimal(p["E_str"]).quantize(Decimal(1).scaleb(-d))))
+    tail = " (float64)" if p.get("location", "").startswith("float64") else ""
+    return f"{float(p['E']):.12f}{tail}"
 
 
 def window_text(w) -> str:
@@ -290,8 +298,9 @@ def page(
             "PD: $\\mathrm{tr}\\,M = 0$ (at $-1$); touch: $\\mathrm{tr}\\,M$ reaches 4 "
             "or 0 without a change of stability; marginal: a stretch (its two ends) where "
             "$\\mathrm{tr}\\,M$ stays within $10^{-6}$ of its level and float64 does not "
-            "resolve its side. IS and PD energies are their 30-digit roots, touches to "
-            "their golden-section bracket (~1e-15), folds their float64 extremum "
+            "resolve its side. IS and PD energies are their 30-digit roots, folds the "
+            "30-digit extremum of E along the branch (to ~1e-22; where E(u) is "
+            "ill-conditioned, the float64 one, ~1e-8, marked so), touches to their golden-section bracket "
             "(~1e-15).",
             "",
         ]
@@ -312,6 +321,17 @@ def page(
         else "No parent or daughter in the catalogue.",
         "",
     ]
+    twins = rec.get("fold_twins") or []
+    if twins:
+        lines += [
+            "The same family's other branch, across the fold they share, is held as "
+            "the record "
+            + ", ".join(
+                f"{link(t['id'], known)} (fold at E = {sig(t['E'], 12)})" for t in twins
+            )
+            + ".",
+            "",
+        ]
     # members
     members = sorted(rec.get("members") or [], key=lambda m: float(m["E"]))
     lines += [

@@ -562,7 +562,8 @@ def test_a_special_point_located_again_at_30_digits_is_a_root():
     """locate_task from the pendulum's PD point moved 1e-9 off: the secant lands on the
     stored 30-digit root, with E_error < 1e-20, and tr M changes sign across it: at
     E -+ 100 E_error, solved independently (polish_task), tr M lies on either side of 0."""
-    from rotorlib.beyond.catalogue_members import locate_task, polish_task
+    from rotorlib.beyond.catalogue_members import polish_task
+    from rotorlib.beyond.catalogue_roots import locate_task
 
     r = cat.catalogue(name="pendulum")[0].record
     m = next(m for m in r["members"] if m["kind"] == "PD")
@@ -581,3 +582,121 @@ def test_a_special_point_located_again_at_30_digits_is_a_root():
         for E in Es
     ]
     assert side[0] * side[1] < 0, side
+
+
+def _folds() -> list[tuple[str, dict]]:
+    return [
+        (f.id, p)
+        for f in cat.catalogue()
+        for p in f.record["special_points"]
+        if p["kind"] == "fold"
+    ]
+
+
+def test_folds_are_located_at_30_digits_and_shared_folds_agree():
+    """Every fold is a 30-digit root (E_str, E_error < 1e-12 relative, < 1e-20 in all
+    but the degenerate ones) or keeps its float64 location with the reason, and where
+    two records turn at one fold (a saddle-node's two branches, found from two census
+    orbits in two shooting problems) the two locations agree to their E_error: at least
+    10 digits, as the catalogue promises (the float64 ones were 2e-9 to 6e-9 apart)."""
+    folds = _folds()
+    assert len(folds) >= 20
+    located = [(fid, p) for fid, p in folds if p.get("location") == "30 digits"]
+    assert len(located) >= 0.9 * len(folds)
+    for fid, p in folds:
+        if (fid, p) in located:
+            assert p["E_error"] < 1e-12 * p["E"] and abs(p["E64"] - p["E"]) < 1e-6
+            assert abs(float(p["E_str"]) - p["E"]) == 0.0
+        else:
+            assert p["location"].startswith("float64 (") and "E_str" not in p, p
+    assert sum(p["E_error"] < 1e-20 * p["E"] for _, p in located) >= 0.9 * len(located)
+    pairs = [
+        (a, b)
+        for i, a in enumerate(folds)
+        for b in folds[i + 1 :]
+        if a[0] != b[0] and abs(a[1]["E"] - b[1]["E"]) < 1e-6
+    ]
+    assert len(pairs) >= 5
+    with mp.workdps(40):
+        for (fa, a), (fb, b) in pairs:
+            assert "E_str" in a and "E_str" in b, (fa, fb)
+            d = abs(mpf(a["E_str"]) - mpf(b["E_str"]))
+            assert d < 1e-10 * a["E"], (fa, fb, float(d))
+            assert d <= 10 * (a["E_error"] + b["E_error"]), (fa, fb, float(d))
+
+
+def test_a_fold_located_at_30_digits_is_the_extremum_of_E():
+    """fold_task from the stored path nodes on either side of a fold lands on the stored
+    root (to 1e-20), and independently, E(u) solved at u_f -+ h (a secant in E at fixed
+    u, 30 digits) lies on one side of E_f, by the same c h^2 on both sides (a parabola
+    with its vertex at the fold). A bracket that holds no extremum is refused."""
+    from rotorlib.beyond.catalogue_members import problem_of
+    from rotorlib.beyond.catalogue_roots import fold_task
+    from rotorlib.core.precision import tier
+    from rotorlib.orbits.shooting import solve
+
+    f = min(
+        (
+            f
+            for f in cat.catalogue()
+            if any(p["kind"] == "fold" for p in f.record["special_points"])
+        ),
+        key=lambda f: f.record["period_range"][0],
+    )
+    r = f.record
+    fold = next(m for m in r["members"] if m["kind"] == "fold")
+    uf = fold["u"]
+    nodes = sorted(
+        (m["u"] for m in r["members"] if m["pieces"]), key=lambda u: abs(u - uf)
+    )
+    below = max(u for u in nodes if u < uf - 1e-6)
+    above = min(u for u in nodes if u > uf + 1e-6)
+    spec = {"problem": r["branch"]["problem"], "factor": r["branch"]["factor"]}
+    got = fold_task({**spec, "u": [below, above], "E": fold["E"], "digits": 30})
+    assert "failed" not in got, got
+    Ef = mpf(got["E_str"])
+    assert abs(Ef - mpf(fold["E_str"])) < 1e-20 and got["E_error"] < 1e-20
+    prob = problem_of({**spec["problem"], "label": "test", "factor": spec["factor"]})
+    t, h = tier(30), 1e-6
+    with t.context():
+        dE = []
+        for u in (uf - h, uf + h):
+            w0 = t.num(got["E_str"])
+            w = solve(prob, w0, w0 * (1 + t.num("1e-12")), u=repr(u), digits=t).x
+            dE.append(mpf(str(prob.energy(t.num(repr(u)), w, t))) - Ef)
+    assert dE[0] * dE[1] > 0 and (dE[0] < 0) == (got["kind"] == "max"), dE
+    assert abs(dE[0] / dE[1] - 1) < 1e-3, dE
+    far = fold_task(
+        {
+            **spec,
+            "u": [below, uf - 1e-3 * abs(uf - below)],
+            "E": fold["E"],
+            "digits": 30,
+        }
+    )
+    assert "no fold there" in far["failed"] or "at an end" in far["failed"], far
+
+
+def test_daughters_born_where_the_parents_record_shows_nothing():
+    """CZ1 and CZ2 meet at one "fold" (their births: E - E_b ~ u^2 along a daughter) where
+    CG passes with half their period and tr M = 0 without crossing it: both are linked
+    to CG as PD daughters at their 30-digit fold, and CG's record gets a touch of 0
+    there. Every link made this way is returned by the parent."""
+    recs = {f.id: f.record for f in cat.catalogue()}
+    cg = {i for i, r in recs.items() if r["name"] == "CG"}
+    for nm in ("CZ1", "CZ2"):
+        r = next(
+            r
+            for r in recs.values()
+            if r["name"] == nm and any(q["id"] in cg for q in r["parents"])
+        )
+        fold = next(p for p in r["special_points"] if p["kind"] == "fold")
+        q = next(q for q in r["parents"] if q["id"] in cg)
+        assert q["kind"] == "PD" and q["E"] == fold["E"] and "E_str" in fold
+        touch = [
+            p
+            for p in recs[q["id"]]["special_points"]
+            if p["kind"] == "touch" and p.get("level") == 0.0
+        ]
+        assert touch and abs(touch[0]["E"] - fold["E"]) < 1e-12, touch
+        assert {"id": r["id"], "kind": "PD", "E": q["E"]} in recs[q["id"]]["daughters"]

@@ -15,8 +15,11 @@ A family record: ``id``, ``name`` (the atlas's name of its census orbits, e.g.
 name), ``symmetry`` (the pairs of fixed sets its census orbits meet half a period apart,
 ``choreography``, ``rotating`` with the net ``winding`` of the two angles over a period,
 in turns), ``E_range``, ``ends`` (each end's energy, period and why the record stops
-there), ``special_points`` (folds; ``IS``: tr M = 4, ``PD``: tr M = 0, their ``E_str``
-to 30 digits; ``touch``; ``marginal``), ``stable_windows``, ``parents`` / ``daughters``,
+there), ``special_points`` (``fold``, ``IS``: tr M = 4, ``PD``: tr M = 0, with their
+``E_str`` to 30 digits and ``E_error``; ``touch``; ``marginal``), ``stable_windows``, ``parents`` / ``daughters``,
+``fold_twins`` (the records holding the same family's other branch across a fold they
+share, ``{id, E}``: a saddle-node family found from two census orbits is held as two
+records),
 ``census_orbits`` (the census orbits it contains), ``members`` (the stored members:
 ``E_str``, ``period_str``, ``state0_str`` to 30 digits, ``trace_str`` to 25, the
 multipliers, the action ``S = oint p.dq``, the Maslov index ``maslov``, ``null`` with

@@ -28,7 +28,9 @@ orbits changes between neighbours (a family born or dying between them), then:
 * polishes the stored members, cuts a path where its float64 members disagree with
   their 30-digit re-solves (:func:`~rotorlib.beyond.catalogue_paths.cut_untrusted`:
   the continuation loses the family close to a separatrix) and chooses its members
-  again, and returns the catalogue in memory, with the CPU seconds
+  again, locates its IS, PD and fold points again at 30 digits and the touches that only
+  the Maslov index shows (:mod:`rotorlib.beyond.catalogue_points`), and returns the
+  catalogue in memory, with the CPU seconds
   of every task kind and of every family; :func:`rotorlib.beyond.catalogue_files.write`
   links parents and daughters, records the ends and writes the files. The tasks and their
   resumable store: :mod:`rotorlib.beyond.catalogue_tasks`.
@@ -349,7 +351,16 @@ def build(
     if max_steps is None:
         max_steps = default_max_steps(lo, hi, step)
     say = log or (lambda s: None)
-    kinds = ("census", "follow", "switch", "densify", "polish", "locate", "touch")
+    kinds = (
+        "census",
+        "follow",
+        "switch",
+        "densify",
+        "polish",
+        "locate",
+        "fold",
+        "touch",
+    )
     ran: dict[str, list[int]] = {k: [0, 0] for k in kinds}
     cpu: dict[str, dict[str, float]] = {k: {} for k in kinds}
 
@@ -539,7 +550,7 @@ def build(
         f.pop("_seg", None)
     if cut:
         say(f"{len(cut)} paths cut where float64 disagrees with 30 digits")
-    # the IS and PD points located again, and the touches the float64 path misses,
+    # the IS, PD and fold points located again, and the touches the float64 path misses,
     # at `digits` digits (catalogue_points)
     for i, keys in relocate_points(fams, run, digits).items():
         owned[i] |= keys
@@ -551,7 +562,7 @@ def build(
             "follow": cpu["follow"].get(f["task"], 0.0),
             **{
                 k: sum(cpu[k].get(x, 0.0) for x in owned.get(i, ()))
-                for k in ("densify", "polish", "locate", "touch")
+                for k in ("densify", "polish", "locate", "fold", "touch")
             },
         }
     return {
@@ -598,9 +609,7 @@ def densify(fams: list[dict], run: Callable, owned: dict[int, set[str]]) -> list
             todo, jobs, run("densify", jobs, f"densify {rnd + 1}")
         ):
             owned.setdefault(i, set()).add(task_key("densify", a))
-            k = insert_members(fams[i], g, res)
-            fams[i]["densified"] = fams[i].get("densified", 0) + k
-            n += k
+            n += insert_members(fams[i], g, res)
         if not n:
             break
         added.append(n)

@@ -100,7 +100,8 @@ def named_special_points(
     """For each named family (or those in ``names``) that ``family`` serves
     (:func:`rotorlib.family`, passed in: this layer does not import the front door; a
     name it does not serve raises ValueError and is skipped; ``breather X`` is asked
-    as ``X``), over the record's energy range (widened to its special points): the
+    as ``X``), over the record's energy range (widened to its special points, and by
+    1e-8): the
     special points (IS, PD, folds) ``family`` locates against the record's.
 
     Returns ``[{'id', 'name', 'label', 'points', 'located', 'worst', 'missing',
@@ -123,8 +124,10 @@ def named_special_points(
         if not f.name or (names is not None and f.name not in names):
             continue
         pts = f.record["special_points"]
-        lo = min([f.E_range[0]] + [p["E"] for p in pts])
-        hi = max([f.E_range[1]] + [p["E"] for p in pts])
+        # widened by the comparison's 1e-8: a fold at an end, located at 30 digits, may
+        # lie just inside the float64 fold that family() locates
+        lo = min([f.E_range[0]] + [p["E"] for p in pts]) - 1e-8
+        hi = max([f.E_range[1]] + [p["E"] for p in pts]) + 1e-8
         b, lab = None, f.name
         for lab in (f.name, f.name.removeprefix("breather ")):
             try:
@@ -192,8 +195,9 @@ def named_special_points(
 def validate(path: str | os.PathLike | None = None) -> list[str]:
     """The problems of the stored files: a family file that fails the schema
     (:data:`rotorlib.beyond.catalogue_schema.SCHEMA`, with ``jsonschema``), a stored
-    ``schema.json`` that differs from it, a parent/daughter link without its converse.
-    ``[]`` when there is none."""
+    ``schema.json`` that differs from it, a parent/daughter link without its converse,
+    a ``fold_twins`` link that the other record does not return. ``[]`` when there is
+    none."""
     import json
 
     import jsonschema
@@ -220,6 +224,12 @@ def validate(path: str | os.PathLike | None = None) -> list[str]:
             back = {"id": r["id"], "kind": q["kind"], "E": q["E"]}
             if q["id"] not in by or back not in by[q["id"]]["daughters"]:
                 bad.append(f"{r['id']}: parent {q} has no daughter link back")
+        for t in r["fold_twins"]:  # both records name each other, at one fold
+            if t["id"] not in by or not any(
+                b["id"] == r["id"] and abs(b["E"] - t["E"]) <= 1e-6 * abs(t["E"])
+                for b in by[t["id"]]["fold_twins"]
+            ):
+                bad.append(f"{r['id']}: fold twin {t} does not name it back")
     return bad
 
 

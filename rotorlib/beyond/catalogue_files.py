@@ -128,7 +128,7 @@ def _end(f: dict, side: int, lo: float, hi: float) -> dict:
             )
         else:
             kind = END_KINDS["period"]
-    elif stop in ("stuck", "section lost", "reversal") and (
+    elif stop in ("stuck", "section lost", "reversal", "fold") and (
         born := [p for p in f.get("parents", ()) if abs(p["E"] - m["E"]) < 1e-3]
     ):
         kind = END_KINDS["parent"]
@@ -327,11 +327,57 @@ def _links(fams: list[dict]) -> None:
                     g["parents"].append({"id": f["id"], **link})
                     if n == 1:
                         _touch(g, p, f["id"])
+    _born_at_folds(fams)
 
 
-def _touch(g: dict, p: dict, via: str) -> None:
-    """Record on ``g`` the ``touch`` of ``tr M = 4`` at the IS point ``p`` of its link
-    (``via``), where ``g``'s path passes through the point's energy without a special
+def _born_at_folds(fams: list[dict]) -> None:
+    """Daughters born at a point of a parent that the parent's record does not show: a
+    fold of ``f`` (located at 30 digits: ``E_str``) where another record ``g`` (not a
+    fold twin) passes with ``n T_g = T_f`` (1e-4 relative) and ``tr M`` within 1e-2
+    of 4 (``n = 1``: a pitchfork where ``g``'s ``tr M`` reaches 4 without crossing it)
+    and whose path passes through the point (beyond 1e-5 relative on both sides: the
+    other branch of a saddle-node, with the same period and ``tr M = 4`` there, turns
+    at it)
+    or of 0 (``n = 2``: a period doubling where it reaches 0). ``E(u)`` of a daughter
+    is extremal at its birth (``E - E_b ~ u^2``), which the build sees as a fold; the
+    link (``IS`` or ``PD``) is recorded both ways and ``g`` gets a ``touch`` of that
+    level there.
+
+    Why: measured at ``T <= 16``, the records F022/F023 and CZ1/CZ2 each meet at one
+    "fold" (agreeing to 1e-21 at 30 digits) where CG has ``tr M = 4.00000004`` and
+    ``tr M = 1e-9`` (interpolated) with the daughters' period and half of it: CG's
+    touch of 4 at E = 5.2450174718 and of 0 at E = 4.6869032814. The tolerances are
+    those of ``g``'s path interpolated linearly (``_at``): 1.5e-5 in the period and
+    6e-4 in ``tr M`` for CG there, where its members lie 0.023 apart in E."""
+    for f in fams:
+        twins = {t["id"] for t in f["fold_twins"]}
+        for p in f["special"]:
+            if p["kind"] != "fold" or "E_str" not in p:
+                continue
+            for g in fams:
+                Es = [m["E"] for m in g["path"]]
+                if (
+                    g is f
+                    or g["id"] in twins
+                    or not min(Es) < p["E"] * (1 - 1e-5) < p["E"] * (1 + 1e-5) < max(Es)
+                ):  # a parent passes through the point; a fold twin turns there
+                    continue
+                for n, level, kind in ((1, 4.0, "IS"), (2, 0.0, "PD")):
+                    if not any(
+                        near(n * T, p["period"], 1e-4) and abs(tr - level) < 1e-2
+                        for T, tr in _at(g, p["E"])
+                    ):
+                        continue
+                    link = {"kind": kind, "E": p["E"]}
+                    if {"id": g["id"], **link} not in f["parents"]:
+                        f["parents"].append({"id": g["id"], **link})
+                        g["daughters"].append({"id": f["id"], **link})
+                    _touch(g, dict(p, period=p["period"] / n), f["id"], level)
+
+
+def _touch(g: dict, p: dict, via: str, level: float = 4.0) -> None:
+    """Record on ``g`` the ``touch`` of ``tr M = level`` (4; 0 for a period doubling,
+    :func:`_born_at_folds`) at the point ``p`` of its link (``via``), where ``g``'s path passes through the point's energy without a special
     point of its own: ``tr M - 4`` vanishes there to second order (a pitchfork: the
     symmetric family touches 4 while the other crosses it), so that no sign change
     shows it, and the Maslov index changes by 2 across it (the multipliers pass through
@@ -341,7 +387,7 @@ def _touch(g: dict, p: dict, via: str) -> None:
     if any(abs(q["E"] - E) < 1e-6 for q in g["special"]):
         return
     for i, T, tr in _brackets(g["path"], E, strict=True):
-        if near(T, p["period"], 1e-3) and abs(tr - 4) < 0.05:
+        if near(T, p["period"], 1e-3) and abs(tr - level) < 0.05:
             g["special"].append(
                 {
                     "kind": "touch",
@@ -349,7 +395,7 @@ def _touch(g: dict, p: dict, via: str) -> None:
                     "period": T,
                     "trace": tr,
                     "index": i,
-                    "level": 4.0,
+                    "level": level,
                     "via": via,
                 }
             )
@@ -453,6 +499,7 @@ def write(cat: dict, out: str | os.PathLike, schema: dict) -> dict:
                         ("E_end", "index_end", "crossings", "level")
                         * (p["kind"] == "marginal")
                     )
+                    + ("level",) * (p["kind"] == "touch")
                     if k in p
                 }
                 for p in f["special"]
@@ -461,6 +508,7 @@ def write(cat: dict, out: str | os.PathLike, schema: dict) -> dict:
             "stable_windows": _stable_windows(f),
             "parents": f["parents"],
             "daughters": f["daughters"],
+            "fold_twins": f["fold_twins"],
             "census_orbits": [
                 {k: o[k] for k in ("E", "period", "trace", "label")}
                 for o in f["census"]
@@ -481,7 +529,11 @@ def write(cat: dict, out: str | os.PathLike, schema: dict) -> dict:
                 k: rec[k]
                 for k in ("id", "name", "E_range", "period_range", "stable_windows")
             }
-            | {"symmetry": rec["symmetry"], "n_members": len(members)}
+            | {
+                "symmetry": rec["symmetry"],
+                "n_members": len(members),
+                "fold_twins": [t["id"] for t in rec["fold_twins"]],
+            }
         )
         for m in members:
             rows.append(
@@ -550,7 +602,9 @@ def _interpolation(f: dict, members: list[dict]) -> dict:
     members, the largest error at a path member of the interpolant through the other
     path members, in each piece's parameter (``left_out_error``,
     :func:`~rotorlib.beyond.catalogue_members.left_out_errors`) and the number of path
-    members the build added for it (``densified``)."""
+    members the build added for it (``densified``: those of the final path, after its
+    cuts, that :func:`~rotorlib.beyond.catalogue_members.insert_members` marked with
+    their ``parent`` interval's error)."""
     info = f.get("interpolation")
     if info is None:
         return {"pieces": [], "degree": DEGREE, "tolerance": TOL, "max_error": None}
@@ -600,5 +654,5 @@ def _interpolation(f: dict, members: list[dict]) -> dict:
         "max_error": worst,
         "path_accuracy": {"period": acc_T, "trace": acc_tr, "above_tolerance": above},
         "left_out_error": left,
-        "densified": int(f.get("densified", 0)),
+        "densified": sum(1 for m in path if "parent" in m),
     }

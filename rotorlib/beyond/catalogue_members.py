@@ -33,8 +33,9 @@ __all__ = [
     "member_record",
     "problem_of",
     "polish_task",
-    "locate_task",
-    "touch_task",
+    "solved",
+    "resolve_member",
+    "member_strings",
     "phase_data",
     "pieces",
     "local_interpolant",
@@ -96,10 +97,10 @@ def polish_task(args: dict) -> dict:
     ``state0`` and ``tr M`` (5 digits fewer), the multipliers, the closure error, the
     action and the Maslov index (:func:`phase_data`); or ``{'failed': reason}`` when the
     re-solve does not converge."""
-    return _solved(_polish, args)
+    return solved(resolve_member, args)
 
 
-def _solved(solve_member, args: dict) -> dict:
+def solved(solve_member, args: dict) -> dict:
     """``solve_member(args)`` (a member's decimal strings) with its action and Maslov
     index (:func:`phase_data`), or ``{'failed': reason}`` when the solve fails."""
     from ..core.flow import SectionNotReached
@@ -110,130 +111,6 @@ def _solved(solve_member, args: dict) -> dict:
     except (NoConvergence, SectionNotReached, ValueError, ZeroDivisionError) as exc:
         return {"failed": f"{type(exc).__name__}: {exc}"[:300]}
     return {**out, **phase_data(out["state0_str"], out["period_str"], out["trace_str"])}
-
-
-def locate_task(args: dict) -> dict:
-    """The special point ``args['kind']`` (``IS``: ``tr M = 4``; ``PD``: ``tr M = 0``)
-    located again at ``args['digits']`` digits from its float64 location ``args['E']``
-    (``args['u']``: its shooting unknown there): a secant in ``E`` on ``tr M - level``
-    (:func:`rotorlib.orbits.shooting.secant`), the member at each ``E`` solved from the
-    last one's ``u``. Returns the member at the root as :func:`polish_task` does
-    (``E_str`` to ``digits``), with ``E_error``: the root's precision, ``(|tr M -
-    level| + 1e-25 max(1, |tr M|)) / |d tr M / dE|`` (``tr M`` at 30 digits is good to
-    ~25), ``tr_residual``: ``|tr M - level|`` at the root, and ``moved``: the root minus
-    the float64 location; or ``{'failed': reason}``, also when ``E_error`` exceeds
-    1e-12 relative.
-
-    Why: the float64 location, by the continuation engine, is good to ~1e-10 relative
-    where ``tr M`` crosses its level steeply, and worse where it does not; measured on
-    the ``T <= 16`` build, the 30-digit ``tr M`` at the float64 location of an IS point
-    of the pendulum's record (E = 4.0000133) is 1.6e-5 from its level, that is 5e-10
-    off in ``E``.
-    """
-    return _solved(_locate, args)
-
-
-def _locate(args: dict) -> dict:
-    from ..core.flow import monodromy_matrix
-    from ..core.precision import tier
-    from ..orbits.shooting import residual, secant, solve
-
-    D = int(args["digits"])
-    prob = problem_of(
-        {**args["problem"], "label": "catalogue", "factor": args["factor"]}
-    )
-    level = 4 if args["kind"] == "IS" else 0
-    t = tier(D)
-    with t.context():
-        last = {"u": t.num(repr(args["u"]))}
-
-        def g(E):
-            u0 = last["u"]
-            u1 = u0 * (1 + t.num("1e-12"))
-            u = solve(prob, u0, u1, E=E, digits=t, r_max=t.eps**0.6).x
-            sh = residual(prob, u, E, t)
-            _, _, tr = monodromy_matrix(sh.x0, t.scale(args["factor"], sh.t1), t)
-            last["u"] = u
-            return tr - level
-
-        E0 = t.num(repr(args["E"]))
-        root = secant(g, E0, E0 * (1 + t.num("1e-10")), t.num("1e-24"))
-        # the root's precision: |tr M - level| there plus the 25-digit noise of tr M,
-        # over the slope d tr M / dE (a difference 1e-16 relative beside the root)
-        r0 = g(root.x)  # (and the member at the root: the last call was elsewhere)
-        u = last["u"]
-        dE = root.x * t.num("1e-16")
-        slope = (g(root.x + dE) - r0) / dE
-        err = (abs(r0) + t.num("1e-25") * max(1, abs(r0 + level))) / abs(slope)
-        if not err < t.num("1e-12") * abs(root.x):
-            raise ValueError(
-                f"the root in E is not resolved to 1e-12 (|tr M - {level}| = "
-                f"{float(abs(r0)):.1e}, slope {float(slope):.2e}, at E = "
-                f"{float(root.x):.15g})"
-            )
-        out = _polish({**args, "u": float(u), "E_str": t.text(root.x, D), "digits": D})
-        return {
-            **out,
-            "E_error": float(err),
-            "tr_residual": float(abs(r0)),
-            "moved": float(root.x - E0),
-        }
-
-
-def touch_task(args: dict) -> dict:
-    """Where ``tr M`` comes closest to ``args['level']`` (4) between two stored members
-    at ``args['E']`` ``= [E_a, E_b]`` (shooting unknowns ``args['u']``: the member at
-    each energy is solved from ``u`` interpolated linearly), at ``args['digits']``
-    digits: a golden-section search for the extremum of ``tr M`` (the largest when
-    ``tr M`` lies below the level, the smallest above), 60 steps. Returns the member
-    there as :func:`polish_task` does, with ``E_error``: the final bracket (the search
-    stops where the float energy no longer moves), and ``gap``: ``tr M - level`` at
-    the extremum; or ``{'failed': reason}``. Why not scipy's bounded
-    ``minimize_scalar``: its tolerance has a floor of ``sqrt(float eps) |E|`` (~7e-8
-    here), while ``tr M - level ~ (E - E_*)^2`` at 30 digits resolves the extremum to
-    the float energy's last bit (``E_error`` 1.8e-15 on CZ2).
-
-    A touch is what the Maslov index of the stored members shows and the float64 path
-    does not: ``tr M`` reaching 4 without crossing it (a pitchfork of a symmetric
-    family). Measured on CZ2 at ``T <= 16``: the index goes from 3 to 5 between
-    members at ``E = 4.5737`` and ``4.5759`` with ``tr M = 3.93`` and 3.97, and this
-    search finds ``tr M - 4`` below 1e-15 at ``E = 4.57494119220``.
-    """
-    return _solved(_touch, args)
-
-
-def _touch(args: dict) -> dict:
-    import math
-
-    from mpmath import mpf
-
-    (Ea, Eb), (ua, ub), level = args["E"], args["u"], args["level"]
-    got: dict = {}
-
-    def g(E: float) -> float:
-        u = ua + (ub - ua) * (E - Ea) / (Eb - Ea)
-        p = _polish({**args, "u": u, "E_str": repr(E)})
-        got[E] = p
-        d = mpf(p["trace_str"]) - level
-        return float(d if args["below"] else -d)
-
-    lo, hi, r = min(Ea, Eb), max(Ea, Eb), (math.sqrt(5) - 1) / 2
-    x1, x2 = hi - r * (hi - lo), lo + r * (hi - lo)
-    f1, f2 = g(x1), g(x2)
-    for _ in range(60):
-        if f1 > f2:
-            hi, x2, f2 = x2, x1, f1
-            x1 = hi - r * (hi - lo)
-            f1 = g(x1)
-        else:
-            lo, x1, f1 = x1, x2, f2
-            x2 = lo + r * (hi - lo)
-            f2 = g(x2)
-        if x1 >= x2:
-            break
-    out = got[x1 if f1 > f2 else x2]
-    gap = float(mpf(out["trace_str"]) - level)
-    return {**out, "E_error": hi - lo, "gap": gap}
 
 
 def phase_data(state0, period, trace) -> dict:
@@ -266,11 +143,14 @@ def phase_data(state0, period, trace) -> dict:
     return out
 
 
-def _polish(args: dict) -> dict:
-    from ..core.flow import monodromy_matrix
+def resolve_member(args: dict) -> dict:
+    """The decimal strings of a member re-solved at ``args['digits']`` digits at the
+    energy ``args['E_str']`` from the shooting unknown ``args['u']`` (a secant in ``u``
+    at fixed ``E``; :func:`member_strings` then): what :func:`polish_task` returns before
+    its action and Maslov index. Raises :class:`rotorlib.orbits.shooting.NoConvergence`
+    (or ValueError) when the secant does not converge."""
     from ..core.precision import tier
-    from ..core.system import lattice_reduce
-    from ..orbits.shooting import residual, solve
+    from ..orbits.shooting import solve
 
     D = int(args["digits"])
     prob = problem_of(
@@ -281,14 +161,31 @@ def _polish(args: dict) -> dict:
         u0 = t.num(repr(args["u"]))
         u1 = u0 * (1 + t.num("1e-12"))
         u = solve(prob, u0, u1, E=args["E_str"], digits=t, r_max=t.eps**0.6).x
-        sh = residual(prob, u, args["E_str"], t)
+        return member_strings(prob, u, args["E_str"], D)
+
+
+def member_strings(prob, u, E_str: str, digits: int) -> dict:
+    """The member of ``prob`` at the shooting unknown ``u`` (a number of the tier of
+    ``digits``) and the energy ``E_str`` (a decimal string; the pair a root of the
+    residual), as decimal strings to ``digits``: ``E_str`` as given, ``period_str``, ``state0_str``, ``trace_str`` (5 digits fewer),
+    ``u_str``, with the multipliers, the closure error after one period (lattice
+    reduced) and the residual."""
+    from ..core.flow import monodromy_matrix
+    from ..core.precision import tier
+    from ..core.system import lattice_reduce
+    from ..orbits.shooting import residual
+
+    D = int(digits)
+    t = tier(D)
+    with t.context():
+        sh = residual(prob, u, prob.w_at(u, E_str, t), t)
         # the factor as the small rational it is (Tier.scale)
-        T = t.scale(args["factor"], sh.t1)
+        T = t.scale(prob.factor, sh.t1)
         M, xT, tr = monodromy_matrix(sh.x0, T, t)
         d = lattice_reduce([a - b for a, b in zip(xT, sh.x0)], D)
         mult = np.linalg.eigvals(np.array(M, dtype=float))
         return {
-            "E_str": args["E_str"],
+            "E_str": E_str,
             "period_str": t.text(T, D),
             "state0_str": [t.text(v, D) for v in sh.x0],
             "trace_str": t.text(tr, D - 5),

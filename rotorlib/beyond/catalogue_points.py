@@ -1,11 +1,13 @@
 """The special points of a catalogued family: their classification along the float64
-path (:func:`special_points`), the IS and PD points located again at 30 digits
-(:func:`relocate_points`, the ``locate`` task) and the touches of ``tr M = 4`` that only
+path (:func:`special_points`), the IS, PD and fold points located again at 30 digits
+(:func:`relocate_points`, the ``locate`` and ``fold`` tasks of
+:mod:`rotorlib.beyond.catalogue_roots`) and the touches of ``tr M = 4`` that only
 the Maslov index of the stored members shows (:func:`find_touches`, the ``touch`` task).
 Used by :func:`rotorlib.beyond.catalogue_build.build`.
 
 Precision: float64 locations (the engine's: ``E`` to ~1e-10 relative where ``tr M``
-crosses its level steeply) are replaced by 30-digit roots with their error bound
+crosses its level steeply; folds 2e-9 to 6e-9 apart where two records share one) are
+replaced by 30-digit roots with their error bound
 (``E_error``, ~1e-25); a touch is located to its final golden-section bracket (~1e-13).
 """
 
@@ -97,41 +99,83 @@ def special_points(f: dict) -> list[dict]:
 def relocate_points(
     fams: list[dict], run: Callable, digits: int
 ) -> dict[int, set[str]]:
-    """Locate the IS and PD points among the stored members of ``fams`` again at
-    ``digits`` digits (``run('locate', jobs, desc)`` runs the tasks). A point whose
-    re-location fails, or lands more than 1e-6 away, keeps its float64 location with
-    the reason (``location``). Returns the task keys of each family (by index)."""
+    """Locate the IS, PD and fold points among the stored members of ``fams`` again at
+    ``digits`` digits (``run(kind, jobs, desc)`` runs the tasks: ``locate`` for IS and
+    PD, a root of ``tr M - level`` in ``E``; ``fold`` for a fold, the extremum of ``E``
+    in the shooting unknown ``u`` within ``u_f -+ h``, ``h`` the farthest in ``u`` of
+    the path members from two before to three after it: the bracket holds the fold
+    where the engine's float64 ``u_f`` is off, or the path ends at the fold). A point whose re-location fails, or lands more than 1e-6 away, keeps its
+    float64 location with the reason (``location``). Returns the task keys of each
+    family (by index)."""
     keys: dict[int, set[str]] = {}
-    pts = [
-        (i, m)
-        for i in range(len(fams))
-        for m in fams[i]["stored"]
-        if m["kind"] in ("IS", "PD") and "failed" not in m["polish"]
-    ]
-    jobs = [
-        {
-            "problem": fams[i]["problem"],
-            "factor": fams[i]["factor"],
-            "kind": m["kind"],
-            "u": m["u"],
-            "E": m["E"],
-            "digits": digits,
-        }
-        for i, m in pts
-    ]
-    for (i, m), a, r in zip(pts, jobs, run("locate", jobs, "locate")):
-        keys.setdefault(i, set()).add(task_key("locate", a))
-        if "failed" not in r and abs(r["moved"]) > 1e-6 * max(1.0, abs(m["E"])):
-            r = {"failed": f"the 30-digit root lies {r['moved']:.1e} away"}
-        if "failed" in r:
-            m["location"] = f"float64 ({r['failed']})"
-            continue
-        m["E64"] = m["E"]
-        m["E"], m["E_str"], m["E_error"] = float(r["E_str"]), r["E_str"], r["E_error"]
-        m["period"], m["trace"] = float(r["period_str"]), float(r["trace_str"])
-        m["location"] = f"{digits} digits"
-        m["polish"] = r
+    for kind in ("locate", "fold"):
+        pts = [
+            (i, m)
+            for i in range(len(fams))
+            for m in fams[i]["stored"]
+            if (m["kind"] == "fold") == (kind == "fold")
+            and m["kind"] in ("IS", "PD", "fold")
+            and (kind == "fold" or "failed" not in m["polish"])
+        ]
+        jobs = []
+        for i, m in pts:
+            a = {"problem": fams[i]["problem"], "factor": fams[i]["factor"]}
+            if kind == "fold":
+                path, j = fams[i]["path"], m["index"]
+                h = max(abs(q["u"] - m["u"]) for q in path[max(0, j - 2) : j + 4])
+                a |= {"u": [m["u"] - h, m["u"] + h], "E": m["E"]}
+            else:
+                a |= {"kind": m["kind"], "u": m["u"], "E": m["E"]}
+            jobs.append(a | {"digits": digits})
+        for (i, m), a, r in zip(pts, jobs, run(kind, jobs, kind)):
+            keys.setdefault(i, set()).add(task_key(kind, a))
+            if "failed" not in r and abs(r["moved"]) > 1e-6 * max(1.0, abs(m["E"])):
+                r = {"failed": f"the 30-digit root lies {r['moved']:.1e} away"}
+            if "failed" in r and kind == "fold" and "no fold there" in r["failed"]:
+                _not_a_fold(fams[i], m, r["failed"])
+                continue
+            if "failed" in r:
+                m["location"] = f"float64 ({r['failed']})"
+                continue
+            m["E64"] = m["E"]
+            m["E"], m["E_str"], m["E_error"] = (
+                float(r["E_str"]),
+                r["E_str"],
+                r["E_error"],
+            )
+            m["period"], m["trace"] = float(r["period_str"]), float(r["trace_str"])
+            if kind == "fold":  # the fold's own u (the float64 one is not on the root)
+                m["u"] = float(r["u_str"])
+            m["location"] = f"{digits} digits"
+            m["polish"] = r
     return keys
+
+
+def _not_a_fold(f: dict, m: dict, why: str) -> None:
+    """Drop the float64 fold ``m`` of ``f`` that the 30-digit ``fold`` task finds no
+    extremum of ``E`` at (``why``). Where the path was cut at it
+    (:func:`~rotorlib.beyond.catalogue_paths.cut_at_reversal`: a fold past which the
+    engine's steps zigzag) the end becomes that cut's ``reversal``: the engine's steps
+    turned back there without a fold, and the family goes on beyond, unfollowed.
+
+    Why: measured at ``T <= 16``, a family with ``tr M ~ -660`` at E = 4.6784 had a
+    float64 fold inside the engine's zigzag; at 30 digits ``E(u)`` rises monotonically
+    across it."""
+    f["special"] = [p for p in f["special"] if p is not m]
+    f["stored"] = [q for q in f["stored"] if q is not m]
+    n = len(f["path"])
+    side = 1 if m["index"] >= n - 5 else 0 if m["index"] <= 4 else None
+    if side is not None and f["ends"][side].get("stop") == "fold":
+        f["ends"][side] = {
+            **f["ends"][side],
+            "stop": "reversal",
+            "reason": (
+                "reversal: the path turns back in E at E = "
+                f"{f['path'][-1 if side else 0]['E']:.10g}, where the engine's steps "
+                f"zigzag; the float64 fold it located at E = {m['E']:.10g} is none at "
+                f"30 digits ({why[:120]}): cut there, the family goes on beyond"
+            ),
+        }
 
 
 def find_touches(

@@ -84,6 +84,7 @@ SCHEMA: dict[str, Any] = {
         "stable_windows",
         "parents",
         "daughters",
+        "fold_twins",
         "census_orbits",
         "members",
         "interpolation",
@@ -132,6 +133,15 @@ SCHEMA: dict[str, Any] = {
         },
         "stable_windows": {"type": "array", "items": _pair},
         "parents": {"type": "array", "items": _link},
+        # the records of the same family's other branches, across a fold they share
+        "fold_twins": {
+            "type": "array",
+            "items": {
+                "type": "object",
+                "required": ["id", "E"],
+                "properties": {"id": _str, "E": _num},
+            },
+        },
         "daughters": {"type": "array", "items": _link},
         "census_orbits": {"type": "array", "minItems": 1},
         "members": {"type": "array", "items": _member, "minItems": 1},

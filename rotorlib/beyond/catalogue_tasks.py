@@ -1,6 +1,6 @@
 """The tasks of the catalogue build (:mod:`rotorlib.beyond.catalogue_build`) and their store.
 
-Six kinds of task, each a pure function of its inputs:
+Eight kinds of task, each a pure function of its inputs:
 
 * ``census``: :func:`rotorlib.beyond.atlas.census` at one energy (float64, named);
 * ``follow``: one census orbit continued with the engine
@@ -13,9 +13,13 @@ Six kinds of task, each a pure function of its inputs:
 * ``polish``: one stored member re-solved at ``digits = 30``
   (:func:`rotorlib.beyond.catalogue_members.polish_task`);
 * ``locate``: one IS or PD point located again at ``digits = 30``
-  (:func:`rotorlib.beyond.catalogue_members.locate_task`);
+  (:func:`rotorlib.beyond.catalogue_roots.locate_task`);
 * ``touch``: where ``tr M`` comes closest to 4 between two stored members whose Maslov
-  indices differ (:func:`rotorlib.beyond.catalogue_members.touch_task`).
+  indices differ (:func:`rotorlib.beyond.catalogue_roots.touch_task`);
+* ``fold``: one fold located again at ``digits = 30``, the extremum of ``E`` along the
+  branch (:func:`rotorlib.beyond.catalogue_roots.fold_task`);
+* ``densify``: path members shot where the interpolant between the float64 members is
+  not shown (:func:`rotorlib.beyond.catalogue_members.densify_task`).
 
 Every task is keyed by a hash of its inputs (:func:`task_key`); its result is written,
 as it finishes, to ``<cache>/<key>.json`` (a temporary file renamed: complete or absent).
@@ -24,7 +28,8 @@ worker, or the client) resumes without redoing a finished task. Tasks run serial
 a process pool or on a Dask cluster (:func:`rotorlib.core.parallel.executor_for`).
 
 Precision: float64 continuation (members to residual < 1e-8; folds to ~1e-15 in ``E``,
-IS/PD to ~1e-14 in the local parameter, located again to 30 digits by ``locate``).
+IS/PD to ~1e-14 in the local parameter; both located again to 30 digits by ``fold``
+and ``locate``).
 """
 
 from __future__ import annotations
@@ -45,12 +50,11 @@ from typing import Any
 
 from .catalogue_members import (
     densify_task,
-    locate_task,
     member_record,
     polish_task,
     problem_of,
-    touch_task,
 )
+from .catalogue_roots import fold_task, locate_task, touch_task
 
 __all__ = [
     "VERSION",
@@ -396,5 +400,6 @@ TASKS = {
     "polish": polish_task,
     "locate": locate_task,
     "touch": touch_task,
+    "fold": fold_task,
     "densify": densify_task,
 }
