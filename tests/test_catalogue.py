@@ -700,3 +700,9 @@ def test_daughters_born_where_the_parents_record_shows_nothing():
         ]
         assert touch and abs(touch[0]["E"] - fold["E"]) < 1e-12, touch
         assert {"id": r["id"], "kind": "PD", "E": q["E"]} in recs[q["id"]]["daughters"]
+    # PD^l_1's record ends 1.5e-7 short of its birth at the pendulum's touch of 0, with
+    # no fold located: linked by its end, at its partner's 30-digit birth point
+    pd = next(r for r in recs.values() if r["name"] == "PD^l_1")
+    (q,) = pd["parents"]
+    assert recs[q["id"]]["name"] == "pendulum" and q["kind"] == "PD"
+    assert abs(q["E"] - pd["E_range"][0]) < 1e-6

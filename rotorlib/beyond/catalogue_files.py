@@ -333,22 +333,26 @@ def _links(fams: list[dict]) -> None:
 def _born_at_folds(fams: list[dict]) -> None:
     """Daughters born at a point of a parent that the parent's record does not show: a
     fold of ``f`` (located at 30 digits: ``E_str``) where another record ``g`` (not a
-    fold twin) passes with ``n T_g = T_f`` (1e-4 relative) and ``tr M`` within 1e-2
-    of 4 (``n = 1``: a pitchfork where ``g``'s ``tr M`` reaches 4 without crossing it)
-    and whose path passes through the point (beyond 1e-5 relative on both sides: the
-    other branch of a saddle-node, with the same period and ``tr M = 4`` there, turns
-    at it)
-    or of 0 (``n = 2``: a period doubling where it reaches 0). ``E(u)`` of a daughter
-    is extremal at its birth (``E - E_b ~ u^2``), which the build sees as a fold; the
-    link (``IS`` or ``PD``) is recorded both ways and ``g`` gets a ``touch`` of that
-    level there.
+    fold twin) passes through the point (its path beyond 1e-5 relative on both sides:
+    the other branch of a saddle-node, with the same period and ``tr M = 4`` there,
+    turns at it) with ``n T_g = T_f`` (1e-4 relative) and ``tr M`` within 1e-2 of 4
+    (``n = 1``: a pitchfork where ``g``'s ``tr M`` reaches 4 without crossing it) or of
+    0 (``n = 2``: a period doubling where it reaches 0). ``E(u)`` of a daughter is
+    extremal at its birth (``E - E_b ~ u^2``), which the build sees as a fold; the link
+    (``IS`` or ``PD``) is recorded both ways and ``g`` gets a ``touch`` of that level
+    there. A record without a parent whose path ends within 1e-6 relative of such a
+    point, with its period (1e-5), is born there too and linked the same way (its
+    float64 path may end short of the point, with no fold located).
 
     Why: measured at ``T <= 16``, the records F022/F023 and CZ1/CZ2 each meet at one
     "fold" (agreeing to 1e-21 at 30 digits) where CG has ``tr M = 4.00000004`` and
     ``tr M = 1e-9`` (interpolated) with the daughters' period and half of it: CG's
     touch of 4 at E = 5.2450174718 and of 0 at E = 4.6869032814. The tolerances are
     those of ``g``'s path interpolated linearly (``_at``): 1.5e-5 in the period and
-    6e-4 in ``tr M`` for CG there, where its members lie 0.023 apart in E."""
+    6e-4 in ``tr M`` for CG there, where its members lie 0.023 apart in E. PD^l_1's
+    record ends 1.5e-7 below its birth at the pendulum's touch of 0 (its float64
+    members within 1e-9 of it have no 30-digit root at fixed E)."""
+    births = []
     for f in fams:
         twins = {t["id"] for t in f["fold_twins"]}
         for p in f["special"]:
@@ -368,11 +372,27 @@ def _born_at_folds(fams: list[dict]) -> None:
                         for T, tr in _at(g, p["E"])
                     ):
                         continue
-                    link = {"kind": kind, "E": p["E"]}
-                    if {"id": g["id"], **link} not in f["parents"]:
-                        f["parents"].append({"id": g["id"], **link})
-                        g["daughters"].append({"id": f["id"], **link})
+                    births.append((p, g, kind))
+                    _link(g, f, {"kind": kind, "E": p["E"]})
                     _touch(g, dict(p, period=p["period"] / n), f["id"], level)
+    for p, g, kind in births:  # records whose path ends at the point, unlinked
+        for f in fams:
+            if f is g or f["parents"]:
+                continue
+            if any(
+                abs(m["E"] - p["E"]) < 1e-6 * p["E"]
+                and near(m["period"], p["period"], 1e-5)
+                for m in (f["path"][0], f["path"][-1])
+            ):
+                _link(g, f, {"kind": kind, "E": p["E"]})
+
+
+def _link(g: dict, f: dict, link: dict) -> None:
+    """Record ``g`` as ``f``'s parent at ``link`` (``{kind, E}``) and ``f`` as ``g``'s
+    daughter, once."""
+    if {"id": g["id"], **link} not in f["parents"]:
+        f["parents"].append({"id": g["id"], **link})
+        g["daughters"].append({"id": f["id"], **link})
 
 
 def _touch(g: dict, p: dict, via: str, level: float = 4.0) -> None:
