@@ -397,12 +397,14 @@ def _link(g: dict, f: dict, link: dict) -> None:
 
 def _touch(g: dict, p: dict, via: str, level: float = 4.0) -> None:
     """Record on ``g`` the ``touch`` of ``tr M = level`` (4; 0 for a period doubling,
-    :func:`_born_at_folds`) at the point ``p`` of its link (``via``), where ``g``'s path passes through the point's energy without a special
-    point of its own: ``tr M - 4`` vanishes there to second order (a pitchfork: the
-    symmetric family touches 4 while the other crosses it), so that no sign change
-    shows it, and the Maslov index changes by 2 across it (the multipliers pass through
-    1 along the unit circle). Located through the crossing family's root (``E`` to
-    ~1e-12); ``period`` and ``tr M`` interpolated on ``g``'s path."""
+    :func:`_born_at_folds`) at the point ``p`` of its link (``via``), where ``g``'s
+    path passes through the point's energy without a special point of its own:
+    ``tr M - level`` vanishes there to second order (at 4, a pitchfork: the symmetric
+    family touches 4 while the other crosses it), so that no sign change shows it, and
+    the Maslov index changes by 2 across it (the multipliers pass through 1 along the
+    unit circle). Located through the crossing family's root (``E`` to ~1e-12) or the
+    daughters' 30-digit birth point; ``period`` and ``tr M`` interpolated on ``g``'s
+    path."""
     E = p["E"]
     if any(abs(q["E"] - E) < 1e-6 for q in g["special"]):
         return

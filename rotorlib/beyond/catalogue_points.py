@@ -7,8 +7,8 @@ Used by :func:`rotorlib.beyond.catalogue_build.build`.
 
 Precision: float64 locations (the engine's: ``E`` to ~1e-10 relative where ``tr M``
 crosses its level steeply; folds 2e-9 to 6e-9 apart where two records share one) are
-replaced by 30-digit roots with their error bound
-(``E_error``, ~1e-25); a touch is located to its final golden-section bracket (~1e-13).
+replaced by 30-digit roots with their error bound (``E_error``: ~1e-25 for IS and PD,
+~1e-22 for folds); a touch is located to its final golden-section bracket (~1e-13).
 """
 
 from __future__ import annotations
@@ -104,9 +104,13 @@ def relocate_points(
     PD, a root of ``tr M - level`` in ``E``; ``fold`` for a fold, the extremum of ``E``
     in the shooting unknown ``u`` within ``u_f -+ h``, ``h`` the farthest in ``u`` of
     the path members from two before to three after it: the bracket holds the fold
-    where the engine's float64 ``u_f`` is off, or the path ends at the fold). A point whose re-location fails, or lands more than 1e-6 away, keeps its
-    float64 location with the reason (``location``). Returns the task keys of each
-    family (by index)."""
+    where the engine's float64 ``u_f`` is off, or the path ends at the fold). A located
+    point takes the root's energy, period, ``tr M`` and ``state0`` (its float64 ``x0``
+    the rounding of the 30-digit one; a fold also its ``u``). A point whose
+    re-location fails, or lands more than 1e-6 away, keeps its float64 location with
+    the reason (``location``), except a fold where ``E(u)`` is monotone across the
+    bracket at 30 digits: that is no fold (:func:`_not_a_fold`). Returns the task keys
+    of each family (by index)."""
     keys: dict[int, set[str]] = {}
     for kind in ("locate", "fold"):
         pts = [
@@ -144,6 +148,7 @@ def relocate_points(
                 r["E_error"],
             )
             m["period"], m["trace"] = float(r["period_str"]), float(r["trace_str"])
+            m["x0"] = [float(v) for v in r["state0_str"]]
             if kind == "fold":  # the fold's own u (the float64 one is not on the root)
                 m["u"] = float(r["u_str"])
             m["location"] = f"{digits} digits"
