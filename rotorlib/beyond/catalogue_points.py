@@ -109,7 +109,7 @@ def relocate_points(
     the rounding of the 30-digit one; a fold also its ``u``). A point whose
     re-location fails, or lands more than 1e-6 away, keeps its float64 location with
     the reason (``location``), except a fold where ``E(u)`` is monotone across the
-    bracket at 30 digits: that is no fold (:func:`_not_a_fold`). Returns the task keys
+    bracket at 30 digits: that is no fold (``_not_a_fold``). Returns the task keys
     of each family (by index)."""
     keys: dict[int, set[str]] = {}
     for kind in ("locate", "fold"):
