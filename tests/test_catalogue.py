@@ -706,3 +706,32 @@ def test_daughters_born_where_the_parents_record_shows_nothing():
     (q,) = pd["parents"]
     assert recs[q["id"]]["name"] == "pendulum" and q["kind"] == "PD"
     assert abs(q["E"] - pd["E_range"][0]) < 1e-6
+
+
+def test_a_degenerate_fold_is_refused_with_its_reason():
+    """The extreme of the fold task: the fold beside E = 4 (E = 4.0575, T = 14.3) where
+    tr M - 4 stays below 1e-11 over 0.03 in E and dr/dE vanishes with dr/du. Its bracket,
+    rebuilt from the record's path as the build makes it, gives E(u) that scatters by
+    ~1e-8, and the task refuses it (E_error above 1e-12) instead of returning a root;
+    the record keeps the float64 fold with that reason."""
+    from rotorlib.beyond.catalogue_roots import fold_task
+
+    r = next(
+        f.record
+        for f in cat.catalogue()
+        if any(
+            p["kind"] == "fold" and abs(p["E"] - 4.0575) < 1e-4
+            for p in f.record["special_points"]
+        )
+    )
+    p = next(p for p in r["special_points"] if p["kind"] == "fold")
+    assert (
+        p["location"].startswith("float64 (")
+        and "not resolved to 1e-12" in p["location"]
+    )
+    u = next(m["u"] for m in r["members"] if m["kind"] == "fold")
+    path, j = r["branch"]["path"], p["index"]
+    h = max(abs(row[1] - u) for row in path[max(0, j - 2) : j + 4])
+    spec = {"problem": r["branch"]["problem"], "factor": r["branch"]["factor"]}
+    got = fold_task({**spec, "u": [u - h, u + h], "E": p["E"], "digits": 30})
+    assert "not resolved to 1e-12" in got["failed"], got
