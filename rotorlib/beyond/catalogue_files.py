@@ -353,17 +353,21 @@ def _born_at_folds(fams: list[dict]) -> None:
     record ends 1.5e-7 below its birth at the pendulum's touch of 0 (its float64
     members within 1e-9 of it have no 30-digit root at fixed E)."""
     births = []
+    span = {
+        g["id"]: (min(m["E"] for m in g["path"]), max(m["E"] for m in g["path"]))
+        for g in fams
+    }
     for f in fams:
         twins = {t["id"] for t in f["fold_twins"]}
         for p in f["special"]:
             if p["kind"] != "fold" or "E_str" not in p:
                 continue
             for g in fams:
-                Es = [m["E"] for m in g["path"]]
+                lo, hi = span[g["id"]]
                 if (
                     g is f
                     or g["id"] in twins
-                    or not min(Es) < p["E"] * (1 - 1e-5) < p["E"] * (1 + 1e-5) < max(Es)
+                    or not lo < p["E"] * (1 - 1e-5) < p["E"] * (1 + 1e-5) < hi
                 ):  # a parent passes through the point; a fold twin turns there
                     continue
                 for n, level, kind in ((1, 4.0, "IS"), (2, 0.0, "PD")):

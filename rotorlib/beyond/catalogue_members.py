@@ -167,9 +167,9 @@ def resolve_member(args: dict) -> dict:
 def member_strings(prob, u, E_str: str, digits: int) -> dict:
     """The member of ``prob`` at the shooting unknown ``u`` (a number of the tier of
     ``digits``) and the energy ``E_str`` (a decimal string; the pair a root of the
-    residual), as decimal strings to ``digits``: ``E_str`` as given, ``period_str``, ``state0_str``, ``trace_str`` (5 digits fewer),
-    ``u_str``, with the multipliers, the closure error after one period (lattice
-    reduced) and the residual."""
+    residual), as decimal strings to ``digits``: ``E_str`` as given, ``period_str``,
+    ``state0_str``, ``trace_str`` (5 digits fewer), ``u_str``, with the multipliers,
+    the closure error after one period (lattice reduced) and the residual."""
     from ..core.flow import monodromy_matrix
     from ..core.precision import tier
     from ..core.system import lattice_reduce

@@ -112,13 +112,12 @@ def relocate_points(
     bracket at 30 digits: that is no fold (``_not_a_fold``). Returns the task keys
     of each family (by index)."""
     keys: dict[int, set[str]] = {}
-    for kind in ("locate", "fold"):
+    for kind, point_kinds in (("locate", ("IS", "PD")), ("fold", ("fold",))):
         pts = [
             (i, m)
             for i in range(len(fams))
             for m in fams[i]["stored"]
-            if (m["kind"] == "fold") == (kind == "fold")
-            and m["kind"] in ("IS", "PD", "fold")
+            if m["kind"] in point_kinds
             and (kind == "fold" or "failed" not in m["polish"])
         ]
         jobs = []

@@ -226,27 +226,21 @@ def _fold(args: dict) -> dict:
     with t.context():
         got: dict = {}  # u -> (w, E)
 
+        def solve_E(u: float, w0, step: str):  # the second unknown at fixed u
+            w1 = w0 * (1 + t.num(step))
+            return solve(prob, w0, w1, u=repr(u), digits=t, r_max=t.eps**0.6).x
+
         def E_of(u: float):
-            if u not in got:  # from the nearest u solved (the fold's E at first)
+            if u not in got:  # from the nearest u solved, else from the fold's E
                 near = min(got, key=lambda v: abs(v - u), default=None)
-                E0 = t.num(repr(args["E"]))
-                starts = [got[near][0]] if near is not None else []
-                for w0, step in [(w, "1e-12") for w in starts] + [
-                    (prob.w_at(u, E0, t), "1e-9")
-                ]:
+                w = None
+                if near is not None:
                     try:
-                        w = solve(
-                            prob,
-                            w0,
-                            w0 * (1 + t.num(step)),
-                            u=repr(u),
-                            digits=t,
-                            r_max=t.eps**0.6,
-                        ).x
-                        break
+                        w = solve_E(u, got[near][0], "1e-12")
                     except NoConvergence:
-                        if step == "1e-9":
-                            raise
+                        pass
+                if w is None:
+                    w = solve_E(u, prob.w_at(u, t.num(repr(args["E"])), t), "1e-9")
                 got[u] = (w, prob.energy(t.num(repr(u)), w, t))
             return got[u][1]
 
