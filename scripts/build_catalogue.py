@@ -26,9 +26,10 @@ import sys
 import time
 from pathlib import Path
 
-from rotorlib.beyond.catalogue import SCHEMA
+from rotorlib.beyond.catalogue import DATA, SCHEMA
 from rotorlib.beyond.catalogue_build import build
 from rotorlib.beyond.catalogue_files import write
+from rotorlib.beyond.catalogue_ids import previous_census
 from rotorlib.core.parallel import executor_for
 
 
@@ -106,6 +107,12 @@ def main(argv=None) -> int:
     )
     p.add_argument("--switch", type=int, default=2, help="branch-switching rounds")
     p.add_argument("--no-names", action="store_true", help="unnamed censuses (tests)")
+    p.add_argument(
+        "--ids-from",
+        default=str(DATA),
+        help="keep the record ids of this earlier catalogue (default: the library's; "
+        "'none': number afresh)",
+    )
     a = p.parse_args(argv)
     energies = set(a.E)
     if a.E_grid:
@@ -153,6 +160,7 @@ def main(argv=None) -> int:
         "families": len(cat["families"]),
         "bands": cat["bands"],
         "switch_rounds": cat["switch_rounds"],
+        "beyond_rounds": cat["beyond_rounds"],
         "densify_rounds": cat["densify_rounds"],
     }
     if rest:
@@ -167,7 +175,8 @@ def main(argv=None) -> int:
     if not a.no_write:
         if not a.no_names:
             name_choreographies(cat)
-        write(cat, a.out, SCHEMA)  # gives each family its id
+        previous = {} if a.ids_from == "none" else previous_census(a.ids_from)
+        write(cat, a.out, SCHEMA, previous)  # gives each family its id
         cost["per_family"] = [
             {
                 "id": f["id"],

@@ -558,6 +558,22 @@ def test_stored_files_validate():
     assert validate() == []
 
 
+def test_a_fold_end_is_the_located_fold():
+    """A record's energy range holds its located folds (beyond its path's last member,
+    by up to ~2e-5 where the engine's float64 fold was off), and an end at a fold is
+    reported at the located fold, not at the path's turning member."""
+    n = 0
+    for r in RECORDS:
+        folds = [p for p in r["special_points"] if p["kind"] == "fold"]
+        lo, hi = r["E_range"]
+        assert all(lo <= p["E"] <= hi for p in folds), r["id"]
+        for e in r["ends"]:
+            if e["kind"] == "fold":
+                assert any(p["E"] == e["E"] for p in folds), (r["id"], e["E"])
+                n += 1
+    assert n >= 10
+
+
 def test_a_special_point_located_again_at_30_digits_is_a_root():
     """locate_task from the pendulum's PD point moved 1e-9 off: the secant lands on the
     stored 30-digit root, with E_error < 1e-20, and tr M changes sign across it: at
@@ -735,3 +751,42 @@ def test_a_degenerate_fold_is_refused_with_its_reason():
     spec = {"problem": r["branch"]["problem"], "factor": r["branch"]["factor"]}
     got = fold_task({**spec, "u": [u - h, u + h], "E": p["E"], "digits": 30})
     assert "not resolved to 1e-12" in got["failed"], got
+
+
+def test_a_family_walked_on_past_a_zigzag_is_the_record_its_end_names():
+    """Where the engine's steps zigzagged beside a fold, the build walked on in the
+    shooting unknown u (``beyond_task``): E(u) turns within a few steps (a fold passed)
+    and the seed five steps on lies on the record that the zigzag end names, a branch no
+    census had met. Re-run here from the stored end member: the same seed, on it."""
+    from rotorlib.beyond.catalogue_tasks import beyond_task
+
+    mark = "past the zigzag the family goes on as the record "
+    r, e = next((r, e) for r in RECORDS for e in r["ends"] if mark in e["reason"])
+    twin = CAT.family(e["reason"].split(mark)[1].split()[0])
+    assert not twin.record["census_orbits"]
+    path = r["branch"]["path"]  # rows: E, u, ...
+    k = min(range(len(path)), key=lambda k: abs(path[k][0] - e["E"]))
+    j = k - 1 if k == len(path) - 1 else k + 1
+    end, prev = path[k], path[j]
+    du = 2e-5 * max(1.0, abs(end[1])) * (1 if end[1] >= prev[1] else -1)
+    (seed,) = beyond_task(
+        {
+            "problem": r["branch"]["problem"],
+            "factor": r["branch"]["factor"],
+            "u": end[1],
+            "E": end[0],
+            "du": du,
+            "t_max": r["t_max"],
+            "E_range": r["window"],
+        }
+    )
+    assert seed["turned"] is not None and seed["turned"] <= 25
+    got = twin.interpolate(seed["E"])
+    assert any(abs(g["period"] / seed["period"] - 1) < 1e-6 for g in got)
+    # the seed is on no other record
+    others = [f for f in CAT if f.id != twin.id and f.exists_at(seed["E"])]
+    assert not any(
+        abs(g["period"] / seed["period"] - 1) < 1e-6
+        for f in others
+        for g in f.interpolate(seed["E"])
+    )

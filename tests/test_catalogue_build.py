@@ -141,7 +141,7 @@ def _ends(stop0="E range", stop1="E range"):
 
 
 def test_links_only_at_genuine_points_and_both_ways():
-    from rotorlib.beyond.catalogue_files import _links
+    from rotorlib.beyond.catalogue_links import link_families as _links
 
     # parent: a PD at E = 5.0 (T_b = 2); daughter: born there (a fold) with 2 T_b
     parent = {
@@ -169,7 +169,8 @@ def test_links_only_at_genuine_points_and_both_ways():
 
 
 def test_a_family_the_engine_cannot_carry_across_an_energy_is_joined():
-    from rotorlib.beyond.catalogue_files import _end, _links
+    from rotorlib.beyond.catalogue_files import _end
+    from rotorlib.beyond.catalogue_links import link_families as _links
 
     x = [2.59, 7.77, -2.34, 0.78]
     a = {
@@ -596,7 +597,8 @@ def test_a_record_that_turned_onto_its_parents_branch_is_cut_and_linked():
     IS^r_3: its side of the fold that lies on another record (the parent, which has no
     fold there) goes, the end is a birth at the parent's IS point; two halves of a
     saddle-node (both turn at the fold) are not cut."""
-    from rotorlib.beyond.catalogue_files import END_KINDS, _end, _links
+    from rotorlib.beyond.catalogue_files import END_KINDS, _end
+    from rotorlib.beyond.catalogue_links import link_families as _links
     from rotorlib.beyond.catalogue_paths import cut_at_switch
 
     Es = [4.5 - 0.05 * k for k in range(9)]  # the parent: T = 10 - E
@@ -787,3 +789,45 @@ def test_densify_stops_where_the_path_is_noise_limited():
     added = densify([fam], run, {})
     assert sum(m.get("noise", False) for m in fam["path"]) > 40
     assert added[-1] < added[0] / 4 and sum(added) < 4 * 40, added
+
+
+def test_a_touch_is_switched_at_as_a_bifurcation():
+    """A touch of tr M = 0 (a pair of PD daughters is born there without a change of the
+    parent's stability: CG's at E = 4.6869, where CZ1 and CZ2 are born) is switched at
+    with twice its period, a touch of 4 with its period; a marginal stretch is not."""
+    from rotorlib.beyond.catalogue_build import switch_jobs
+    from rotorlib.beyond.catalogue_paths import bands_of
+
+    path = [{"E": 4.0 + 0.01 * k, "period": 5.0, "trace": 1.0} for k in range(201)]
+    pts = [
+        {"kind": "touch", "level": 0.0, "E": 4.3, "period": 5.0, "index": 30},
+        {"kind": "touch", "level": 4.0, "E": 4.5, "period": 5.0, "index": 50},
+        {"kind": "marginal", "level": 4.0, "E": 4.7, "period": 5.0, "index": 70},
+    ]
+    fam = {"task": "f", "path": path, "special": pts, "t_max": 16.0}
+    jobs, owners = switch_jobs([fam], bands_of(16.0, 8.0), 0.1, 8.0, 300)
+    assert [(o[0][1], o[0][2]) for o in owners] == [("touch", 4.3), ("touch", 4.5)]
+    assert [j["period"] for j in jobs] == [10.0, 5.0]
+    assert all(len(j["energies"]) == 2 for j in jobs)
+
+
+def test_a_zigzag_end_is_walked_on_in_u():
+    """``beyond_jobs``: a task at each end the path was cut at a zigzag of the engine's
+    steps (``zigzag``), from its end member, in steps of 2e-5 max(1, |u|) the way the
+    path went there; none at another end."""
+    from rotorlib.beyond.catalogue_paths import beyond_jobs
+
+    path = [{"E": 4.0 + 0.01 * k, "u": 3.0 - 0.1 * k} for k in range(5)]
+    ends = [
+        {"side": "backward", "stop": "period"},
+        {"side": "forward", "stop": "reversal", "zigzag": True},
+    ]
+    fam = {"task": "f", "path": path, "ends": ends, "t_max": 16.0}
+    fam |= {"problem": {"start": "s"}, "factor": 2.0}
+    jobs, owners = beyond_jobs([fam], 0.1, 8.0)
+    assert owners == [(["f", "beyond", path[-1]["E"]], 16.0)]
+    (j,) = jobs
+    assert j["u"] == path[-1]["u"] and j["E"] == path[-1]["E"]
+    assert j["du"] == pytest.approx(-2e-5 * path[-1]["u"])
+    assert j["t_max"] == 16.0 and j["E_range"] == [0.1, 8.0]
+    assert beyond_jobs([dict(fam, ends=[ends[0], ends[0]])], 0.1, 8.0) == ([], [])

@@ -14,7 +14,8 @@ A family record: ``id``, ``name`` (the atlas's name of its census orbits, e.g.
 ``pendulum``, ``breather R``, ``PD^b``, ``CG``; ``null`` for a family the book does not
 name), ``symmetry`` (the pairs of fixed sets its census orbits meet half a period apart,
 ``choreography``, ``rotating`` with the net ``winding`` of the two angles over a period,
-in turns), ``E_range``, ``ends`` (each end's energy, period and why the record stops
+in turns), ``E_range`` (its path's energies and its located folds), ``ends`` (each
+end's energy, period and why the record stops
 there), ``special_points`` (``fold``, ``IS``: tr M = 4, ``PD``: tr M = 0, with their
 ``E_str`` to 30 digits and ``E_error``; ``touch``; ``marginal``), ``stable_windows``, ``parents`` / ``daughters``,
 ``fold_twins`` (the records holding the same family's other branch across a fold they
@@ -110,7 +111,8 @@ class Family:
         return [(float(a), float(b)) for a, b in self.record["stable_windows"]]
 
     def exists_at(self, E: float) -> bool:
-        """Whether the family has a member at ``E`` (within its path's energies)."""
+        """Whether the family has a member at ``E`` (within ``E_range``: its path's
+        energies and its located folds)."""
         return self.E_range[0] <= E <= self.E_range[1]
 
     def may_reach(self, t_max: float) -> bool:

@@ -17,7 +17,13 @@ orbits changes between neighbours (a family born or dying between them), then:
 * classifies the special points (:func:`~rotorlib.beyond.catalogue_points.special_points`: a fold's own ``tr M = 4`` is the
   fold; ``tr M`` reaching 4 or 0 without a change of stability is a ``touch``; a
   stretch where float64 does not resolve the side of the level is ``marginal``);
-* **switches branches** at every located ``IS`` (``PD``) point of period ``T_b`` inside the
+* **walks on past zigzags** (:func:`~rotorlib.beyond.catalogue_paths.beyond_jobs`, the
+  ``beyond`` task): where a path
+  was cut because the engine's steps zigzagged in ``E`` (beside the fold of a very
+  unstable family), the family is walked on in its shooting unknown ``u``; a seed
+  found there on no family (the other branch of the fold) is followed as a new record;
+* **switches branches** at every located ``IS`` (``PD``) point and every touch of ``tr M = 4``
+  (of 0) of period ``T_b`` inside the
   window with ``n T_b <= T_max``, where ``T_max`` is the smaller of the family's bound and
   the census's bound at ``E_b`` (a daughter is sought in the scope where it is born):
   censuses at ``E_b -+ dE`` restricted to periods within 3 % of ``n T_b`` (the ``switch``
@@ -57,10 +63,12 @@ from .catalogue_members import (
 )
 from .catalogue_paths import (
     bands_of,
+    beyond_jobs,
     covers,
     cut_at_critical,
     cut_at_reversal,
     cut_at_switch,
+    cut_beyond,
     cut_untrusted,
     drop_contained,
     holds,
@@ -68,7 +76,12 @@ from .catalogue_paths import (
     period_bound,
     same_orbit,
 )
-from .catalogue_points import find_touches, relocate_points, special_points
+from .catalogue_points import (
+    end_folds,
+    find_touches,
+    relocate_points,
+    special_points,
+)
 from .catalogue_tasks import (
     execute_task,
     finished,
@@ -242,9 +255,10 @@ def by_speed(
 
 
 def _switch_args(f: dict, p: dict, lo: float, hi: float, t_max: float, grid: int):
-    """The ``switch`` task of a located ``IS`` / ``PD`` point ``p`` of family ``f``, or
-    ``None`` (outside the window, or ``n T_b > t_max``)."""
-    n = 2 if p["kind"] == "PD" else 1
+    """The ``switch`` task of a located ``IS`` / ``PD`` point or a ``touch`` ``p`` of
+    family ``f``, or ``None`` (outside the window, or ``n T_b > t_max``): ``n = 2`` at a
+    ``PD`` point and a touch of ``tr M = 0``, else 1."""
+    n = 2 if p["kind"] == "PD" or (p["kind"] == "touch" and p["level"] == 0) else 1
     if not lo <= p["E"] <= hi or n * p["period"] > t_max:
         return None
     # dE: 0.3 of the family's local step in E (its speed), within [1e-3, 1e-2]
@@ -295,14 +309,17 @@ def switch_jobs(
     hi: float,
     grid: int,
 ) -> tuple[list[dict], list[tuple[list, float]]]:
-    """The ``switch`` tasks of the located ``IS`` / ``PD`` points of ``fams`` and their
-    owners ``([family task, kind, E_b], T_max)``. ``T_max`` is the smaller of the family's
-    bound and the census's bound at ``E_b``: a daughter is sought, and followed, in the
-    scope where it is born."""
+    """The ``switch`` tasks of the located ``IS`` / ``PD`` points and the touches of
+    ``fams`` and their owners ``([family task, kind, E_b], T_max)``. ``T_max`` is the
+    smaller of the family's bound and the census's bound at ``E_b``: a daughter is
+    sought, and followed, in the scope where it is born. A touch (``tr M`` reaching 4 or
+    0 without a change of stability) is a bifurcation too: a pair of daughters is born
+    or dies there (CG's touch of 0 at E = 4.6869 gives CZ1 and CZ2); the touches
+    switched at are those the float64 path shows (:func:`special_points`)."""
     jobs, owners = [], []
     for f in fams:
         for p in f["special"]:
-            if p["kind"] in ("IS", "PD"):
+            if p["kind"] in ("IS", "PD", "touch"):
                 T = min(f["t_max"], period_bound(bands, p["E"]))
                 a = _switch_args(f, p, lo, hi, T, grid)
                 if a is not None and a["energies"]:
@@ -355,6 +372,7 @@ def build(
         "census",
         "follow",
         "switch",
+        "beyond",
         "densify",
         "polish",
         "locate",
@@ -444,6 +462,33 @@ def build(
             f"on no family, {len(new)} new families"
         )
         fams += new
+
+    def tally(log: list, what: str, tasks: str, fresh: list, new: list) -> bool:
+        """Log a round of new seeds and add its families; True when it found none."""
+        say(f"{what}: {tasks}, {len(fresh)} new orbits, {len(new)} new families")
+        n = int(tasks.split()[0])
+        log.append({"tasks": n, "new_orbits": len(fresh), "new_families": len(new)})
+        fams.extend(new)
+        return not new
+
+    # past the zigzags (beyond_jobs): a seed on no family there (the other branch of a
+    # fold the engine crossed in its zigzag) is followed, for up to 3 rounds
+    new, beyond = fams, list[dict]()
+    for rnd in range(3):
+        jobs, owners = beyond_jobs(new, lo, hi)
+        found = [
+            dict(o, via=via, t_max=T)
+            for (via, T), orbs in zip(owners, run("beyond", jobs, "beyond"))
+            for o in orbs
+        ]
+        fresh = [o for o in found if is_new_daughter(o, fams)]
+        new = grow(fresh, f"beyond {rnd + 1}")
+        for g in new:  # the record whose zigzag end it was found beyond
+            o = min(fresh, key=lambda o: abs(o["E"] - g["seed"]["E"]))
+            g.update(cut_beyond(g, o["via"][2]))
+            g["beyond_of"] = {"task": o["via"][0], "E": o["via"][2]}
+        if tally(beyond, f"beyond {rnd + 1}", f"{len(jobs)} zigzag ends", fresh, new):
+            break
     new = fams
     rounds: list[dict] = []  # per switch round: its tasks, new orbits, new families
     for rnd in range(switch):
@@ -458,15 +503,7 @@ def build(
         found.sort(key=lambda o: (o["E"], o["period"], o["trace"]))
         fresh = [o for o in found if is_new_daughter(o, fams)]
         new = grow(fresh, f"daughters {rnd + 1}")
-        say(
-            f"switch {rnd + 1}: {len(jobs)} points, {len(fresh)} new orbits, "
-            f"{len(new)} new families"
-        )
-        rounds.append(
-            {"tasks": len(jobs), "new_orbits": len(fresh), "new_families": len(new)}
-        )
-        fams += new
-        if not new:
+        if tally(rounds, f"switch {rnd + 1}", f"{len(jobs)} points", fresh, new):
             break
     # one family met from two seeds: keep the one that carries the other's whole path
     seeded = {(f["seed"]["E"], f["seed"]["period"]): f.get("task") for f in fams}
@@ -516,6 +553,8 @@ def build(
     # stored members (the special points, the seed, the path members that interpolation
     # needs), re-solved to 30 digits; where a path's float64 members disagree with their
     # re-solves it is cut (cut_untrusted) and its members are chosen again
+    for f in fams:  # a fold the engine stopped at unlocated: for the fold task
+        f["special"] = sorted(f["special"] + end_folds(f), key=lambda p: p["index"])
     todo, rnd, cut = list(range(len(fams))), 0, set()
     while todo:
         jobs, owner = [], []
@@ -577,6 +616,7 @@ def build(
         "max_steps": max_steps,
         "tasks": {k: tuple(v) for k, v in ran.items()},
         "switch_rounds": rounds,
+        "beyond_rounds": beyond,
         "densify_rounds": densified,
         "cpu": {k: sum(v.values()) for k, v in cpu.items()},
         "cpu_max": {k: max(v.values(), default=0.0) for k, v in cpu.items()},

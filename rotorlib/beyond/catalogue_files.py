@@ -12,6 +12,8 @@ from pathlib import Path
 import numpy as np
 
 from ..core.system import BREATHER_SEPARATRIX_ENERGY, SEPARATRIX_ENERGY
+from .catalogue_ids import assign_ids
+from .catalogue_links import link_families
 from .catalogue_members import (
     DEGREE,
     TOL,
@@ -20,7 +22,7 @@ from .catalogue_members import (
     phase_data,
 )
 from .catalogue_paths import seed_index
-from .catalogue_tasks import VERSION, near, write_json
+from .catalogue_tasks import VERSION, write_json
 
 __all__ = ["END_KINDS", "COLUMNS", "write", "write_parquet"]
 
@@ -57,7 +59,8 @@ def _end(f: dict, side: int, lo: float, hi: float) -> dict:
 
     At an interior member of the path (the engine went on): a ``fold``, or, where the fold
     lies on a parent's located IS/PD point (within 1e-4 in ``E``, as the path's turning
-    member is where the engine did not locate the fold; the links of :func:`_links`), a
+    member is where the engine did not locate the fold; the links of
+    :func:`~rotorlib.beyond.catalogue_links.link_families`), a
     ``bifurcation from a parent``. At an end of the path: a ``bifurcation from a parent``
     too where the engine stopped (``stuck``, ``section lost``) within 1e-3 in ``E`` of a
     parent's point (the distance is given: the engine may stop short of a pitchfork's
@@ -85,6 +88,10 @@ def _end(f: dict, side: int, lo: float, hi: float) -> dict:
     direction = "backward" if i < seed or (i == seed and seed == 0) else "forward"
     e = f["ends"][0 if direction == "backward" else 1]
     stop, reason = e["stop"], e["reason"]
+    if 0 < i < len(path) - 1 or stop == "fold":  # at a fold: the located one
+        at = [p for p in f.get("special", ()) if p["kind"] == "fold"]
+        at = [p for p in at if abs(p["E"] - m["E"]) < 1e-4 * max(1.0, m["E"])]
+        m = dict(m, E=at[0]["E"], period=at[0]["period"]) if at else m
     near_sep = [s for s in (0.0, *SEPARATRICES) if abs(m["E"] - s) < 0.05]
     if 0 < i < len(path) - 1:
         stop = "fold"
@@ -99,7 +106,7 @@ def _end(f: dict, side: int, lo: float, hi: float) -> dict:
         if parent is not None:
             kind = END_KINDS["parent"]
             reason = f"born at the {parent['kind']} point of {parent['id']} at E = {parent['E']:.10g}"
-        else:  # the record of the branch beyond it is named (fold_twins, _links)
+        else:  # the record of the branch beyond it is named (fold_twins, link_families)
             kind = END_KINDS["fold"]
             reason = f"fold at E = {m['E']:.10g} (the engine went on past it)"
             twin = [
@@ -139,6 +146,9 @@ def _end(f: dict, side: int, lo: float, hi: float) -> dict:
         )
     elif stop in ("reversal", "fold"):  # cut_at_reversal, away from a parent's point
         kind = END_KINDS[stop]
+        on = [j for j in f.get("joins", ()) if j.get("beyond") and j["side"] == (i > 0)]
+        for j in on[:1]:  # walked on in u past the zigzag (the build's beyond task)
+            reason += f"; past the zigzag the family goes on as the record {j['id']}"
     elif joined := [j for j in f.get("joins", ()) if j["side"] == (0 if i == 0 else 1)]:
         kind = END_KINDS["stuck"]
         j = joined[0]
@@ -168,7 +178,9 @@ def _end(f: dict, side: int, lo: float, hi: float) -> dict:
 
 
 def _symmetry(f: dict) -> dict:
-    sets = sorted({tuple(o["fixed_sets"]) for o in f["census"]})
+    sets = sorted({tuple(o["fixed_sets"]) for o in f["census"]}) or [  # none: the
+        (f["problem"]["start"], f["problem"]["target"])  # shooting problem's
+    ]
     return {
         "fixed_sets": [list(s) for s in sets],
         "choreography": any(o["choreography"] for o in f["census"]),
@@ -210,229 +222,10 @@ def _stable_windows(f: dict) -> list[list[float]]:
     return merged
 
 
-def _brackets(path: list[dict], E: float, strict: bool = False):
-    """``(i, period, tr M)`` at energy ``E`` on each pair of consecutive path members
-    ``i, i + 1`` that bracket it (``strict``: ``E`` strictly between them), interpolated
-    linearly."""
-    for i, (a, b) in enumerate(zip(path, path[1:])):
-        lo, hi = sorted((a["E"], b["E"]))
-        if (lo < E < hi) if strict else (lo <= E <= hi and lo != hi):
-            t = (E - a["E"]) / (b["E"] - a["E"])
-            T = a["period"] + t * (b["period"] - a["period"])
-            yield i, T, a["trace"] + t * (b["trace"] - a["trace"])
-
-
-def _at(g: dict, E: float, dE: float = 1e-3) -> list[tuple[float, float]]:
-    """``(period, tr M)`` of family ``g`` at energy ``E``: interpolated (linearly) on each
-    pair of consecutive path members that bracket ``E``, and at its path members and
-    located points within ``dE`` of ``E`` (a daughter born at a fold that the engine did
-    not locate has its nearest member ``~ (du)^2`` away)."""
-    out = [(T, tr) for _, T, tr in _brackets(g["path"], E)]
-    out += [
-        (p["period"], p["trace"])
-        for p in g["path"] + g["special"]
-        if abs(p["E"] - E) < dE
-    ]
-    return out
-
-
-def _joins(fams: list[dict]) -> None:
-    """``f['joins']``: the families whose path ends where one of ``f``'s ends (an engine
-    stop) with the same orbit up to the symmetries (``E`` to 1e-6, the period to 1e-6
-    relative, ``tr M`` to 1e-4 relative; the two records may start it on different
-    fixed sets): one family that the engine could not carry across an energy (its
-    shooting problem's start set changes at 4 and 4.5). Also two records that both
-    stop (``stuck``) facing each other across a gap (``E`` to 1e-3, the period to 1e-3,
-    ``tr M`` to 1e-2 relative), with the ``gap`` in ``E``."""
-    for f in fams:
-        f["joins"] = []
-    for f in fams:
-        for side in (0, 1) if "ends" in f else ():
-            if f["ends"][side]["stop"] not in ("stuck", "section lost"):
-                continue
-            m = f["path"][0 if side == 0 else -1]
-            for g in fams:
-                if g is f:
-                    continue
-                for gs, q in enumerate((g["path"][0], g["path"][-1])):
-                    if (
-                        abs(q["E"] - m["E"]) < 1e-6
-                        and near(q["period"], m["period"], 1e-6)
-                        and near(q["trace"], m["trace"], 1e-4)
-                    ):
-                        f["joins"].append({"id": g["id"], "E": m["E"], "side": side})
-                    elif (  # both stopped, facing each other across a small gap
-                        "ends" in g
-                        and g["ends"][gs]["stop"] in ("stuck", "section lost")
-                        and abs(q["E"] - m["E"]) < 1e-3
-                        and near(q["period"], m["period"], 1e-3)
-                        and near(q["trace"], m["trace"], 1e-2)
-                    ):
-                        f["joins"].append(
-                            {
-                                "id": g["id"],
-                                "E": m["E"],
-                                "side": side,
-                                "gap": abs(q["E"] - m["E"]),
-                            }
-                        )
-
-
-def _links(fams: list[dict]) -> None:
-    """Parent -> daughter links at the genuine ``IS`` / ``PD`` points (folds and touches
-    are classified before: :func:`rotorlib.beyond.catalogue_build.special_points`): a
-    family that exists at the point's energy ``E_b`` (a member there, interpolated
-    between the path members around it, or a member or located point within 1e-3 of it)
-    with ``n T_b`` (``n = 1`` at IS, 2 at PD; to 1e-3 relative) and
-    ``tr M`` within 0.05 of 4 (the daughter is born with a multiplier 1) is its daughter.
-    Each link ``{id, kind, E}`` is recorded on both sides. Also records the families
-    that join at an engine stop (:func:`_joins`)."""
-    _joins(fams)
-    for f in fams:
-        f["parents"], f["daughters"] = [], []
-    folds = [(g, q) for g in fams for q in g["special"] if q["kind"] == "fold"]
-    for f in fams:  # two records that turn at one fold: a family's two branches
-        f["fold_twins"] = [
-            {"id": g["id"], "E": q["E"]}
-            for p in f["special"]
-            if p["kind"] == "fold"
-            for g, q in folds
-            if g is not f
-            and abs(q["E"] - p["E"]) < 1e-6 * max(1.0, abs(p["E"]))
-            and near(q["period"], p["period"], 1e-6)
-        ]
-    by_task = {g.get("task"): g for g in fams}
-    for f in fams:  # born where the engine turned onto the parent's branch
-        sw = f.get("switch_parent")
-        if sw and sw["task"] in by_task:
-            g, link = by_task[sw["task"]], {"kind": "IS", "E": sw["E"]}
-            f["parents"].append({"id": g["id"], **link})
-            g["daughters"].append({"id": f["id"], **link})
-    for f in fams:
-        for p in f["special"]:
-            if p["kind"] not in ("IS", "PD"):
-                continue
-            n = 2 if p["kind"] == "PD" else 1
-            for g in fams:
-                if g is f or any(
-                    d["id"] == g["id"] and d["E"] == p["E"] for d in f["daughters"]
-                ):
-                    continue
-                if any(
-                    near(T, n * p["period"], 1e-3) and abs(tr - 4) < 0.05
-                    for T, tr in _at(g, p["E"])
-                ):
-                    link = {"kind": p["kind"], "E": p["E"]}
-                    f["daughters"].append({"id": g["id"], **link})
-                    g["parents"].append({"id": f["id"], **link})
-                    if n == 1:
-                        _touch(g, p, f["id"])
-    _born_at_folds(fams)
-
-
-def _born_at_folds(fams: list[dict]) -> None:
-    """Daughters born at a point of a parent that the parent's record does not show: a
-    fold of ``f`` (located at 30 digits: ``E_str``) where another record ``g`` (not a
-    fold twin) passes through the point (its path beyond 1e-5 relative on both sides:
-    the other branch of a saddle-node, with the same period and ``tr M = 4`` there,
-    turns at it) with ``n T_g = T_f`` (1e-4 relative) and ``tr M`` within 1e-2 of 4
-    (``n = 1``: a pitchfork where ``g``'s ``tr M`` reaches 4 without crossing it) or of
-    0 (``n = 2``: a period doubling where it reaches 0). ``E(u)`` of a daughter is
-    extremal at its birth (``E - E_b ~ u^2``), which the build sees as a fold; the link
-    (``IS`` or ``PD``) is recorded both ways and ``g`` gets a ``touch`` of that level
-    there. A record without a parent whose path ends within 1e-6 relative of such a
-    point, with its period (1e-5), is born there too and linked the same way (its
-    float64 path may end short of the point, with no fold located).
-
-    Why: measured at ``T <= 16``, the records F022/F023 and CZ1/CZ2 each meet at one
-    "fold" (agreeing to 1e-21 at 30 digits) where CG has ``tr M = 4.00000004`` and
-    ``tr M = 1e-9`` (interpolated) with the daughters' period and half of it: CG's
-    touch of 4 at E = 5.2450174718 and of 0 at E = 4.6869032814. The tolerances are
-    those of ``g``'s path interpolated linearly (``_at``): 1.5e-5 in the period and
-    6e-4 in ``tr M`` for CG there, where its members lie 0.023 apart in E. PD^l_1's
-    record ends 1.5e-7 below its birth at the pendulum's touch of 0 (its float64
-    members within 1e-9 of it have no 30-digit root at fixed E)."""
-    births = []
-    span = {
-        g["id"]: (min(m["E"] for m in g["path"]), max(m["E"] for m in g["path"]))
-        for g in fams
-    }
-    for f in fams:
-        twins = {t["id"] for t in f["fold_twins"]}
-        for p in f["special"]:
-            if p["kind"] != "fold" or "E_str" not in p:
-                continue
-            for g in fams:
-                lo, hi = span[g["id"]]
-                if (
-                    g is f
-                    or g["id"] in twins
-                    or not lo < p["E"] * (1 - 1e-5) < p["E"] * (1 + 1e-5) < hi
-                ):  # a parent passes through the point; a fold twin turns there
-                    continue
-                for n, level, kind in ((1, 4.0, "IS"), (2, 0.0, "PD")):
-                    if not any(
-                        near(n * T, p["period"], 1e-4) and abs(tr - level) < 1e-2
-                        for T, tr in _at(g, p["E"])
-                    ):
-                        continue
-                    births.append((p, g, kind))
-                    _link(g, f, {"kind": kind, "E": p["E"]})
-                    _touch(g, dict(p, period=p["period"] / n), f["id"], level)
-    for p, g, kind in births:  # records whose path ends at the point, unlinked
-        for f in fams:
-            if f is g or f["parents"]:
-                continue
-            if any(
-                abs(m["E"] - p["E"]) < 1e-6 * p["E"]
-                and near(m["period"], p["period"], 1e-5)
-                for m in (f["path"][0], f["path"][-1])
-            ):
-                _link(g, f, {"kind": kind, "E": p["E"]})
-
-
-def _link(g: dict, f: dict, link: dict) -> None:
-    """Record ``g`` as ``f``'s parent at ``link`` (``{kind, E}``) and ``f`` as ``g``'s
-    daughter, once."""
-    if {"id": g["id"], **link} not in f["parents"]:
-        f["parents"].append({"id": g["id"], **link})
-        g["daughters"].append({"id": f["id"], **link})
-
-
-def _touch(g: dict, p: dict, via: str, level: float = 4.0) -> None:
-    """Record on ``g`` the ``touch`` of ``tr M = level`` (4; 0 for a period doubling,
-    :func:`_born_at_folds`) at the point ``p`` of its link (``via``), where ``g``'s
-    path passes through the point's energy without a special point of its own:
-    ``tr M - level`` vanishes there to second order (at 4, a pitchfork: the symmetric
-    family touches 4 while the other crosses it), so that no sign change shows it, and
-    the Maslov index changes by 2 across it (the multipliers pass through 1 along the
-    unit circle). Located through the crossing family's root (``E`` to ~1e-12) or the
-    daughters' 30-digit birth point; ``period`` and ``tr M`` interpolated on ``g``'s
-    path."""
-    E = p["E"]
-    if any(abs(q["E"] - E) < 1e-6 for q in g["special"]):
-        return
-    for i, T, tr in _brackets(g["path"], E, strict=True):
-        if near(T, p["period"], 1e-3) and abs(tr - level) < 0.05:
-            g["special"].append(
-                {
-                    "kind": "touch",
-                    "E": E,
-                    "period": T,
-                    "trace": tr,
-                    "index": i,
-                    "level": level,
-                    "via": via,
-                }
-            )
-            g["special"].sort(key=lambda q: q["index"])
-            return
-
-
-def write(cat: dict, out: str | os.PathLike, schema: dict) -> dict:
+def write(cat: dict, out: str | os.PathLike, schema: dict, previous=None) -> dict:
     """Write one JSON per family, ``index.json``, ``schema.json`` (``schema``: the loader's
-    :data:`rotorlib.beyond.catalogue_schema.SCHEMA`) and ``members.csv`` into ``out``; returns
-    the index."""
+    :data:`rotorlib.beyond.catalogue_schema.SCHEMA`) and ``members.csv`` into ``out``, with
+    the ids of ``previous`` (:func:`~rotorlib.beyond.catalogue_ids.assign_ids`)."""
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     fams = sorted(
@@ -440,8 +233,9 @@ def write(cat: dict, out: str | os.PathLike, schema: dict) -> dict:
         key=lambda f: (min(m["period"] for m in f["path"]), f["seed"]["E"]),
     )
     lo, hi = cat["window"]
-    for i, f in enumerate(fams):
-        f["id"] = f"F{i + 1:03d}"
+    assign_ids(fams, previous)
+    fams.sort(key=lambda f: f["id"])
+    for f in fams:
         # a point located from both directions (beside the seed) is kept once
         seen, keep = set(), []
         for p in f["special"]:
@@ -450,17 +244,21 @@ def write(cat: dict, out: str | os.PathLike, schema: dict) -> dict:
                 seen.add(key)
                 keep.append(p)
         f["special"] = keep
+        for p in keep:  # a point the relocation did not reach: marked, not silent
+            if p["kind"] in ("IS", "PD", "fold") and "location" not in p:
+                p["location"] = "float64 (not located again at 30 digits)"
         f["stored"] = [
             m
             for m in f["stored"]
             if m["kind"] in ("path", "seed") or any(m is p for p in keep)
         ]
-    _links(fams)
+    link_families(fams)
     rows, index = [], []
     failed: list[tuple] = []
     for f in fams:
         names = sorted({o["label"] for o in f["census"] if o["label"] != "new"})
-        Es = [m["E"] for m in f["path"]]
+        folds = [p for p in f["special"] if p["kind"] == "fold"]  # beyond the path
+        Es = [m["E"] for m in f["path"] + folds]
         members = []
         for m in f["stored"]:
             p = m["polish"]
@@ -512,8 +310,8 @@ def write(cat: dict, out: str | os.PathLike, schema: dict) -> dict:
             "symmetry": _symmetry(f),
             "E_range": [min(Es), max(Es)],
             "period_range": [
-                min(m["period"] for m in f["path"]),
-                max(m["period"] for m in f["path"]),
+                min(m["period"] for m in f["path"] + folds),
+                max(m["period"] for m in f["path"] + folds),
             ],
             "ends": [_end(f, 0, lo, hi), _end(f, 1, lo, hi)],
             "special_points": [

@@ -46,6 +46,8 @@ __all__ = [
     "cut_untrusted",
     "cut_at_switch",
     "cut_at_reversal",
+    "beyond_jobs",
+    "cut_beyond",
 ]
 
 
@@ -286,8 +288,9 @@ def cut_at_reversal(f: dict) -> dict:
     """The follow ``f`` cut where its path turns back in ``E`` with no located fold (each
     fold explains one turn, the nearest within two members): the stretch around the
     seed between such turns is kept, and
-    an end there gets the stop ``'reversal'`` with the energy in its reason. Returns
-    ``f`` itself when nothing is cut.
+    an end there gets the stop ``'reversal'`` with the energy in its reason (and
+    ``zigzag``: the build continues the family past it in ``u``, the ``beyond`` task of
+    :mod:`rotorlib.beyond.catalogue_tasks`). Returns ``f`` itself when nothing is cut.
 
     Why: beside a fold of a very unstable family the engine's steps can zigzag (measured
     at ``T <= 16``: a family with ``|tr M| ~ 1e3`` visited E = 4.6785, 4.6766, 4.6763,
@@ -330,6 +333,7 @@ def cut_at_reversal(f: dict) -> dict:
         if j is None:
             ends[side] = {
                 "side": side_name,
+                "zigzag": True,
                 "stop": "reversal",
                 "reason": f"reversal: the path turns back in E at E = {E[i]:.10g} "
                 "with no fold located there (the engine's steps zigzag): cut there",
@@ -337,6 +341,7 @@ def cut_at_reversal(f: dict) -> dict:
         else:
             ends[side] = {
                 "side": side_name,
+                "zigzag": True,
                 "stop": "fold",
                 "reason": f"fold at E = {E[j]:.10g}, past which the engine's steps "
                 f"zigzag (the path turns back again at E = {E[i]:.10g}): cut at the fold",
@@ -588,3 +593,72 @@ def drop_contained(
         alive.discard(i)
         dropped.append((fams[i].get("task"), [fams[j].get("task") for j in cover]))
     return [f for i, f in enumerate(fams) if i in alive], dropped
+
+
+def beyond_jobs(
+    fams: Sequence[dict], lo: float, hi: float
+) -> tuple[list[dict], list[tuple[list, float]]]:
+    """The ``beyond`` tasks of the ends of ``fams`` where the path was cut at a zigzag of
+    the engine's steps (``zigzag``: :func:`cut_at_reversal`) and their owners
+    ``([family task, 'beyond', E_end], T_max)``: the family walked on in its shooting
+    unknown ``u`` from its end member, in steps of ``2e-5 max(1, |u|)`` the way its
+    path went there."""
+    jobs, owners = [], []
+    for f in fams:
+        path = f["path"]
+        for side, end in enumerate(f["ends"]):
+            if not end.get("zigzag") or len(path) < 2:
+                continue
+            m, prev = (path[-1], path[-2]) if side else (path[0], path[1])
+            du = 2e-5 * max(1.0, abs(m["u"])) * (1 if m["u"] >= prev["u"] else -1)
+            jobs.append(
+                {
+                    "problem": f["problem"],
+                    "factor": f["factor"],
+                    "u": m["u"],
+                    "E": m["E"],
+                    "du": du,
+                    "t_max": f["t_max"],
+                    "E_range": [lo, hi],
+                }
+            )
+            owners.append(([f.get("task"), "beyond", m["E"]], f["t_max"]))
+    return jobs, owners
+
+
+def cut_beyond(f: dict, E: float) -> dict:
+    """A record followed from a seed found past a zigzag end at ``E``
+    (:func:`beyond_jobs`) cut at its turn in ``E`` nearest ``E`` (within 1e-3): the
+    fold it crossed back onto the branch of the record it was found beyond, which that
+    record carries. The seed's side is kept; its end there is a ``fold``. Returns ``f``
+    itself when no such turn exists.
+
+    Measured at ``T <= 16``: the record followed from past the zigzag of a family with
+    ``|tr M| ~ 1e3`` at E = 4.6785 went up its own branch to the fold at E = 4.6786 and
+    down the other record's branch to ``T = 16``, carrying that branch a second time.
+
+    >>> path = [{"E": E, "u": k} for k, E in enumerate([1.0, 1.1, 1.2, 1.15, 1.1])]
+    >>> f = {"path": path, "seed": path[0], "special": [], "ends": [{"side": "backward"},
+    ...      {"side": "forward", "stop": "period"}]}
+    >>> g = cut_beyond(f, 1.2005)
+    >>> [m["E"] for m in g["path"]], g["ends"][1]["stop"]
+    ([1.0, 1.1, 1.2], 'fold')
+    """
+    path, s = f["path"], seed_index(f)
+    Es = np.array([m["E"] for m in path])
+    d = np.sign(np.diff(Es))
+    turns = [i for i in range(1, len(d)) if d[i] * d[i - 1] < 0 and i != s]
+    turns = [i for i in turns if abs(Es[i] - E) < 1e-3]
+    if s is None or not turns:
+        return f
+    k = min(turns, key=lambda i: abs(Es[i] - E))
+    side = 1 if k > s else 0
+    ends = [dict(e) for e in f["ends"]]
+    ends[side] = {
+        "side": ends[side].get("side", ("backward", "forward")[side]),
+        "stop": "fold",
+        "reason": f"fold at E = {Es[k]:.10g}, past which the path runs back along the "
+        "branch of the record it was found beyond: cut at the fold",
+    }
+    a, b = (0, k) if side else (k, len(path) - 1)
+    return {**f, **_trim(f, a, b, ends)}

@@ -143,7 +143,9 @@ SCHEMA: dict[str, Any] = {
             },
         },
         "daughters": {"type": "array", "items": _link},
-        "census_orbits": {"type": "array", "minItems": 1},
+        # empty for a record found off the censuses (past a zigzag end, or by branch
+        # switching) whose orbits no census met
+        "census_orbits": {"type": "array"},
         "members": {"type": "array", "items": _member, "minItems": 1},
         "interpolation": {
             "type": "object",
