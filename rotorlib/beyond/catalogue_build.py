@@ -315,7 +315,8 @@ def switch_jobs(
     sought, and followed, in the scope where it is born. A touch (``tr M`` reaching 4 or
     0 without a change of stability) is a bifurcation too: a pair of daughters is born
     or dies there (CG's touch of 0 at E = 4.6869 gives CZ1 and CZ2); the touches
-    switched at are those the float64 path shows (:func:`special_points`)."""
+    switched at are those the float64 path shows
+    (:func:`~rotorlib.beyond.catalogue_points.special_points`)."""
     jobs, owners = [], []
     for f in fams:
         for p in f["special"]:

@@ -2,7 +2,7 @@
 (:func:`link_families`, called by :func:`rotorlib.beyond.catalogue_files.write`): the
 daughters at each genuine IS / PD point, the families that join at an engine stop or
 past a zigzag end, the two records of a saddle-node (``fold_twins``) and the daughters
-born where the parent's record shows nothing (:func:`_born_at_folds`).
+born where the parent's record shows nothing (``_born_at_folds``).
 
 Precision: the links are found on the float64 paths (linear interpolation between path
 members, to the tolerances each function states) and on the 30-digit special points.
@@ -92,13 +92,13 @@ def _joins(fams: list[dict]) -> None:
 
 def link_families(fams: list[dict]) -> None:
     """Parent -> daughter links at the genuine ``IS`` / ``PD`` points (folds and touches
-    are classified before: :func:`rotorlib.beyond.catalogue_build.special_points`): a
+    are classified before: :func:`rotorlib.beyond.catalogue_points.special_points`): a
     family that exists at the point's energy ``E_b`` (a member there, interpolated
     between the path members around it, or a member or located point within 1e-3 of it)
     with ``n T_b`` (``n = 1`` at IS, 2 at PD; to 1e-3 relative) and
     ``tr M`` within 0.05 of 4 (the daughter is born with a multiplier 1) is its daughter.
     Each link ``{id, kind, E}`` is recorded on both sides. Also records the families
-    that join at an engine stop (:func:`_joins`)."""
+    that join at an engine stop (``_joins``)."""
     _joins(fams)
     for f in fams:
         f["parents"], f["daughters"] = [], []
@@ -213,7 +213,7 @@ def _link(g: dict, f: dict, link: dict) -> None:
 
 def _touch(g: dict, p: dict, via: str, level: float = 4.0) -> None:
     """Record on ``g`` the ``touch`` of ``tr M = level`` (4; 0 for a period doubling,
-    :func:`_born_at_folds`) at the point ``p`` of its link (``via``), where ``g``'s
+    ``_born_at_folds``) at the point ``p`` of its link (``via``), where ``g``'s
     path passes through the point's energy without a special point of its own:
     ``tr M - level`` vanishes there to second order (at 4, a pitchfork: the symmetric
     family touches 4 while the other crosses it), so that no sign change shows it, and
