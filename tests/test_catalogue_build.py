@@ -831,3 +831,20 @@ def test_a_zigzag_end_is_walked_on_in_u():
     assert j["du"] == pytest.approx(-2e-5 * path[-1]["u"])
     assert j["t_max"] == 16.0 and j["E_range"] == [0.1, 8.0]
     assert beyond_jobs([dict(fam, ends=[ends[0], ends[0]])], 0.1, 8.0) == ([], [])
+
+
+def test_heyoka_load_retried_then_heyokas_error():
+    """A fresh machine's first parallel build: two workers opening heyoka's on-disk
+    cache at once gave 'Failed to set the WAL journal mode ...'. The load is retried;
+    a cache that stays unusable raises heyoka's own error after the last try."""
+    from rotorlib.beyond.catalogue_tasks import heyoka_ready
+
+    calls = []
+
+    def locked():
+        calls.append(1)
+        raise RuntimeError("Failed to set the WAL journal mode")
+
+    with pytest.raises(RuntimeError, match="WAL journal mode"):
+        heyoka_ready(tries=3, load=locked)
+    assert len(calls) == 3

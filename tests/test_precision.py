@@ -274,24 +274,3 @@ def test_solve_hill_integrator_chooses_the_method_not_the_precision():
         solve_hill(hill_problem(pendulum(E=1.0), 20), 20, integrator="scipy")
     with pytest.raises(ValueError, match="integrator must be heyoka, scipy or mpmath"):
         solve_hill(prob, integrator="fortran")
-
-
-def test_heyoka_cache_bound_retries_then_raises_heyokas_error():
-    """A fresh machine's first parallel build: two workers opening heyoka's on-disk
-    cache at once gave 'Failed to set the WAL journal mode ...'. The bound is retried
-    (the database held by the other process is released within milliseconds); a
-    cache that stays unusable raises heyoka's own error after the last try."""
-    from rotorlib.core.precision import _set_cache_limit
-
-    calls = []
-
-    class Locked:
-        class llvm_state:
-            @staticmethod
-            def set_diskcache_limit(n):
-                calls.append(n)
-                raise RuntimeError("Failed to set the WAL journal mode")
-
-    with pytest.raises(RuntimeError, match="WAL journal mode"):
-        _set_cache_limit(Locked, 2**20, tries=3)
-    assert calls == [2**20] * 3

@@ -67,6 +67,7 @@ __all__ = [
     "follow_task",
     "switch_task",
     "beyond_task",
+    "heyoka_ready",
     "stored",
     "finished",
     "TASKS",
@@ -176,6 +177,33 @@ def write_json(path: Path, obj: Any, rows: bool = False) -> None:
     os.replace(tmp, path)  # atomic: the file is complete or absent
 
 
+def heyoka_ready(tries: int = 8, load=None) -> Any:
+    """Load heyoka with its on-disk cache bounded (``load``: default
+    :func:`rotorlib.core.precision.load_heyoka`), retrying while another process holds
+    the cache's SQLite database: a fresh machine's first 2-worker build died at once
+    with heyoka's "Failed to set the WAL journal mode ..." in a worker. Waits 0.05 s,
+    0.1 s, ... (doubling) between ``tries`` attempts, then raises heyoka's error.
+
+    >>> fails = [2]
+    >>> def flaky():  # fails twice, as a database held by another process does
+    ...     if fails[0]:
+    ...         fails[0] -= 1
+    ...         raise RuntimeError("Failed to set the WAL journal mode")
+    >>> heyoka_ready(load=flaky)
+    >>> fails
+    [0]
+    """
+    from ..core.precision import load_heyoka
+
+    for k in range(tries):
+        try:
+            return (load or load_heyoka)()
+        except RuntimeError:
+            if k == tries - 1:
+                raise
+            time.sleep(0.05 * 2**k)
+
+
 def execute_task(job: tuple) -> tuple[Any, float]:
     """One task: compute, then store ``{kind, args, result, cpu_s}`` under its key
     (``cpu_s``: the task's CPU seconds in its process); returns ``(result, cpu_s)``.
@@ -186,6 +214,7 @@ def execute_task(job: tuple) -> tuple[Any, float]:
     # starts at rest (a census at E = 4, at the equilibrium's energy), fills gigabytes
     # of a build's log; its errors still show
     heyoka.set_logger_level_error()
+    heyoka_ready()
     kind, args, cache = job
     c0 = time.process_time()
     result = TASKS[kind](args)

@@ -16,7 +16,6 @@ from __future__ import annotations
 import contextlib
 import math
 import os
-import time
 from collections.abc import Iterable
 from dataclasses import dataclass
 from decimal import Decimal, InvalidOperation
@@ -169,40 +168,8 @@ def load_heyoka() -> Any:
         raise ValueError(
             f"ROTORLIB_HEYOKA_CACHE_MB must be a non-negative integer (MiB), got {raw!r}"
         )
-    _set_cache_limit(hy, int(raw) * 2**20)
+    hy.llvm_state.set_diskcache_limit(int(raw) * 2**20)
     return hy
-
-
-def _set_cache_limit(hy: Any, nbytes: int, tries: int = 8) -> None:
-    """Bound heyoka's on-disk cache at ``nbytes``, retrying while another process holds
-    the cache's SQLite database (a fresh machine's first parallel build: heyoka's
-    "Failed to set the WAL journal mode ..." when two workers open it at once).
-
-    Waits 0.05 s, 0.1 s, ... (doubling) between ``tries`` attempts, about 6 s in all
-    for 8, then raises heyoka's own ``RuntimeError``.
-
-    Examples
-    --------
-    >>> class Flaky:  # fails twice, as a database held by another process does
-    ...     fails = 2
-    ...     class llvm_state:
-    ...         @staticmethod
-    ...         def set_diskcache_limit(n):
-    ...             if Flaky.fails:
-    ...                 Flaky.fails -= 1
-    ...                 raise RuntimeError("Failed to set the WAL journal mode")
-    >>> _set_cache_limit(Flaky, 2**20)
-    >>> Flaky.fails
-    0
-    """
-    for k in range(tries):
-        try:
-            hy.llvm_state.set_diskcache_limit(nbytes)
-            return
-        except RuntimeError:
-            if k == tries - 1:
-                raise
-            time.sleep(0.05 * 2**k)
 
 
 @dataclass(frozen=True)
