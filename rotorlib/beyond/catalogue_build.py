@@ -464,10 +464,9 @@ def build(
         )
         fams += new
 
-    def tally(log: list, what: str, tasks: str, fresh: list, new: list) -> bool:
+    def tally(log: list, what: str, n: int, unit: str, fresh: list, new: list) -> bool:
         """Log a round of new seeds and add its families; True when it found none."""
-        say(f"{what}: {tasks}, {len(fresh)} new orbits, {len(new)} new families")
-        n = int(tasks.split()[0])
+        say(f"{what}: {n} {unit}, {len(fresh)} new orbits, {len(new)} new families")
         log.append({"tasks": n, "new_orbits": len(fresh), "new_families": len(new)})
         fams.extend(new)
         return not new
@@ -488,7 +487,7 @@ def build(
             o = min(fresh, key=lambda o: abs(o["E"] - g["seed"]["E"]))
             g.update(cut_beyond(g, o["via"][2]))
             g["beyond_of"] = {"task": o["via"][0], "E": o["via"][2]}
-        if tally(beyond, f"beyond {rnd + 1}", f"{len(jobs)} zigzag ends", fresh, new):
+        if tally(beyond, f"beyond {rnd + 1}", len(jobs), "zigzag ends", fresh, new):
             break
     new = fams
     rounds: list[dict] = []  # per switch round: its tasks, new orbits, new families
@@ -504,7 +503,7 @@ def build(
         found.sort(key=lambda o: (o["E"], o["period"], o["trace"]))
         fresh = [o for o in found if is_new_daughter(o, fams)]
         new = grow(fresh, f"daughters {rnd + 1}")
-        if tally(rounds, f"switch {rnd + 1}", f"{len(jobs)} points", fresh, new):
+        if tally(rounds, f"switch {rnd + 1}", len(jobs), "points", fresh, new):
             break
     # one family met from two seeds: keep the one that carries the other's whole path
     seeded = {(f["seed"]["E"], f["seed"]["period"]): f.get("task") for f in fams}
